@@ -1,0 +1,862 @@
+//! Keyword tables of the dataset (`.adm`) and command (`.acf`) languages, and prefix matching.
+//!
+//! Contract:
+//! - Every statement (or command) the language knows has a [`StatementDef`]: its canonical name,
+//!   whether an id follows the slash, and a table of arguments.
+//! - A table is *complete* for the statements linkage types (PART, MARKER, JOINT, …): an
+//!   argument not in it is reported, and an ambiguous prefix is an error. Other tables are
+//!   *partial*: they only name what the parser needs (expression and text arguments, conditional
+//!   keywords that end an expression, common abbreviations); anything else is kept as written.
+//! - Matching is case-insensitive; an exact spelling wins over prefixes; a prefix is accepted when
+//!   every spelling it starts resolves to the same canonical keyword ([`lookup`]).
+
+/// Whether a statement carries an id after the slash (`PART/2`) or not (`UNITS/`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum IdRule {
+    /// `NAME/id` is mandatory.
+    Required,
+    /// No id: the arguments may start right after the slash (`ACCGRAV/JGRAV = -9.8`).
+    Absent,
+    /// An id is read when digits follow the slash (statements linkage does not know).
+    Optional,
+}
+
+/// How the value of an argument is read.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum ArgKind {
+    /// Conditional keyword without a value (`GROUND`, `REVOLUTE`).
+    Flag,
+    /// Conditional keyword that may also be written `KEY = expression` (MOTION's `X`…`B3`).
+    FlagOrExpr,
+    /// Numbers separated by commas (`QP = 0, -.4, 0`, `I = 0102`); anything else is an error.
+    Numbers,
+    /// A word, or words/numbers separated by colons (`FORCE = NEWTON`, `EXACT = X:Y:PSI`).
+    Words,
+    /// A function expression: ends at an unnested `\`, at a same-line comma at depth 0, or at a
+    /// continuation line that starts another argument (ADM-REFERENCE §1.2).
+    Expr,
+    /// Free text (`COMMENT = …`, `STRING = …`, `ROUTINE = lib::fn`, file names): read like an
+    /// expression, but `\` is text and parentheses need not balance.
+    Text,
+    /// Comma-separated free-text items (`INTERFACE = lib::a, lib::b`), continuing over commas
+    /// until the next argument.
+    TextList,
+    /// Not known: a plain list of numbers/words/strings when it is one, otherwise read as an
+    /// expression-like text.
+    Any,
+}
+
+/// One spelling of an argument keyword.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct ArgDef {
+    /// How it may be written (upper case).
+    pub spelling: &'static str,
+    /// The keyword it means (equal to `spelling` except for aliases such as `ROTATIONAL`).
+    pub canonical: &'static str,
+    pub kind: ArgKind,
+}
+
+const fn arg(name: &'static str, kind: ArgKind) -> ArgDef {
+    ArgDef {
+        spelling: name,
+        canonical: name,
+        kind,
+    }
+}
+
+const fn alias(spelling: &'static str, canonical: &'static str, kind: ArgKind) -> ArgDef {
+    ArgDef {
+        spelling,
+        canonical,
+        kind,
+    }
+}
+
+/// One statement or command of the language.
+#[derive(Debug)]
+pub(crate) struct StatementDef {
+    pub name: &'static str,
+    pub id: IdRule,
+    pub args: &'static [ArgDef],
+    /// Whether `args` lists every argument (unknown arguments are then reported).
+    pub complete: bool,
+}
+
+const fn stmt(
+    name: &'static str,
+    id: IdRule,
+    args: &'static [ArgDef],
+    complete: bool,
+) -> StatementDef {
+    StatementDef {
+        name,
+        id,
+        args,
+        complete,
+    }
+}
+
+/// Result of matching a written keyword against a table.
+#[derive(Debug, PartialEq)]
+pub(crate) enum Lookup<T> {
+    Found(T),
+    /// The prefix starts several keywords; their canonical names, sorted.
+    Ambiguous(Vec<&'static str>),
+    NotFound,
+}
+
+/// Matches `word` (any case) against `items`: an exact spelling wins; otherwise every spelling
+/// that starts with `word` is a candidate, and the match is unique when all candidates share one
+/// canonical name.
+pub(crate) fn lookup<'t, T>(
+    word: &str,
+    items: &'t [T],
+    spelling: impl Fn(&T) -> &'static str,
+    canonical: impl Fn(&T) -> &'static str,
+) -> Lookup<&'t T> {
+    if word.is_empty() {
+        return Lookup::NotFound;
+    }
+    let upper = word.to_ascii_uppercase();
+    if let Some(item) = items.iter().find(|it| spelling(it) == upper) {
+        return Lookup::Found(item);
+    }
+    let candidates: Vec<&T> = items
+        .iter()
+        .filter(|it| spelling(it).starts_with(upper.as_str()))
+        .collect();
+    let mut names: Vec<&'static str> = candidates.iter().map(|it| canonical(it)).collect();
+    names.sort_unstable();
+    names.dedup();
+    match (candidates.first(), names.len()) {
+        (Some(first), 1) => Lookup::Found(first),
+        (None, _) => Lookup::NotFound,
+        _ => Lookup::Ambiguous(names),
+    }
+}
+
+/// Matches a word against a plain list of names (unit names, joint types, …).
+pub(crate) fn lookup_name(word: &str, names: &[&'static str]) -> Lookup<&'static str> {
+    match lookup(word, names, |n| *n, |n| *n) {
+        Lookup::Found(n) => Lookup::Found(*n),
+        Lookup::Ambiguous(v) => Lookup::Ambiguous(v),
+        Lookup::NotFound => Lookup::NotFound,
+    }
+}
+
+/// Finds the statement (or command) a keyword names.
+pub(crate) fn lookup_statement(
+    word: &str,
+    table: &'static [StatementDef],
+) -> Lookup<&'static StatementDef> {
+    lookup(word, table, |d| d.name, |d| d.name)
+}
+
+/// Finds an argument of a statement.
+pub(crate) fn lookup_arg(word: &str, def: &'static StatementDef) -> Lookup<&'static ArgDef> {
+    lookup(word, def.args, |a| a.spelling, |a| a.canonical)
+}
+
+/// The entry of `def` whose canonical name is `key` (used after canonicalisation).
+pub(crate) fn arg_def(def: &StatementDef, key: &str) -> Option<&'static ArgDef> {
+    def.args.iter().find(|a| a.canonical == key)
+}
+
+/// Kind of an argument no table knows: expression for `FUNCTION` (and prefixes of at least three
+/// letters), `F1`..`F8`, `FX`, `FY`, `FZ`, `TX`, `TY`, `TZ`; otherwise [`ArgKind::Any`].
+pub(crate) fn default_kind(key: &str) -> ArgKind {
+    let k = key.to_ascii_uppercase();
+    let function = k.len() >= 3 && "FUNCTION".starts_with(k.as_str());
+    let fi = k.len() == 2 && k.starts_with('F') && matches!(k.as_bytes().get(1), Some(b'1'..=b'8'));
+    let component = matches!(k.as_str(), "FX" | "FY" | "FZ" | "TX" | "TY" | "TZ");
+    if function || fi || component {
+        ArgKind::Expr
+    } else {
+        ArgKind::Any
+    }
+}
+
+use ArgKind::{Any, Expr, Flag, FlagOrExpr, Numbers, Text, Words};
+use IdRule::{Absent, Required};
+
+// ---------------------------------------------------------------------------------------------
+// Values of typed arguments (ADM-REFERENCE §2.1, §2.5, §2.6).
+
+pub(crate) const FORCE_UNITS: &[&str] = &[
+    "CENTINEWTON",
+    "DYNE",
+    "KILOGRAM_FORCE",
+    "KNEWTON",
+    "KPOUND_FORCE",
+    "MEGANEWTON",
+    "MICRONEWTON",
+    "MILLINEWTON",
+    "NANONEWTON",
+    "NEWTON",
+    "OUNCE_FORCE",
+    "POUND_FORCE",
+    "POUNDAL",
+];
+pub(crate) const MASS_UNITS: &[&str] = &[
+    "GRAM",
+    "KILOGRAM",
+    "KPOUND_MASS",
+    "MILLIGRAM",
+    "MICROGRAM",
+    "NANOGRAM",
+    "OUNCE_MASS",
+    "POUND_MASS",
+    "SLINCH",
+    "SLUG",
+    "TONNE",
+    "US_TON",
+];
+pub(crate) const LENGTH_UNITS: &[&str] = &[
+    "ANGSTROM",
+    "CENTIMETER",
+    "FOOT",
+    "KILOMETER",
+    "INCH",
+    "METER",
+    "MICROINCH",
+    "MICROMETER",
+    "MILE",
+    "MILLIMETER",
+    "MILS",
+    "NANOMETER",
+    "YARD",
+];
+pub(crate) const TIME_UNITS: &[&str] = &[
+    "DAY",
+    "HOUR",
+    "MICROSECOND",
+    "MILLISECONDS",
+    "MINUTE",
+    "NANOSECOND",
+    "SECOND",
+];
+pub(crate) const UNIT_SYSTEMS: &[&str] = &["CGS", "FPS", "IPS", "MKS", "NONE"];
+
+pub(crate) const JOINT_TYPES: &[&str] = &[
+    "CONVEL",
+    "CYLINDRICAL",
+    "FIXED",
+    "HOOKE",
+    "PLANAR",
+    "RACKPIN",
+    "REVOLUTE",
+    "SCREW",
+    "SPHERICAL",
+    "TRANSLATIONAL",
+    "UNIVERSAL",
+];
+pub(crate) const JPRIM_TYPES: &[&str] = &[
+    "ATPOINT",
+    "INLINE",
+    "INPLANE",
+    "ORIENTATION",
+    "PARALLEL_AXES",
+    "PERPENDICULAR",
+];
+
+// ---------------------------------------------------------------------------------------------
+// Complete tables (typed statements).
+
+const UNITS_ARGS: &[ArgDef] = &[
+    arg("FORCE", Words),
+    arg("MASS", Words),
+    arg("LENGTH", Words),
+    arg("TIME", Words),
+    arg("SYSTEM", Words),
+    arg("UCF", Numbers),
+];
+
+const ACCGRAV_ARGS: &[ArgDef] = &[
+    arg("IGRAV", Numbers),
+    arg("JGRAV", Numbers),
+    arg("KGRAV", Numbers),
+];
+
+const PART_ARGS: &[ArgDef] = &[
+    arg("GROUND", Flag),
+    arg("MASS", Numbers),
+    arg("CM", Numbers),
+    arg("IM", Numbers),
+    arg("IP", Numbers),
+    arg("QG", Numbers),
+    arg("REULER", Numbers),
+    arg("XG", Numbers),
+    arg("ZG", Numbers),
+    arg("VX", Numbers),
+    arg("VY", Numbers),
+    arg("VZ", Numbers),
+    arg("WX", Numbers),
+    arg("WY", Numbers),
+    arg("WZ", Numbers),
+    arg("VM", Numbers),
+    arg("WM", Numbers),
+    arg("EXACT", Words),
+    arg("MATERIAL", Any),
+];
+
+const MARKER_ARGS: &[ArgDef] = &[
+    arg("PART", Numbers),
+    arg("POINT_MASS", Numbers),
+    arg("FLEX_BODY", Numbers),
+    arg("FE_PART", Numbers),
+    arg("NODE_ID", Numbers),
+    arg("NODE_LABEL", Numbers),
+    arg("QP", Numbers),
+    arg("REULER", Numbers),
+    arg("ZP", Numbers),
+    arg("XP", Numbers),
+    arg("USEXP", Flag),
+    arg("FLOATING", Flag),
+    arg("RM", Numbers),
+];
+
+const JOINT_ARGS: &[ArgDef] = &[
+    arg("CONVEL", Flag),
+    arg("CYLINDRICAL", Flag),
+    arg("FIXED", Flag),
+    arg("HOOKE", Flag),
+    arg("PLANAR", Flag),
+    arg("RACKPIN", Flag),
+    arg("REVOLUTE", Flag),
+    arg("SCREW", Flag),
+    arg("SPHERICAL", Flag),
+    arg("TRANSLATIONAL", Flag),
+    arg("UNIVERSAL", Flag),
+    arg("I", Numbers),
+    arg("J", Numbers),
+    arg("IC", Numbers),
+    arg("ICTRAN", Numbers),
+    arg("ICROT", Numbers),
+    arg("PD", Numbers),
+    arg("PITCH", Numbers),
+    // Joint friction of the FORTRAN solver (accepted, not used by linkage).
+    arg("FRICTION", Words),
+    arg("MU_DYN_ROT", Numbers),
+    arg("MU_STAT_ROT", Numbers),
+    arg("MAX_FRIC_ROT", Numbers),
+    arg("MU_DYN_TRANS", Numbers),
+    arg("MU_STAT_TRANS", Numbers),
+    arg("MAX_FRIC_TRANS", Numbers),
+    arg("DELTA_V", Numbers),
+    arg("MAXIMUM_DEFORMATION", Numbers),
+    arg("PRELOAD_RADIAL", Numbers),
+    arg("PRELOAD_AXIAL", Numbers),
+    arg("INNER_RADIUS", Numbers),
+    arg("OUTER_RADIUS", Numbers),
+    arg("WIDTH", Numbers),
+    arg("HEIGHT", Numbers),
+];
+
+const JPRIM_ARGS: &[ArgDef] = &[
+    arg("ATPOINT", Flag),
+    arg("INLINE", Flag),
+    arg("INPLANE", Flag),
+    arg("ORIENTATION", Flag),
+    arg("PARALLEL_AXES", Flag),
+    arg("PERPENDICULAR", Flag),
+    arg("I", Numbers),
+    arg("J", Numbers),
+];
+
+const MOTION_ARGS: &[ArgDef] = &[
+    arg("JOINT", Numbers),
+    arg("I", Numbers),
+    arg("J", Numbers),
+    arg("TRANSLATION", Flag),
+    alias("TRANSLATIONAL", "TRANSLATION", Flag),
+    arg("ROTATION", Flag),
+    alias("ROTATIONAL", "ROTATION", Flag),
+    arg("X", FlagOrExpr),
+    arg("Y", FlagOrExpr),
+    arg("Z", FlagOrExpr),
+    arg("B1", FlagOrExpr),
+    arg("B2", FlagOrExpr),
+    arg("B3", FlagOrExpr),
+    arg("DISPLACEMENT", Flag),
+    arg("VELOCITY", Flag),
+    arg("ACCELERATION", Flag),
+    arg("FUNCTION", Expr),
+    arg("ROUTINE", Text),
+    arg("ICDISP", Numbers),
+    arg("ICVEL", Numbers),
+];
+
+const GCON_ARGS: &[ArgDef] = &[
+    arg("I", Numbers),
+    arg("FUNCTION", Expr),
+    arg("ROUTINE", Text),
+];
+
+const COUPLER_ARGS: &[ArgDef] = &[
+    arg("JOINTS", Numbers),
+    arg("TYPE", Words),
+    arg("SCALES", Numbers),
+    arg("FUNCTION", Expr),
+    arg("ROUTINE", Text),
+];
+
+const GEAR_ARGS: &[ArgDef] = &[arg("JOINTS", Numbers), arg("CV", Numbers)];
+
+// ---------------------------------------------------------------------------------------------
+// Partial tables (statements kept in generic form).
+
+const FORCE_FLAGS_SFORCE: &[ArgDef] = &[
+    arg("I", Any),
+    arg("J", Any),
+    arg("TRANSLATIONAL", Flag),
+    arg("ROTATIONAL", Flag),
+    arg("ACTIONONLY", Flag),
+    arg("FUNCTION", Expr),
+    arg("ROUTINE", Text),
+];
+
+const SPRINGDAMPER_ARGS: &[ArgDef] = &[
+    arg("I", Any),
+    arg("J", Any),
+    arg("TRANSLATIONAL", Flag),
+    arg("ROTATIONAL", Flag),
+    arg("K", Any),
+    arg("C", Any),
+    arg("KT", Any),
+    arg("CT", Any),
+    arg("LENGTH", Any),
+    arg("FORCE", Any),
+    arg("ANGLE", Any),
+    arg("TORQUE", Any),
+];
+
+const VFORCE_ARGS: &[ArgDef] = &[
+    arg("I", Any),
+    arg("JFLOAT", Any),
+    arg("RM", Any),
+    arg("FX", Expr),
+    arg("FY", Expr),
+    arg("FZ", Expr),
+    arg("FUNCTION", Expr),
+    arg("ROUTINE", Text),
+];
+
+const VTORQUE_ARGS: &[ArgDef] = &[
+    arg("I", Any),
+    arg("JFLOAT", Any),
+    arg("RM", Any),
+    arg("TX", Expr),
+    arg("TY", Expr),
+    arg("TZ", Expr),
+    arg("FUNCTION", Expr),
+    arg("ROUTINE", Text),
+];
+
+const GFORCE_ARGS: &[ArgDef] = &[
+    arg("I", Any),
+    arg("JFLOAT", Any),
+    arg("RM", Any),
+    arg("FX", Expr),
+    arg("FY", Expr),
+    arg("FZ", Expr),
+    arg("TX", Expr),
+    arg("TY", Expr),
+    arg("TZ", Expr),
+    arg("FUNCTION", Expr),
+    arg("ROUTINE", Text),
+];
+
+const VARIABLE_ARGS: &[ArgDef] = &[arg("FUNCTION", Expr), arg("IC", Any), arg("ROUTINE", Text)];
+
+const DIFF_ARGS: &[ArgDef] = &[
+    arg("FUNCTION", Expr),
+    arg("IC", Any),
+    arg("IMPLICIT", Flag),
+    arg("STATIC_HOLD", Flag),
+    arg("ROUTINE", Text),
+];
+
+/// Statements whose only special argument is an expression-valued FUNCTION (+ ROUTINE).
+const FUNCTION_ARGS: &[ArgDef] = &[arg("FUNCTION", Expr), arg("ROUTINE", Text)];
+
+const GSE_ARGS: &[ArgDef] = &[
+    arg("FUNCTION", Expr),
+    arg("ROUTINE", Text),
+    arg("INTERFACE", ArgKind::TextList),
+];
+
+const SENSOR_ARGS: &[ArgDef] = &[
+    arg("FUNCTION", Expr),
+    arg("EVALUATE", Expr),
+    arg("ROUTINE", Text),
+];
+
+const REQUEST_ARGS: &[ArgDef] = &[
+    arg("DISPLACEMENT", Flag),
+    alias("D", "DISPLACEMENT", Flag),
+    arg("VELOCITY", Flag),
+    alias("V", "VELOCITY", Flag),
+    arg("ACCELERATION", Flag),
+    alias("A", "ACCELERATION", Flag),
+    arg("FORCE", Flag),
+    alias("F", "FORCE", Flag),
+    arg("I", Any),
+    arg("J", Any),
+    arg("RM", Any),
+    arg("F1", Expr),
+    arg("F2", Expr),
+    arg("F3", Expr),
+    arg("F4", Expr),
+    arg("F5", Expr),
+    arg("F6", Expr),
+    arg("F7", Expr),
+    arg("F8", Expr),
+    arg("FUNCTION", Expr),
+    arg("ROUTINE", Text),
+    arg("COMMENT", Text),
+    alias("C", "COMMENT", Text),
+    arg("TITLE", Text),
+    arg("CNAMES", Any),
+    arg("CLABELS", Any),
+    arg("CUNITS", Any),
+    arg("RESULTS_NAME", Any),
+];
+
+const STRING_ARGS: &[ArgDef] = &[arg("STRING", Text)];
+const FILE_DATA_ARGS: &[ArgDef] = &[arg("FILE", Text)];
+
+const RESULTS_ARGS: &[ArgDef] = &[
+    arg("XRF", Flag),
+    arg("FORMATTED", Flag),
+    arg("COMMENT", Text),
+];
+
+const OUTPUT_ARGS: &[ArgDef] = &[
+    arg("REQSAVE", Flag),
+    arg("GRSAVE", Flag),
+    arg("NOSEPARATOR", Flag),
+    arg("SEPARATOR", Flag),
+    arg("YPR", Flag),
+];
+
+const EQUILIBRIUM_ARGS: &[ArgDef] = &[
+    arg("ALIMIT", Any),
+    arg("ERROR", Any),
+    arg("IMBALANCE", Any),
+    arg("MAXIT", Any),
+    arg("PATTERN", Any),
+    arg("STABILITY", Any),
+    arg("TLIMIT", Any),
+    arg("STATIC", Flag),
+    arg("DYNAMIC", Flag),
+    arg("GLOBAL_DAMPING", Any),
+    arg("SETTLING_TIME", Any),
+    arg("ACCELERATION_ERROR", Any),
+    arg("KINETIC_ENERGY_ERROR", Any),
+    arg("METHOD", Any),
+    arg("ATOL", Any),
+    arg("RTOL", Any),
+    arg("MAXITL", Any),
+    arg("ETAMAX", Any),
+    arg("ETA", Any),
+    arg("LIST", Flag),
+    arg("DEFAULT", Flag),
+];
+
+const IC_ARGS: &[ArgDef] = &[
+    arg("ERROR", Any),
+    arg("MAXIT", Any),
+    arg("PATTERN", Any),
+    arg("TLIMIT", Any),
+    arg("ALIMIT", Any),
+    arg("VERROR", Any),
+    arg("AERROR", Any),
+    arg("AMAXIT", Any),
+    arg("APATTERN", Any),
+    arg("LIST", Flag),
+    arg("DEFAULT", Flag),
+];
+
+const INTEGRATOR_ARGS: &[ArgDef] = &[
+    arg("GSTIFF", Flag),
+    arg("WSTIFF", Flag),
+    arg("HHT", Flag),
+    arg("NEWMARK", Flag),
+    arg("HASTIFF", Flag),
+    arg("I3", Flag),
+    arg("SI2", Flag),
+    arg("SI1", Flag),
+    arg("ERROR", Any),
+    arg("HMAX", Any),
+    arg("HMIN", Any),
+    arg("HINIT", Any),
+    arg("KMAX", Any),
+    arg("MAXIT", Any),
+    arg("ALPHA", Any),
+    arg("BETA", Any),
+    arg("GAMMA", Any),
+    arg("CORRECTOR", Any),
+    arg("INTERPOLATE", Any),
+    arg("PATTERN", Any),
+    arg("LIST", Flag),
+    arg("DEFAULT", Flag),
+];
+
+const NO_ARGS: &[ArgDef] = &[];
+
+/// Statements of a dataset (ADM-REFERENCE §1.5, plus FE_NODE and SECTION seen in real files).
+pub(crate) static DATASET_STATEMENTS: &[StatementDef] = &[
+    stmt("ACCGRAV", Absent, ACCGRAV_ARGS, true),
+    stmt("ARRAY", Required, FILE_DATA_ARGS, false),
+    stmt("BEAM", Required, NO_ARGS, false),
+    stmt("BUSHING", Required, NO_ARGS, false),
+    stmt("CONTACT", Required, NO_ARGS, false),
+    stmt("COUPLER", Required, COUPLER_ARGS, true),
+    stmt("CURVE", Required, FUNCTION_ARGS, false),
+    stmt("CVCV", Required, NO_ARGS, false),
+    stmt("DEBUG", Absent, NO_ARGS, false),
+    stmt("DIFF", Required, DIFF_ARGS, false),
+    stmt("END", Absent, NO_ARGS, false),
+    stmt("ENVIRONMENT", Absent, NO_ARGS, false),
+    stmt("EQUILIBRIUM", Absent, EQUILIBRIUM_ARGS, false),
+    stmt("FE_LOAD", Required, FUNCTION_ARGS, false),
+    stmt("FE_NODE", Required, NO_ARGS, false),
+    stmt("FE_PART", Required, NO_ARGS, false),
+    stmt("FEMDATA", Required, NO_ARGS, false),
+    stmt("FIELD", Required, FUNCTION_ARGS, false),
+    stmt("FLEX_BODY", Required, NO_ARGS, false),
+    stmt("FRICTION", Required, NO_ARGS, false),
+    stmt("GCON", Required, GCON_ARGS, true),
+    stmt("GEAR", Required, GEAR_ARGS, true),
+    stmt("GFORCE", Required, GFORCE_ARGS, false),
+    stmt("GRAPHICS", Required, NO_ARGS, false),
+    stmt("GSE", Required, GSE_ARGS, false),
+    stmt("IC", Absent, IC_ARGS, false),
+    stmt("INTEGRATOR", Absent, INTEGRATOR_ARGS, false),
+    stmt("JOINT", Required, JOINT_ARGS, true),
+    stmt("JPRIM", Required, JPRIM_ARGS, true),
+    stmt("KINEMATICS", Absent, IC_ARGS, false),
+    stmt("LIST", Absent, NO_ARGS, false),
+    stmt("LSE", Required, NO_ARGS, false),
+    stmt("LSOLVER", Absent, NO_ARGS, false),
+    stmt("MARKER", Required, MARKER_ARGS, true),
+    stmt("MATERIAL", Required, NO_ARGS, false),
+    stmt("MATRIX", Required, FILE_DATA_ARGS, false),
+    stmt("MFORCE", Required, FUNCTION_ARGS, false),
+    stmt("MOTION", Required, MOTION_ARGS, true),
+    stmt("MREQUEST", Required, FUNCTION_ARGS, false),
+    stmt("NFORCE", Required, NO_ARGS, false),
+    stmt("NOLIST", Absent, NO_ARGS, false),
+    stmt("OUTPUT", Absent, OUTPUT_ARGS, false),
+    stmt("PART", Required, PART_ARGS, true),
+    stmt("PINPUT", Required, NO_ARGS, false),
+    stmt("POINT_MASS", Required, NO_ARGS, false),
+    stmt("POUTPUT", Required, NO_ARGS, false),
+    stmt("PREFERENCES", Absent, NO_ARGS, false),
+    stmt("PTCV", Required, NO_ARGS, false),
+    stmt("REQUEST", Required, REQUEST_ARGS, false),
+    stmt("RESULTS", Absent, RESULTS_ARGS, false),
+    stmt("SECTION", Required, NO_ARGS, false),
+    stmt("SENSOR", Required, SENSOR_ARGS, false),
+    stmt("SFORCE", Required, FORCE_FLAGS_SFORCE, false),
+    stmt("SPLINE", Required, FILE_DATA_ARGS, false),
+    stmt("SPRINGDAMPER", Required, SPRINGDAMPER_ARGS, false),
+    stmt("STRING", Required, STRING_ARGS, false),
+    stmt("SURFACE", Required, FILE_DATA_ARGS, false),
+    stmt("TFSISO", Required, NO_ARGS, false),
+    stmt("TITLE", Absent, NO_ARGS, false),
+    stmt("UCON", Required, FUNCTION_ARGS, false),
+    stmt("UNITS", Absent, UNITS_ARGS, true),
+    stmt("VARIABLE", Required, VARIABLE_ARGS, false),
+    stmt("VFORCE", Required, VFORCE_ARGS, false),
+    stmt("VTORQUE", Required, VTORQUE_ARGS, false),
+];
+
+// ---------------------------------------------------------------------------------------------
+// Command files (ADM-REFERENCE §7).
+
+const SIMULATE_ARGS: &[ArgDef] = &[
+    arg("DYNAMICS", Flag),
+    arg("KINEMATICS", Flag),
+    arg("STATICS", Flag),
+    arg("TRANSIENT", Flag),
+    arg("INITIAL_CONDITIONS", Flag),
+    arg("DISPLACEMENT", Flag),
+    arg("VELOCITY", Flag),
+    arg("ACCELERATION", Flag),
+    arg("END", Any),
+    arg("DURATION", Any),
+    arg("STEPS", Any),
+    arg("DTOUT", Any),
+];
+
+const FILE_ARGS: &[ArgDef] = &[
+    arg("MODEL", Text),
+    arg("COMMAND", Text),
+    arg("OUTPUT_PREFIX", Text),
+];
+
+const ACTIVATION_ARGS: &[ArgDef] = &[arg("ID", Any), arg("RANGE", Any)];
+
+const LINEAR_ARGS: &[ArgDef] = &[
+    arg("EIGENSOL", Flag),
+    arg("STATEMAT", Flag),
+    arg("MKB", Flag),
+    arg("NODAMPIN", Flag),
+    arg("NOVECTOR", Flag),
+    arg("FILE", Text),
+];
+
+/// Commands of a command file. Element commands share the statement tables, as partial tables
+/// (commands add arguments such as `LIST` or `ACTIVATE`).
+pub(crate) static COMMANDS: &[StatementDef] = &[
+    stmt("ACCGRAV", Absent, ACCGRAV_ARGS, false),
+    stmt("ACTIVATE", Absent, ACTIVATION_ARGS, false),
+    stmt("ARRAY", Required, FILE_DATA_ARGS, false),
+    stmt("BEAM", Required, NO_ARGS, false),
+    stmt("BUSHING", Required, NO_ARGS, false),
+    stmt("CONTROL", Absent, FUNCTION_ARGS, false),
+    stmt("DEACTIVATE", Absent, ACTIVATION_ARGS, false),
+    stmt("DEBUG", Absent, NO_ARGS, false),
+    stmt("ENVIRONMENT", Absent, NO_ARGS, false),
+    stmt("EQUILIBRIUM", Absent, EQUILIBRIUM_ARGS, false),
+    stmt("FIELD", Required, NO_ARGS, false),
+    stmt("FILE", Absent, FILE_ARGS, false),
+    stmt("FLEX_BODY", Required, NO_ARGS, false),
+    stmt("FRICTION", Required, NO_ARGS, false),
+    stmt("GCON", Required, GCON_ARGS, false),
+    stmt("GFORCE", Required, GFORCE_ARGS, false),
+    stmt("HELP", Absent, NO_ARGS, false),
+    stmt("IC", Absent, IC_ARGS, false),
+    stmt("INFO", Absent, NO_ARGS, false),
+    stmt("INTEGRATOR", Absent, INTEGRATOR_ARGS, false),
+    stmt("JOINT", Required, JOINT_ARGS, false),
+    stmt("KINEMATICS", Absent, IC_ARGS, false),
+    stmt("LINEAR", Absent, LINEAR_ARGS, false),
+    stmt("LSOLVER", Absent, NO_ARGS, false),
+    stmt("MARKER", Required, MARKER_ARGS, false),
+    stmt("MENU", Absent, NO_ARGS, false),
+    stmt("MOTION", Required, MOTION_ARGS, false),
+    stmt("OUTPUT", Absent, OUTPUT_ARGS, false),
+    stmt("PART", Required, PART_ARGS, false),
+    stmt("PREFERENCES", Absent, NO_ARGS, false),
+    stmt("RELOAD", Absent, FILE_ARGS, false),
+    stmt("REQUEST", Required, REQUEST_ARGS, false),
+    stmt("SAVE", Absent, FILE_ARGS, false),
+    stmt("SENSOR", Required, SENSOR_ARGS, false),
+    stmt("SFORCE", Required, FORCE_FLAGS_SFORCE, false),
+    stmt("SHOW", Absent, NO_ARGS, false),
+    stmt("SIMULATE", Absent, SIMULATE_ARGS, false),
+    stmt("SPLINE", Required, FILE_DATA_ARGS, false),
+    stmt("SPRINGDAMPER", Required, SPRINGDAMPER_ARGS, false),
+    stmt("STOP", Absent, NO_ARGS, false),
+    stmt("STRING", Required, STRING_ARGS, false),
+    stmt("TIME", Absent, NO_ARGS, false),
+    stmt("VARIABLE", Required, VARIABLE_ARGS, false),
+    stmt("VFORCE", Required, VFORCE_ARGS, false),
+    stmt("VTORQUE", Required, VTORQUE_ARGS, false),
+];
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn found_name(word: &str, table: &'static [StatementDef]) -> Option<&'static str> {
+        match lookup_statement(word, table) {
+            Lookup::Found(d) => Some(d.name),
+            _ => None,
+        }
+    }
+
+    #[test]
+    fn statement_prefixes_resolve_when_unambiguous() {
+        assert_eq!(found_name("part", DATASET_STATEMENTS), Some("PART"));
+        assert_eq!(
+            found_name("SPRING", DATASET_STATEMENTS),
+            Some("SPRINGDAMPER")
+        );
+        assert_eq!(found_name("jp", DATASET_STATEMENTS), Some("JPRIM"));
+        assert_eq!(found_name("sim", COMMANDS), Some("SIMULATE"));
+        assert_eq!(found_name("equil", COMMANDS), Some("EQUILIBRIUM"));
+        assert_eq!(found_name("accg", COMMANDS), Some("ACCGRAV"));
+        assert_eq!(found_name("int", COMMANDS), Some("INTEGRATOR"));
+        assert_eq!(found_name("LEONARDO", DATASET_STATEMENTS), None);
+    }
+
+    #[test]
+    fn exact_match_wins_over_longer_keywords() {
+        // IC is also the start of nothing else, but I alone starts IC and INTEGRATOR.
+        assert_eq!(found_name("IC", DATASET_STATEMENTS), Some("IC"));
+        assert_eq!(found_name("END", DATASET_STATEMENTS), Some("END"));
+        let joint = found_def("JOINT");
+        assert!(matches!(lookup_arg("I", joint), Lookup::Found(a) if a.canonical == "I"));
+        assert!(matches!(lookup_arg("ic", joint), Lookup::Found(a) if a.canonical == "IC"));
+    }
+
+    fn found_def(name: &str) -> &'static StatementDef {
+        match lookup_statement(name, DATASET_STATEMENTS) {
+            Lookup::Found(d) => d,
+            other => panic!("{name}: {other:?}"),
+        }
+    }
+
+    #[test]
+    fn ambiguous_prefix_names_candidates() {
+        match lookup_statement("S", DATASET_STATEMENTS) {
+            Lookup::Ambiguous(names) => {
+                assert!(names.contains(&"SFORCE") && names.contains(&"SPLINE"));
+            }
+            other => panic!("{other:?}"),
+        }
+        match lookup_arg("V", found_def("PART")) {
+            Lookup::Ambiguous(names) => assert_eq!(names, vec!["VM", "VX", "VY", "VZ"]),
+            other => panic!("{other:?}"),
+        }
+    }
+
+    #[test]
+    fn aliases_share_their_canonical_keyword() {
+        let motion = found_def("MOTION");
+        for w in ["TRANS", "TRANSLATION", "translational", "T"] {
+            assert!(
+                matches!(lookup_arg(w, motion), Lookup::Found(a) if a.canonical == "TRANSLATION"),
+                "{w}"
+            );
+        }
+        assert!(
+            matches!(lookup_arg("ROTATIONAL", motion), Lookup::Found(a) if a.canonical == "ROTATION")
+        );
+        assert!(matches!(lookup_arg("FUN", motion), Lookup::Found(a) if a.canonical == "FUNCTION"));
+        // R starts ROTATION and ROUTINE.
+        assert!(matches!(lookup_arg("R", motion), Lookup::Ambiguous(_)));
+    }
+
+    #[test]
+    fn unit_names_match_by_prefix() {
+        assert_eq!(lookup_name("newton", FORCE_UNITS), Lookup::Found("NEWTON"));
+        assert_eq!(
+            lookup_name("POUND_F", FORCE_UNITS),
+            Lookup::Found("POUND_FORCE")
+        );
+        assert!(matches!(
+            lookup_name("POUND", FORCE_UNITS),
+            Lookup::Ambiguous(_)
+        ));
+        assert_eq!(
+            lookup_name("MILLISECOND", TIME_UNITS),
+            Lookup::Found("MILLISECONDS")
+        );
+        assert_eq!(lookup_name("parsec", LENGTH_UNITS), Lookup::NotFound);
+    }
+
+    #[test]
+    fn expression_keys_without_table() {
+        assert_eq!(default_kind("FUN"), ArgKind::Expr);
+        assert_eq!(default_kind("function"), ArgKind::Expr);
+        assert_eq!(default_kind("F8"), ArgKind::Expr);
+        assert_eq!(default_kind("F9"), ArgKind::Any);
+        assert_eq!(default_kind("TZ"), ArgKind::Expr);
+        assert_eq!(default_kind("FU"), ArgKind::Any);
+        assert_eq!(default_kind("IC"), ArgKind::Any);
+    }
+}

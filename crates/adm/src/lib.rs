@@ -1,0 +1,56 @@
+//! # linkage-adm — the Adams dataset language
+//!
+//! Reads Adams Solver datasets (`.adm`) and command files (`.acf`) into values:
+//!
+//! ```text
+//! text ──lexer──▶ logical statements (continuations joined, comments captured, spans kept)
+//!      ──parse──▶ [`Statement`] (generic: keyword, id, arguments with spans)
+//!      ──typing─▶ [`Dataset`] (typed PART, MARKER, JOINT, JPRIM, MOTION, COUPLER, GEAR, GCON, …)
+//! ```
+//!
+//! The crate knows nothing about mechanics: it does not resolve references between elements
+//! (that is `linkage-model`'s job) and it never panics on user input. Every problem is a
+//! [`Diagnostic`] carrying the file, line and column it comes from.
+
+pub mod diagnostic;
+pub mod statement;
+pub mod typed;
+
+mod commands;
+mod keywords;
+mod lexer;
+mod parse;
+mod typing;
+
+pub use commands::{parse_commands, read_commands, CommandFile};
+pub use diagnostic::{Diagnostic, Diagnostics, Severity, Span};
+pub use statement::{Argument, ExprText, Statement, Value};
+pub use typed::*;
+
+use std::path::Path;
+use std::sync::Arc;
+
+/// Reads and types a dataset file. I/O failures become a diagnostic naming the file.
+pub fn read_dataset(path: &Path) -> Result<Dataset, Diagnostics> {
+    let file: Arc<str> = Arc::from(path.display().to_string());
+    match std::fs::read(path) {
+        Ok(bytes) => {
+            let text = String::from_utf8_lossy(&bytes).into_owned();
+            parse_dataset(file, &text)
+        }
+        Err(e) => Err(Diagnostics(vec![Diagnostic::error(
+            file,
+            None,
+            format!("cannot read dataset: {e}"),
+        )])),
+    }
+}
+
+/// Parses and types dataset text. `file` is the name used in diagnostics.
+///
+/// Returns the dataset (with its warnings) or every error found.
+pub fn parse_dataset(file: Arc<str>, text: &str) -> Result<Dataset, Diagnostics> {
+    // Line 1 is the title: statements start at line index 1.
+    let parsed = parse::parse(file.clone(), text, 1, parse::Language::Dataset);
+    typing::type_dataset(file, text, parsed)
+}

@@ -1,0 +1,857 @@
+//! Typing: generic statements → the typed elements of a [`Dataset`].
+//!
+//! Contract:
+//! - Types UNITS, ACCGRAV, PART, MARKER, JOINT, JPRIM, MOTION, COUPLER, GEAR and GCON
+//!   (ADM-REFERENCE §2.1–2.9); every other statement stays in generic form only.
+//! - Checks what one statement can tell: value counts (`QP` needs 3 numbers), ids being
+//!   non-negative integers, unit names, joint/jprim types, required arguments (JOINT `I`, `J`,
+//!   type; MOTION target; COUPLER/GEAR `JOINTS`). References between elements are *not* checked
+//!   (that is `linkage-model`'s job), duplicate ids are accepted.
+//! - An argument given twice is a warning (the first one is used), as is a second UNITS or
+//!   ACCGRAV statement (the last one is used).
+//! - A MARKER without `PART=`/`POINT_MASS=`/`FLEX_BODY=`/`FE_PART=` belongs to the most recently
+//!   read PART, POINT_MASS or FLEX_BODY statement (its [`IdRef`] then points at that statement's
+//!   keyword); `None` when there is none.
+//! - UNITS and ACCGRAV have no id: their [`Header`] has id 0 and the statement name as name.
+
+use crate::diagnostic::{Diagnostic, Diagnostics, Span};
+use crate::keywords::{self, Lookup};
+use crate::lexer::split_lines;
+use crate::parse::Parsed;
+use crate::statement::{Argument, Statement, Value};
+use crate::typed::*;
+use std::collections::HashSet;
+use std::sync::Arc;
+
+/// Types the parsed statements of a dataset. `text` is the whole file (its line 1 is the title).
+///
+/// Returns the dataset with its warnings, or every error found (parse and typing errors).
+pub(crate) fn type_dataset(
+    file: Arc<str>,
+    text: &str,
+    parsed: Parsed,
+) -> Result<Dataset, Diagnostics> {
+    let title = split_lines(text)
+        .first()
+        .map(|l| l.trim_start_matches('\u{feff}').trim_end().to_string())
+        .unwrap_or_default();
+    let mut typer = Typer {
+        file: file.clone(),
+        diagnostics: parsed.diagnostics,
+        ds: Dataset {
+            file,
+            text: text.to_string(),
+            title,
+            statements: Vec::new(),
+            end_line: parsed.stop_line,
+            units: None,
+            accgrav: None,
+            parts: Vec::new(),
+            markers: Vec::new(),
+            joints: Vec::new(),
+            jprims: Vec::new(),
+            motions: Vec::new(),
+            couplers: Vec::new(),
+            gears: Vec::new(),
+            gcons: Vec::new(),
+            warnings: Vec::new(),
+        },
+        carrier: None,
+    };
+    for (index, st) in parsed.statements.iter().enumerate() {
+        typer.statement(st, index);
+    }
+    typer.ds.statements = parsed.statements;
+    let Typer {
+        mut diagnostics,
+        mut ds,
+        ..
+    } = typer;
+    diagnostics.sort_by_key(|d| d.span);
+    let (errors, warnings): (Vec<_>, Vec<_>) =
+        diagnostics.into_iter().partition(Diagnostic::is_error);
+    if errors.is_empty() {
+        ds.warnings = warnings;
+        Ok(ds)
+    } else {
+        Err(Diagnostics(errors))
+    }
+}
+
+/// Builds the typed elements, collecting diagnostics.
+struct Typer {
+    file: Arc<str>,
+    diagnostics: Vec<Diagnostic>,
+    ds: Dataset,
+    /// The most recently read PART / POINT_MASS / FLEX_BODY (default MARKER carrier).
+    carrier: Option<MarkerCarrier>,
+}
+
+/// `<STATEMENT>/<id>` as written in messages.
+fn label(st: &Statement) -> String {
+    match st.id {
+        Some(id) => format!("{}/{id}", st.keyword),
+        None => st.keyword.clone(),
+    }
+}
+
+fn header(st: &Statement, index: usize) -> Header {
+    let name = st.view_name.clone().unwrap_or_else(|| match st.id {
+        Some(id) => format!("{}_{id}", st.keyword),
+        None => st.keyword.clone(),
+    });
+    Header {
+        id: st.id.unwrap_or(0),
+        name,
+        span: st.span,
+        statement: index,
+    }
+}
+
+/// Whether an expression is a `USER(…)` subroutine call.
+fn is_user_call(text: &str) -> bool {
+    let t = text.trim_start();
+    t.get(..4).is_some_and(|w| w.eq_ignore_ascii_case("USER"))
+        && t.get(4..).is_some_and(|r| r.trim_start().starts_with('('))
+}
+
+/// Largest integer an f64 holds exactly; ids above it are rejected.
+const MAX_EXACT_ID: f64 = 9_007_199_254_740_992.0;
+
+impl Typer {
+    fn error(&mut self, span: Span, msg: impl Into<String>) {
+        self.diagnostics
+            .push(Diagnostic::error(self.file.clone(), Some(span), msg));
+    }
+
+    fn warning(&mut self, span: Span, msg: impl Into<String>) {
+        self.diagnostics
+            .push(Diagnostic::warning(self.file.clone(), Some(span), msg));
+    }
+
+    fn statement(&mut self, st: &Statement, index: usize) {
+        if !st.known {
+            return;
+        }
+        match st.keyword.as_str() {
+            "PART" => {
+                self.carrier = st
+                    .id
+                    .map(|id| MarkerCarrier::Part(IdRef { id, span: st.span }))
+            }
+            "POINT_MASS" => {
+                self.carrier = st
+                    .id
+                    .map(|id| MarkerCarrier::PointMass(IdRef { id, span: st.span }))
+            }
+            "FLEX_BODY" => {
+                self.carrier = st
+                    .id
+                    .map(|id| MarkerCarrier::FlexBody(IdRef { id, span: st.span }))
+            }
+            _ => {}
+        }
+        let typed = matches!(
+            st.keyword.as_str(),
+            "UNITS"
+                | "ACCGRAV"
+                | "PART"
+                | "MARKER"
+                | "JOINT"
+                | "JPRIM"
+                | "MOTION"
+                | "COUPLER"
+                | "GEAR"
+                | "GCON"
+        );
+        if !typed {
+            return;
+        }
+        self.warn_repeated_arguments(st);
+        match st.keyword.as_str() {
+            "UNITS" => {
+                let units = self.units(st, index);
+                if self.ds.units.is_some() {
+                    self.warning(st.span, "UNITS given more than once; the last one is used");
+                }
+                self.ds.units = Some(units);
+            }
+            "ACCGRAV" => {
+                let accgrav = self.accgrav(st, index);
+                if self.ds.accgrav.is_some() {
+                    self.warning(
+                        st.span,
+                        "ACCGRAV given more than once; the last one is used",
+                    );
+                }
+                self.ds.accgrav = Some(accgrav);
+            }
+            "PART" => {
+                let part = self.part(st, index);
+                self.ds.parts.push(part);
+            }
+            "MARKER" => {
+                if let Some(m) = self.marker(st, index) {
+                    self.ds.markers.push(m);
+                }
+            }
+            "JOINT" => {
+                if let Some(j) = self.joint(st, index) {
+                    self.ds.joints.push(j);
+                }
+            }
+            "JPRIM" => {
+                if let Some(j) = self.jprim(st, index) {
+                    self.ds.jprims.push(j);
+                }
+            }
+            "MOTION" => {
+                if let Some(m) = self.motion(st, index) {
+                    self.ds.motions.push(m);
+                }
+            }
+            "COUPLER" => {
+                if let Some(c) = self.coupler(st, index) {
+                    self.ds.couplers.push(c);
+                }
+            }
+            "GEAR" => {
+                if let Some(g) = self.gear(st, index) {
+                    self.ds.gears.push(g);
+                }
+            }
+            _ => {
+                let g = self.gcon(st, index);
+                self.ds.gcons.push(g);
+            }
+        }
+    }
+
+    fn warn_repeated_arguments(&mut self, st: &Statement) {
+        let mut seen = HashSet::new();
+        for a in &st.args {
+            if !seen.insert(a.key.as_str()) {
+                let msg = format!(
+                    "'{}' given more than once in {}; the first one is used",
+                    a.key,
+                    label(st)
+                );
+                self.warning(a.span, msg);
+            }
+        }
+    }
+
+    // ---- value helpers -----------------------------------------------------------------------
+
+    /// The numbers of an argument, each with its position; an error for any other value.
+    fn numbers(&mut self, st: &Statement, arg: &Argument) -> Option<Vec<(f64, Span)>> {
+        let mut out = Vec::with_capacity(arg.values.len());
+        for v in &arg.values {
+            match v {
+                Value::Number { value, span, .. } => out.push((*value, *span)),
+                other => {
+                    let msg = format!("'{}' of {} expects numbers", arg.key, label(st));
+                    self.error(other.span(), msg);
+                    return None;
+                }
+            }
+        }
+        Some(out)
+    }
+
+    /// `key = r1, …` with a count among `counts`.
+    fn reals(&mut self, st: &Statement, key: &str, counts: &[usize]) -> Option<Located<Vec<f64>>> {
+        let arg = st.arg(key)?;
+        let nums = self.numbers(st, arg)?;
+        if !counts.contains(&nums.len()) {
+            let expected = match counts {
+                [n] => n.to_string(),
+                [a, b] if b == &(a + 1) => format!("{a} or {b}"),
+                [first, .., last] if counts.len() > 2 => format!("{first} to {last}"),
+                _ => counts
+                    .iter()
+                    .map(usize::to_string)
+                    .collect::<Vec<_>>()
+                    .join(" or "),
+            };
+            let msg = format!(
+                "'{key}' of {} needs {expected} value{}, found {}",
+                label(st),
+                if expected == "1" { "" } else { "s" },
+                nums.len()
+            );
+            self.error(arg.span, msg);
+            return None;
+        }
+        Some(Located {
+            value: nums.iter().map(|(v, _)| *v).collect(),
+            span: arg.span,
+        })
+    }
+
+    fn real(&mut self, st: &Statement, key: &str) -> Option<Located<f64>> {
+        let r = self.reals(st, key, &[1])?;
+        Some(Located {
+            value: r.value.first().copied().unwrap_or(0.0),
+            span: r.span,
+        })
+    }
+
+    fn vec3(&mut self, st: &Statement, key: &str) -> Option<Located<[f64; 3]>> {
+        let r = self.reals(st, key, &[3])?;
+        match r.value.as_slice() {
+            [a, b, c] => Some(Located {
+                value: [*a, *b, *c],
+                span: r.span,
+            }),
+            _ => None,
+        }
+    }
+
+    /// A number that is an id (a non-negative integer written without `D`).
+    fn as_id(&mut self, st: &Statement, key: &str, value: &Value) -> Option<IdRef> {
+        match value {
+            Value::Number {
+                value,
+                degrees: false,
+                span,
+            } if value.fract() == 0.0 && *value >= 0.0 && *value <= MAX_EXACT_ID => Some(IdRef {
+                // Exact: an integral value within f64's exact integer range.
+                id: *value as u64,
+                span: *span,
+            }),
+            other => {
+                let msg = format!(
+                    "'{key}' of {} must be an id (a non-negative integer)",
+                    label(st)
+                );
+                self.error(other.span(), msg);
+                None
+            }
+        }
+    }
+
+    fn id_ref(&mut self, st: &Statement, key: &str) -> Option<IdRef> {
+        let ids = self.id_list(st, key, &[1])?;
+        ids.first().copied()
+    }
+
+    /// `key = id1, id2, …` with a count among `counts`.
+    fn id_list(&mut self, st: &Statement, key: &str, counts: &[usize]) -> Option<Vec<IdRef>> {
+        let arg = st.arg(key)?;
+        if !counts.contains(&arg.values.len()) {
+            let expected = counts
+                .iter()
+                .map(usize::to_string)
+                .collect::<Vec<_>>()
+                .join(" or ");
+            let msg = format!(
+                "'{key}' of {} needs {expected} id{}, found {}",
+                label(st),
+                if expected == "1" { "" } else { "s" },
+                arg.values.len()
+            );
+            self.error(arg.span, msg);
+            return None;
+        }
+        let mut ids = Vec::with_capacity(arg.values.len());
+        for v in &arg.values {
+            ids.push(self.as_id(st, key, v)?);
+        }
+        Some(ids)
+    }
+
+    /// Like [`Self::id_ref`], but an error at the statement when the argument is missing.
+    fn required_id(&mut self, st: &Statement, key: &str, what: &str) -> Option<IdRef> {
+        if st.arg(key).is_none() {
+            let msg = format!("{} needs {key} = <{what} id>", label(st));
+            self.error(st.span, msg);
+            return None;
+        }
+        self.id_ref(st, key)
+    }
+
+    /// The single word of `key = WORD`.
+    fn word<'s>(&mut self, st: &'s Statement, key: &str) -> Option<(&'s str, Span)> {
+        let arg = st.arg(key)?;
+        match arg.values.as_slice() {
+            [Value::Word { text, span }] => Some((text.as_str(), *span)),
+            _ => {
+                let msg = format!("'{key}' of {} needs one word", label(st));
+                self.error(arg.span, msg);
+                None
+            }
+        }
+    }
+
+    /// `key = NAME` where NAME is one of `names` (by unambiguous prefix).
+    fn named(
+        &mut self,
+        st: &Statement,
+        key: &str,
+        names: &[&'static str],
+    ) -> Option<Located<String>> {
+        let (word, span) = self.word(st, key)?;
+        match keywords::lookup_name(word, names) {
+            Lookup::Found(name) => Some(Located {
+                value: name.to_string(),
+                span,
+            }),
+            Lookup::Ambiguous(candidates) => {
+                let msg = format!(
+                    "ambiguous value '{word}' of '{key}': could be {}",
+                    candidates.join(", ")
+                );
+                self.error(span, msg);
+                None
+            }
+            Lookup::NotFound => {
+                let msg = format!(
+                    "unknown value '{word}' of '{key}' (expected one of {})",
+                    names.join(", ")
+                );
+                self.error(span, msg);
+                None
+            }
+        }
+    }
+
+    fn flag(st: &Statement, key: &str) -> bool {
+        st.arg(key).is_some()
+    }
+
+    fn function(&mut self, st: &Statement, key: &str) -> Option<Located<Function>> {
+        let arg = st.arg(key)?;
+        match arg.values.as_slice() {
+            [Value::Expr(expr)] => Some(Located {
+                value: Function {
+                    expr: expr.clone(),
+                    user: is_user_call(&expr.text),
+                },
+                span: expr.span_at(0),
+            }),
+            _ => {
+                let msg = format!("'{key}' of {} needs an expression", label(st));
+                self.error(arg.span, msg);
+                None
+            }
+        }
+    }
+
+    /// The arguments of `st` that are one of `kinds` (canonical keys), in order.
+    fn pick<'s, T: Copy>(st: &'s Statement, kinds: &[(&str, T)]) -> Vec<(&'s Argument, T)> {
+        st.args
+            .iter()
+            .filter_map(|a| {
+                kinds
+                    .iter()
+                    .find(|(k, _)| *k == a.key)
+                    .map(|(_, t)| (a, *t))
+            })
+            .collect()
+    }
+
+    /// At most one of `kinds`; an error at the second one otherwise.
+    fn one_of<T: Copy>(
+        &mut self,
+        st: &Statement,
+        kinds: &[(&str, T)],
+        what: &str,
+    ) -> Result<Option<T>, ()> {
+        match Self::pick(st, kinds).as_slice() {
+            [] => Ok(None),
+            [(_, t)] => Ok(Some(*t)),
+            [(first, _), (second, _), ..] => {
+                let msg = format!(
+                    "{} has more than one {what} ('{}' and '{}')",
+                    label(st),
+                    first.key,
+                    second.key
+                );
+                self.error(second.span, msg);
+                Err(())
+            }
+        }
+    }
+
+    /// Bare words of `st` that its (complete) table does not know, for error hints.
+    fn unknown_words(st: &Statement) -> Vec<String> {
+        let def = keywords::DATASET_STATEMENTS
+            .iter()
+            .find(|d| d.name == st.keyword);
+        st.args
+            .iter()
+            .filter(|a| {
+                a.values.is_empty() && def.is_some_and(|d| keywords::arg_def(d, &a.key).is_none())
+            })
+            .map(|a| format!("'{}'", a.key))
+            .collect()
+    }
+
+    // ---- statements --------------------------------------------------------------------------
+
+    fn units(&mut self, st: &Statement, index: usize) -> Units {
+        Units {
+            header: header(st, index),
+            force: self.named(st, "FORCE", keywords::FORCE_UNITS),
+            mass: self.named(st, "MASS", keywords::MASS_UNITS),
+            length: self.named(st, "LENGTH", keywords::LENGTH_UNITS),
+            time: self.named(st, "TIME", keywords::TIME_UNITS),
+            system: self.named(st, "SYSTEM", keywords::UNIT_SYSTEMS),
+            ucf: self.real(st, "UCF"),
+        }
+    }
+
+    fn accgrav(&mut self, st: &Statement, index: usize) -> Accgrav {
+        let mut gravity = [0.0; 3];
+        for (g, key) in gravity.iter_mut().zip(["IGRAV", "JGRAV", "KGRAV"]) {
+            if let Some(v) = self.real(st, key) {
+                *g = v.value;
+            }
+        }
+        Accgrav {
+            header: header(st, index),
+            gravity,
+        }
+    }
+
+    fn part(&mut self, st: &Statement, index: usize) -> Part {
+        let ip = self.reals(st, "IP", &[3, 6]).map(|r| {
+            let mut six = [0.0; 6];
+            for (dst, src) in six.iter_mut().zip(&r.value) {
+                *dst = *src;
+            }
+            Located {
+                value: six,
+                span: r.span,
+            }
+        });
+        let mut velocity = [None; 6];
+        for (v, key) in velocity
+            .iter_mut()
+            .zip(["VX", "VY", "VZ", "WX", "WY", "WZ"])
+        {
+            *v = self.real(st, key).map(|r| r.value);
+        }
+        Part {
+            header: header(st, index),
+            ground: Self::flag(st, "GROUND"),
+            mass: self.real(st, "MASS"),
+            cm: self.id_ref(st, "CM"),
+            im: self.id_ref(st, "IM"),
+            ip,
+            qg: self.vec3(st, "QG"),
+            reuler: self.vec3(st, "REULER"),
+            xg: self.vec3(st, "XG"),
+            zg: self.vec3(st, "ZG"),
+            velocity,
+            vm: self.id_ref(st, "VM"),
+            wm: self.id_ref(st, "WM"),
+            exact: self.exact(st),
+        }
+    }
+
+    fn exact(&mut self, st: &Statement) -> Vec<ExactCoord> {
+        let Some(arg) = st.arg("EXACT") else {
+            return Vec::new();
+        };
+        let mut coords = Vec::new();
+        for v in &arg.values {
+            let coord = match v {
+                Value::Word { text, .. } => match text.as_str() {
+                    "X" => Some(ExactCoord::X),
+                    "Y" => Some(ExactCoord::Y),
+                    "Z" => Some(ExactCoord::Z),
+                    "PSI" => Some(ExactCoord::Psi),
+                    "THETA" => Some(ExactCoord::Theta),
+                    "PHI" => Some(ExactCoord::Phi),
+                    _ => None,
+                },
+                _ => None,
+            };
+            match coord {
+                Some(c) => coords.push(c),
+                None => {
+                    let msg = "EXACT coordinates are X, Y, Z, PSI, THETA, PHI (colon-separated)";
+                    self.error(v.span(), msg);
+                }
+            }
+        }
+        coords
+    }
+
+    fn marker(&mut self, st: &Statement, index: usize) -> Option<Marker> {
+        type Make = fn(IdRef) -> MarkerCarrier;
+        let kinds: [(&str, Make); 4] = [
+            ("PART", MarkerCarrier::Part),
+            ("POINT_MASS", MarkerCarrier::PointMass),
+            ("FLEX_BODY", MarkerCarrier::FlexBody),
+            ("FE_PART", MarkerCarrier::FePart),
+        ];
+        self.one_of(st, &kinds, "carrier (PART, POINT_MASS, FLEX_BODY, FE_PART)")
+            .ok()?;
+        let carrier = match Self::pick(st, &kinds).first() {
+            Some((arg, make)) => Some(make(self.id_ref(st, &arg.key)?)),
+            None => self.carrier,
+        };
+        Some(Marker {
+            header: header(st, index),
+            carrier,
+            qp: self.vec3(st, "QP"),
+            reuler: self.vec3(st, "REULER"),
+            zp: self.vec3(st, "ZP"),
+            xp: self.vec3(st, "XP"),
+            usexp: Self::flag(st, "USEXP"),
+            floating: Self::flag(st, "FLOATING"),
+            rm: self.id_ref(st, "RM"),
+        })
+    }
+
+    fn joint(&mut self, st: &Statement, index: usize) -> Option<Joint> {
+        use JointType::*;
+        let all = [
+            Convel,
+            Cylindrical,
+            Fixed,
+            Hooke,
+            Planar,
+            Rackpin,
+            Revolute,
+            Screw,
+            Spherical,
+            Translational,
+            Universal,
+        ];
+        let kinds: Vec<(&str, JointType)> = all.iter().map(|t| (t.keyword(), *t)).collect();
+        let kind = self.one_of(st, &kinds, "joint type");
+        let i = self.required_id(st, "I", "marker");
+        let j = self.required_id(st, "J", "marker");
+        let kind = match kind {
+            Ok(Some(k)) => k,
+            Ok(None) => {
+                self.missing_type(st, keywords::JOINT_TYPES, "joint type");
+                return None;
+            }
+            Err(()) => return None,
+        };
+        Some(Joint {
+            header: header(st, index),
+            kind,
+            i: i?,
+            j: j?,
+            ic: self.reals(st, "IC", &[1, 2]),
+            ictran: self.reals(st, "ICTRAN", &[1, 2]),
+            icrot: self.reals(st, "ICROT", &[1, 2]),
+            pd: self.real(st, "PD"),
+            pitch: self.real(st, "PITCH"),
+        })
+    }
+
+    fn missing_type(&mut self, st: &Statement, names: &[&str], what: &str) {
+        let unknown = Self::unknown_words(st);
+        let hint = if unknown.is_empty() {
+            String::new()
+        } else {
+            format!(" ({} is not one)", unknown.join(", "))
+        };
+        let msg = format!(
+            "{} has no {what}{hint}; expected one of {}",
+            label(st),
+            names.join(", ")
+        );
+        self.error(st.span, msg);
+    }
+
+    fn jprim(&mut self, st: &Statement, index: usize) -> Option<Jprim> {
+        use JprimType::*;
+        let all = [
+            Atpoint,
+            Inline,
+            Inplane,
+            Orientation,
+            ParallelAxes,
+            Perpendicular,
+        ];
+        let kinds: Vec<(&str, JprimType)> = all.iter().map(|t| (t.keyword(), *t)).collect();
+        let kind = self.one_of(st, &kinds, "joint primitive type");
+        let i = self.required_id(st, "I", "marker");
+        let j = self.required_id(st, "J", "marker");
+        let kind = match kind {
+            Ok(Some(k)) => k,
+            Ok(None) => {
+                self.missing_type(st, keywords::JPRIM_TYPES, "joint primitive type");
+                return None;
+            }
+            Err(()) => return None,
+        };
+        Some(Jprim {
+            header: header(st, index),
+            kind,
+            i: i?,
+            j: j?,
+        })
+    }
+
+    fn motion(&mut self, st: &Statement, index: usize) -> Option<Motion> {
+        let axes = [
+            ("X", MotionAxis::X),
+            ("Y", MotionAxis::Y),
+            ("Z", MotionAxis::Z),
+            ("B1", MotionAxis::B1),
+            ("B2", MotionAxis::B2),
+            ("B3", MotionAxis::B3),
+        ];
+        let dofs = [
+            ("TRANSLATION", MotionDof::Translation),
+            ("ROTATION", MotionDof::Rotation),
+        ];
+        let levels = [
+            ("DISPLACEMENT", MotionLevel::Displacement),
+            ("VELOCITY", MotionLevel::Velocity),
+            ("ACCELERATION", MotionLevel::Acceleration),
+        ];
+        let axis = self.one_of(st, &axes, "axis (X, Y, Z, B1, B2, B3)");
+        let dof = self.one_of(st, &dofs, "joint coordinate (TRANSLATION, ROTATION)");
+        let level = self.one_of(st, &levels, "level (DISPLACEMENT, VELOCITY, ACCELERATION)");
+        let (axis, dof, level) = (axis.ok()?, dof.ok()?, level.ok()?);
+
+        // FUNCTION=, or the older `X = expression` form of a marker motion.
+        let mut function = self.function(st, "FUNCTION");
+        let axis_expr = Self::pick(st, &axes)
+            .into_iter()
+            .find(|(a, _)| !a.values.is_empty())
+            .map(|(a, _)| a.key.clone());
+        if let Some(key) = axis_expr {
+            if function.is_some() {
+                let msg = format!("{} gives both FUNCTION and '{key} = …'", label(st));
+                self.error(st.span, msg);
+                return None;
+            }
+            function = self.function(st, &key);
+        }
+
+        let target = if st.arg("JOINT").is_some() {
+            if let Some(a) = st.arg("I").or(st.arg("J")) {
+                let msg = format!("{} names both JOINT and I/J markers", label(st));
+                self.error(a.span, msg);
+                return None;
+            }
+            if let Some(axis_arg) = Self::pick(st, &axes).first() {
+                let msg = format!(
+                    "'{}' is for marker motions (I=, J=); a joint motion takes TRANSLATION or ROTATION",
+                    axis_arg.0.key
+                );
+                self.error(axis_arg.0.span, msg);
+                return None;
+            }
+            MotionTarget::Joint {
+                joint: self.id_ref(st, "JOINT")?,
+                dof,
+            }
+        } else if st.arg("I").is_some() || st.arg("J").is_some() {
+            let i = self.required_id(st, "I", "marker");
+            let j = self.required_id(st, "J", "marker");
+            let Some(axis) = axis else {
+                let msg = format!("{} needs one of X, Y, Z, B1, B2, B3", label(st));
+                self.error(st.span, msg);
+                return None;
+            };
+            MotionTarget::Markers { i: i?, j: j?, axis }
+        } else {
+            let msg = format!(
+                "{} needs JOINT = <joint id>, or I = and J = <marker ids> with X, Y, Z, B1, B2 or B3",
+                label(st)
+            );
+            self.error(st.span, msg);
+            return None;
+        };
+        Some(Motion {
+            header: header(st, index),
+            target,
+            level: level.unwrap_or_default(),
+            function,
+            icdisp: self.real(st, "ICDISP").map(|r| r.value),
+            icvel: self.real(st, "ICVEL").map(|r| r.value),
+        })
+    }
+
+    fn coupler(&mut self, st: &Statement, index: usize) -> Option<Coupler> {
+        if st.arg("JOINTS").is_none() {
+            let msg = format!("{} needs JOINTS = <joint ids>", label(st));
+            self.error(st.span, msg);
+            return None;
+        }
+        let joints = self.id_list(st, "JOINTS", &[2, 3])?;
+        let mut types = Vec::new();
+        if let Some(arg) = st.arg("TYPE") {
+            for v in &arg.values {
+                let dof = match v {
+                    Value::Word { text, .. } if "TRANSLATIONAL".starts_with(text.as_str()) => {
+                        Some(CouplerDof::Translation)
+                    }
+                    Value::Word { text, .. } if "ROTATIONAL".starts_with(text.as_str()) => {
+                        Some(CouplerDof::Rotation)
+                    }
+                    _ => None,
+                };
+                match dof {
+                    Some(d) => types.push(d),
+                    None => {
+                        self.error(v.span(), "COUPLER TYPE items are T or R (colon-separated)");
+                        return None;
+                    }
+                }
+            }
+            if types.len() != joints.len() {
+                let msg = format!(
+                    "TYPE of {} has {} items for {} joints",
+                    label(st),
+                    types.len(),
+                    joints.len()
+                );
+                self.error(arg.span, msg);
+                return None;
+            }
+        }
+        let counts: &[usize] = if joints.len() == 3 {
+            &[1, 2, 3]
+        } else {
+            &[1, 2]
+        };
+        let scales = match st.arg("SCALES") {
+            Some(_) => self.reals(st, "SCALES", counts)?.value,
+            None => Vec::new(),
+        };
+        Some(Coupler {
+            header: header(st, index),
+            joints,
+            types,
+            scales,
+            function: self.function(st, "FUNCTION"),
+        })
+    }
+
+    fn gear(&mut self, st: &Statement, index: usize) -> Option<Gear> {
+        if st.arg("JOINTS").is_none() {
+            let msg = format!("{} needs JOINTS = <joint id>, <joint id>", label(st));
+            self.error(st.span, msg);
+            return None;
+        }
+        Some(Gear {
+            header: header(st, index),
+            joints: self.id_list(st, "JOINTS", &[2])?,
+            cv: self.id_ref(st, "CV"),
+        })
+    }
+
+    fn gcon(&mut self, st: &Statement, index: usize) -> Gcon {
+        Gcon {
+            header: header(st, index),
+            i: self.id_ref(st, "I"),
+            function: self.function(st, "FUNCTION"),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests;

@@ -1,0 +1,182 @@
+//! The `linkage` binary end to end: reports, JSON schema, exit codes, corpus datasets.
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+fn root() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
+}
+
+fn corpus() -> Option<PathBuf> {
+    let dir = root().join("../shared/corpus");
+    if dir.is_dir() {
+        Some(dir)
+    } else {
+        eprintln!("notice: ../shared/corpus is absent; corpus tests skipped");
+        None
+    }
+}
+
+fn run(args: &[&str]) -> (i32, String, String) {
+    let out = Command::new(env!("CARGO_BIN_EXE_linkage"))
+        .args(args)
+        .output()
+        .expect("binary runs");
+    (
+        out.status.code().unwrap_or(-1),
+        String::from_utf8_lossy(&out.stdout).into_owned(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}
+
+fn json(args: &[&str]) -> (i32, serde_json::Value) {
+    let (code, out, err) = run(args);
+    let v = serde_json::from_str(&out).unwrap_or_else(|e| panic!("not JSON ({e}): {out}\n{err}"));
+    (code, v)
+}
+
+#[test]
+fn bundled_example_verifies_as_text() {
+    let ex = root().join("examples/fourbar.adm");
+    let (code, out, _) = run(&["verify", ex.to_str().unwrap()]);
+    assert_eq!(code, 0, "{out}");
+    assert!(out.contains("Gruebler Count"), "{out}");
+    assert!(
+        out.contains("   0 Degrees of Freedom") || out.contains("    0 Degrees of Freedom"),
+        "{out}"
+    );
+    assert!(
+        out.contains("There are 3 redundant constraint equations."),
+        "{out}"
+    );
+    assert!(out.contains("unnecessarily removes this DOF"), "{out}");
+}
+
+#[test]
+fn json_report_has_the_documented_keys() {
+    let door = root().join("mechanisms/door_tilted_hinge.adm");
+    let (code, v) = json(&["verify", door.to_str().unwrap(), "--format", "json"]);
+    assert_eq!(code, 0);
+    for key in [
+        "title",
+        "moving_parts",
+        "gruebler",
+        "dof",
+        "redundant",
+        "misaligned",
+        "unconstrained_parts",
+        "massless_parts",
+        "warnings",
+        "errors",
+    ] {
+        assert!(v.get(key).is_some(), "missing {key}: {v}");
+    }
+    assert_eq!(v["gruebler"], -4);
+    assert_eq!(v["dof"], 1);
+    let red = v["redundant"].as_array().unwrap();
+    assert_eq!(red.len(), 5);
+    for r in red {
+        assert!(
+            r["equation"].is_string() && r["depends_on"].is_array() && r.get("residual").is_some()
+        );
+        assert!(r["consistent"].is_boolean());
+    }
+    let bad: Vec<_> = red.iter().filter(|r| r["consistent"] == false).collect();
+    assert_eq!(bad.len(), 1);
+    assert_eq!(bad[0]["element"], "JOINT/2");
+    assert_eq!(bad[0]["name"], "hinge_top");
+    assert_eq!(bad[0]["equation"], "Rotation Between Zi & Yj");
+    assert!((bad[0]["residual"].as_f64().unwrap().abs() - 2.0).abs() < 1e-6);
+    let mis = v["misaligned"].as_array().unwrap();
+    assert!(!mis.is_empty());
+    assert!(mis.iter().all(|m| m["name"] == "hinge_top"
+        && m["equation"].is_string()
+        && m["residual"].is_number()));
+}
+
+#[test]
+fn input_errors_exit_2_with_location() {
+    let dir = std::env::temp_dir().join(format!("linkage-cli-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let bad = dir.join("bad.adm");
+    std::fs::write(
+        &bad,
+        "title\nPART/1, GROUND\nMARKER/1, PART = 1\nPART/2, MASS = 1, CM = 20\nMARKER/20, PART = 2\nJOINT/1, REVOLUTE, I = 20, J = 99\nEND\n",
+    )
+    .unwrap();
+    let (code, _, err) = run(&["verify", bad.to_str().unwrap()]);
+    assert_eq!(code, 2);
+    assert!(err.contains("bad.adm:6:"), "{err}");
+    assert!(err.contains("marker 99 does not exist"), "{err}");
+
+    std::fs::write(&bad, "title\nPART/1, GROUND\nPART/2, MASS = -3\nEND\n").unwrap();
+    let (code, _, err) = run(&["verify", bad.to_str().unwrap()]);
+    assert_eq!(code, 2);
+    assert!(
+        err.contains("bad.adm:3:") && err.contains("negative"),
+        "{err}"
+    );
+
+    std::fs::write(&bad, "title\nPART/1, GROUND\nPART/1, GROUND\nEND\n").unwrap();
+    let (code, _, err) = run(&["verify", bad.to_str().unwrap()]);
+    assert_eq!(code, 2, "{err}");
+
+    let (code, _, err) = run(&["verify", dir.join("missing.adm").to_str().unwrap()]);
+    assert_eq!(code, 2);
+    assert!(err.contains("cannot read"), "{err}");
+}
+
+#[test]
+fn adams_slider_crank_has_one_redundant_equation_zi_xj_of_joint_2() {
+    let Some(dir) = corpus() else { return };
+    let f = dir.join("bthornton191__adamspy__test__files__generic_model__generic_model.adm");
+    let (code, v) = json(&["verify", f.to_str().unwrap(), "--format", "json"]);
+    assert_eq!(code, 0);
+    let red = v["redundant"].as_array().unwrap();
+    assert_eq!(red.len(), 1, "{v}");
+    // Adams Solver C++: "deactivating constraint equation  Zi.Xj in model.JOINT_2".
+    assert_eq!(red[0]["name"], "JOINT_2");
+    assert_eq!(red[0]["short"], "Zi.Xj");
+    assert_eq!(red[0]["equation"], "Rotation Between Zi & Xj");
+    assert_eq!(v["dof"], 0);
+    assert_eq!(v["gruebler"], -1);
+    assert_eq!(red[0]["consistent"], true);
+}
+
+#[test]
+fn every_corpus_dataset_gives_a_report_or_an_input_diagnostic() {
+    let Some(dir) = corpus() else { return };
+    let mut files: Vec<PathBuf> = std::fs::read_dir(&dir)
+        .unwrap()
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| p.extension().is_some_and(|x| x == "adm"))
+        .collect();
+    files.sort();
+    assert!(files.len() > 40);
+    let (mut reports, mut diagnostics) = (0, 0);
+    for f in &files {
+        let (code, out, err) = run(&["verify", f.to_str().unwrap(), "--format", "json"]);
+        match code {
+            0 => {
+                let v: serde_json::Value =
+                    serde_json::from_str(&out).unwrap_or_else(|e| panic!("{}: {e}", f.display()));
+                assert!(v["dof"].is_number(), "{}", f.display());
+                reports += 1;
+            }
+            2 => {
+                assert!(
+                    err.contains(".adm"),
+                    "{}: diagnostic without location: {err}",
+                    f.display()
+                );
+                diagnostics += 1;
+            }
+            c => panic!("{}: exit code {c}\n{err}", f.display()),
+        }
+    }
+    eprintln!("corpus: {reports} reports, {diagnostics} input diagnostics");
+    assert!(
+        reports > diagnostics,
+        "{reports} reports vs {diagnostics} diagnostics"
+    );
+}

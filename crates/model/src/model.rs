@@ -1,0 +1,286 @@
+//! The immutable model: what every analysis reads.
+
+use crate::units::Units;
+use glam::{DMat3, DVec3};
+use linkage_adm::{
+    CouplerDof, ExactCoord, Function, JointType, JprimType, Located, MotionAxis, MotionLevel, Span,
+};
+use std::sync::Arc;
+
+/// Where a marker lives: on ground or on moving part `k` (index into [`Model::parts`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Body {
+    Ground,
+    Part(usize),
+}
+
+impl Body {
+    pub fn part(self) -> Option<usize> {
+        match self {
+            Body::Ground => None,
+            Body::Part(k) => Some(k),
+        }
+    }
+}
+
+/// Where an element was defined: for messages and for writing the dataset back.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Origin {
+    /// Statement keyword and id, e.g. `("JOINT", 7)`.
+    pub statement: &'static str,
+    pub id: u64,
+    /// Display name (`JOINT_7` or the `adams_view_name`).
+    pub name: String,
+    pub span: Span,
+    /// Index in the dataset's statement list.
+    pub statement_index: usize,
+}
+
+impl Origin {
+    /// `JOINT/7`.
+    pub fn element(&self) -> String {
+        format!("{}/{}", self.statement, self.id)
+    }
+}
+
+/// A moving part. Its body frame B has its origin at the centre of mass and the axes of the
+/// part's BCS.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Part {
+    pub origin: Origin,
+    /// Mass in model units (0 for a massless part).
+    pub mass: f64,
+    /// Inertia about the centre of mass in body axes (model mass × length²).
+    pub inertia: DMat3,
+    /// Centre-of-mass position in ground at the input configuration.
+    pub p_gb: DVec3,
+    /// Orientation of the body (= BCS) axes in ground at the input configuration.
+    pub r_gb: DMat3,
+    /// BCS origin in the body frame (`QG = p_GB + R_GB·p_B_bcs`), to write QG back.
+    pub p_b_bcs: DVec3,
+    /// Initial velocities `VX, VY, VZ` (ground) and `WX, WY, WZ` as given (`None` = inexact 0).
+    pub velocity: [Option<f64>; 6],
+    /// Coordinates named in `EXACT=`.
+    pub exact: Vec<ExactCoord>,
+}
+
+/// A marker fixed on a body (floating markers carry no fixed pose: `floating` is set and the
+/// pose is the part frame's).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Marker {
+    pub id: u64,
+    pub name: String,
+    pub span: Span,
+    pub body: Body,
+    /// Origin in the body frame (in ground for ground markers).
+    pub p_bm: DVec3,
+    /// Axes in the body frame (in ground for ground markers).
+    pub r_bm: DMat3,
+    pub floating: bool,
+}
+
+/// Joint initial conditions: displacement and velocity of the joint coordinate(s).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct JointInitial {
+    /// Translation along z_j: (displacement, velocity), each optional.
+    pub translation: (Option<f64>, Option<f64>),
+    /// Rotation about z_j in radians: (displacement, velocity).
+    pub rotation: (Option<f64>, Option<f64>),
+    pub span: Option<Span>,
+}
+
+/// The coordinate a motion drives.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum MotionCoordinate {
+    /// Angle of x_i about z_j measured from x_j (AZ(I,J)).
+    RotationZ,
+    /// Displacement of I's origin along z_j (DZ(I,J,J)).
+    TranslationZ,
+    /// Marker-form motions: translations of I along J's axes, or body 1-2-3 angles of I in J.
+    Marker(MotionAxis),
+}
+
+/// Every constraint element.
+#[derive(Clone, Debug, PartialEq)]
+pub enum ConstraintKind {
+    Joint {
+        kind: JointType,
+        i: usize,
+        j: usize,
+        initial: JointInitial,
+        pd: Option<f64>,
+        pitch: Option<f64>,
+    },
+    Jprim {
+        kind: JprimType,
+        i: usize,
+        j: usize,
+    },
+    Motion {
+        /// The joint it drives (index into [`Model::constraints`]), for joint-form motions.
+        joint: Option<usize>,
+        i: usize,
+        j: usize,
+        coordinate: MotionCoordinate,
+        level: MotionLevel,
+        function: Option<Located<Function>>,
+        icdisp: Option<f64>,
+        icvel: Option<f64>,
+    },
+    Coupler {
+        /// (joint constraint index, coordinate used, scale r_k).
+        terms: Vec<(usize, CouplerDof, f64)>,
+        function: Option<Located<Function>>,
+    },
+    Gear {
+        joints: [usize; 2],
+        cv: usize,
+    },
+    Gcon {
+        i: usize,
+        function: Option<Located<Function>>,
+    },
+}
+
+/// A constraint element and where it came from.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Constraint {
+    pub origin: Origin,
+    pub kind: ConstraintKind,
+}
+
+impl Constraint {
+    /// Human description in Adams View style: `Revolute Joint`, `Inline Primitive`,
+    /// `Rotational Motion`, `Coupler`, `Gear`, `General Constraint`.
+    pub fn description(&self) -> String {
+        match &self.kind {
+            ConstraintKind::Joint { kind, .. } => format!("{} Joint", title_case(kind.keyword())),
+            ConstraintKind::Jprim { kind, .. } => {
+                format!("{} Primitive", title_case(kind.keyword()))
+            }
+            ConstraintKind::Motion { coordinate, .. } => match coordinate {
+                MotionCoordinate::RotationZ => "Rotational Motion".into(),
+                MotionCoordinate::TranslationZ => "Translational Motion".into(),
+                MotionCoordinate::Marker(MotionAxis::X | MotionAxis::Y | MotionAxis::Z) => {
+                    "Translational Motion".into()
+                }
+                MotionCoordinate::Marker(_) => "Rotational Motion".into(),
+            },
+            ConstraintKind::Coupler { .. } => "Coupler".into(),
+            ConstraintKind::Gear { .. } => "Gear".into(),
+            ConstraintKind::Gcon { .. } => "General Constraint".into(),
+        }
+    }
+
+    /// The two markers of a joint, primitive or motion.
+    pub fn markers(&self) -> Option<(usize, usize)> {
+        match &self.kind {
+            ConstraintKind::Joint { i, j, .. }
+            | ConstraintKind::Jprim { i, j, .. }
+            | ConstraintKind::Motion { i, j, .. } => Some((*i, *j)),
+            _ => None,
+        }
+    }
+}
+
+fn title_case(s: &str) -> String {
+    s.split('_')
+        .map(|w| {
+            let mut c = w.chars();
+            match c.next() {
+                Some(f) => f.to_uppercase().collect::<String>() + &c.as_str().to_lowercase(),
+                None => String::new(),
+            }
+        })
+        .collect::<Vec<_>>()
+        .join(" ")
+}
+
+/// The mechanical model.
+#[derive(Clone, Debug)]
+pub struct Model {
+    pub file: Arc<str>,
+    pub title: String,
+    pub units: Units,
+    /// Gravity in model length/time² (ground axes).
+    pub gravity: DVec3,
+    /// Display name of the ground part.
+    pub ground_name: String,
+    /// Moving parts (ground excluded).
+    pub parts: Vec<Part>,
+    pub markers: Vec<Marker>,
+    /// Joints, primitives, motions, couplers, gears and general constraints, in that order of
+    /// kinds and in definition order within each kind.
+    pub constraints: Vec<Constraint>,
+    /// Characteristic length: diagonal of the bounding box of markers and centres of mass
+    /// (1 if that is zero). Tolerances on lengths are relative to it.
+    pub characteristic_length: f64,
+}
+
+impl Model {
+    /// Units consistency factor.
+    pub fn ucf(&self) -> f64 {
+        self.units.ucf()
+    }
+
+    /// Marker pose in ground at the input configuration.
+    pub fn marker_in_ground(&self, m: usize) -> (DVec3, DMat3) {
+        let mk = &self.markers[m];
+        match mk.body {
+            Body::Ground => (mk.p_bm, mk.r_bm),
+            Body::Part(k) => {
+                let p = &self.parts[k];
+                (p.p_gb + p.r_gb * mk.p_bm, p.r_gb * mk.r_bm)
+            }
+        }
+    }
+
+    /// Display name of a body.
+    pub fn body_name(&self, b: Body) -> &str {
+        match b {
+            Body::Ground => &self.ground_name,
+            Body::Part(k) => &self.parts[k].origin.name,
+        }
+    }
+
+    /// Bodies an element connects (ground included as [`Body::Ground`]).
+    pub fn constraint_bodies(&self, c: usize) -> Vec<Body> {
+        let con = &self.constraints[c];
+        let mut out = Vec::new();
+        let mut add = |b: Body| {
+            if !out.contains(&b) {
+                out.push(b)
+            }
+        };
+        match &con.kind {
+            ConstraintKind::Joint { i, j, .. }
+            | ConstraintKind::Jprim { i, j, .. }
+            | ConstraintKind::Motion { i, j, .. } => {
+                add(self.markers[*i].body);
+                add(self.markers[*j].body);
+            }
+            ConstraintKind::Coupler { terms, .. } => {
+                for (jt, _, _) in terms {
+                    if let Some((i, j)) = self.constraints[*jt].markers() {
+                        add(self.markers[i].body);
+                        add(self.markers[j].body);
+                    }
+                }
+            }
+            ConstraintKind::Gear { joints, cv } => {
+                for jt in joints {
+                    if let Some((i, j)) = self.constraints[*jt].markers() {
+                        add(self.markers[i].body);
+                        add(self.markers[j].body);
+                    }
+                }
+                add(self.markers[*cv].body);
+            }
+            ConstraintKind::Gcon { i, .. } => {
+                add(self.markers[*i].body);
+                add(Body::Ground);
+            }
+        }
+        out
+    }
+}

@@ -1,0 +1,6 @@
+//! # linkage-report — rendering analysis results
+//!
+//! Reports compute no physics: they turn the values returned by `linkage-solve` into human
+//! text in the spirit of Adams' own output and into JSON with a stable schema.
+
+pub mod verify;

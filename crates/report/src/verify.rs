@@ -1,0 +1,396 @@
+//! The verify report: Adams View "Verify Model" style text, and JSON.
+
+use linkage_adm::Diagnostic;
+use linkage_model::Model;
+use linkage_solve::system::RowUnit;
+use linkage_solve::verify::Verification;
+use serde::Serialize;
+use std::fmt::Write;
+
+/// An equation named the way engineers read it.
+#[derive(Clone, Debug, Serialize, PartialEq)]
+pub struct EquationRef {
+    /// `JOINT/2`.
+    pub element: String,
+    /// `JOINT_2` (or the `adams_view_name`).
+    pub name: String,
+    /// `Revolute Joint`.
+    #[serde(rename = "type")]
+    pub kind: String,
+    /// `Rotation Between Zi & Xj`.
+    pub equation: String,
+    /// `Zi.Xj` (Adams Solver's short form).
+    pub short: String,
+}
+
+#[derive(Clone, Debug, Serialize, PartialEq)]
+pub struct DependencyJson {
+    #[serde(flatten)]
+    pub equation: EquationRef,
+    pub coefficient: f64,
+}
+
+#[derive(Clone, Debug, Serialize, PartialEq)]
+pub struct RedundantJson {
+    #[serde(flatten)]
+    pub equation: EquationRef,
+    pub depends_on: Vec<DependencyJson>,
+    /// `true`/`false` at an assembled configuration, `null` when unknown.
+    pub consistent: Option<bool>,
+    /// Residual in `residual_unit` (`null` when it cannot be evaluated).
+    pub residual: Option<f64>,
+    pub residual_unit: &'static str,
+    pub near_tie: bool,
+}
+
+#[derive(Clone, Debug, Serialize, PartialEq)]
+pub struct MisalignedJson {
+    #[serde(flatten)]
+    pub equation: EquationRef,
+    pub residual: f64,
+    pub residual_unit: &'static str,
+}
+
+#[derive(Clone, Debug, Serialize, PartialEq)]
+pub struct CountJson {
+    #[serde(rename = "type")]
+    pub kind: String,
+    pub count: usize,
+}
+
+#[derive(Clone, Debug, Serialize, PartialEq)]
+pub struct MasslessJson {
+    pub name: String,
+    pub free_coordinates: Vec<&'static str>,
+}
+
+#[derive(Clone, Debug, Serialize, PartialEq)]
+pub struct UnitsJson {
+    pub force: &'static str,
+    pub mass: &'static str,
+    pub length: &'static str,
+    pub time: &'static str,
+    pub ucf: f64,
+}
+
+/// The JSON document of `linkage verify --format json`.
+#[derive(Clone, Debug, Serialize, PartialEq)]
+pub struct VerifyJson {
+    pub file: String,
+    pub title: String,
+    pub units: UnitsJson,
+    pub moving_parts: usize,
+    pub constraint_counts: Vec<CountJson>,
+    pub constraint_equations: usize,
+    pub gruebler: i64,
+    pub rank: usize,
+    pub dof: i64,
+    /// Whether every independent equation holds at the input configuration.
+    pub assembled: bool,
+    pub redundant: Vec<RedundantJson>,
+    pub misaligned: Vec<MisalignedJson>,
+    /// Misaligned elements whose rank analysis used their repaired (idealised) frames.
+    pub analysed_as_repaired: Vec<String>,
+    pub unconstrained_parts: Vec<String>,
+    pub ungrounded_parts: Vec<String>,
+    /// Massless parts whose motion the constraints do not determine (dynamics cannot run).
+    pub massless_parts: Vec<String>,
+    pub massless_free: Vec<MasslessJson>,
+    /// Every part with zero mass.
+    pub zero_mass_parts: Vec<String>,
+    /// Independent equations whose rank decision was close to the tolerance.
+    pub near_ties: Vec<EquationRef>,
+    pub warnings: Vec<String>,
+    pub errors: Vec<String>,
+}
+
+fn unit_name(u: RowUnit) -> &'static str {
+    match u {
+        RowUnit::Length | RowUnit::Mixed => "length",
+        RowUnit::Direction | RowUnit::Angle => "degrees",
+    }
+}
+
+/// Names an equation (row) of the verification's system.
+pub fn equation_ref(model: &Model, v: &Verification, row: usize) -> EquationRef {
+    let r = &v.system.rows[row];
+    let c = &model.constraints[r.element];
+    EquationRef {
+        element: c.origin.element(),
+        name: c.origin.name.clone(),
+        kind: c.description(),
+        equation: r.label.to_string(),
+        short: r.short.to_string(),
+    }
+}
+
+/// Builds the JSON document.
+pub fn to_json(model: &Model, v: &Verification, warnings: &[Diagnostic]) -> VerifyJson {
+    let part_name = |k: usize| model.parts[k].origin.name.clone();
+    VerifyJson {
+        file: model.file.to_string(),
+        title: model.title.clone(),
+        units: UnitsJson {
+            force: model.units.names[0],
+            mass: model.units.names[1],
+            length: model.units.names[2],
+            time: model.units.names[3],
+            ucf: model.ucf(),
+        },
+        moving_parts: v.moving_parts,
+        constraint_counts: v
+            .counts
+            .iter()
+            .map(|(k, n)| CountJson {
+                kind: k.clone(),
+                count: *n,
+            })
+            .collect(),
+        constraint_equations: v.rows,
+        gruebler: v.gruebler,
+        rank: v.rank,
+        dof: v.dof,
+        assembled: v.assembled,
+        redundant: v
+            .redundant
+            .iter()
+            .map(|r| RedundantJson {
+                equation: equation_ref(model, v, r.row),
+                depends_on: r
+                    .depends_on
+                    .iter()
+                    .map(|d| DependencyJson {
+                        equation: equation_ref(model, v, d.row),
+                        coefficient: d.coefficient,
+                    })
+                    .collect(),
+                consistent: r.consistent,
+                residual: r.residual,
+                residual_unit: unit_name(v.system.rows[r.row].unit),
+                near_tie: r.near_tie,
+            })
+            .collect(),
+        misaligned: v
+            .misaligned
+            .iter()
+            .map(|m| MisalignedJson {
+                equation: equation_ref(model, v, m.row),
+                residual: m.residual,
+                residual_unit: unit_name(v.system.rows[m.row].unit),
+            })
+            .collect(),
+        analysed_as_repaired: v
+            .idealized
+            .iter()
+            .map(|&e| model.constraints[e].origin.name.clone())
+            .collect(),
+        unconstrained_parts: v
+            .unconstrained_parts
+            .iter()
+            .map(|&k| part_name(k))
+            .collect(),
+        ungrounded_parts: v.ungrounded_parts.iter().map(|&k| part_name(k)).collect(),
+        massless_parts: v.massless_free.iter().map(|f| part_name(f.part)).collect(),
+        massless_free: v
+            .massless_free
+            .iter()
+            .map(|f| MasslessJson {
+                name: part_name(f.part),
+                free_coordinates: f.coordinates.clone(),
+            })
+            .collect(),
+        zero_mass_parts: v.massless_parts.iter().map(|&k| part_name(k)).collect(),
+        near_ties: v
+            .near_tie_admitted
+            .iter()
+            .map(|&r| equation_ref(model, v, r))
+            .collect(),
+        warnings: warnings.iter().map(|w| w.to_string()).collect(),
+        errors: Vec::new(),
+    }
+}
+
+fn plural(n: usize, one: &str) -> String {
+    if n == 1 {
+        one.to_string()
+    } else if let Some(stem) = one.strip_suffix('y') {
+        format!("{stem}ies")
+    } else {
+        format!("{one}s")
+    }
+}
+
+fn fmt_residual(x: f64, unit: &str) -> String {
+    match unit {
+        "degrees" => format!("{x:.4} deg"),
+        _ => format!("{x:.4e}"),
+    }
+}
+
+/// Human report in the spirit of Adams View's "Verify Model".
+pub fn to_text(j: &VerifyJson) -> String {
+    let mut s = String::new();
+    let _ = writeln!(s, "VERIFY MODEL: {}", j.title);
+    let _ = writeln!(s, "  file: {}", j.file);
+    let _ = writeln!(
+        s,
+        "  units: {} {} {} {} (UCF {})",
+        j.units.force, j.units.mass, j.units.length, j.units.time, j.units.ucf
+    );
+    let _ = writeln!(s);
+    let _ = writeln!(
+        s,
+        "{:>5} Gruebler Count (approximate degrees of freedom)",
+        j.gruebler
+    );
+    let _ = writeln!(
+        s,
+        "{:>5} Moving Parts (not including ground)",
+        j.moving_parts
+    );
+    for c in &j.constraint_counts {
+        let _ = writeln!(s, "{:>5} {}", c.count, plural(c.count, &c.kind));
+    }
+    let _ = writeln!(s, "{:>5} Constraint Equations", j.constraint_equations);
+    let _ = writeln!(s);
+    let _ = writeln!(s, "{:>5} Degrees of Freedom", j.dof);
+    let _ = writeln!(s);
+    match j.redundant.len() {
+        0 => {
+            let _ = writeln!(s, "There are no redundant constraint equations.");
+        }
+        n => {
+            let _ = writeln!(
+                s,
+                "There {} {n} redundant constraint {}.",
+                if n == 1 { "is" } else { "are" },
+                plural(n, "equation")
+            );
+            let _ = writeln!(s);
+            let left: Vec<String> = j
+                .redundant
+                .iter()
+                .map(|r| format!("{} ({})", r.equation.name, r.equation.kind))
+                .collect();
+            let w = left
+                .iter()
+                .map(|l| l.len())
+                .max()
+                .unwrap_or(0)
+                .max("This constraint:".len())
+                + 3;
+            let _ = writeln!(
+                s,
+                "   {:<w$}unnecessarily removes this DOF:",
+                "This constraint:"
+            );
+            for (r, l) in j.redundant.iter().zip(&left) {
+                let status = match (r.consistent, r.residual) {
+                    (Some(true), _) => "consistent".to_string(),
+                    (Some(false), Some(x)) => format!(
+                        "INCONSISTENT (residual {})",
+                        fmt_residual(x, r.residual_unit)
+                    ),
+                    (Some(false), None) => "INCONSISTENT".to_string(),
+                    (None, Some(x)) => format!(
+                        "consistency unknown (residual {})",
+                        fmt_residual(x, r.residual_unit)
+                    ),
+                    (None, None) => "consistency unknown".to_string(),
+                };
+                let tie = if r.near_tie {
+                    ", near-tie rank decision"
+                } else {
+                    ""
+                };
+                let _ = writeln!(s, "   {l:<w$}{:<36} {status}{tie}", r.equation.equation);
+                let deps: Vec<String> = r
+                    .depends_on
+                    .iter()
+                    .take(6)
+                    .map(|d| {
+                        format!(
+                            "{:+.4} {} {}",
+                            d.coefficient, d.equation.name, d.equation.short
+                        )
+                    })
+                    .collect();
+                if !deps.is_empty() {
+                    let more = if r.depends_on.len() > 6 {
+                        format!(" … ({} more)", r.depends_on.len() - 6)
+                    } else {
+                        String::new()
+                    };
+                    let _ = writeln!(s, "   {:<w$}  = {}{more}", "", deps.join(", "));
+                }
+            }
+        }
+    }
+    if !j.misaligned.is_empty() {
+        let _ = writeln!(s);
+        let _ = writeln!(s, "Misaligned (broken) joints at the input configuration:");
+        for m in &j.misaligned {
+            let _ = writeln!(
+                s,
+                "   {} ({})  {}  residual {}",
+                m.equation.name,
+                m.equation.kind,
+                m.equation.equation,
+                fmt_residual(m.residual, m.residual_unit)
+            );
+        }
+        if !j.analysed_as_repaired.is_empty() {
+            let _ = writeln!(
+                s,
+                "   DOF and redundancy were found with these elements repaired in place: {}.",
+                j.analysed_as_repaired.join(", ")
+            );
+        }
+        let _ = writeln!(s, "   Run `linkage ic` to assemble the model.");
+    }
+    let mut list = |title: &str, names: &[String]| {
+        if !names.is_empty() {
+            let _ = writeln!(s);
+            let _ = writeln!(s, "{title}: {}", names.join(", "));
+        }
+    };
+    list("Parts with no constraint", &j.unconstrained_parts);
+    list("Parts not connected to ground", &j.ungrounded_parts);
+    if !j.massless_free.is_empty() {
+        let _ = writeln!(s);
+        let _ = writeln!(s, "Massless parts whose motion the constraints do not determine (dynamics needs their inertia):");
+        for m in &j.massless_free {
+            let _ = writeln!(s, "   {}  free: {}", m.name, m.free_coordinates.join(", "));
+        }
+    }
+    if !j.near_ties.is_empty() {
+        let _ = writeln!(s);
+        let _ = writeln!(
+            s,
+            "Independent equations close to the rank tolerance (the pose may be near-singular):"
+        );
+        for e in &j.near_ties {
+            let _ = writeln!(s, "   {} {}", e.name, e.equation);
+        }
+    }
+    for w in &j.warnings {
+        let _ = writeln!(s);
+        let _ = write!(s, "{w}");
+    }
+    let _ = writeln!(s);
+    let findings = !j.misaligned.is_empty()
+        || !j.unconstrained_parts.is_empty()
+        || !j.ungrounded_parts.is_empty()
+        || !j.massless_free.is_empty()
+        || j.redundant.iter().any(|r| r.consistent == Some(false));
+    let _ = writeln!(
+        s,
+        "{}",
+        if findings {
+            "Model verified with findings (see above)"
+        } else {
+            "Model verified successfully"
+        }
+    );
+    s
+}

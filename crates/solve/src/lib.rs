@@ -1,0 +1,17 @@
+//! # linkage-solve — constraint rows, rank analysis and the analyses
+//!
+//! A [`linkage_model::Model`] is compiled into a [`system::System`] of labelled scalar rows
+//! (DESIGN §3); analyses take the system and a mutable [`state::State`]:
+//!
+//! * [`verify`] — Gruebler count, DOF, redundant equations by priority, misaligned joints,
+//!   consistency, unconstrained and massless parts (DESIGN §4).
+
+pub mod drivers;
+pub mod generate;
+pub mod graph;
+pub mod rank;
+pub mod rows;
+pub mod state;
+pub mod system;
+pub mod tolerances;
+pub mod verify;

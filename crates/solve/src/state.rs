@@ -1,0 +1,54 @@
+//! The mutable state analyses work on: part poses (and later velocities, multipliers, time).
+
+use glam::{DMat3, DVec3};
+use linkage_model::{Body, Model};
+
+/// Pose of a moving part's body frame: centre-of-mass position and axes, both in ground.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Pose {
+    pub p: DVec3,
+    pub r: DMat3,
+}
+
+/// Positions of every moving part, and the time.
+#[derive(Clone, Debug, PartialEq)]
+pub struct State {
+    pub poses: Vec<Pose>,
+    pub time: f64,
+}
+
+impl State {
+    /// The configuration written in the dataset, at time 0.
+    pub fn input(model: &Model) -> State {
+        State {
+            poses: model
+                .parts
+                .iter()
+                .map(|p| Pose {
+                    p: p.p_gb,
+                    r: p.r_gb,
+                })
+                .collect(),
+            time: 0.0,
+        }
+    }
+
+    /// Body pose (identity for ground).
+    #[inline]
+    pub fn pose(&self, b: Body) -> Pose {
+        match b {
+            Body::Ground => Pose {
+                p: DVec3::ZERO,
+                r: DMat3::IDENTITY,
+            },
+            Body::Part(k) => self.poses[k],
+        }
+    }
+
+    /// Applies a tangent increment to part `k`: `p ← p + δx`, `R ← exp([δθ]×)·R` (δθ in ground).
+    pub fn increment(&mut self, k: usize, dx: DVec3, dtheta: DVec3) {
+        let pose = &mut self.poses[k];
+        pose.p += dx;
+        pose.r = linkage_model::frames::exp_so3(dtheta) * pose.r;
+    }
+}

@@ -1,0 +1,32 @@
+//! Every tolerance of the analyses, with its default, in one place.
+//!
+//! Lengths are relative to the model's characteristic length L (bounding-box diagonal of its
+//! markers); angles are absolute (radians); rank decisions are relative to the scaled,
+//! row-normalised Jacobian.
+
+/// Tolerances used by verify (and later by the other analyses).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Tolerances {
+    /// A row is redundant when its component orthogonal to the admitted rows is below this
+    /// (relative to the row's norm, on the scaled Jacobian).
+    pub rank: f64,
+    /// Rank decisions within this factor of `rank` are reported as near-ties.
+    pub near_tie_factor: f64,
+    /// A translational equation is violated (misaligned joint, inconsistent redundancy) when
+    /// its residual exceeds `length × L`.
+    pub length: f64,
+    /// A rotational equation is violated when its residual (a dot product of unit axes, ≈ the
+    /// angle in radians) exceeds this.
+    pub angle: f64,
+}
+
+impl Default for Tolerances {
+    fn default() -> Self {
+        Tolerances {
+            rank: 1e-9,
+            near_tie_factor: 1e3,
+            length: 1e-6,
+            angle: 1e-6,
+        }
+    }
+}
