@@ -330,6 +330,7 @@ pub fn build_model(ds: &Dataset) -> Result<Built, Diagnostics> {
             r_gb: r,
             p_b_bcs: -c,
             velocity: p.velocity,
+            r_b_cm: cm.map_or(DMat3::IDENTITY, |m| raw[m].2),
             exact: p.exact.clone(),
         });
     }
@@ -764,6 +765,7 @@ pub fn build_model(ds: &Dataset) -> Result<Built, Diagnostics> {
         markers,
         constraints,
         characteristic_length: 1.0,
+        ic: crate::settings::ic_settings(ds, &ds.file, &mut cx.warnings),
     };
     model.characteristic_length = characteristic_length(&model);
     Ok(Built {

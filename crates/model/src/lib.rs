@@ -14,6 +14,7 @@ pub mod build;
 pub mod frames;
 pub mod inertia;
 pub mod model;
+pub mod settings;
 pub mod units;
 
 pub use build::build_model;

@@ -60,6 +60,8 @@ pub struct Part {
     pub p_b_bcs: DVec3,
     /// Initial velocities `VX, VY, VZ` (ground) and `WX, WY, WZ` as given (`None` = inexact 0).
     pub velocity: [Option<f64>; 6],
+    /// Axes of the CM marker in the body frame (WX, WY, WZ are resolved in them).
+    pub r_b_cm: DMat3,
     /// Coordinates named in `EXACT=`.
     pub exact: Vec<ExactCoord>,
 }
@@ -212,6 +214,8 @@ pub struct Model {
     /// Joints, primitives, motions, couplers, gears and general constraints, in that order of
     /// kinds and in definition order within each kind.
     pub constraints: Vec<Constraint>,
+    /// `IC/` settings (Adams defaults where not given).
+    pub ic: crate::settings::IcSettings,
     /// Characteristic length: diagonal of the bounding box of markers and centres of mass
     /// (1 if that is zero). Tolerances on lengths are relative to it.
     pub characteristic_length: f64,

@@ -4,9 +4,11 @@
 //! and column inside the expression; a `USER(...)` subroutine cannot be run by linkage, so its
 //! value is unknown (a warning; analyses that need it report it as such).
 
+use crate::measures::{MarkerFrames, PositionEnv};
+use crate::state::State;
 use crate::verify::Drivers;
 use linkage_adm::{Diagnostic, Diagnostics, MotionLevel};
-use linkage_expr::{evaluate_time_series, parse, Expr, TimeEnv};
+use linkage_expr::{evaluate, evaluate_time_series, parse, Expr, TimeEnv};
 use linkage_model::{ConstraintKind, Model};
 
 /// Parsed motion functions of a model.
@@ -22,7 +24,49 @@ impl ExpressionDrivers {
         let mut functions = Vec::with_capacity(model.constraints.len());
         let mut errors = Vec::new();
         let mut warnings = Vec::new();
+        let frames = MarkerFrames::new(model);
+        let input = State::input(model);
         for c in &model.constraints {
+            if let ConstraintKind::Gcon {
+                function: Some(f), ..
+            } = &c.kind
+            {
+                let text = &f.value.expr;
+                let problem = match parse(&text.text) {
+                    Err(pe) => Some((
+                        text.span_at(pe.offset),
+                        format!("in FUNCTION: {}", pe.message),
+                    )),
+                    Ok(e) if e.contains_user() => Some((
+                        f.span,
+                        "FUNCTION is a USER subroutine, which linkage cannot run".to_string(),
+                    )),
+                    Ok(e) => evaluate(
+                        &e,
+                        &PositionEnv {
+                            frames: &frames,
+                            state: &input,
+                        },
+                    )
+                    .err()
+                    .map(|err| {
+                        (
+                            f.span,
+                            format!(
+                                "FUNCTION cannot be evaluated at the input configuration: {}",
+                                err.message
+                            ),
+                        )
+                    }),
+                };
+                if let Some((span, msg)) = problem {
+                    errors.push(Diagnostic::error(
+                        model.file.clone(),
+                        Some(span),
+                        format!("{}: {msg}", c.origin.name),
+                    ));
+                }
+            }
             let ConstraintKind::Motion {
                 function: Some(f),
                 level,

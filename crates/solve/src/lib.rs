@@ -9,6 +9,8 @@
 pub mod drivers;
 pub mod generate;
 pub mod graph;
+pub mod linear;
+pub mod measures;
 pub mod rank;
 pub mod rows;
 pub mod state;

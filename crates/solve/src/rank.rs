@@ -3,50 +3,81 @@
 //!
 //! Rows are scalar constraint equations given in *priority order*. Row `k` is
 //! **admitted** when it is not (numerically) in the span of the rows admitted
-//! before it, otherwise it is **redundant**. For every redundant row the
-//! admitted rows it depends on are reported with coefficients,
-//! `r_k ≈ Σ α_i a_i`.
+//! before it, otherwise it is **redundant**. The redundant set is therefore a
+//! policy fixed by the order, not a property of the matrix. For every
+//! redundant row the admitted rows it depends on are reported with
+//! coefficients, `r_k ≈ Σ α_i a_i` (unique, since the admitted rows are
+//! independent).
+//!
+//! The caller scales the rows (unit 2-norm, translational columns scaled by
+//! a characteristic length), so that the relative tolerance is meaningful;
+//! the analysis itself works with the rows as given and measures every
+//! decision relative to the 2-norm of the row being decided.
 //!
 //! # Method
 //!
 //! Incremental sparse Gaussian elimination in row order with threshold
-//! pivoting. Every admitted row is kept in reduced form `u_i` with a pivot
-//! column `p_i`; `u_i` is zero at the pivot columns of all rows admitted
-//! before it. A new row is scattered into a dense scratch vector (length
-//! `ncols`, reused, with a touched-list), and the entries at existing pivot
-//! columns are eliminated in admission order (a min-heap of admission
-//! indices drives a sparse triangular solve). The multipliers `l_i` used are
-//! recorded. If the max-abs of what remains is `≤ tolerance · ‖r‖₂` the row is
-//! redundant; otherwise it is admitted, its pivot is chosen among the
-//! remaining entries with `|v| ≥ 0.1 · max|v|` (threshold pivoting), and the
-//! reduced row and its multipliers are stored.
+//! pivoting. Every admitted row `a_i` is kept in reduced form
+//! `u_i = a_i − Σ_{j<i} l_ij u_j` with a pivot column `p_i`; `u_i` is zero at
+//! the pivot columns of all rows admitted before it. A new row `r` is
+//! scattered into a dense scratch vector (length `ncols`, reused across rows,
+//! with a touched-list), and its entries at existing pivot columns are
+//! eliminated in admission order (a min-heap of admission indices drives this
+//! sparse triangular solve; eliminating with `u_i` can only create entries at
+//! pivots of *later* rows). What remains, `w`, has no entry at a pivot column.
 //!
-//! Pivot rule (measured on chains of parallelogram four-bars, see the tests):
-//! among the eligible entries take the column that occurs in the fewest
-//! *not yet processed* original rows plus stored reduced rows (a Markowitz
-//! style column count: every later row touching the pivot column receives the
-//! pivot row's pattern as fill), ties broken by the larger `|v|`, then by the
-//! smaller column index (deterministic).
+//! * If `max|w| ≤ tolerance · ‖r‖₂` the row is redundant.
+//! * Otherwise it is admitted. Its pivot is chosen among the entries with
+//!   `|w_c| ≥ 0.7 · max|w|` (threshold pivoting) as the column with the
+//!   smallest Markowitz-style count: occurrences in the not yet processed
+//!   input rows plus occurrences in the stored reduced rows (every later row
+//!   that reaches the pivot column receives the pivot row's pattern as
+//!   fill); ties go to the larger `|w_c|`, then the smaller column index, so
+//!   the result is deterministic.
+//!
+//! Measured on chains of parallelogram four-bars (see the tests), the count
+//! rule stores 11–16 % fewer entries (reduced rows + multipliers) than pure
+//! max-|v| pivoting when the row order is shuffled, and is within 4 % of it
+//! for loop-ordered rows. The threshold `0.7` (rather than the classic `0.1`)
+//! costs 2–4 % more fill but bounds element growth per elimination step by
+//! `1 + 1/0.7`; on ill-conditioned random sparse matrices it reduced
+//! disagreements with a greedy Gram–Schmidt reference from 43 rows in
+//! ~2 900 matrices (threshold `0.1`) to one row, flagged as a near-tie, in
+//! ~11 500 matrices.
 //!
 //! Coefficients of a redundant row are recovered by sparse back-substitution
-//! through the stored multipliers (`u_j = a_j − Σ_{i<j} l_ji u_i`), processed
-//! in decreasing admission order with a max-heap; coefficients with
-//! `|α| < 1e-9 · max|α|` are dropped from the report.
+//! through the stored multipliers, in decreasing admission order (max-heap).
+//! Pending terms `c_i u_i` that are pure rounding noise
+//! (`|c_i|·max|u_i| ≤ 1e-14 · ‖r‖₂`) are not expanded, which keeps the work
+//! proportional to the true dependency instead of the whole elimination
+//! history. Reported terms with `|α_i|·‖a_i‖₂ < 1e-9 · max_j |α_j|·‖a_j‖₂`
+//! (for unit-norm rows: `|α| < 1e-9 · max|α|`) are dropped, smallest first,
+//! as long as the dropped terms together stay below `1e-12 · ‖r‖₂`.
 //!
 //! # Cost
 //!
-//! Time `O((nnz + fill) · log)` for the elimination plus, per redundant row,
-//! the size of the part of the multiplier graph reachable from it. Memory is
-//! linear in `ncols + nrows + nnz + fill`. No dense factorisation is formed.
+//! Time `O((nnz + fill) · log n)` for the elimination plus, per redundant
+//! row, the size of its (pruned) dependency in the multiplier graph; memory
+//! `O(ncols + nrows + nnz + fill)`, where the dense scratch is sized by the
+//! largest column index actually used. No dense factorisation is formed. A chain
+//! of 1000 four-bars (12 006 columns, 15 005 rows, 3000 redundant) takes a
+//! few milliseconds.
 //!
 //! # Tolerance semantics
 //!
-//! The *decision residual* of a row is `max_j |w_j| / ‖r‖₂`, where `w` is the
-//! row after elimination against the admitted rows and `‖r‖₂` is the 2-norm
-//! of the original row. Since `r − w` lies in the span of the admitted rows,
-//! `‖w‖₂` bounds the distance of `r` to that span from above. A row whose
-//! residual lies within `near_tie_factor` of the tolerance (either side) is a
-//! *near-tie*: its classification may change with rounding or scaling.
+//! The *decision residual* of a row is `max_c |w_c| / ‖r‖₂`. Since `r − w`
+//! lies in the span of the admitted rows, `‖w‖₂` bounds the distance of `r`
+//! to that span from above; for rows that are not close to a tie it agrees
+//! with an orthogonal (Gram–Schmidt) decision. Entries below
+//! `1e-15 · ‖r‖₂` are treated as rounding noise. A row whose residual lies
+//! within a factor `near_tie_factor` of the tolerance (either side, residual
+//! `> 0`) is a *near-tie*: its classification may change with rounding,
+//! scaling or the method, and the caller should report it as such.
+//!
+//! Invalid input never panics: rows with non-finite values, column indices
+//! `≥ ncols` or inconsistent offsets (and rows whose reduction overflows)
+//! admit nothing, are listed as redundant with `residual = NaN` and empty
+//! `depends_on`; all-zero rows are redundant with residual `0`.
 
 use std::cmp::Reverse;
 use std::collections::BinaryHeap;
@@ -54,7 +85,7 @@ use std::collections::BinaryHeap;
 /// Sentinel for "no admitted row / no pivot".
 const NONE: usize = usize::MAX;
 /// Threshold pivoting: a pivot must have `|v| ≥ PIVOT_THRESHOLD · max|v|`.
-const PIVOT_THRESHOLD: f64 = 0.1;
+const PIVOT_THRESHOLD: f64 = 0.7;
 /// Entries of a working row with `|v| ≤ DROP_RELATIVE · ‖r‖₂` are treated as
 /// rounding noise and dropped (never stored, never eliminated with).
 const DROP_RELATIVE: f64 = 1e-15;
@@ -209,7 +240,8 @@ pub struct RowDecision {
     /// Decision residual `max|reduced row| / ‖row‖₂` (`0` for an all-zero row,
     /// `NaN` for an invalid row).
     pub residual: f64,
-    /// Residual within `near_tie_factor` of the tolerance, either side.
+    /// `residual > 0` and within `near_tie_factor` of the tolerance, either
+    /// side: the decision is fragile.
     pub near_tie: bool,
 }
 
@@ -221,8 +253,8 @@ pub struct RedundantRow {
     /// Decision residual (see [`RowDecision::residual`]).
     pub residual: f64,
     /// `row ≈ Σ coefficient · a_row` over admitted rows, ascending by row;
-    /// terms with `|α| < 1e-9 · max|α|` are omitted. Empty for an all-zero or
-    /// invalid row.
+    /// negligible terms (`|α| < 1e-9 · max|α|` for unit-norm rows, see the
+    /// module docs) are omitted. Empty for an all-zero or invalid row.
     pub depends_on: Vec<Dependency>,
 }
 
@@ -273,21 +305,24 @@ enum PivotRule {
 
 /// Greedy priority-order rank analysis.
 ///
-/// Contract: row `k` is admitted iff its decision residual (see the module
-/// docs) exceeds `settings.tolerance` — i.e. iff it is numerically outside
-/// the span of the rows admitted before it. Rows with a non-finite value, a
-/// column index `≥ ncols` or inconsistent offsets are *invalid*: nothing of
-/// them is admitted, they are listed as redundant with `residual = NaN`,
-/// `near_tie = false` and empty `depends_on`. All-zero rows are redundant
-/// with residual `0`. Never panics; an empty matrix gives an empty result.
+/// Contract: rows are decided in index order; row `k` is admitted iff its
+/// decision residual (module docs) exceeds `settings.tolerance`, i.e. iff it
+/// is numerically outside the span of the rows admitted before it. Every
+/// redundant row comes with the admitted rows (all earlier than it) it
+/// depends on. `decisions` has one entry per row. Rows with a non-finite
+/// value, a column index `≥ ncols` or inconsistent offsets are *invalid*:
+/// nothing of them is admitted, they are listed as redundant with
+/// `residual = NaN`, `near_tie = false` and empty `depends_on`. All-zero rows
+/// are redundant with residual `0`. Never panics; an empty matrix gives an
+/// empty result.
 ///
-/// Cost: `O((nnz + fill) log)` time plus the back-substitution per redundant
-/// row; memory linear in `ncols + nrows + nnz + fill`.
+/// Cost: `O((nnz + fill) · log n)` time plus, per redundant row, the size of
+/// its dependency; memory linear in `ncols + nrows + nnz + fill`.
 pub fn greedy_rank(rows: &SparseRows, settings: &RankSettings) -> RankResult {
     greedy_rank_with_stats(rows, settings).0
 }
 
-/// [`greedy_rank`] that also returns fill/work counters.
+/// [`greedy_rank`] that also returns fill/work counters (same result).
 pub fn greedy_rank_with_stats(
     rows: &SparseRows,
     settings: &RankSettings,
@@ -320,7 +355,7 @@ fn greedy_rank_rule(
             Outcome::Zero => (false, 0.0, Some(Vec::new())),
             Outcome::Invalid => (false, f64::NAN, Some(Vec::new())),
         };
-        let near_tie = residual >= lo && residual <= hi;
+        let near_tie = residual > 0.0 && residual >= lo && residual <= hi;
         result.decisions.push(RowDecision {
             row: k,
             admitted,
@@ -371,7 +406,6 @@ struct Admitted {
 
 /// State of the incremental elimination.
 struct Eliminator {
-    thresh: f64,
     rule: PivotRule,
     // Dense scratch of length ncols with touched-list.
     w: Vec<f64>,
@@ -403,24 +437,30 @@ struct Eliminator {
 
 impl Eliminator {
     fn new(rows: &SparseRows, rule: PivotRule) -> Self {
-        let n = rows.ncols;
+        // Scratch is sized by the largest column actually used (≤ ncols), so
+        // an over-declared `ncols` costs nothing. Every valid column index is
+        // then `< n`, and every index `≥ n` is `≥ ncols`, i.e. invalid.
+        let mut n = 0;
+        for k in 0..rows.nrows() {
+            if let Some((cols, _)) = rows.row_checked(k) {
+                for &c in cols {
+                    if c < rows.ncols && c >= n {
+                        n = c + 1;
+                    }
+                }
+            }
+        }
         let mut col_future = vec![0u32; n];
-        if matches!(rule, PivotRule::Future | PivotRule::Markowitz) {
-            for k in 0..rows.nrows() {
-                if let Some((cols, _)) = rows.row_checked(k) {
-                    for &c in cols {
-                        if let Some(x) = col_future.get_mut(c) {
-                            *x = x.saturating_add(1);
-                        }
+        for k in 0..rows.nrows() {
+            if let Some((cols, _)) = rows.row_checked(k) {
+                for &c in cols {
+                    if let Some(x) = col_future.get_mut(c) {
+                        *x = x.saturating_add(1);
                     }
                 }
             }
         }
         Self {
-            thresh: std::env::var("RANK_THRESH")
-                .ok()
-                .and_then(|v| v.parse().ok())
-                .unwrap_or(PIVOT_THRESHOLD),
             rule,
             w: vec![0.0; n],
             mark: vec![false; n],
@@ -456,7 +496,7 @@ impl Eliminator {
     /// multipliers in `self.mults` for [`Self::back_substitute`].
     fn process(&mut self, rows: &SparseRows, k: usize, tol: f64) -> Outcome {
         self.mults.clear();
-        let ncols = self.w.len();
+        let ncols = self.w.len(); // see `new`: `c ≥ ncols` ⇔ `c ≥ rows.ncols`
         let Some((cols, vals)) = rows.row_checked(k) else {
             return Outcome::Invalid;
         };
@@ -562,7 +602,7 @@ impl Eliminator {
         }
 
         // Threshold pivoting.
-        let threshold = self.thresh * maxabs;
+        let threshold = PIVOT_THRESHOLD * maxabs;
         let mut best = NONE;
         let mut best_score = u64::MAX;
         let mut best_abs = 0.0f64;
@@ -868,7 +908,7 @@ mod tests {
     fn revolute(a: Option<&Body>, b: &Body, p: V3, axes: &[V3; 3]) -> Vec<Vec<(usize, f64)>> {
         let [ex, ey, ez] = *axes;
         let mut rows = Vec::new();
-        let mut push_rot = |row: &mut Vec<(usize, f64)>, body: &Body, g: V3| {
+        let push_rot = |row: &mut Vec<(usize, f64)>, body: &Body, g: V3| {
             for (t, v) in mul_t(&body.rot, g).into_iter().enumerate() {
                 if v != 0.0 {
                     row.push((body.col + 3 + t, v));
@@ -922,7 +962,7 @@ mod tests {
         } else {
             (IDENTITY, [0.0, 1.0, 0.0])
         };
-        let mut body = |col: usize, centre: V3, rng: &mut Rng| {
+        let body = |col: usize, centre: V3, rng: &mut Rng| {
             let (offset, rot) = if generic {
                 (
                     [0.2 * rng.unit(), 0.2 * rng.unit(), 0.2 * rng.unit()],
@@ -1023,6 +1063,44 @@ mod tests {
         m
     }
 
+    /// One planar closed loop: ground and `n` bars on a perturbed regular
+    /// polygon, `n + 1` revolutes, generic orientation. Planar DOF `n − 2`,
+    /// 3 redundant rows whose dependencies span the whole loop.
+    fn single_loop(n: usize) -> SparseRows {
+        let mut rng = Rng(77 + n as u64);
+        let q = random_rotation(&mut rng);
+        let vertex = |i: usize, rng: &mut Rng| {
+            let t = std::f64::consts::TAU * i as f64 / (n + 1) as f64;
+            let r = n as f64 / 6.0 * (1.0 + 0.1 * rng.unit());
+            mul(&q, [r * t.cos(), r * t.sin(), 0.0])
+        };
+        let points: Vec<V3> = (0..=n).map(|i| vertex(i, &mut rng)).collect();
+        let bodies: Vec<Body> = (0..n)
+            .map(|i| {
+                let (p, r) = (points[i], points[i + 1]);
+                let c = [0, 1, 2].map(|t| 0.5 * (p[t] + r[t]) + 0.2 * rng.unit());
+                Body {
+                    col: 6 * i,
+                    centre: c,
+                    rot: random_rotation(&mut rng),
+                }
+            })
+            .collect();
+        let axes = [
+            mul(&q, [1.0, 0.0, 0.0]),
+            mul(&q, [0.0, 1.0, 0.0]),
+            mul(&q, [0.0, 0.0, 1.0]),
+        ];
+        let mut m = SparseRows::new(6 * n);
+        let mut push = |rows: Vec<Vec<(usize, f64)>>| rows.into_iter().for_each(|r| m.push_row(r));
+        push(revolute(None, &bodies[0], points[0], &axes));
+        for i in 1..n {
+            push(revolute(Some(&bodies[i - 1]), &bodies[i], points[i], &axes));
+        }
+        push(revolute(None, &bodies[n - 1], points[n], &axes));
+        m
+    }
+
     const ORDERS: [JointOrder; 4] = [
         JointOrder::Loop,
         JointOrder::Grouped,
@@ -1076,38 +1154,72 @@ mod tests {
     }
 
     #[test]
+    fn single_big_loop() {
+        for n in [5, 200, 2000] {
+            let m = single_loop(n);
+            let r = greedy_rank(&m, &RankSettings::default());
+            check_consistency(&m, &r);
+            assert_eq!(r.rank, 5 * n + 2, "n = {n}");
+            assert_eq!(r.redundant.len(), 3, "n = {n}");
+            assert!(r.decisions.iter().all(|d| !d.near_tie));
+            for red in &r.redundant {
+                assert!(reconstruction_error(&m, red) <= 1e-10);
+                // The loop closure involves joints all around the loop.
+                assert!(red.depends_on.len() >= n, "{} deps", red.depends_on.len());
+            }
+        }
+    }
+
+    /// Times the analysis of the four-bar chain benchmark (N = 1000, 5000).
+    #[test]
     #[ignore = "timing; run with --release -- --ignored --nocapture"]
     fn four_bar_chain_timing() {
         for n in [1000, 5000] {
-            for order in ORDERS {
-                for generic in [false, true] {
+            for generic in [false, true] {
+                for order in ORDERS {
                     let m = four_bar_chain(n, order, generic);
-                    for rule in [
-                        PivotRule::MaxAbs,
-                        PivotRule::Future,
-                        PivotRule::Stored,
-                        PivotRule::Markowitz,
-                    ] {
+                    let mut best = f64::INFINITY;
+                    let mut out = None;
+                    for _ in 0..5 {
                         let t = std::time::Instant::now();
-                        let (r, s) = greedy_rank_rule(&m, &RankSettings::default(), rule);
-                        let dt = t.elapsed();
-                        let worst = r
-                            .redundant
-                            .iter()
-                            .map(|red| reconstruction_error(&m, red))
-                            .fold(0.0f64, f64::max);
-                        let maxdep = r
-                            .redundant
-                            .iter()
-                            .map(|red| red.depends_on.len())
-                            .max()
-                            .unwrap_or(0);
-                        println!(
-                            "n={n} {order:?} g={generic} {rule:?}: nnz {} rank {} red {} {:.2}ms U {} L {} el {} bs {} pr {} worst {worst:.1e} maxdep {maxdep}",
-                            m.nnz(), r.rank, r.redundant.len(), dt.as_secs_f64()*1e3, s.reduced_nnz, s.multiplier_nnz, s.eliminations, s.back_substitution_steps, s.pruned
-                        );
+                        out = Some(greedy_rank_with_stats(&m, &RankSettings::default()));
+                        best = best.min(t.elapsed().as_secs_f64());
                     }
+                    let Some((r, s)) = out else { continue };
+                    assert_eq!(r.redundant.len(), 3 * n);
+                    println!(
+                        "n={n} generic={generic} {order:?}: {} rows, {} cols, nnz {}, rank {}, \
+                         redundant {}, {:.2} ms, {s:?}",
+                        m.nrows(),
+                        m.ncols,
+                        m.nnz(),
+                        r.rank,
+                        r.redundant.len(),
+                        best * 1e3
+                    );
                 }
+            }
+        }
+    }
+
+    /// Fill (stored reduced entries + multipliers) per pivot rule.
+    #[test]
+    #[ignore = "measurement; run with --release -- --ignored --nocapture"]
+    fn pivot_rule_fill_comparison() {
+        for generic in [false, true] {
+            for order in ORDERS {
+                let m = four_bar_chain(1000, order, generic);
+                let mut line = format!("generic={generic} {order:?}:");
+                for rule in [
+                    PivotRule::MaxAbs,
+                    PivotRule::Future,
+                    PivotRule::Stored,
+                    PivotRule::Markowitz,
+                ] {
+                    let (_, s) = greedy_rank_rule(&m, &RankSettings::default(), rule);
+                    line += &format!(" {rule:?} {}+{}", s.reduced_nnz, s.multiplier_nnz);
+                }
+                println!("{line}");
             }
         }
     }
@@ -1287,13 +1399,7 @@ mod tests {
     fn matches_gram_schmidt_on_larger_sparse_matrices() {
         let tol = 1e-9;
         let mut compared = 0;
-        let mut mism = [0usize; 4];
-        let mut badrec = [0usize; 4];
-        let nseeds: u64 = std::env::var("NSEEDS")
-            .ok()
-            .and_then(|v| v.parse().ok())
-            .unwrap_or(30);
-        for seed in 0..nseeds {
+        for seed in 0..40u64 {
             let mut rng = Rng(1000 + seed);
             let ncols = 60 + rng.below(80);
             let k = ncols / 2 + rng.below(ncols / 2);
@@ -1310,45 +1416,49 @@ mod tests {
                 })
                 .collect();
             let reference = mgs_greedy(&rows, tol);
-            // (Skip only when the reference is within a factor 10 of the tolerance.)
+            // Skip only when the reference is within a factor 10 of the tolerance.
             if reference.iter().any(|&(_, res)| res > 1e-10 && res < 1e-8) {
                 continue;
             }
             compared += 1;
             let m = dense_to_sparse(&rows, ncols);
-            for (ri, rule) in [
-                PivotRule::MaxAbs,
-                PivotRule::Future,
-                PivotRule::Stored,
-                PivotRule::Markowitz,
-            ]
-            .into_iter()
-            .enumerate()
-            {
-                let (r, _) = greedy_rank_rule(
-                    &m,
-                    &RankSettings {
-                        tolerance: tol,
-                        near_tie_factor: 1e3,
-                    },
-                    rule,
-                );
-                let ours: Vec<bool> = r.decisions.iter().map(|d| d.admitted).collect();
-                let theirs: Vec<bool> = reference.iter().map(|x| x.0).collect();
-                mism[ri] += ours.iter().zip(&theirs).filter(|(a, b)| a != b).count();
-                let worst = r
-                    .redundant
+            let r = greedy_rank(
+                &m,
+                &RankSettings {
+                    tolerance: tol,
+                    near_tie_factor: 1e3,
+                },
+            );
+            check_consistency(&m, &r);
+            let ours: Vec<bool> = r.decisions.iter().map(|d| d.admitted).collect();
+            let theirs: Vec<bool> = reference.iter().map(|x| x.0).collect();
+            assert_eq!(ours, theirs, "seed {seed}");
+            for red in &r.redundant {
+                // These matrices are ill-conditioned (|α| up to 1e8): a row is
+                // in the span only up to its residual, and α carries rounding
+                // of order ε·Σ|α_i|·‖a_i‖.
+                let e = reconstruction_error(&m, red);
+                let mass: f64 = red
+                    .depends_on
                     .iter()
-                    .map(|red| reconstruction_error(&m, red) / (1e-10 + 1.5 * red.residual))
-                    .fold(0.0f64, f64::max);
-                if worst > 1.0 {
-                    badrec[ri] += 1;
-                }
+                    .map(|d| {
+                        d.coefficient.abs()
+                            * dense_row(&m, d.row)
+                                .iter()
+                                .map(|x| x * x)
+                                .sum::<f64>()
+                                .sqrt()
+                    })
+                    .sum();
+                let bound = 1e-10 + 1.5 * red.residual + 1e-14 * mass;
+                assert!(
+                    e <= bound,
+                    "seed {seed} row {} error {e} bound {bound}",
+                    red.row
+                );
             }
         }
-        eprintln!("mismatches {mism:?} bad reconstructions {badrec:?}");
-        eprintln!("compared {compared}");
-        assert!(compared >= 20, "only {compared} matrices compared");
+        assert!(compared >= 30, "only {compared} matrices compared");
     }
 
     /// The coefficients reconstruct every redundant row to 1e-10 (relative),
@@ -1430,6 +1540,25 @@ mod tests {
         assert_eq!(red7.len(), 2);
         assert!((red7[0].coefficient - 1e300).abs() < 1e288);
         assert!((red7[1].coefficient - 0.5e300).abs() < 1e288);
+    }
+
+    #[test]
+    fn over_declared_ncols_costs_nothing() {
+        let mut m = SparseRows::new(usize::MAX);
+        m.push_row([(3, 1.0)]);
+        m.push_row([(3, -2.0)]);
+        m.push_row([(usize::MAX, 1.0)]); // ≥ ncols: invalid
+        let r = greedy_rank(&m, &RankSettings::default());
+        check_consistency(&m, &r);
+        assert_eq!(r.admitted, vec![0]);
+        assert_eq!(
+            r.redundant[0].depends_on,
+            vec![Dependency {
+                row: 0,
+                coefficient: -2.0
+            }]
+        );
+        assert!(r.decisions[2].residual.is_nan());
     }
 
     #[test]

@@ -99,13 +99,94 @@ pub enum Quantity {
         x_ref: BodyDir,
         y_ref: BodyDir,
     },
-    /// Body 1-2-3 angle `k` (0, 1, 2 = B1, B2, B3) of frame `i` relative to frame `j`:
-    /// `R_j^T R_i = Rx(b1)·Ry(b2)·Rz(b3)`.
-    Body123 {
+    /// Euler angle `k` (0, 1, 2) of frame `i` relative to frame `j` in sequence `seq`
+    /// (`R_jᵀ R_i = Rx(b1)·Ry(b2)·Rz(b3)` for body 1-2-3, …).
+    Euler {
         i: BodyFrame,
         j: BodyFrame,
+        seq: EulerSeq,
         k: usize,
     },
+}
+
+/// Euler-angle sequences used by motions and measures.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum EulerSeq {
+    /// Body 1-2-3 (MOTION B1, B2, B3): `Rx(b1)·Ry(b2)·Rz(b3)`.
+    Body123,
+    /// Body 3-1-3 (PSI, THETA, PHI): `Rz(ψ)·Rx(θ)·Rz(φ)`.
+    Body313,
+    /// Body 3-2-1 (YAW, PITCH, ROLL): `Rz(y)·Ry(p)·Rx(r)`.
+    Body321,
+}
+
+impl EulerSeq {
+    /// The three angles of rotation `r`.
+    pub fn angles(self, r: &DMat3) -> [f64; 3] {
+        match self {
+            EulerSeq::Body123 => body123_angles(r),
+            EulerSeq::Body313 => linkage_model::frames::matrix_to_euler313(r),
+            EulerSeq::Body321 => {
+                let b = (-r.x_axis.z).clamp(-1.0, 1.0).asin();
+                [
+                    r.x_axis.y.atan2(r.x_axis.x),
+                    b,
+                    r.y_axis.z.atan2(r.z_axis.z),
+                ]
+            }
+        }
+    }
+
+    /// Rotation axes of the sequence: `R = R_a1(b0)·R_a2(b1)·R_a3(b2)`.
+    fn axes(self) -> [DVec3; 3] {
+        match self {
+            EulerSeq::Body123 => [DVec3::X, DVec3::Y, DVec3::Z],
+            EulerSeq::Body313 => [DVec3::Z, DVec3::X, DVec3::Z],
+            EulerSeq::Body321 => [DVec3::Z, DVec3::Y, DVec3::X],
+        }
+    }
+
+    /// `E` with the left angular velocity `ω = E·ḃ`: `E = [a1, R1·a2, R1·R2·a3]`, and its
+    /// partial derivatives with respect to b0 and b1.
+    fn rate_matrix(self, b: [f64; 3]) -> (DMat3, DMat3, DMat3) {
+        let [a1, a2, a3] = self.axes();
+        let r1 = DMat3::from_axis_angle(a1, b[0]);
+        let r2 = DMat3::from_axis_angle(a2, b[1]);
+        let e = DMat3::from_cols(a1, r1 * a2, r1 * r2 * a3);
+        let d0 = DMat3::from_cols(DVec3::ZERO, a1.cross(r1 * a2), a1.cross(r1 * r2 * a3));
+        let d1 = DMat3::from_cols(DVec3::ZERO, DVec3::ZERO, r1 * a2.cross(r2 * a3));
+        (e, d0, d1)
+    }
+
+    /// `E⁻¹` where the left angular velocity is `ω = E·(rates)`; `None` at a singular pose.
+    fn rate_map(self, b: [f64; 3]) -> Option<DMat3> {
+        let (e, _, _) = self.rate_matrix(b);
+        (e.determinant().abs() > 1e-12).then(|| e.inverse())
+    }
+}
+
+/// Velocity of every moving part: centre-of-mass velocity and angular velocity, in ground.
+pub type Velocities = [(DVec3, DVec3)];
+
+fn twist(v: &Velocities, b: Body) -> (DVec3, DVec3) {
+    match b {
+        Body::Ground => (DVec3::ZERO, DVec3::ZERO),
+        Body::Part(k) => v[k],
+    }
+}
+
+/// Position, velocity and acceleration (at zero part accelerations) of a body-fixed point.
+fn point_motion(p: &BodyPoint, s: &State, v: &Velocities) -> (DVec3, DVec3, DVec3) {
+    let (pos, u) = p.eval(s);
+    let (vc, w) = twist(v, p.body);
+    (pos, vc + w.cross(u), w.cross(w.cross(u)))
+}
+
+/// A body-fixed direction, its rate, and its acceleration at zero angular acceleration.
+fn dir_motion(d: &BodyDir, s: &State, v: &Velocities) -> (DVec3, DVec3, DVec3) {
+    let e = d.eval(s);
+    let (_, w) = twist(v, d.body);
+    (e, w.cross(e), w.cross(w.cross(e)))
 }
 
 /// Gradient of one row: per-body 6-vectors `[∂/∂x; ∂/∂θ]`, bodies unique.
@@ -117,6 +198,16 @@ pub struct RowGradient {
 impl RowGradient {
     pub fn clear(&mut self) {
         self.blocks.clear();
+    }
+    /// Adds a 6-vector to part `k`'s block.
+    pub fn add_block(&mut self, k: usize, v: [f64; 6]) {
+        if let Some((_, b)) = self.blocks.iter_mut().find(|(kk, _)| *kk == k) {
+            for (bi, vi) in b.iter_mut().zip(v) {
+                *bi += vi;
+            }
+        } else {
+            self.blocks.push((k, v));
+        }
     }
     fn add(&mut self, body: Body, c: f64, dx: DVec3, dth: DVec3) {
         let Body::Part(k) = body else { return };
@@ -153,15 +244,6 @@ pub fn body123_angles(r: &DMat3) -> [f64; 3] {
     [b1, b2, b3]
 }
 
-/// Rows of `E⁻¹` where `ω = E·ḃ` for body 1-2-3 angles (ω the left angular velocity in the
-/// reference frame): `E = [e1, Rx(b1)e2, Rx(b1)Ry(b2)e3]`. `None` at the singularity cos b2 = 0.
-fn body123_rate_map(b: [f64; 3]) -> Option<DMat3> {
-    let rx = DMat3::from_rotation_x(b[0]);
-    let ry = DMat3::from_rotation_y(b[1]);
-    let e = DMat3::from_cols(DVec3::X, rx * DVec3::Y, rx * ry * DVec3::Z);
-    (e.determinant().abs() > 1e-12).then(|| e.inverse())
-}
-
 impl Quantity {
     /// Value at state `s`.
     pub fn value(&self, s: &State) -> f64 {
@@ -172,10 +254,10 @@ impl Quantity {
                 let (sn, c) = angle_parts(x.eval(s), x_ref.eval(s), y_ref.eval(s));
                 sn.atan2(c)
             }
-            Quantity::Body123 { i, j, k } => {
+            Quantity::Euler { i, j, seq, k } => {
                 let (_, ri) = i.eval(s);
                 let (_, rj) = j.eval(s);
-                body123_angles(&(rj.transpose() * ri))[*k]
+                seq.angles(&(rj.transpose() * ri))[*k]
             }
         }
     }
@@ -211,11 +293,11 @@ impl Quantity {
                 g.add(x.body, fc, DVec3::ZERO, vx.cross(vxr));
                 g.add(x_ref.body, fc, DVec3::ZERO, vxr.cross(vx));
             }
-            Quantity::Body123 { i, j, k } => {
+            Quantity::Euler { i, j, seq, k } => {
                 let (_, ri) = i.eval(s);
                 let (_, rj) = j.eval(s);
-                let b = body123_angles(&(rj.transpose() * ri));
-                let Some(einv) = body123_rate_map(b) else {
+                let b = seq.angles(&(rj.transpose() * ri));
+                let Some(einv) = seq.rate_map(b) else {
                     return;
                 };
                 // ω (in J axes) = R_jᵀ(δθ_i − δθ_j); ḃ_k = row_k(E⁻¹)·ω.
@@ -227,8 +309,75 @@ impl Quantity {
         }
     }
 
+    /// `dQ/dt` and `d²Q/dt²` along the part velocities `v` with zero part accelerations (the
+    /// "γ" term of the acceleration equations: `Q̈ = ∇Q·a + bias`).
+    pub fn rates(&self, s: &State, v: &Velocities) -> (f64, f64) {
+        match self {
+            Quantity::Dot(a, b) => {
+                let (a0, a1, a2) = dir_motion(a, s, v);
+                let (b0, b1, b2) = dir_motion(b, s, v);
+                (
+                    a1.dot(b0) + a0.dot(b1),
+                    a2.dot(b0) + 2.0 * a1.dot(b1) + a0.dot(b2),
+                )
+            }
+            Quantity::Proj { i, j, e } => {
+                let (pi, vi, ai) = point_motion(i, s, v);
+                let (pj, vj, aj) = point_motion(j, s, v);
+                let (e0, e1, e2) = dir_motion(e, s, v);
+                let (d0, d1, d2) = (pi - pj, vi - vj, ai - aj);
+                (
+                    d1.dot(e0) + d0.dot(e1),
+                    d2.dot(e0) + 2.0 * d1.dot(e1) + d0.dot(e2),
+                )
+            }
+            Quantity::Angle { x, x_ref, y_ref } => {
+                let (x0, x1, x2) = dir_motion(x, s, v);
+                let (r0, r1, r2) = dir_motion(x_ref, s, v);
+                let (y0, y1, y2) = dir_motion(y_ref, s, v);
+                let (sn, sd, sdd) = (
+                    x0.dot(y0),
+                    x1.dot(y0) + x0.dot(y1),
+                    x2.dot(y0) + 2.0 * x1.dot(y1) + x0.dot(y2),
+                );
+                let (cs, cd, cdd) = (
+                    x0.dot(r0),
+                    x1.dot(r0) + x0.dot(r1),
+                    x2.dot(r0) + 2.0 * x1.dot(r1) + x0.dot(r2),
+                );
+                let rho = sn * sn + cs * cs;
+                if rho <= 1e-300 {
+                    return (0.0, 0.0);
+                }
+                let rate = (cs * sd - sn * cd) / rho;
+                let acc = (cs * sdd - sn * cdd) / rho
+                    - 2.0 * (cs * sd - sn * cd) * (sn * sd + cs * cd) / (rho * rho);
+                (rate, acc)
+            }
+            Quantity::Euler { i, j, seq, k } => {
+                let (_, ri) = i.eval(s);
+                let (_, rj) = j.eval(s);
+                let b = seq.angles(&(rj.transpose() * ri));
+                let (e, d0, d1) = seq.rate_matrix(b);
+                if e.determinant().abs() <= 1e-12 {
+                    return (0.0, 0.0);
+                }
+                let einv = e.inverse();
+                let (_, wi) = twist(v, i.body);
+                let (_, wj) = twist(v, j.body);
+                // ω_rel in J axes, its rate at zero angular accelerations.
+                let w_rel = rj.transpose() * (wi - wj);
+                let w_rel_dot = -(rj.transpose() * wj.cross(wi - wj));
+                let bd = einv * w_rel;
+                let e_dot = d0 * bd[0] + d1 * bd[1];
+                let bdd = einv * (w_rel_dot - e_dot * bd);
+                (bd[*k], bdd[*k])
+            }
+        }
+    }
+
     /// Whether the quantity is an angle (radians) rather than a dot product or a length.
     pub fn is_angle(&self) -> bool {
-        matches!(self, Quantity::Angle { .. } | Quantity::Body123 { .. })
+        matches!(self, Quantity::Angle { .. } | Quantity::Euler { .. })
     }
 }

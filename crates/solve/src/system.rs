@@ -4,12 +4,15 @@
 //! primitive rows (translational rows first, rotational last), one row per motion, coupler,
 //! gear, rack-and-pinion and screw. Every analysis uses these rows.
 
-use crate::rows::{BodyDir, BodyFrame, Quantity, RowGradient};
+use crate::measures::{add_dual_gradient, MarkerFrames, PositionEnv};
+use crate::rows::{BodyDir, BodyFrame, EulerSeq, Quantity, RowGradient};
 use crate::state::State;
 use glam::{DMat3, DQuat, DVec3};
 use linkage_adm::{CouplerDof, JointType, JprimType, MotionAxis};
+use linkage_expr::{evaluate, evaluate_with_gradient, parse, Expr};
 use linkage_model::{Body, ConstraintKind, Model, MotionCoordinate};
 use std::ops::Range;
+use std::sync::Arc;
 
 /// What a row's residual measures, to report it in length units or degrees.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -54,6 +57,8 @@ pub struct Row {
     pub driven: bool,
     /// Residual wrapped to (−π, π] (rotational motions).
     pub wrap: bool,
+    /// A general constraint's expression `f(q, t)` (added to the terms).
+    pub function: Option<Arc<Expr>>,
 }
 
 /// The rows of a model.
@@ -65,6 +70,8 @@ pub struct System {
     pub element_rows: Vec<Range<usize>>,
     /// I and J frames used by each joint, primitive or motion.
     pub frames: Vec<Option<(BodyFrame, BodyFrame)>>,
+    /// Marker frames by id, for expression measures.
+    pub markers: Arc<MarkerFrames>,
 }
 
 fn marker_frame(model: &Model, m: usize) -> BodyFrame {
@@ -166,6 +173,7 @@ impl Builder {
             offset: 0.0,
             driven: false,
             wrap: false,
+            function: None,
         });
     }
 
@@ -432,7 +440,12 @@ impl System {
                                 j: fj.origin(),
                                 e: fj.axis(k),
                             };
-                            let ang = |k: usize| Quantity::Body123 { i: fi, j: fj, k };
+                            let ang = |k: usize| Quantity::Euler {
+                                i: fi,
+                                j: fj,
+                                seq: EulerSeq::Body123,
+                                k,
+                            };
                             match axis {
                                 MotionAxis::X => {
                                     ("Translation Along Xj", "DX", RowUnit::Length, proj(0))
@@ -521,9 +534,25 @@ impl System {
                         r.offset = offset;
                     }
                 }
-                ConstraintKind::Gcon { .. } => {
-                    // General constraints need the expression language (issue: statics); their
-                    // rows are added by `System::add_function_rows` when it is available.
+                ConstraintKind::Gcon { function, .. } => {
+                    // Unparseable or USER functions are input errors reported by
+                    // `drivers::ExpressionDrivers::new`; such a GCON gets no row here.
+                    let parsed = function
+                        .as_ref()
+                        .and_then(|f| parse(&f.value.expr.text).ok());
+                    if let Some(expr) = parsed.filter(|e| !e.contains_user()) {
+                        b.push(
+                            e,
+                            "General Constraint Function",
+                            "GCON",
+                            RowUnit::Mixed,
+                            Tier::Coupling,
+                            Vec::new(),
+                        );
+                        if let Some(r) = b.rows.last_mut() {
+                            r.function = Some(Arc::new(expr));
+                        }
+                    }
                 }
             }
             element_rows.push(start..b.rows.len());
@@ -533,6 +562,7 @@ impl System {
             rows: b.rows,
             element_rows,
             frames,
+            markers: Arc::new(MarkerFrames::new(model)),
         }
     }
 
@@ -540,6 +570,16 @@ impl System {
     pub fn residual(&self, r: usize, s: &State, drive: f64) -> f64 {
         let row = &self.rows[r];
         let mut v: f64 = row.terms.iter().map(|(c, q)| c * q.value(s)).sum::<f64>() - row.offset;
+        if let Some(f) = &row.function {
+            v += evaluate(
+                f,
+                &PositionEnv {
+                    frames: &self.markers,
+                    state: s,
+                },
+            )
+            .unwrap_or(f64::NAN);
+        }
         if row.driven {
             v -= drive;
         }
@@ -554,6 +594,17 @@ impl System {
         g.clear();
         for (c, q) in &self.rows[r].terms {
             q.gradient(s, *c, g);
+        }
+        if let Some(f) = &self.rows[r].function {
+            if let Ok(d) = evaluate_with_gradient(
+                f,
+                &PositionEnv {
+                    frames: &self.markers,
+                    state: s,
+                },
+            ) {
+                add_dual_gradient(&d, 1.0, g);
+            }
         }
     }
 }

@@ -202,9 +202,8 @@ pub fn rank_analysis(
         for red in res.redundant {
             let near = res
                 .decisions
-                .iter()
-                .find(|d| d.row == red.row)
-                .is_some_and(|d| d.near_tie);
+                .get(red.row)
+                .is_some_and(|d| d.row == red.row && d.near_tie);
             let deps = red
                 .depends_on
                 .iter()
@@ -235,10 +234,21 @@ pub fn rank_analysis(
 /// choice on the corpus slider-crank (`generic_model.adm`). Skipped when `m` also appears in
 /// another redundant row's dependencies.
 fn prefer_well_conditioned_rows(sys: &System, ra: &mut RankAnalysis) {
-    for idx in 0..ra.redundant.len() {
-        let a = ra.redundant[idx].0;
+    // How many redundant rows lean on each row, and where each admitted row sits.
+    let mut uses = vec![0u32; sys.rows.len()];
+    for r in &ra.redundant {
+        for d in &r.2 {
+            uses[d.row] += 1;
+        }
+    }
+    let mut slot = vec![usize::MAX; sys.rows.len()];
+    for (k, &r) in ra.admitted.iter().enumerate() {
+        slot[r] = k;
+    }
+    for red in ra.redundant.iter_mut() {
+        let a = red.0;
         let (el, tier) = (sys.rows[a].element, sys.rows[a].tier);
-        let best = ra.redundant[idx]
+        let best = red
             .2
             .iter()
             .filter(|d| {
@@ -249,34 +259,26 @@ fn prefer_well_conditioned_rows(sys: &System, ra: &mut RankAnalysis) {
             .max_by(|x, y| x.coefficient.abs().total_cmp(&y.coefficient.abs()))
             .cloned();
         let Some(m) = best else { continue };
-        let shared = ra
-            .redundant
-            .iter()
-            .enumerate()
-            .any(|(k, r)| k != idx && r.2.iter().any(|d| d.row == m.row));
-        if shared {
+        if uses[m.row] > 1 || slot[m.row] == usize::MAX {
             continue;
         }
         let mut deps: Vec<Dependency> = vec![Dependency {
             row: a,
             coefficient: 1.0 / m.coefficient,
         }];
-        deps.extend(
-            ra.redundant[idx]
-                .2
-                .iter()
-                .filter(|d| d.row != m.row)
-                .map(|d| Dependency {
-                    row: d.row,
-                    coefficient: -d.coefficient / m.coefficient,
-                }),
-        );
+        deps.extend(red.2.iter().filter(|d| d.row != m.row).map(|d| Dependency {
+            row: d.row,
+            coefficient: -d.coefficient / m.coefficient,
+        }));
         deps.sort_by_key(|d| d.row);
-        ra.redundant[idx].0 = m.row;
-        ra.redundant[idx].2 = deps;
-        if let Some(slot) = ra.admitted.iter_mut().find(|r| **r == m.row) {
-            *slot = a;
-        }
+        uses[m.row] = 0;
+        uses[a] += 1;
+        red.0 = m.row;
+        red.2 = deps;
+        let k = slot[m.row];
+        ra.admitted[k] = a;
+        slot[a] = k;
+        slot[m.row] = usize::MAX;
     }
 }
 
