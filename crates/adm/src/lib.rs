@@ -15,6 +15,7 @@
 pub mod diagnostic;
 pub mod statement;
 pub mod typed;
+pub mod writer;
 
 mod commands;
 mod keywords;

@@ -13,18 +13,20 @@ pub fn euler313_to_matrix(a: [f64; 3]) -> DMat3 {
 /// Inverse of [`euler313_to_matrix`]: `θ = acos(A33)`, `ψ = atan2(A13, −A23)`,
 /// `φ = atan2(A31, A32)`. At `sin θ = 0` only `ψ ± φ` is determined; then `φ = 0`.
 pub fn matrix_to_euler313(r: &DMat3) -> [f64; 3] {
-    // glam is column-major: r.col(j)[i] = A(i+1, j+1).
-    let a33 = r.z_axis.z.clamp(-1.0, 1.0);
-    let theta = a33.acos();
-    let s = theta.sin();
-    if s.abs() > 1e-12 {
+    // glam is column-major: r.col(j)[i] = A(i+1, j+1). θ from atan2 (not acos) so that a
+    // rounding-level deviation of A33 from 1 does not create a spurious θ with noisy ψ, φ.
+    let s = r.z_axis.x.hypot(r.z_axis.y);
+    let theta = s.atan2(r.z_axis.z);
+    if s > 1e-12 {
         let psi = r.z_axis.x.atan2(-r.z_axis.y);
         let phi = r.x_axis.z.atan2(r.y_axis.z);
         [psi, theta, phi]
+    } else if r.z_axis.z > 0.0 {
+        // θ = 0: A = Rz(ψ + φ); choose φ = 0.
+        [r.x_axis.y.atan2(r.x_axis.x), 0.0, 0.0]
     } else {
-        // A = Rz(ψ ± φ) (θ = 0) or Rz(ψ)·Rx(π)·Rz(φ); choose φ = 0.
-        let psi = r.x_axis.y.atan2(r.x_axis.x);
-        [psi, theta, 0.0]
+        // θ = π: A = Rz(ψ)·Rx(π)·Rz(φ) = Rz(ψ − φ)·Rx(π); choose φ = 0.
+        [r.x_axis.y.atan2(r.x_axis.x), std::f64::consts::PI, 0.0]
     }
 }
 
@@ -136,6 +138,16 @@ mod tests {
             let back = euler313_to_matrix(matrix_to_euler313(&r));
             assert!(close(&r, &back, 1e-12));
         }
+    }
+
+    #[test]
+    fn rounding_noise_near_theta_zero_gives_no_spurious_angles() {
+        // A rotation about z whose A33 is 1 − 1e-16 (rounding): ψ must be the z rotation.
+        let mut r = DMat3::from_rotation_z(1.8);
+        r.z_axis.z = 1.0 - 1.1e-16;
+        r.z_axis.x = 1e-18;
+        let e = matrix_to_euler313(&r);
+        assert!((e[0] + e[2] - 1.8).abs() < 1e-9, "{e:?}");
     }
 
     #[test]

@@ -3,4 +3,5 @@
 //! Reports compute no physics: they turn the values returned by `linkage-solve` into human
 //! text in the spirit of Adams' own output and into JSON with a stable schema.
 
+pub mod ic;
 pub mod verify;

@@ -6,9 +6,11 @@
 //! * [`verify`] — Gruebler count, DOF, redundant equations by priority, misaligned joints,
 //!   consistency, unconstrained and massless parts (DESIGN §4).
 
+pub mod assemble;
 pub mod drivers;
 pub mod generate;
 pub mod graph;
+pub mod ic;
 pub mod linear;
 pub mod measures;
 pub mod rank;

@@ -284,7 +284,18 @@ fn prefer_well_conditioned_rows(sys: &System, ra: &mut RankAnalysis) {
 
 /// Verifies `model` at its input configuration.
 pub fn verify(model: &Model, drivers: &dyn Drivers, tol: &Tolerances) -> Verification {
-    let state = State::input(model);
+    verify_at(model, &State::input(model), drivers, tol)
+}
+
+/// Verifies `model` at configuration `state` (e.g. after assembly). "Misaligned" rows are the
+/// rows violated at that configuration.
+pub fn verify_at(
+    model: &Model,
+    state: &State,
+    drivers: &dyn Drivers,
+    tol: &Tolerances,
+) -> Verification {
+    let state = state.clone();
     let length = model.characteristic_length;
     let sys = System::new(model);
     let res = residuals(&sys, &state, drivers);

@@ -1,0 +1,326 @@
+//! The initial-conditions report: text and JSON.
+
+use crate::verify::{equation_ref, to_json as verify_json, EquationRef, RedundantJson};
+use linkage_adm::Diagnostic;
+use linkage_model::Model;
+use linkage_solve::assemble::Equation;
+use linkage_solve::ic::InitialConditions;
+use linkage_solve::system::RowUnit;
+use serde::Serialize;
+use std::fmt::Write;
+
+#[derive(Clone, Debug, Serialize, PartialEq)]
+pub struct MovedJson {
+    pub name: String,
+    pub translation: [f64; 3],
+    pub rotation_deg: f64,
+}
+
+#[derive(Clone, Debug, Serialize, PartialEq)]
+pub struct RepairJson {
+    #[serde(flatten)]
+    pub equation: EquationRef,
+    pub before: f64,
+    pub after: f64,
+    pub residual_unit: &'static str,
+}
+
+#[derive(Clone, Debug, Serialize, PartialEq)]
+pub struct ReactionJson {
+    pub name: String,
+    pub element: String,
+    #[serde(rename = "type")]
+    pub kind: String,
+    /// Force on the I marker, ground axes, model force units.
+    pub force: [f64; 3],
+    /// Torque about the I marker origin, ground axes, model force × length units.
+    pub torque: [f64; 3],
+}
+
+#[derive(Clone, Debug, Serialize, PartialEq)]
+pub struct ResidualJson {
+    pub name: String,
+    pub equation: String,
+    pub residual: f64,
+}
+
+#[derive(Clone, Debug, Serialize, PartialEq)]
+pub struct PartStateJson {
+    pub name: String,
+    pub velocity: [f64; 3],
+    pub angular_velocity: [f64; 3],
+    pub acceleration: Option<[f64; 3]>,
+    pub angular_acceleration: Option<[f64; 3]>,
+}
+
+/// The JSON document of `linkage ic --format json`.
+#[derive(Clone, Debug, Serialize, PartialEq)]
+pub struct IcJson {
+    pub file: String,
+    pub title: String,
+    pub converged: bool,
+    pub iterations: usize,
+    pub max_residual: f64,
+    /// When not converged: the equations with the largest residuals.
+    pub largest_residuals: Vec<ResidualJson>,
+    pub moved_parts: Vec<MovedJson>,
+    pub repaired: Vec<RepairJson>,
+    pub dof: i64,
+    pub redundant: Vec<RedundantJson>,
+    pub inconsistent: bool,
+    pub velocity_converged: Option<bool>,
+    pub velocity_error: Option<f64>,
+    pub acceleration_error: Option<f64>,
+    pub parts: Vec<PartStateJson>,
+    pub reactions: Vec<ReactionJson>,
+    pub warnings: Vec<String>,
+    pub errors: Vec<String>,
+}
+
+fn a3(v: glam::DVec3) -> [f64; 3] {
+    [v.x, v.y, v.z]
+}
+
+fn unit_name(u: RowUnit) -> &'static str {
+    match u {
+        RowUnit::Length | RowUnit::Mixed => "length",
+        RowUnit::Direction | RowUnit::Angle => "degrees",
+    }
+}
+
+/// Builds the JSON document.
+pub fn to_json(model: &Model, ic: &InitialConditions, warnings: &[Diagnostic]) -> IcJson {
+    let v = &ic.analysis;
+    let mut errors = Vec::new();
+    let mut warnings: Vec<String> = warnings.iter().map(|w| w.to_string()).collect();
+    let largest_residuals = if ic.assembly.converged {
+        Vec::new()
+    } else {
+        ic.assembly
+            .residuals
+            .iter()
+            .take(5)
+            .map(|(eq, r)| match eq {
+                Equation::Row(row) => {
+                    let e = equation_ref(model, v, *row);
+                    ResidualJson {
+                        name: e.name,
+                        equation: e.equation,
+                        residual: *r,
+                    }
+                }
+                Equation::Hard(h) => {
+                    let hr = &ic.hard[*h];
+                    ResidualJson {
+                        name: hr.name.clone(),
+                        equation: hr.label.clone(),
+                        residual: *r,
+                    }
+                }
+            })
+            .collect()
+    };
+    if !ic.assembly.converged {
+        errors.push(format!(
+            "displacement initial conditions did not converge in {} iterations (largest residual {:.3e})",
+            ic.assembly.iterations, ic.assembly.max_residual
+        ));
+    }
+    let acc = match &ic.acceleration {
+        Some(Ok(a)) => Some(a),
+        Some(Err(e)) => {
+            warnings.push(format!(
+                "acceleration/force initial conditions not computed: {e}"
+            ));
+            None
+        }
+        None => None,
+    };
+    let parts = match &ic.velocity {
+        Some(vel) => model
+            .parts
+            .iter()
+            .enumerate()
+            .map(|(k, p)| PartStateJson {
+                name: p.origin.name.clone(),
+                velocity: a3(vel.velocities[k].0),
+                angular_velocity: a3(vel.velocities[k].1),
+                acceleration: acc.map(|a| a3(a.accelerations[k].0)),
+                angular_acceleration: acc.map(|a| a3(a.accelerations[k].1)),
+            })
+            .collect(),
+        None => Vec::new(),
+    };
+    let vj = verify_json(model, v, &[]);
+    IcJson {
+        file: model.file.to_string(),
+        title: model.title.clone(),
+        converged: ic.assembly.converged,
+        iterations: ic.assembly.iterations,
+        max_residual: ic.assembly.max_residual,
+        largest_residuals,
+        moved_parts: ic
+            .moved
+            .iter()
+            .map(|m| MovedJson {
+                name: model.parts[m.part].origin.name.clone(),
+                translation: a3(m.translation),
+                rotation_deg: m.rotation_deg,
+            })
+            .collect(),
+        repaired: ic
+            .repaired
+            .iter()
+            .map(|r| RepairJson {
+                equation: equation_ref(model, v, r.row),
+                before: r.before,
+                after: r.after,
+                residual_unit: unit_name(v.system.rows[r.row].unit),
+            })
+            .collect(),
+        dof: v.dof,
+        redundant: vj.redundant,
+        inconsistent: ic.inconsistent(),
+        velocity_converged: ic.velocity.as_ref().map(|x| x.converged),
+        velocity_error: ic.velocity.as_ref().map(|x| x.max_error),
+        acceleration_error: acc.map(|a| a.max_error),
+        parts,
+        reactions: acc
+            .map(|a| {
+                a.reactions
+                    .iter()
+                    .map(|r| {
+                        let c = &model.constraints[r.element];
+                        ReactionJson {
+                            name: c.origin.name.clone(),
+                            element: c.origin.element(),
+                            kind: c.description(),
+                            force: a3(r.force),
+                            torque: a3(r.torque),
+                        }
+                    })
+                    .collect()
+            })
+            .unwrap_or_default(),
+        warnings,
+        errors,
+    }
+}
+
+/// Human report.
+pub fn to_text(j: &IcJson) -> String {
+    let mut s = String::new();
+    let _ = writeln!(s, "INITIAL CONDITIONS: {}", j.title);
+    let _ = writeln!(s, "  file: {}", j.file);
+    let _ = writeln!(s);
+    let _ = writeln!(
+        s,
+        "Displacement: {} in {} iterations, largest residual {:.3e}",
+        if j.converged {
+            "converged"
+        } else {
+            "DID NOT CONVERGE"
+        },
+        j.iterations,
+        j.max_residual
+    );
+    for r in &j.largest_residuals {
+        let _ = writeln!(
+            s,
+            "   {} {}  residual {:.4e}",
+            r.name, r.equation, r.residual
+        );
+    }
+    if !j.moved_parts.is_empty() {
+        let _ = writeln!(s);
+        let _ = writeln!(s, "Moved parts:");
+        for m in &j.moved_parts {
+            let t = m.translation;
+            let _ = writeln!(
+                s,
+                "   {:<24} translation ({:.6}, {:.6}, {:.6})  rotation {:.4} deg",
+                m.name, t[0], t[1], t[2], m.rotation_deg
+            );
+        }
+    }
+    if !j.repaired.is_empty() {
+        let _ = writeln!(s);
+        let _ = writeln!(s, "Repaired joints (residual before → after):");
+        for r in &j.repaired {
+            let u = if r.residual_unit == "degrees" {
+                " deg"
+            } else {
+                ""
+            };
+            let _ = writeln!(
+                s,
+                "   {} ({})  {}  {:.4e}{u} → {:.4e}{u}",
+                r.equation.name, r.equation.kind, r.equation.equation, r.before, r.after
+            );
+        }
+    }
+    let _ = writeln!(s);
+    let _ = writeln!(
+        s,
+        "{} Degrees of Freedom at the assembled configuration",
+        j.dof
+    );
+    if j.redundant.is_empty() {
+        let _ = writeln!(s, "There are no redundant constraint equations.");
+    } else {
+        let _ = writeln!(
+            s,
+            "Redundant constraint equations (removed; their reactions are zero):"
+        );
+        for r in &j.redundant {
+            let status = match (r.consistent, r.residual) {
+                (Some(true), _) => "consistent".to_string(),
+                (Some(false), Some(x)) => {
+                    format!("INCONSISTENT, residual {x:.4e} {}", r.residual_unit)
+                }
+                _ => "consistency unknown".to_string(),
+            };
+            let _ = writeln!(
+                s,
+                "   {} ({})  {}  {status}",
+                r.equation.name, r.equation.kind, r.equation.equation
+            );
+        }
+    }
+    if let Some(ok) = j.velocity_converged {
+        let _ = writeln!(s);
+        let _ = writeln!(
+            s,
+            "Velocity: {} (largest error {:.3e})",
+            if ok { "converged" } else { "DID NOT CONVERGE" },
+            j.velocity_error.unwrap_or(f64::NAN)
+        );
+    }
+    if let Some(e) = j.acceleration_error {
+        let _ = writeln!(s, "Acceleration and force: largest error {e:.3e}");
+    }
+    if !j.reactions.is_empty() {
+        let _ = writeln!(s);
+        let _ = writeln!(s, "Reactions on the I markers (ground axes):");
+        let _ = writeln!(
+            s,
+            "   {:<24} {:>13} {:>13} {:>13}   {:>13} {:>13} {:>13}",
+            "element", "FX", "FY", "FZ", "TX", "TY", "TZ"
+        );
+        for r in &j.reactions {
+            let (f, t) = (r.force, r.torque);
+            let _ = writeln!(
+                s,
+                "   {:<24} {:>13.6e} {:>13.6e} {:>13.6e}   {:>13.6e} {:>13.6e} {:>13.6e}",
+                r.name, f[0], f[1], f[2], t[0], t[1], t[2]
+            );
+        }
+    }
+    for w in &j.warnings {
+        let _ = writeln!(s, "{w}");
+    }
+    for e in &j.errors {
+        let _ = writeln!(s, "error: {e}");
+    }
+    s
+}

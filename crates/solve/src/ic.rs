@@ -1,0 +1,509 @@
+//! Initial conditions (Adams "assemble model", ADM-REFERENCE §8.1): displacement, velocity,
+//! acceleration and force, with the redundancy classified at the assembled configuration.
+//!
+//! 1. Displacement: rank analysis at the input (broken joints as intended), least-change
+//!    assembly of the independent rows and hard conditions ([`crate::assemble`]), then the rank
+//!    analysis again at the assembled configuration; if it admits a row the assembly did not
+//!    satisfy, assemble once more with the new set.
+//! 2. Velocity: `min ½(v − v₀)ᵀW(v − v₀)` subject to `J v = ḟ(t)` (motions) and the joints'
+//!    initial velocities.
+//! 3. Acceleration and force: `M a + Jᵀμ = Q` (gravity and gyroscopic terms),
+//!    `J a = f̈ − γ`; reactions `−Jᵀμ / UCF` on each element's I marker. Redundant rows are not
+//!    in J, so their reactions are zero, as in Adams.
+
+use crate::assemble::{assemble, hard_rows, Assembly, HardRow};
+use crate::drivers::ExpressionDrivers;
+use crate::linear::SparseLu;
+use crate::rows::RowGradient;
+use crate::state::State;
+use crate::system::System;
+use crate::tolerances::Tolerances;
+use crate::verify::{report_residual, residuals, verify, verify_at, Verification};
+use glam::DVec3;
+use linkage_model::{Body, ConstraintKind, Model};
+
+/// A part the assembly moved.
+#[derive(Clone, Debug, PartialEq)]
+pub struct MovedPart {
+    pub part: usize,
+    /// Translation of the centre of mass (ground axes, length units).
+    pub translation: DVec3,
+    /// Rotation angle in degrees.
+    pub rotation_deg: f64,
+}
+
+/// A constraint equation that was violated at the input and its residual after assembly
+/// (length units or degrees).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Repair {
+    pub row: usize,
+    pub before: f64,
+    pub after: f64,
+}
+
+/// Reaction of an element on its I marker: force and torque about the I marker origin, in
+/// ground axes, in model force and force × length units.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Reaction {
+    pub element: usize,
+    pub force: DVec3,
+    pub torque: DVec3,
+}
+
+/// Velocity IC result.
+#[derive(Clone, Debug, PartialEq)]
+pub struct VelocityIc {
+    /// CM velocity and angular velocity of every part (ground axes).
+    pub velocities: Vec<(DVec3, DVec3)>,
+    /// Largest violation of the velocity equations.
+    pub max_error: f64,
+    pub converged: bool,
+}
+
+/// Acceleration and force IC result.
+#[derive(Clone, Debug, PartialEq)]
+pub struct AccelerationIc {
+    /// CM acceleration and angular acceleration of every part (ground axes).
+    pub accelerations: Vec<(DVec3, DVec3)>,
+    pub reactions: Vec<Reaction>,
+    pub max_error: f64,
+    pub converged: bool,
+}
+
+/// Everything the `ic` analysis finds.
+#[derive(Clone, Debug)]
+pub struct InitialConditions {
+    pub assembly: Assembly,
+    /// Verification at the assembled configuration (redundancy and its consistency).
+    pub analysis: Verification,
+    pub hard: Vec<HardRow>,
+    pub moved: Vec<MovedPart>,
+    pub repaired: Vec<Repair>,
+    pub velocity: Option<VelocityIc>,
+    /// `Err` with the reason when the acceleration/force solve could not be done.
+    pub acceleration: Option<Result<AccelerationIc, String>>,
+}
+
+impl InitialConditions {
+    /// Whether some redundant equation cannot be satisfied (the model cannot be assembled as
+    /// built).
+    pub fn inconsistent(&self) -> bool {
+        self.analysis
+            .redundant
+            .iter()
+            .any(|r| r.consistent == Some(false))
+    }
+}
+
+fn admitted_rows(v: &Verification) -> Vec<usize> {
+    let mut redundant = vec![false; v.system.rows.len()];
+    for r in &v.redundant {
+        redundant[r.row] = true;
+    }
+    (0..v.system.rows.len())
+        .filter(|&r| !redundant[r])
+        .collect()
+}
+
+/// Runs the displacement, velocity and acceleration/force initial conditions.
+pub fn initial_conditions(
+    model: &Model,
+    drivers: &ExpressionDrivers,
+    tol: &Tolerances,
+) -> InitialConditions {
+    let input = State::input(model);
+    let hard = hard_rows(model);
+    let sys = System::new(model);
+    let mut analysis = verify(model, drivers, tol);
+    let before = residuals(&sys, &input, drivers);
+    let mut asm = assemble(
+        model,
+        &sys,
+        &admitted_rows(&analysis),
+        &hard,
+        drivers,
+        &input,
+        &input,
+    );
+    for _ in 0..3 {
+        if !asm.converged {
+            break;
+        }
+        let next = verify_at(model, &asm.state, drivers, tol);
+        let again = !next.assembled;
+        analysis = next;
+        if !again {
+            break;
+        }
+        asm = assemble(
+            model,
+            &sys,
+            &admitted_rows(&analysis),
+            &hard,
+            drivers,
+            &asm.state,
+            &input,
+        );
+    }
+    let after = residuals(&sys, &asm.state, drivers);
+    let repaired = analysis_repairs(&sys, &before, &after, model, tol);
+    let moved = (0..model.parts.len())
+        .filter_map(|k| {
+            let (a, b) = (asm.state.poses[k], input.poses[k]);
+            let translation = a.p - b.p;
+            let rotation_deg = linkage_model::frames::log_so3(&(a.r * b.r.transpose()))
+                .length()
+                .to_degrees();
+            let moved = translation.length() > tol.length * model.characteristic_length
+                || rotation_deg.to_radians() > tol.angle;
+            moved.then_some(MovedPart {
+                part: k,
+                translation,
+                rotation_deg,
+            })
+        })
+        .collect();
+    let (velocity, acceleration) = if asm.converged {
+        let rows = admitted_rows(&analysis);
+        let vel = velocity_ic(model, &sys, &rows, &hard, drivers, &asm.state);
+        let acc = acceleration_ic(model, &sys, &rows, drivers, &asm.state, &vel.velocities);
+        (Some(vel), Some(acc))
+    } else {
+        (None, None)
+    };
+    InitialConditions {
+        assembly: asm,
+        analysis,
+        hard,
+        moved,
+        repaired,
+        velocity,
+        acceleration,
+    }
+}
+
+fn analysis_repairs(
+    sys: &System,
+    before: &[Option<f64>],
+    after: &[Option<f64>],
+    model: &Model,
+    tol: &Tolerances,
+) -> Vec<Repair> {
+    let mut out = Vec::new();
+    for r in 0..sys.rows.len() {
+        let (Some(b), Some(a)) = (before[r], after[r]) else {
+            continue;
+        };
+        let unit = sys.rows[r].unit;
+        if !crate::verify::within_tolerance(unit, b, tol, model.characteristic_length) {
+            out.push(Repair {
+                row: r,
+                before: report_residual(unit, b),
+                after: report_residual(unit, a),
+            });
+        }
+    }
+    out
+}
+
+/// `Q̇ = ∇Q·v` for a gradient and part velocities.
+fn rate(g: &RowGradient, v: &[(DVec3, DVec3)]) -> f64 {
+    g.blocks
+        .iter()
+        .map(|(k, b)| {
+            DVec3::new(b[0], b[1], b[2]).dot(v[*k].0) + DVec3::new(b[3], b[4], b[5]).dot(v[*k].1)
+        })
+        .sum()
+}
+
+fn push_gradient(entries: &mut Vec<(usize, usize, f64)>, row: usize, g: &RowGradient) {
+    for (body, v) in &g.blocks {
+        for (c, x) in v.iter().enumerate() {
+            if *x != 0.0 {
+                entries.push((row, 6 * body + c, *x));
+                entries.push((6 * body + c, row, *x));
+            }
+        }
+    }
+}
+
+/// Input velocity targets: PART VX, VY, VZ (ground) and WX, WY, WZ (CM marker axes).
+fn velocity_targets(model: &Model, s: &State) -> Vec<(DVec3, DVec3)> {
+    model
+        .parts
+        .iter()
+        .enumerate()
+        .map(|(k, p)| {
+            let v = |i: usize| p.velocity[i].unwrap_or(0.0);
+            let w_cm = DVec3::new(v(3), v(4), v(5));
+            (DVec3::new(v(0), v(1), v(2)), s.poses[k].r * p.r_b_cm * w_cm)
+        })
+        .collect()
+}
+
+/// Velocity IC: one least-change linear solve.
+pub fn velocity_ic(
+    model: &Model,
+    sys: &System,
+    rows: &[usize],
+    hard: &[HardRow],
+    drivers: &ExpressionDrivers,
+    s: &State,
+) -> VelocityIc {
+    let n = model.parts.len();
+    let l = model.characteristic_length;
+    let w_t = 1.0 / (l * l);
+    let target = velocity_targets(model, s);
+    let mut g = RowGradient::default();
+    let mut eqs: Vec<(RowGradient, f64)> = Vec::new();
+    for &r in rows {
+        let row = &sys.rows[r];
+        let rhs = if row.driven {
+            match drivers.series(row.element, s.time) {
+                Some(Ok(f)) => f[1],
+                _ => continue,
+            }
+        } else {
+            0.0
+        };
+        sys.gradient(r, s, &mut g);
+        eqs.push((g.clone(), rhs));
+    }
+    // Joints' initial velocities (IC = disp, vel).
+    for (c, con) in model.constraints.iter().enumerate() {
+        let ConstraintKind::Joint { initial, .. } = &con.kind else {
+            continue;
+        };
+        for (want, label) in [
+            (initial.rotation.1, "IC rotation"),
+            (initial.translation.1, "IC translation"),
+        ] {
+            let Some(vel) = want else { continue };
+            let q = hard
+                .iter()
+                .find(|h| h.name == con.origin.name && h.label == label)
+                .map(|h| h.quantity)
+                .or_else(|| {
+                    let (i, j) = con.markers()?;
+                    let f = |m: usize| crate::rows::BodyFrame {
+                        body: model.markers[m].body,
+                        p_b: model.markers[m].p_bm,
+                        r_b: model.markers[m].r_bm,
+                    };
+                    let (fi, fj) = (f(i), f(j));
+                    Some(if label == "IC rotation" {
+                        crate::rows::Quantity::Angle {
+                            x: fi.axis(0),
+                            x_ref: fj.axis(0),
+                            y_ref: fj.axis(1),
+                        }
+                    } else {
+                        crate::rows::Quantity::Proj {
+                            i: fi.origin(),
+                            j: fj.origin(),
+                            e: fj.axis(2),
+                        }
+                    })
+                });
+            if let Some(q) = q {
+                g.clear();
+                q.gradient(s, 1.0, &mut g);
+                eqs.push((g.clone(), vel));
+            }
+            let _ = c;
+        }
+    }
+    let m = eqs.len();
+    let dim = 6 * n + m;
+    let mut entries = Vec::new();
+    let mut rhs = vec![0.0; dim];
+    for k in 0..n {
+        for c in 0..6 {
+            let w = if c < 3 { w_t } else { 1.0 };
+            entries.push((6 * k + c, 6 * k + c, w));
+            let t = if c < 3 {
+                target[k].0[c]
+            } else {
+                target[k].1[c - 3]
+            };
+            rhs[6 * k + c] = w * t;
+        }
+    }
+    for (e, (grad, b)) in eqs.iter().enumerate() {
+        push_gradient(&mut entries, 6 * n + e, grad);
+        rhs[6 * n + e] = *b;
+    }
+    let solved = SparseLu::factor(dim, &entries).and_then(|lu| lu.solve(&mut rhs));
+    let velocities: Vec<(DVec3, DVec3)> = if solved.is_ok() {
+        (0..n)
+            .map(|k| {
+                (
+                    DVec3::new(rhs[6 * k], rhs[6 * k + 1], rhs[6 * k + 2]),
+                    DVec3::new(rhs[6 * k + 3], rhs[6 * k + 4], rhs[6 * k + 5]),
+                )
+            })
+            .collect()
+    } else {
+        vec![(DVec3::ZERO, DVec3::ZERO); n]
+    };
+    let max_error = eqs
+        .iter()
+        .map(|(grad, b)| (rate(grad, &velocities) - b).abs())
+        .fold(0.0, f64::max);
+    VelocityIc {
+        converged: solved.is_ok() && max_error <= model.ic.verror,
+        velocities,
+        max_error,
+    }
+}
+
+/// Acceleration and force IC.
+pub fn acceleration_ic(
+    model: &Model,
+    sys: &System,
+    rows: &[usize],
+    drivers: &ExpressionDrivers,
+    s: &State,
+    v: &[(DVec3, DVec3)],
+) -> Result<AccelerationIc, String> {
+    let n = model.parts.len();
+    let mut g = RowGradient::default();
+    let mut eqs: Vec<(usize, RowGradient, f64)> = Vec::new();
+    for &r in rows {
+        let row = &sys.rows[r];
+        if row.function.is_some() {
+            return Err(format!(
+                "{}: accelerations of a general constraint need second derivatives of its expression, which linkage does not compute yet",
+                model.constraints[row.element].origin.name
+            ));
+        }
+        let fdd = if row.driven {
+            match drivers.series(row.element, s.time) {
+                Some(Ok(f)) => f[2],
+                Some(Err(e)) => {
+                    return Err(format!(
+                        "{}: {e}",
+                        model.constraints[row.element].origin.name
+                    ))
+                }
+                None => continue,
+            }
+        } else {
+            0.0
+        };
+        let bias: f64 = row.terms.iter().map(|(c, q)| c * q.rates(s, v).1).sum();
+        sys.gradient(r, s, &mut g);
+        eqs.push((r, g.clone(), fdd - bias));
+    }
+    let m = eqs.len();
+    let dim = 6 * n + m;
+    let mut entries = Vec::new();
+    let mut rhs = vec![0.0; dim];
+    for (k, p) in model.parts.iter().enumerate() {
+        let r = s.poses[k].r;
+        let ig = r * p.inertia * r.transpose();
+        for c in 0..3 {
+            entries.push((6 * k + c, 6 * k + c, p.mass));
+            for d in 0..3 {
+                let x = ig.col(d)[c];
+                if x != 0.0 {
+                    entries.push((6 * k + 3 + c, 6 * k + 3 + d, x));
+                }
+            }
+        }
+        let w = v[k].1;
+        let gyro = -w.cross(ig * w);
+        for c in 0..3 {
+            rhs[6 * k + c] = p.mass * model.gravity[c];
+            rhs[6 * k + 3 + c] = gyro[c];
+        }
+    }
+    for (e, (_, grad, b)) in eqs.iter().enumerate() {
+        push_gradient(&mut entries, 6 * n + e, grad);
+        rhs[6 * n + e] = *b;
+    }
+    let lu = SparseLu::factor(dim, &entries).map_err(|e| e.to_string())?;
+    lu.solve(&mut rhs).map_err(|_| {
+        "the acceleration equations are singular: a massless part or a part without inertia has motion the constraints leave free".to_string()
+    })?;
+    let acc: Vec<(DVec3, DVec3)> = (0..n)
+        .map(|k| {
+            (
+                DVec3::new(rhs[6 * k], rhs[6 * k + 1], rhs[6 * k + 2]),
+                DVec3::new(rhs[6 * k + 3], rhs[6 * k + 4], rhs[6 * k + 5]),
+            )
+        })
+        .collect();
+    let max_error = eqs
+        .iter()
+        .map(|(_, grad, b)| (rate(grad, &acc) - b).abs())
+        .fold(0.0, f64::max);
+
+    // Generalised constraint force of each element on each body: −Σ μ_r ∇Φ_r.
+    let ucf = model.ucf();
+    let mut per_element: Vec<Vec<(usize, [f64; 6])>> = vec![Vec::new(); model.constraints.len()];
+    for (e, (r, grad, _)) in eqs.iter().enumerate() {
+        let mu = rhs[6 * n + e];
+        let list = &mut per_element[sys.rows[*r].element];
+        for (body, b) in &grad.blocks {
+            let contrib: Vec<f64> = b.iter().map(|x| -mu * x / ucf).collect();
+            match list.iter_mut().find(|(k, _)| k == body) {
+                Some((_, acc6)) => acc6.iter_mut().zip(&contrib).for_each(|(a, c)| *a += c),
+                None => {
+                    let mut a6 = [0.0; 6];
+                    a6.copy_from_slice(&contrib);
+                    list.push((*body, a6));
+                }
+            }
+        }
+    }
+    let mut reactions = Vec::new();
+    for (c, con) in model.constraints.iter().enumerate() {
+        if !matches!(
+            con.kind,
+            ConstraintKind::Joint { .. }
+                | ConstraintKind::Jprim { .. }
+                | ConstraintKind::Motion { .. }
+        ) {
+            continue;
+        }
+        let Some((i, j)) = con.markers() else {
+            continue;
+        };
+        let p_i = {
+            let mk = &model.markers[i];
+            let pose = s.pose(mk.body);
+            pose.p + pose.r * mk.p_bm
+        };
+        let wrench_on = |body: Body| -> Option<(DVec3, DVec3)> {
+            let k = body.part()?;
+            let six = per_element[c]
+                .iter()
+                .find(|(b, _)| *b == k)
+                .map(|(_, x)| *x)
+                .unwrap_or([0.0; 6]);
+            let f = DVec3::new(six[0], six[1], six[2]);
+            let t_cm = DVec3::new(six[3], six[4], six[5]);
+            // Move the torque from the part's CM to the I marker origin.
+            Some((f, t_cm + (s.poses[k].p - p_i).cross(f)))
+        };
+        let (force, torque) = match wrench_on(model.markers[i].body) {
+            Some(w) => w,
+            None => match wrench_on(model.markers[j].body) {
+                Some((f, t)) => (-f, -t),
+                None => (DVec3::ZERO, DVec3::ZERO),
+            },
+        };
+        reactions.push(Reaction {
+            element: c,
+            force,
+            torque,
+        });
+    }
+    Ok(AccelerationIc {
+        accelerations: acc,
+        reactions,
+        max_error,
+        converged: max_error <= model.ic.aerror.max(1e-9),
+    })
+}
