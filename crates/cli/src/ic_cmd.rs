@@ -1,0 +1,84 @@
+//! `linkage ic`.
+
+use crate::common::{input_error, load, print_json, Format};
+use linkage_adm::Dataset;
+use linkage_model::Model;
+use linkage_solve::state::State;
+use linkage_solve::tolerances::Tolerances;
+use std::path::Path;
+use std::process::ExitCode;
+
+pub fn run(model: &Path, format: Format, save: Option<&Path>) -> ExitCode {
+    let loaded = match load(model) {
+        Ok(l) => l,
+        Err(d) => return input_error(&d, format),
+    };
+    let tol = Tolerances::default();
+    let ic = linkage_solve::ic::initial_conditions(&loaded.model, &loaded.drivers, &tol);
+    let mut report = linkage_report::ic::to_json(&loaded.model, &ic, &loaded.warnings);
+    let failed = !ic.assembly.converged || ic.inconsistent();
+    if let Some(out) = save {
+        if failed {
+            report.errors.push(format!(
+                "{} not written: the model could not be assembled",
+                out.display()
+            ));
+        } else if let Err(e) =
+            save_configuration(&loaded.dataset, &loaded.model, &ic.assembly.state, out)
+        {
+            report
+                .errors
+                .push(format!("cannot write {}: {e}", out.display()));
+            emit(&report, format);
+            return ExitCode::from(1);
+        }
+    }
+    emit(&report, format);
+    if failed {
+        ExitCode::from(1)
+    } else {
+        ExitCode::SUCCESS
+    }
+}
+
+fn emit(report: &linkage_report::ic::IcJson, format: Format) {
+    match format {
+        Format::Text => print!("{}", linkage_report::ic::to_text(report)),
+        Format::Json => {
+            print_json(report);
+        }
+    }
+    for e in &report.errors {
+        eprintln!("error: {e}");
+    }
+}
+
+/// Writes the dataset with every moved part's QG/REULER at configuration `state` (markers keep
+/// their place on their part because they are given in the part's frame).
+pub fn save_configuration(
+    ds: &Dataset,
+    model: &Model,
+    state: &State,
+    out: &Path,
+) -> Result<(), String> {
+    let poses: Vec<linkage_adm::writer::PartPose> = model
+        .parts
+        .iter()
+        .enumerate()
+        .filter(|(k, p)| {
+            let s = state.poses[*k];
+            (s.p - p.p_gb).length() > 0.0 || s.r != p.r_gb
+        })
+        .map(|(k, p)| {
+            let s = state.poses[k];
+            let qg = s.p + s.r * p.p_b_bcs;
+            linkage_adm::writer::PartPose {
+                statement: p.origin.statement_index,
+                qg: qg.to_array(),
+                reuler: linkage_model::frames::matrix_to_euler313(&s.r),
+            }
+        })
+        .collect();
+    let text = linkage_adm::writer::write_part_poses(ds, &poses).map_err(|d| d.to_string())?;
+    linkage_adm::writer::write_atomically(out, &text).map_err(|e| e.to_string())
+}
