@@ -19,3 +19,4 @@ pub mod state;
 pub mod system;
 pub mod tolerances;
 pub mod verify;
+pub mod applied;
