@@ -6,10 +6,12 @@
 //! * [`verify`] — Gruebler count, DOF, redundant equations by priority, misaligned joints,
 //!   consistency, unconstrained and massless parts (DESIGN §4).
 
+pub mod applied;
 pub mod assemble;
 pub mod drivers;
 pub mod generate;
 pub mod graph;
+pub mod hessian;
 pub mod ic;
 pub mod linear;
 pub mod measures;
@@ -19,4 +21,3 @@ pub mod state;
 pub mod system;
 pub mod tolerances;
 pub mod verify;
-pub mod applied;

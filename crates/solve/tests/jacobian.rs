@@ -90,3 +90,70 @@ fn every_row_type_matches_finite_differences() {
     }
     assert!(labels.len() > 30, "{labels:?}");
 }
+
+/// Second derivatives (geometric stiffness) against central differences of the analytic
+/// gradient, for every row whose quantities have them.
+#[test]
+fn row_hessians_match_finite_differences_of_gradients() {
+    use linkage_solve::hessian::HessianBlocks;
+    let m = model("every_row.adm");
+    let sys = System::new(&m);
+    let s = State::input(&m);
+    let n = m.parts.len();
+    let h = 1e-6;
+    let mut checked = 0;
+    for r in 0..sys.rows.len() {
+        let row = &sys.rows[r];
+        if row.function.is_some() {
+            continue;
+        }
+        let mut hb = HessianBlocks::default();
+        if !row.terms.iter().all(|(c, q)| q.hessian(&s, *c, &mut hb)) {
+            continue;
+        }
+        let mut dense = vec![0.0; 36 * n * n];
+        let mut trip = Vec::new();
+        hb.triplets(1.0, &mut trip);
+        for (i, j, v) in trip {
+            dense[i * 6 * n + j] += v;
+        }
+        let grad = |st: &State| {
+            let mut g = RowGradient::default();
+            sys.gradient(r, st, &mut g);
+            let mut full = vec![0.0; 6 * n];
+            for (b, v) in &g.blocks {
+                full[6 * b..6 * b + 6].copy_from_slice(v);
+            }
+            full
+        };
+        for k in 0..n {
+            for c in 0..6 {
+                let step = |sign: f64| {
+                    let mut e = [0.0; 6];
+                    e[c] = h * sign;
+                    let mut t = s.clone();
+                    t.increment(
+                        k,
+                        glam::DVec3::new(e[0], e[1], e[2]),
+                        glam::DVec3::new(e[3], e[4], e[5]),
+                    );
+                    grad(&t)
+                };
+                let (gp, gm) = (step(1.0), step(-1.0));
+                for i in 0..6 * n {
+                    let numeric = (gp[i] - gm[i]) / (2.0 * h);
+                    let analytic = dense[i * 6 * n + 6 * k + c];
+                    assert!(
+                        (analytic - numeric).abs() < 1e-6 * (1.0 + numeric.abs()),
+                        "row {r} ({} {}) d(g[{i}])/d(q[{}]): analytic {analytic} vs numeric {numeric}",
+                        m.constraints[row.element].origin.name,
+                        row.label,
+                        6 * k + c
+                    );
+                }
+            }
+        }
+        checked += 1;
+    }
+    assert!(checked > 60, "{checked}");
+}
