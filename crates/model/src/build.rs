@@ -766,6 +766,7 @@ pub fn build_model(ds: &Dataset) -> Result<Built, Diagnostics> {
         constraints,
         characteristic_length: 1.0,
         ic: crate::settings::ic_settings(ds, &ds.file, &mut cx.warnings),
+        equilibrium: crate::settings::equilibrium_settings(ds, &ds.file, &mut cx.warnings),
     };
     model.characteristic_length = characteristic_length(&model);
     Ok(Built {

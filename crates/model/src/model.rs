@@ -216,6 +216,8 @@ pub struct Model {
     pub constraints: Vec<Constraint>,
     /// `IC/` settings (Adams defaults where not given).
     pub ic: crate::settings::IcSettings,
+    /// `EQUILIBRIUM/` settings.
+    pub equilibrium: crate::settings::EquilibriumSettings,
     /// Characteristic length: diagonal of the bounding box of markers and centres of mass
     /// (1 if that is zero). Tolerances on lengths are relative to it.
     pub characteristic_length: f64,

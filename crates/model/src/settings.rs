@@ -127,12 +127,165 @@ pub fn ic_settings(ds: &Dataset, file: &Arc<str>, warnings: &mut Vec<Diagnostic>
     s
 }
 
+/// `EQUILIBRIUM/` settings (ADM-REFERENCE §9.1).
+#[derive(Clone, Debug, PartialEq)]
+pub struct EquilibriumSettings {
+    /// Maximum rotation per iteration (radians).
+    pub alimit: f64,
+    /// Convergence threshold on the relative correction.
+    pub error: f64,
+    /// Convergence threshold on the force imbalance (model force units).
+    pub imbalance: f64,
+    pub maxit: usize,
+    pub pattern: Vec<bool>,
+    /// Fraction of the mass matrix added to the Newton matrix (not to the equations).
+    pub stability: f64,
+    /// Maximum translation per iteration (model length units).
+    pub tlimit: f64,
+    /// Settle by damped dynamics instead of Newton statics (`DYNAMIC`).
+    pub dynamic: bool,
+    pub global_damping: f64,
+    pub settling_time: f64,
+    pub acceleration_error: f64,
+    pub kinetic_energy_error: f64,
+}
+
+impl Default for EquilibriumSettings {
+    fn default() -> Self {
+        EquilibriumSettings {
+            alimit: 10f64.to_radians(),
+            error: 1e-4,
+            imbalance: 1e-4,
+            maxit: 25,
+            pattern: vec![true; 10],
+            stability: 1e-5,
+            tlimit: 20.0,
+            dynamic: false,
+            global_damping: 0.0,
+            settling_time: 100.0,
+            acceleration_error: 1e-2,
+            kinetic_energy_error: 1e-2,
+        }
+    }
+}
+
+const EQUIL_NAMES: [&str; 18] = [
+    "ALIMIT",
+    "ERROR",
+    "IMBALANCE",
+    "MAXIT",
+    "PATTERN",
+    "STABILITY",
+    "TLIMIT",
+    "STATIC",
+    "DYNAMIC",
+    "GLOBAL_DAMPING",
+    "SETTLING_TIME",
+    "ACCELERATION_ERROR",
+    "KINETIC_ENERGY_ERROR",
+    "METHOD",
+    "ATOL",
+    "RTOL",
+    "MAXITL",
+    "ETAMAX",
+];
+
+/// Reads the `EQUILIBRIUM/` statements (later ones override earlier ones).
+pub fn equilibrium_settings(
+    ds: &Dataset,
+    file: &Arc<str>,
+    warnings: &mut Vec<Diagnostic>,
+) -> EquilibriumSettings {
+    let mut s = EquilibriumSettings::default();
+    for stmt in ds
+        .statements
+        .iter()
+        .filter(|st| st.keyword == "EQUILIBRIUM")
+    {
+        let n = |k: &str| number(stmt, k, &EQUIL_NAMES);
+        let mut set = |v: Option<f64>, what: &str, allow_zero: bool, slot: &mut f64| {
+            if let Some(x) = v {
+                if x.is_finite() && (x > 0.0 || (allow_zero && x == 0.0)) {
+                    *slot = x;
+                } else {
+                    warnings.push(Diagnostic::warning(
+                        file.clone(),
+                        Some(stmt.span),
+                        format!("EQUILIBRIUM: {what} = {x} is not valid; default kept"),
+                    ));
+                }
+            }
+        };
+        set(n("ALIMIT"), "ALIMIT", false, &mut s.alimit);
+        set(n("ERROR"), "ERROR", false, &mut s.error);
+        set(n("IMBALANCE"), "IMBALANCE", false, &mut s.imbalance);
+        set(n("STABILITY"), "STABILITY", true, &mut s.stability);
+        set(n("TLIMIT"), "TLIMIT", false, &mut s.tlimit);
+        set(
+            n("GLOBAL_DAMPING"),
+            "GLOBAL_DAMPING",
+            true,
+            &mut s.global_damping,
+        );
+        set(
+            n("SETTLING_TIME"),
+            "SETTLING_TIME",
+            false,
+            &mut s.settling_time,
+        );
+        set(
+            n("ACCELERATION_ERROR"),
+            "ACCELERATION_ERROR",
+            false,
+            &mut s.acceleration_error,
+        );
+        set(
+            n("KINETIC_ENERGY_ERROR"),
+            "KINETIC_ENERGY_ERROR",
+            false,
+            &mut s.kinetic_energy_error,
+        );
+        let mut maxit = s.maxit as f64;
+        set(n("MAXIT"), "MAXIT", false, &mut maxit);
+        s.maxit = maxit as usize;
+        if let Some(p) = pattern(stmt, "PATTERN", &EQUIL_NAMES) {
+            s.pattern = p;
+        }
+        if find(stmt, "DYNAMIC", &EQUIL_NAMES).is_some() {
+            s.dynamic = true;
+        }
+        if find(stmt, "STATIC", &EQUIL_NAMES).is_some() {
+            s.dynamic = false;
+        }
+    }
+    s
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
 
     fn ds(text: &str) -> Dataset {
         linkage_adm::parse_dataset(Arc::from("t.adm"), text).unwrap()
+    }
+
+    #[test]
+    fn equilibrium_settings_from_a_real_style_statement() {
+        // As in a real dataset (ADM-REFERENCE §2.13).
+        let d = ds("t\nPART/1, GROUND\nEQUILIBRIUM/\n, ALIMIT = 1D, ERROR = 1, IMBALANCE = 1, MAXIT = 500, STABILITY = 5, TLIMIT = 0.5\nEND\n");
+        let mut w = Vec::new();
+        let s = equilibrium_settings(&d, &d.file, &mut w);
+        assert!((s.alimit - 1f64.to_radians()).abs() < 1e-15);
+        assert_eq!(
+            (s.error, s.imbalance, s.maxit, s.stability, s.tlimit),
+            (1.0, 1.0, 500, 5.0, 0.5)
+        );
+        assert!(w.is_empty());
+        let d = ds("t\nPART/1, GROUND\nEND\n");
+        assert_eq!(
+            equilibrium_settings(&d, &d.file, &mut w),
+            EquilibriumSettings::default()
+        );
     }
 
     #[test]

@@ -14,13 +14,14 @@
 use crate::assemble::{assemble, hard_rows, Assembly, HardRow};
 use crate::drivers::ExpressionDrivers;
 use crate::linear::SparseLu;
+pub use crate::reactions::{element_reactions, Reaction};
 use crate::rows::RowGradient;
 use crate::state::State;
 use crate::system::System;
 use crate::tolerances::Tolerances;
 use crate::verify::{report_residual, residuals, verify, verify_at, Verification};
 use glam::DVec3;
-use linkage_model::{Body, ConstraintKind, Model};
+use linkage_model::{ConstraintKind, Model};
 
 /// A part the assembly moved.
 #[derive(Clone, Debug, PartialEq)]
@@ -39,15 +40,6 @@ pub struct Repair {
     pub row: usize,
     pub before: f64,
     pub after: f64,
-}
-
-/// Reaction of an element on its I marker: force and torque about the I marker origin, in
-/// ground axes, in model force and force × length units.
-#[derive(Clone, Debug, PartialEq)]
-pub struct Reaction {
-    pub element: usize,
-    pub force: DVec3,
-    pub torque: DVec3,
 }
 
 /// Velocity IC result.
@@ -439,67 +431,11 @@ pub fn acceleration_ic(
         .map(|(_, grad, b)| (rate(grad, &acc) - b).abs())
         .fold(0.0, f64::max);
 
-    // Generalised constraint force of each element on each body: −Σ μ_r ∇Φ_r.
+    // Multipliers in mass × acceleration units; reactions in force units.
     let ucf = model.ucf();
-    let mut per_element: Vec<Vec<(usize, [f64; 6])>> = vec![Vec::new(); model.constraints.len()];
-    for (e, (r, grad, _)) in eqs.iter().enumerate() {
-        let mu = rhs[6 * n + e];
-        let list = &mut per_element[sys.rows[*r].element];
-        for (body, b) in &grad.blocks {
-            let contrib: Vec<f64> = b.iter().map(|x| -mu * x / ucf).collect();
-            match list.iter_mut().find(|(k, _)| k == body) {
-                Some((_, acc6)) => acc6.iter_mut().zip(&contrib).for_each(|(a, c)| *a += c),
-                None => {
-                    let mut a6 = [0.0; 6];
-                    a6.copy_from_slice(&contrib);
-                    list.push((*body, a6));
-                }
-            }
-        }
-    }
-    let mut reactions = Vec::new();
-    for (c, con) in model.constraints.iter().enumerate() {
-        if !matches!(
-            con.kind,
-            ConstraintKind::Joint { .. }
-                | ConstraintKind::Jprim { .. }
-                | ConstraintKind::Motion { .. }
-        ) {
-            continue;
-        }
-        let Some((i, j)) = con.markers() else {
-            continue;
-        };
-        let p_i = {
-            let mk = &model.markers[i];
-            let pose = s.pose(mk.body);
-            pose.p + pose.r * mk.p_bm
-        };
-        let wrench_on = |body: Body| -> Option<(DVec3, DVec3)> {
-            let k = body.part()?;
-            let six = per_element[c]
-                .iter()
-                .find(|(b, _)| *b == k)
-                .map(|(_, x)| *x)
-                .unwrap_or([0.0; 6]);
-            let f = DVec3::new(six[0], six[1], six[2]);
-            let t_cm = DVec3::new(six[3], six[4], six[5]);
-            // Move the torque from the part's CM to the I marker origin.
-            Some((f, t_cm + (s.poses[k].p - p_i).cross(f)))
-        };
-        let (force, torque) = match wrench_on(model.markers[i].body) {
-            Some(w) => w,
-            None => match wrench_on(model.markers[j].body) {
-                Some((f, t)) => (-f, -t),
-                None => (DVec3::ZERO, DVec3::ZERO),
-            },
-        };
-        reactions.push(Reaction {
-            element: c,
-            force,
-            torque,
-        });
-    }
+    let rows_grads: Vec<(usize, &RowGradient)> = eqs.iter().map(|(r, g, _)| (*r, g)).collect();
+    let lambda: Vec<f64> = (0..eqs.len()).map(|e| rhs[6 * n + e] / ucf).collect();
+    let reactions = element_reactions(model, sys, &rows_grads, &lambda, s);
     Ok(AccelerationIc {
         accelerations: acc,
         reactions,

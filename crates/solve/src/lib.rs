@@ -16,6 +16,7 @@ pub mod ic;
 pub mod linear;
 pub mod measures;
 pub mod rank;
+pub mod reactions;
 pub mod rows;
 pub mod state;
 pub mod system;
