@@ -15,7 +15,48 @@ use linkage_model::{ConstraintKind, Model};
 pub struct ExpressionDrivers {
     /// Per constraint element: the displacement-level function, if any.
     functions: Vec<Option<(Expr, MotionLevel, Option<f64>)>>,
+    icvels: Vec<Option<f64>>,
     warnings: Vec<Diagnostic>,
+}
+
+/// `∫ₐᵇ f` by adaptive Simpson quadrature to a relative accuracy of about 1e-12 (motion
+/// functions are smooth functions of time); `None` when `f` cannot be evaluated.
+pub fn integrate(f: &dyn Fn(f64) -> Option<f64>, a: f64, b: f64) -> Option<f64> {
+    fn simpson(
+        f: &dyn Fn(f64) -> Option<f64>,
+        a: f64,
+        fa: f64,
+        b: f64,
+        fb: f64,
+        whole: f64,
+        m: f64,
+        fm: f64,
+        tol: f64,
+        depth: u32,
+    ) -> Option<f64> {
+        let (lm, rm) = ((a + m) / 2.0, (m + b) / 2.0);
+        let (flm, frm) = (f(lm)?, f(rm)?);
+        let left = (m - a) / 6.0 * (fa + 4.0 * flm + fm);
+        let right = (b - m) / 6.0 * (fm + 4.0 * frm + fb);
+        let delta = left + right - whole;
+        if depth == 0 || delta.abs() <= 15.0 * tol {
+            return Some(left + right + delta / 15.0);
+        }
+        Some(
+            simpson(f, a, fa, m, fm, left, lm, flm, tol / 2.0, depth - 1)?
+                + simpson(f, m, fm, b, fb, right, rm, frm, tol / 2.0, depth - 1)?,
+        )
+    }
+    if a == b {
+        return Some(0.0);
+    }
+    let (fa, fb) = (f(a)?, f(b)?);
+    let m = (a + b) / 2.0;
+    let fm = f(m)?;
+    let whole = (b - a) / 6.0 * (fa + 4.0 * fm + fb);
+    let tol =
+        1e-12 * (whole.abs() + (b - a).abs() * (fa.abs() + fb.abs() + fm.abs()) / 3.0).max(1e-300);
+    simpson(f, a, fa, b, fb, whole, m, fm, tol, 40)
 }
 
 impl ExpressionDrivers {
@@ -98,14 +139,28 @@ impl ExpressionDrivers {
                 }
             }
         }
+        let icvels = model
+            .constraints
+            .iter()
+            .map(|c| match &c.kind {
+                ConstraintKind::Motion { icvel, .. } => *icvel,
+                _ => None,
+            })
+            .collect();
         if errors.is_empty() {
             Ok(ExpressionDrivers {
                 functions,
+                icvels,
                 warnings,
             })
         } else {
             Err(Diagnostics(errors))
         }
+    }
+
+    /// ICVEL of a motion.
+    fn icvel(&self, element: usize) -> Option<f64> {
+        self.icvels.get(element).copied().flatten()
     }
 
     /// Non-fatal findings (USER subroutines).
@@ -127,11 +182,37 @@ impl Drivers for ExpressionDrivers {
     /// Displacement motions: `f(t)`. Velocity and acceleration motions: their ICDISP at t = 0
     /// when given, otherwise unknown (the start displacement is free).
     fn value(&self, element: usize, t: f64) -> Option<f64> {
-        let (_, level, icdisp) = self.functions.get(element)?.as_ref()?;
+        let (e, level, icdisp) = self.functions.get(element)?.as_ref()?;
+        let f = |x: f64| {
+            evaluate_time_series(e, &TimeEnv { time: x, mode: 0 })
+                .map(|s| s[0])
+                .ok()
+        };
         match level {
             MotionLevel::Displacement => self.series(element, t)?.ok().map(|s| s[0]),
-            _ if t == 0.0 => *icdisp,
-            _ => None,
+            // q(t) = ICDISP + ∫₀ᵗ f: the start displacement must be given.
+            MotionLevel::Velocity => Some(icdisp.as_ref()? + integrate(&f, 0.0, t)?),
+            // q(t) = ICDISP + ICVEL·t + ∫₀ᵗ (t − τ) f(τ) dτ.
+            MotionLevel::Acceleration => {
+                let icvel = self.icvel(element).unwrap_or(0.0);
+                let g = |x: f64| f(x).map(|v| (t - x) * v);
+                Some(icdisp.as_ref()? + icvel * t + integrate(&g, 0.0, t)?)
+            }
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn quadrature_of_smooth_functions() {
+        let f = |x: f64| Some(x.sin());
+        assert!((integrate(&f, 0.0, std::f64::consts::PI).unwrap() - 2.0).abs() < 1e-10);
+        let g = |x: f64| Some(3.0 * x * x);
+        assert!((integrate(&g, 0.0, 2.0).unwrap() - 8.0).abs() < 1e-10);
+        assert_eq!(integrate(&g, 1.0, 1.0), Some(0.0));
+        assert_eq!(integrate(&|_| None, 0.0, 1.0), None);
     }
 }

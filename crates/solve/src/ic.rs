@@ -87,7 +87,8 @@ impl InitialConditions {
     }
 }
 
-fn admitted_rows(v: &Verification) -> Vec<usize> {
+/// Rows not reported redundant by a verification (the independent set).
+pub fn admitted_rows(v: &Verification) -> Vec<usize> {
     let mut redundant = vec![false; v.system.rows.len()];
     for r in &v.redundant {
         redundant[r.row] = true;

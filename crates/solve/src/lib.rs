@@ -19,6 +19,7 @@ pub mod rank;
 pub mod reactions;
 pub mod rows;
 pub mod state;
+pub mod statics;
 pub mod system;
 pub mod tolerances;
 pub mod verify;

@@ -1,0 +1,528 @@
+//! Static equilibrium (DESIGN §6, ADM-REFERENCE §8.2): modified Newton–Raphson on positions and
+//! multipliers with the dataset's EQUILIBRIUM settings.
+//!
+//! Unknowns: tangent position increments of every part and one multiplier per independent
+//! constraint row. Equations (model force units):
+//!
+//! ```text
+//! F(q, λ) = Q_applied(q) + Q_gravity − Jᵀλ = 0,     Φ(q, t) = 0
+//! [ K_T   Jᵀ ] [δ ]   [  F ]        K_T = −∂Q/∂q + Σ_r λ_r ∂²Φ_r/∂q²   (geometric stiffness)
+//! [ J     0  ] [δλ] = [ −Φ ]
+//! ```
+//!
+//! STABILITY adds a fraction of the mass matrix to `K_T` in the Newton matrix only (the
+//! equations are unchanged, so the equilibrium is too). PATTERN decides when the matrix is
+//! refreshed; TLIMIT and ALIMIT cap each correction. Convergence needs the force imbalance
+//! below IMBALANCE, the relative correction below ERROR and the constraints satisfied.
+//! After convergence, stability is judged from the smallest eigenvalue of the stiffness reduced
+//! to the free motions (`Nᵀ K_T N`, N a basis of the null space of J).
+
+use crate::applied::AppliedForces;
+use crate::hessian::HessianBlocks;
+use crate::linear::SparseLu;
+use crate::reactions::{element_reactions, Reaction};
+use crate::rows::{RowGradient, Velocities};
+use crate::state::State;
+use crate::system::{RowUnit, System};
+use crate::tolerances::Tolerances;
+use crate::verify::{within_tolerance, Drivers};
+use glam::DVec3;
+use linkage_model::settings::EquilibriumSettings;
+use linkage_model::Model;
+
+/// Which equation an imbalance belongs to.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Imbalance {
+    /// Force (component 0..3) or torque (3..6) balance of a part.
+    Part { part: usize, component: usize },
+    /// A constraint row.
+    Row(usize),
+}
+
+/// Result of a static equilibrium solve.
+#[derive(Clone, Debug)]
+pub struct Equilibrium {
+    pub state: State,
+    pub converged: bool,
+    pub iterations: usize,
+    /// Largest force/torque imbalance at the end (model force units).
+    pub imbalance: f64,
+    /// The constraint rows in the solve and their multipliers (model force units).
+    pub multipliers: Vec<(usize, f64)>,
+    pub reactions: Vec<Reaction>,
+    /// Smallest eigenvalue of the reduced stiffness (scaled to force × length) and whether the
+    /// equilibrium is stable; `None` when not evaluated (zero DOF, or too large for the dense
+    /// eigen solve).
+    pub stability: Option<(bool, f64)>,
+    /// The equations with the largest imbalance (largest first).
+    pub worst: Vec<(Imbalance, f64)>,
+    /// The model has no degrees of freedom: positions come from the constraints alone.
+    pub kinematic: bool,
+    /// Rows whose second derivatives are not available (Euler-angle motions, GCON
+    /// expressions): the Newton matrix misses their geometric stiffness.
+    pub approximate_rows: usize,
+}
+
+/// Largest dense reduced problem for which stability is evaluated.
+const MAX_DENSE_DOF_COLUMNS: usize = 1800;
+
+fn zero_velocities(n: usize) -> Vec<(DVec3, DVec3)> {
+    vec![(DVec3::ZERO, DVec3::ZERO); n]
+}
+
+/// Generalised applied forces including gravity (`m g / UCF` at each centre of mass).
+fn applied(
+    model: &Model,
+    forces: &dyn AppliedForces,
+    s: &State,
+    v: &Velocities,
+) -> Result<Vec<f64>, String> {
+    let n = model.parts.len();
+    let mut q = vec![0.0; 6 * n];
+    let ucf = model.ucf();
+    for (k, p) in model.parts.iter().enumerate() {
+        for c in 0..3 {
+            q[6 * k + c] = p.mass * model.gravity[c] / ucf;
+        }
+    }
+    forces.add_forces(s, v, &mut q)?;
+    Ok(q)
+}
+
+/// Solves for static equilibrium at time `start.time` from `start` (assembled), enforcing the
+/// constraint rows `rows` (the independent rows of verify/IC).
+pub fn equilibrium(
+    model: &Model,
+    sys: &System,
+    rows: &[usize],
+    drivers: &dyn Drivers,
+    forces: &dyn AppliedForces,
+    start: &State,
+    settings: &EquilibriumSettings,
+    tol: &Tolerances,
+) -> Result<Equilibrium, String> {
+    let n = model.parts.len();
+    let length = model.characteristic_length;
+    let vel = zero_velocities(n);
+    let mut used: Vec<(usize, f64)> = Vec::with_capacity(rows.len());
+    for &r in rows {
+        let row = &sys.rows[r];
+        if row.driven {
+            match drivers.value(row.element, start.time) {
+                Some(f) => used.push((r, f)),
+                None => {
+                    return Err(format!(
+                        "{}: the motion's displacement at time {} cannot be evaluated",
+                        model.constraints[row.element].origin.name, start.time
+                    ))
+                }
+            }
+        } else {
+            used.push((r, 0.0));
+        }
+    }
+    let m = used.len();
+    let approximate_rows =
+        used.iter()
+            .filter(|(r, _)| {
+                sys.rows[*r].function.is_some()
+                    || sys.rows[*r].terms.iter().any(|(_, q)| {
+                        q.is_angle() && matches!(q, crate::rows::Quantity::Euler { .. })
+                    })
+            })
+            .count();
+    let kinematic = m >= 6 * n;
+    let mut s = start.clone();
+    let mut lambda = initial_multipliers(model, sys, &used, forces, &s, &vel)?;
+    let mut grads: Vec<RowGradient> = vec![RowGradient::default(); m];
+    let mut hb = HessianBlocks::default();
+    let mut lu: Option<SparseLu> = None;
+    let mut iterations = 0;
+    let mut converged = false;
+    let (mut last_imbalance, mut last_f, mut last_phi);
+    let dim = 6 * n + m;
+    let ucf = model.ucf();
+    // Constraints are held to the assembly accuracy (IC ERROR), not to the looser EQUILIBRIUM
+    // ERROR, so that positions are as accurate as the initial conditions.
+    let phi_length = model.ic.error.max(1e-13 * length);
+    let phi_angle = model.ic.error.max(1e-13);
+    let _ = tol;
+    loop {
+        // Residuals.
+        for (k, (r, _)) in used.iter().enumerate() {
+            sys.gradient(*r, &s, &mut grads[k]);
+        }
+        let mut f = applied(model, forces, &s, &vel)?;
+        for (k, g) in grads.iter().enumerate() {
+            for (body, b) in &g.blocks {
+                for c in 0..6 {
+                    f[6 * body + c] -= lambda[k] * b[c];
+                }
+            }
+        }
+        let phi: Vec<f64> = used.iter().map(|(r, d)| sys.residual(*r, &s, *d)).collect();
+        let imbalance = f.iter().map(|x| x.abs()).fold(0.0, f64::max);
+        let phi_ok = used
+            .iter()
+            .zip(&phi)
+            .all(|((r, _), v)| match sys.rows[*r].unit {
+                RowUnit::Length | RowUnit::Mixed => v.abs() <= phi_length,
+                _ => v.abs() <= phi_angle,
+            });
+        last_imbalance = imbalance;
+        last_f = f.clone();
+        last_phi = phi.clone();
+        if iterations >= settings.maxit {
+            break;
+        }
+        // Newton matrix.
+        let refresh = lu.is_none()
+            || settings
+                .pattern
+                .get(iterations % settings.pattern.len().max(1))
+                .copied()
+                .unwrap_or(true);
+        if refresh {
+            let mut e: Vec<(usize, usize, f64)> = Vec::new();
+            let mut dq = Vec::new();
+            forces.add_jacobians(&s, &vel, &mut dq, None)?;
+            e.extend(dq.into_iter().map(|(i, j, v)| (i, j, -v)));
+            for (k, (r, _)) in used.iter().enumerate() {
+                if lambda[k] == 0.0 {
+                    continue;
+                }
+                hb.clear();
+                for (c, q) in &sys.rows[*r].terms {
+                    q.hessian(&s, *c, &mut hb);
+                }
+                hb.triplets(lambda[k], &mut e);
+            }
+            // STABILITY × M (scaled to the stiffness units of each coordinate).
+            for (k, p) in model.parts.iter().enumerate() {
+                let ig = s.poses[k].r * p.inertia * s.poses[k].r.transpose();
+                let mass_scale = settings.stability / ucf;
+                for c in 0..3 {
+                    e.push((
+                        6 * k + c,
+                        6 * k + c,
+                        mass_scale * p.mass + 1e-14 * (1.0 + p.mass),
+                    ));
+                    for d in 0..3 {
+                        let x = ig.col(d)[c] * mass_scale;
+                        if x != 0.0 {
+                            e.push((6 * k + 3 + c, 6 * k + 3 + d, x));
+                        }
+                    }
+                }
+            }
+            for (k, g) in grads.iter().enumerate() {
+                for (body, b) in &g.blocks {
+                    for (c, x) in b.iter().enumerate() {
+                        if *x != 0.0 {
+                            e.push((6 * n + k, 6 * body + c, *x));
+                            e.push((6 * body + c, 6 * n + k, *x));
+                        }
+                    }
+                }
+            }
+            lu =
+                Some(SparseLu::factor(dim, &e).map_err(|err| {
+                    format!("the static Newton matrix cannot be factorised: {err}")
+                })?);
+        }
+        let Some(factor) = &lu else { break };
+        let mut rhs = vec![0.0; dim];
+        rhs[..6 * n].copy_from_slice(&f);
+        for (k, v) in phi.iter().enumerate() {
+            rhs[6 * n + k] = -v;
+        }
+        if factor.solve(&mut rhs).is_err() {
+            return Err("the static Newton matrix is singular: the model has free motions with no stiffness (consider STABILITY, or check forces)".into());
+        }
+        // Step limits.
+        let mut scale: f64 = 1.0;
+        let mut correction: f64 = 0.0;
+        for k in 0..n {
+            let dx = DVec3::new(rhs[6 * k], rhs[6 * k + 1], rhs[6 * k + 2]);
+            let dth = DVec3::new(rhs[6 * k + 3], rhs[6 * k + 4], rhs[6 * k + 5]);
+            if dx.length() > settings.tlimit {
+                scale = scale.min(settings.tlimit / dx.length());
+            }
+            if dth.length() > settings.alimit {
+                scale = scale.min(settings.alimit / dth.length());
+            }
+            correction = correction.max(dx.length() / length).max(dth.length());
+        }
+        let done = imbalance <= settings.imbalance && phi_ok && correction <= settings.error;
+        for k in 0..n {
+            let dx = DVec3::new(rhs[6 * k], rhs[6 * k + 1], rhs[6 * k + 2]) * scale;
+            let dth = DVec3::new(rhs[6 * k + 3], rhs[6 * k + 4], rhs[6 * k + 5]) * scale;
+            s.increment(k, dx, dth);
+        }
+        for (k, l) in lambda.iter_mut().enumerate() {
+            *l += rhs[6 * n + k] * scale;
+        }
+        if done {
+            // The last (small) correction is applied: the result is one Newton step better
+            // than the convergence test.
+            converged = true;
+            break;
+        }
+        iterations += 1;
+    }
+    // Largest imbalances.
+    let mut worst: Vec<(Imbalance, f64)> = last_f
+        .iter()
+        .enumerate()
+        .map(|(i, v)| {
+            (
+                Imbalance::Part {
+                    part: i / 6,
+                    component: i % 6,
+                },
+                *v,
+            )
+        })
+        .chain(
+            used.iter()
+                .zip(&last_phi)
+                .map(|((r, _), v)| (Imbalance::Row(*r), *v)),
+        )
+        .collect();
+    worst.sort_by(|a, b| b.1.abs().total_cmp(&a.1.abs()));
+    worst.truncate(5);
+    let rows_grads: Vec<(usize, &RowGradient)> =
+        used.iter().zip(&grads).map(|((r, _), g)| (*r, g)).collect();
+    let reactions = element_reactions(model, sys, &rows_grads, &lambda, &s);
+    let multipliers = used
+        .iter()
+        .zip(&lambda)
+        .map(|((r, _), l)| (*r, *l))
+        .collect();
+    let stability = if converged && !kinematic {
+        reduced_stability(model, sys, &used, &lambda, forces, &s)
+    } else {
+        None
+    };
+    Ok(Equilibrium {
+        state: s,
+        converged,
+        iterations,
+        imbalance: last_imbalance,
+        multipliers,
+        reactions,
+        stability,
+        worst,
+        kinematic,
+        approximate_rows,
+    })
+}
+
+/// Least-squares multipliers at the start, `min |Q − Jᵀλ|_W` (torques weighted by 1/L²), so
+/// that the first Newton matrix already holds the geometric stiffness.
+fn initial_multipliers(
+    model: &Model,
+    sys: &System,
+    used: &[(usize, f64)],
+    forces: &dyn AppliedForces,
+    s: &State,
+    vel: &Velocities,
+) -> Result<Vec<f64>, String> {
+    let n = model.parts.len();
+    let m = used.len();
+    if m == 0 {
+        return Ok(Vec::new());
+    }
+    let l2 = model.characteristic_length.powi(2);
+    let q = applied(model, forces, s, vel)?;
+    let mut e = Vec::new();
+    for k in 0..6 * n {
+        e.push((k, k, if k % 6 < 3 { 1.0 } else { l2 }));
+    }
+    let mut g = RowGradient::default();
+    for (k, (r, _)) in used.iter().enumerate() {
+        sys.gradient(*r, s, &mut g);
+        for (body, b) in &g.blocks {
+            for (c, x) in b.iter().enumerate() {
+                if *x != 0.0 {
+                    e.push((6 * n + k, 6 * body + c, *x));
+                    e.push((6 * body + c, 6 * n + k, *x));
+                }
+            }
+        }
+    }
+    let mut rhs = vec![0.0; 6 * n + m];
+    for k in 0..6 * n {
+        rhs[k] = q[k] * if k % 6 < 3 { 1.0 } else { l2 };
+    }
+    let ok = SparseLu::factor(6 * n + m, &e).and_then(|lu| lu.solve(&mut rhs));
+    Ok(if ok.is_ok() {
+        rhs[6 * n..].to_vec()
+    } else {
+        vec![0.0; m]
+    })
+}
+
+/// Smallest eigenvalue of the stiffness reduced to the free motions, coordinates scaled so
+/// that translations are measured in characteristic lengths (entries in force × length).
+fn reduced_stability(
+    model: &Model,
+    sys: &System,
+    used: &[(usize, f64)],
+    lambda: &[f64],
+    forces: &dyn AppliedForces,
+    s: &State,
+) -> Option<(bool, f64)> {
+    let n = model.parts.len();
+    let dim = 6 * n;
+    if dim > MAX_DENSE_DOF_COLUMNS || dim == 0 {
+        return None;
+    }
+    let l = model.characteristic_length;
+    let scale = |c: usize| if c % 6 < 3 { l } else { 1.0 };
+    // J (scaled columns), dense.
+    let m = used.len();
+    let mut jt = faer::Mat::<f64>::zeros(dim, m.max(1));
+    let mut g = RowGradient::default();
+    for (k, (r, _)) in used.iter().enumerate() {
+        sys.gradient(*r, s, &mut g);
+        for (body, b) in &g.blocks {
+            for c in 0..6 {
+                jt[(6 * body + c, k)] = b[c] * scale(c);
+            }
+        }
+    }
+    // Null space of J: the trailing columns of Q in Jᵀ = Q R (full QR), rank by |R_ii|.
+    let qr = jt.qr();
+    let q = qr.compute_Q();
+    let r = qr.R();
+    let rmax = (0..r.nrows().min(r.ncols()))
+        .map(|i| r[(i, i)].abs())
+        .fold(0.0, f64::max);
+    let rank = (0..r.nrows().min(r.ncols()))
+        .filter(|&i| r[(i, i)].abs() > 1e-9 * rmax.max(1e-300))
+        .count();
+    let rank = if m == 0 { 0 } else { rank };
+    let free = dim - rank;
+    if free == 0 {
+        return None;
+    }
+    // K_T (scaled), dense.
+    let mut kt = faer::Mat::<f64>::zeros(dim, dim);
+    let mut dq = Vec::new();
+    forces
+        .add_jacobians(s, &zero_velocities(n), &mut dq, None)
+        .ok()?;
+    for (i, j, v) in dq {
+        kt[(i, j)] -= v * scale(i) * scale(j);
+    }
+    let mut hb = HessianBlocks::default();
+    let mut trip = Vec::new();
+    for (k, (r, _)) in used.iter().enumerate() {
+        hb.clear();
+        for (c, qn) in &sys.rows[*r].terms {
+            qn.hessian(s, *c, &mut hb);
+        }
+        trip.clear();
+        hb.triplets(lambda[k], &mut trip);
+        for &(i, j, v) in &trip {
+            kt[(i, j)] += v * scale(i) * scale(j);
+        }
+    }
+    let nb = q.subcols(rank, free);
+    let red = nb.transpose() * &kt * nb;
+    let sym = faer::Mat::<f64>::from_fn(free, free, |i, j| 0.5 * (red[(i, j)] + red[(j, i)]));
+    let eig = sym.self_adjoint_eigenvalues(faer::Side::Lower).ok()?;
+    let min = eig.iter().copied().fold(f64::INFINITY, f64::min);
+    let max = eig.iter().map(|x| x.abs()).fold(0.0, f64::max);
+    Some((min > -1e-9 * max.max(1e-300), min))
+}
+
+/// Distinguishes length rows for reporting.
+pub fn is_length(unit: RowUnit) -> bool {
+    matches!(unit, RowUnit::Length | RowUnit::Mixed)
+}
+
+/// A static analysis: initial conditions, then one equilibrium at the start time or a
+/// quasi-static series.
+#[derive(Clone, Debug)]
+pub struct StaticRun {
+    pub ic: crate::ic::InitialConditions,
+    /// `(time, equilibrium)` at every output time; stops at the first failure.
+    pub steps: Vec<(f64, Result<Equilibrium, String>)>,
+}
+
+impl StaticRun {
+    /// Whether every requested equilibrium converged.
+    pub fn converged(&self) -> bool {
+        self.ic.assembly.converged
+            && !self.steps.is_empty()
+            && self
+                .steps
+                .iter()
+                .all(|(_, e)| e.as_ref().is_ok_and(|e| e.converged))
+    }
+}
+
+/// Output times of a quasi-static series: `steps` equal intervals from 0 to `end`.
+pub fn output_times(end: f64, steps: usize) -> Vec<f64> {
+    let steps = steps.max(1);
+    (0..=steps).map(|k| end * k as f64 / steps as f64).collect()
+}
+
+/// Runs the initial conditions, then static equilibrium at each of `times` (one time for a
+/// single equilibrium), each started from a linear extrapolation of the previous two.
+pub fn run(
+    model: &Model,
+    drivers: &crate::drivers::ExpressionDrivers,
+    forces: &dyn AppliedForces,
+    tol: &Tolerances,
+    times: &[f64],
+) -> StaticRun {
+    let ic = crate::ic::initial_conditions(model, drivers, tol);
+    let mut steps = Vec::new();
+    if !ic.assembly.converged || ic.inconsistent() {
+        return StaticRun { ic, steps };
+    }
+    let sys = System::new(model);
+    let rows = crate::ic::admitted_rows(&ic.analysis);
+    let mut history: Vec<State> = Vec::new();
+    for &t in times {
+        let mut start = match history.as_slice() {
+            [] => ic.assembly.state.clone(),
+            [only] => only.clone(),
+            [.., a, b] => extrapolate(a, b),
+        };
+        start.time = t;
+        let result = equilibrium(
+            model,
+            &sys,
+            &rows,
+            drivers,
+            forces,
+            &start,
+            &model.equilibrium,
+            tol,
+        );
+        let ok = result.as_ref().is_ok_and(|e| e.converged);
+        if let Ok(e) = &result {
+            history.push(e.state.clone());
+        }
+        steps.push((t, result));
+        if !ok {
+            break;
+        }
+    }
+    StaticRun { ic, steps }
+}
+
+/// `b + (b − a)` on the configuration manifold.
+fn extrapolate(a: &State, b: &State) -> State {
+    let mut s = b.clone();
+    for k in 0..s.poses.len() {
+        let dx = b.poses[k].p - a.poses[k].p;
+        let dth = linkage_model::frames::log_so3(&(b.poses[k].r * a.poses[k].r.transpose()));
+        s.increment(k, dx, dth);
+    }
+    s
+}
