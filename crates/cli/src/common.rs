@@ -63,3 +63,10 @@ pub fn print_json<T: serde::Serialize>(v: &T) -> bool {
         }
     }
 }
+
+/// The applied force elements of a loaded model (none yet: gravity is applied by the analyses).
+pub fn applied_forces(
+    _loaded: &Loaded,
+) -> Result<Box<dyn linkage_solve::applied::AppliedForces>, Diagnostics> {
+    Ok(Box::new(linkage_solve::applied::NoForces))
+}

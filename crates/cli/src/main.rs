@@ -5,6 +5,7 @@
 
 mod common;
 mod ic_cmd;
+mod static_cmd;
 mod verify_cmd;
 
 use clap::{Parser, Subcommand};
@@ -47,6 +48,23 @@ enum Command {
         #[arg(long, value_name = "OUT.adm")]
         save: Option<PathBuf>,
     },
+    /// Static equilibrium at the start time, or a quasi-static series with --end/--steps.
+    Static {
+        /// The dataset (.adm).
+        model: PathBuf,
+        /// Output format (csv: one row per output time).
+        #[arg(long, value_enum, default_value = "text")]
+        format: static_cmd::StaticFormat,
+        /// End time of a quasi-static series.
+        #[arg(long, requires = "steps")]
+        end: Option<f64>,
+        /// Number of output steps of the series.
+        #[arg(long, requires = "end")]
+        steps: Option<usize>,
+        /// Write the (last) equilibrium configuration as a new dataset.
+        #[arg(long, value_name = "OUT.adm")]
+        save: Option<PathBuf>,
+    },
 }
 
 fn main() -> ExitCode {
@@ -60,5 +78,17 @@ fn main() -> ExitCode {
             format,
             save,
         } => ic_cmd::run(&model, format, save.as_deref()),
+        Command::Static {
+            model,
+            format,
+            end,
+            steps,
+            save,
+        } => static_cmd::run_static(&static_cmd::StaticArgs {
+            model: &model,
+            format,
+            series: end.zip(steps),
+            save: save.as_deref(),
+        }),
     }
 }

@@ -270,3 +270,102 @@ fn ic_of_an_inconsistent_model_exits_1_and_names_the_equation() {
     // Nothing is written for a model that cannot be assembled.
     assert!(!out.exists());
 }
+
+#[test]
+fn static_reports_equilibrium_as_json_and_saves_it() {
+    let src = root().join("mechanisms/pendulum_offset.adm");
+    let out = std::env::temp_dir().join(format!("linkage-static-{}.adm", std::process::id()));
+    let (code, v) = json(&[
+        "static",
+        src.to_str().unwrap(),
+        "--format",
+        "json",
+        "--save",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{v}");
+    for key in [
+        "converged",
+        "iterations",
+        "imbalance",
+        "stable",
+        "parts",
+        "reactions",
+    ] {
+        assert!(v.get(key).is_some(), "missing {key}");
+    }
+    assert_eq!(v["stable"], true);
+    let p = &v["parts"][0];
+    assert_eq!(p["name"], "rod");
+    assert!((p["position"][1].as_f64().unwrap() - 0.7).abs() < 1e-6);
+    assert_eq!(p["reuler"].as_array().unwrap().len(), 3);
+    // The saved dataset is the hanging pendulum: a second static run does not move it.
+    let (code, w) = json(&["static", out.to_str().unwrap(), "--format", "json"]);
+    assert_eq!(code, 0);
+    assert!(w["iterations"].as_u64().unwrap() <= 1, "{w}");
+    assert!((w["parts"][0]["position"][1].as_f64().unwrap() - 0.7).abs() < 1e-6);
+}
+
+#[test]
+fn quasi_static_series_as_json_steps_and_csv_rows() {
+    let src = root().join("examples/fourbar.adm");
+    let (code, v) = json(&[
+        "static",
+        src.to_str().unwrap(),
+        "--end",
+        "1",
+        "--steps",
+        "4",
+        "--format",
+        "json",
+    ]);
+    assert_eq!(code, 0, "{v}");
+    let steps = v["steps"].as_array().unwrap();
+    assert_eq!(steps.len(), 5);
+    assert!((steps[4]["time"].as_f64().unwrap() - 1.0).abs() < 1e-12);
+    assert!(steps
+        .iter()
+        .all(|s| s["parts"].is_array() && s["reactions"].is_array()));
+    // 30°/s from 60°: the crank is at 90° after one second.
+    let crank = steps[4]["parts"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|p| p["name"] == "crank")
+        .unwrap();
+    assert!(
+        (crank["reuler"][0].as_f64().unwrap() - 90.0).abs() < 1e-6,
+        "{crank}"
+    );
+    let (code, csv, _) = run(&[
+        "static",
+        src.to_str().unwrap(),
+        "--end",
+        "1",
+        "--steps",
+        "4",
+        "--format",
+        "csv",
+    ]);
+    assert_eq!(code, 0);
+    let lines: Vec<&str> = csv.lines().collect();
+    assert_eq!(lines.len(), 6);
+    assert!(lines[0].starts_with("time,crank.x,crank.y,crank.z,crank.psi"));
+    assert!(lines[0].contains("crank_pivot.fx"));
+    assert_eq!(lines[1].split(',').count(), lines[0].split(',').count());
+}
+
+#[test]
+fn static_non_convergence_exits_1_naming_the_largest_imbalance() {
+    let text = std::fs::read_to_string(root().join("mechanisms/pendulum_offset.adm"))
+        .unwrap()
+        .replace("END", "EQUILIBRIUM/, MAXIT = 1\nEND");
+    let f = std::env::temp_dir().join(format!("linkage-static-maxit-{}.adm", std::process::id()));
+    std::fs::write(&f, text).unwrap();
+    let (code, out, err) = run(&["static", f.to_str().unwrap()]);
+    assert_eq!(code, 1, "{out}");
+    assert!(
+        err.contains("did not converge") && err.contains("largest imbalance in rod"),
+        "{err}"
+    );
+}

@@ -4,4 +4,5 @@
 //! text in the spirit of Adams' own output and into JSON with a stable schema.
 
 pub mod ic;
+pub mod statics;
 pub mod verify;

@@ -25,7 +25,7 @@ use crate::rows::{RowGradient, Velocities};
 use crate::state::State;
 use crate::system::{RowUnit, System};
 use crate::tolerances::Tolerances;
-use crate::verify::{within_tolerance, Drivers};
+use crate::verify::Drivers;
 use glam::DVec3;
 use linkage_model::settings::EquilibriumSettings;
 use linkage_model::Model;
@@ -99,7 +99,6 @@ pub fn equilibrium(
     forces: &dyn AppliedForces,
     start: &State,
     settings: &EquilibriumSettings,
-    tol: &Tolerances,
 ) -> Result<Equilibrium, String> {
     let n = model.parts.len();
     let length = model.characteristic_length;
@@ -146,7 +145,6 @@ pub fn equilibrium(
     // ERROR, so that positions are as accurate as the initial conditions.
     let phi_length = model.ic.error.max(1e-13 * length);
     let phi_angle = model.ic.error.max(1e-13);
-    let _ = tol;
     loop {
         // Residuals.
         for (k, (r, _)) in used.iter().enumerate() {
@@ -502,7 +500,6 @@ pub fn run(
             forces,
             &start,
             &model.equilibrium,
-            tol,
         );
         let ok = result.as_ref().is_ok_and(|e| e.converged);
         if let Ok(e) = &result {

@@ -1,0 +1,93 @@
+//! `linkage static`: one static equilibrium at the start time, or a quasi-static series.
+
+use crate::common::{input_error, load, print_json, Loaded};
+use crate::ic_cmd::save_configuration;
+use clap::ValueEnum;
+use linkage_adm::Diagnostics;
+use linkage_solve::applied::AppliedForces;
+use linkage_solve::statics::{output_times, run};
+use linkage_solve::tolerances::Tolerances;
+use std::path::Path;
+use std::process::ExitCode;
+
+#[derive(Clone, Copy, ValueEnum, PartialEq, Eq, Debug)]
+pub enum StaticFormat {
+    Text,
+    Json,
+    Csv,
+}
+
+/// Options of `linkage static`.
+pub struct StaticArgs<'a> {
+    pub model: &'a Path,
+    pub format: StaticFormat,
+    /// `(end time, steps)` for a quasi-static series.
+    pub series: Option<(f64, usize)>,
+    pub save: Option<&'a Path>,
+}
+
+/// The model's applied force elements.
+fn forces(loaded: &Loaded) -> Result<Box<dyn AppliedForces>, Diagnostics> {
+    crate::common::applied_forces(loaded)
+}
+
+pub fn run_static(args: &StaticArgs) -> ExitCode {
+    let json_errors = if args.format == StaticFormat::Json {
+        crate::common::Format::Json
+    } else {
+        crate::common::Format::Text
+    };
+    let loaded = match load(args.model) {
+        Ok(l) => l,
+        Err(d) => return input_error(&d, json_errors),
+    };
+    let applied = match forces(&loaded) {
+        Ok(f) => f,
+        Err(d) => return input_error(&d, json_errors),
+    };
+    let times = match args.series {
+        Some((end, steps)) => output_times(end, steps),
+        None => vec![0.0],
+    };
+    let result = run(
+        &loaded.model,
+        &loaded.drivers,
+        applied.as_ref(),
+        &Tolerances::default(),
+        &times,
+    );
+    let mut report = linkage_report::statics::to_json(&loaded.model, &result, &loaded.warnings);
+    let ok = result.converged();
+    if let (Some(out), true) = (args.save, ok) {
+        if let Some((_, Ok(eq))) = result.steps.last() {
+            if let Err(e) = save_configuration(&loaded.dataset, &loaded.model, &eq.state, out) {
+                report
+                    .errors
+                    .push(format!("cannot write {}: {e}", out.display()));
+            }
+        }
+    } else if let Some(out) = args.save {
+        report.errors.push(format!(
+            "{} not written: no equilibrium was found",
+            out.display()
+        ));
+    }
+    match args.format {
+        StaticFormat::Text => print!("{}", linkage_report::statics::to_text(&report)),
+        StaticFormat::Json => {
+            print_json(&report);
+        }
+        StaticFormat::Csv => print!(
+            "{}",
+            linkage_report::statics::to_csv(&loaded.model, &result)
+        ),
+    }
+    for e in &report.errors {
+        eprintln!("error: {e}");
+    }
+    if ok && report.errors.is_empty() {
+        ExitCode::SUCCESS
+    } else {
+        ExitCode::from(1)
+    }
+}

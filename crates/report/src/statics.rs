@@ -1,0 +1,358 @@
+//! The static-equilibrium report: text, JSON and CSV.
+
+use crate::ic::ReactionJson;
+use linkage_adm::Diagnostic;
+use linkage_model::frames::matrix_to_euler313;
+use linkage_model::Model;
+use linkage_solve::reactions::Reaction;
+use linkage_solve::state::State;
+use linkage_solve::statics::{Equilibrium, Imbalance, StaticRun};
+use serde::Serialize;
+use std::fmt::Write;
+
+#[derive(Clone, Debug, Serialize, PartialEq)]
+pub struct PartPoseJson {
+    pub name: String,
+    /// Centre of mass in ground coordinates.
+    pub position: [f64; 3],
+    /// Body 3-1-3 angles of the part's BCS in degrees.
+    pub reuler: [f64; 3],
+}
+
+#[derive(Clone, Debug, Serialize, PartialEq)]
+pub struct ImbalanceJson {
+    pub name: String,
+    pub equation: String,
+    pub value: f64,
+}
+
+#[derive(Clone, Debug, Serialize, PartialEq)]
+pub struct StepJson {
+    pub time: f64,
+    pub converged: bool,
+    pub iterations: usize,
+    pub imbalance: f64,
+    /// `null` when not evaluated (zero DOF, or a model too large for the dense check).
+    pub stable: Option<bool>,
+    pub lowest_stiffness: Option<f64>,
+    pub parts: Vec<PartPoseJson>,
+    pub reactions: Vec<ReactionJson>,
+    pub largest_imbalance: Vec<ImbalanceJson>,
+    pub error: Option<String>,
+}
+
+/// The JSON document of `linkage static --format json`: the first step's values at the top
+/// level, and `steps` for a quasi-static series.
+#[derive(Clone, Debug, Serialize, PartialEq)]
+pub struct StaticJson {
+    pub file: String,
+    pub title: String,
+    pub converged: bool,
+    pub iterations: usize,
+    pub imbalance: f64,
+    pub stable: Option<bool>,
+    /// The model has no degrees of freedom: solved kinematically.
+    pub kinematic: bool,
+    pub parts: Vec<PartPoseJson>,
+    pub reactions: Vec<ReactionJson>,
+    pub steps: Vec<StepJson>,
+    pub warnings: Vec<String>,
+    pub errors: Vec<String>,
+}
+
+fn a3(v: glam::DVec3) -> [f64; 3] {
+    [v.x, v.y, v.z]
+}
+
+/// Poses of every part at `s`.
+pub fn part_poses(model: &Model, s: &State) -> Vec<PartPoseJson> {
+    model
+        .parts
+        .iter()
+        .enumerate()
+        .map(|(k, p)| PartPoseJson {
+            name: p.origin.name.clone(),
+            position: a3(s.poses[k].p),
+            reuler: matrix_to_euler313(&s.poses[k].r).map(f64::to_degrees),
+        })
+        .collect()
+}
+
+/// Reactions named for reports.
+pub fn reactions_json(model: &Model, reactions: &[Reaction]) -> Vec<ReactionJson> {
+    reactions
+        .iter()
+        .map(|r| {
+            let c = &model.constraints[r.element];
+            ReactionJson {
+                name: c.origin.name.clone(),
+                element: c.origin.element(),
+                kind: c.description(),
+                force: a3(r.force),
+                torque: a3(r.torque),
+            }
+        })
+        .collect()
+}
+
+const COMPONENTS: [&str; 6] = [
+    "force X", "force Y", "force Z", "torque X", "torque Y", "torque Z",
+];
+
+fn step_json(model: &Model, run: &StaticRun, t: f64, e: &Result<Equilibrium, String>) -> StepJson {
+    match e {
+        Ok(eq) => StepJson {
+            time: t,
+            converged: eq.converged,
+            iterations: eq.iterations,
+            imbalance: eq.imbalance,
+            stable: eq.stability.map(|s| s.0),
+            lowest_stiffness: eq.stability.map(|s| s.1),
+            parts: part_poses(model, &eq.state),
+            reactions: reactions_json(model, &eq.reactions),
+            largest_imbalance: if eq.converged {
+                Vec::new()
+            } else {
+                eq.worst
+                    .iter()
+                    .map(|(w, v)| match w {
+                        Imbalance::Part { part, component } => ImbalanceJson {
+                            name: model.parts[*part].origin.name.clone(),
+                            equation: format!("{} balance", COMPONENTS[*component]),
+                            value: *v,
+                        },
+                        Imbalance::Row(r) => {
+                            let row = &run.ic.analysis.system.rows[*r];
+                            ImbalanceJson {
+                                name: model.constraints[row.element].origin.name.clone(),
+                                equation: row.label.to_string(),
+                                value: *v,
+                            }
+                        }
+                    })
+                    .collect()
+            },
+            error: None,
+        },
+        Err(msg) => StepJson {
+            time: t,
+            converged: false,
+            iterations: 0,
+            imbalance: f64::NAN,
+            stable: None,
+            lowest_stiffness: None,
+            parts: Vec::new(),
+            reactions: Vec::new(),
+            largest_imbalance: Vec::new(),
+            error: Some(msg.clone()),
+        },
+    }
+}
+
+/// Builds the JSON document.
+pub fn to_json(model: &Model, run: &StaticRun, warnings: &[Diagnostic]) -> StaticJson {
+    let steps: Vec<StepJson> = run
+        .steps
+        .iter()
+        .map(|(t, e)| step_json(model, run, *t, e))
+        .collect();
+    let mut errors = Vec::new();
+    let mut warnings: Vec<String> = warnings.iter().map(|w| w.to_string()).collect();
+    if !run.ic.assembly.converged {
+        errors.push(format!(
+            "the initial conditions did not converge (largest residual {:.3e})",
+            run.ic.assembly.max_residual
+        ));
+    } else if run.ic.inconsistent() {
+        errors.push("the model cannot be assembled: a redundant constraint equation is inconsistent (run `linkage ic`)".into());
+    }
+    for s in &steps {
+        if let Some(e) = &s.error {
+            errors.push(format!("time {}: {e}", s.time));
+        } else if !s.converged {
+            let worst: Vec<String> = s
+                .largest_imbalance
+                .iter()
+                .map(|w| format!("{} {} ({:.3e})", w.name, w.equation, w.value))
+                .collect();
+            errors.push(format!(
+                "time {}: static equilibrium did not converge; largest imbalance in {}",
+                s.time,
+                worst.join(", ")
+            ));
+        }
+    }
+    let kinematic = run
+        .steps
+        .first()
+        .is_some_and(|(_, e)| e.as_ref().is_ok_and(|e| e.kinematic));
+    if kinematic {
+        warnings.push("the model has no degrees of freedom (kinematically determinate): there is no static problem; positions come from the constraints and the reactions balance the loads".into());
+    }
+    if run
+        .steps
+        .iter()
+        .any(|(_, e)| e.as_ref().is_ok_and(|e| e.approximate_rows > 0))
+    {
+        warnings.push("some constraint rows (Euler-angle motions or general constraints) lack second derivatives: their geometric stiffness is omitted from the Newton matrix".into());
+    }
+    let first = steps.first();
+    StaticJson {
+        file: model.file.to_string(),
+        title: model.title.clone(),
+        converged: run.converged(),
+        iterations: first.map_or(0, |s| s.iterations),
+        imbalance: first.map_or(f64::NAN, |s| s.imbalance),
+        stable: first.and_then(|s| s.stable),
+        kinematic,
+        parts: first.map(|s| s.parts.clone()).unwrap_or_default(),
+        reactions: first.map(|s| s.reactions.clone()).unwrap_or_default(),
+        steps: if steps.len() > 1 { steps } else { Vec::new() },
+        warnings,
+        errors,
+    }
+}
+
+/// CSV: one row per output time: `time`, then `<part>.x .y .z .psi .theta .phi` (degrees) for
+/// every part and `<element>.fx .fy .fz .tx .ty .tz` for every reaction.
+pub fn to_csv(model: &Model, run: &StaticRun) -> String {
+    let mut s = String::from("time");
+    for p in &model.parts {
+        for c in ["x", "y", "z", "psi", "theta", "phi"] {
+            let _ = write!(s, ",{}.{c}", p.origin.name);
+        }
+    }
+    let reaction_elements: Vec<usize> = run
+        .steps
+        .iter()
+        .find_map(|(_, e)| e.as_ref().ok())
+        .map(|e| e.reactions.iter().map(|r| r.element).collect())
+        .unwrap_or_default();
+    for &e in &reaction_elements {
+        for c in ["fx", "fy", "fz", "tx", "ty", "tz"] {
+            let _ = write!(s, ",{}.{c}", model.constraints[e].origin.name);
+        }
+    }
+    s.push('\n');
+    for (t, e) in &run.steps {
+        let Ok(eq) = e else { continue };
+        let _ = write!(s, "{t}");
+        for p in part_poses(model, &eq.state) {
+            for v in p.position.iter().chain(p.reuler.iter()) {
+                let _ = write!(s, ",{v}");
+            }
+        }
+        for &el in &reaction_elements {
+            let r = eq.reactions.iter().find(|r| r.element == el);
+            let vals = r.map_or([f64::NAN; 6], |r| {
+                [
+                    r.force.x, r.force.y, r.force.z, r.torque.x, r.torque.y, r.torque.z,
+                ]
+            });
+            for v in vals {
+                let _ = write!(s, ",{v}");
+            }
+        }
+        s.push('\n');
+    }
+    s
+}
+
+/// Human report.
+pub fn to_text(j: &StaticJson) -> String {
+    let mut s = String::new();
+    let _ = writeln!(s, "STATIC EQUILIBRIUM: {}", j.title);
+    let _ = writeln!(s, "  file: {}", j.file);
+    let _ = writeln!(s);
+    let series: Vec<&StepJson> = j.steps.iter().collect();
+    if series.is_empty() {
+        let _ = writeln!(
+            s,
+            "Static solution {} in {} iterations; residual imbalance {:.5e}",
+            if j.converged {
+                "converged"
+            } else {
+                "DID NOT CONVERGE"
+            },
+            j.iterations,
+            j.imbalance
+        );
+        match j.stable {
+            Some(true) => {
+                let _ = writeln!(s, "The equilibrium is stable.");
+            }
+            Some(false) => {
+                let _ = writeln!(
+                    s,
+                    "The equilibrium is UNSTABLE (negative stiffness along a free motion)."
+                );
+            }
+            None => {}
+        }
+        let _ = writeln!(s);
+        let _ = writeln!(
+            s,
+            "Parts (centre of mass in ground, body 3-1-3 angles in degrees):"
+        );
+        for p in &j.parts {
+            let _ = writeln!(
+                s,
+                "   {:<24} ({:.6}, {:.6}, {:.6})   ({:.4}, {:.4}, {:.4})",
+                p.name,
+                p.position[0],
+                p.position[1],
+                p.position[2],
+                p.reuler[0],
+                p.reuler[1],
+                p.reuler[2]
+            );
+        }
+        if !j.reactions.is_empty() {
+            let _ = writeln!(s);
+            let _ = writeln!(s, "Reactions on the I markers (ground axes):");
+            for r in &j.reactions {
+                let (f, t) = (r.force, r.torque);
+                let _ = writeln!(
+                    s,
+                    "   {:<24} F ({:.6e}, {:.6e}, {:.6e})  T ({:.6e}, {:.6e}, {:.6e})",
+                    r.name, f[0], f[1], f[2], t[0], t[1], t[2]
+                );
+            }
+        }
+    } else {
+        let _ = writeln!(
+            s,
+            "Quasi-static series: {} output times, {}",
+            series.len(),
+            if j.converged {
+                "all converged"
+            } else {
+                "STOPPED"
+            }
+        );
+        let _ = writeln!(
+            s,
+            "   {:>12} {:>10} {:>14} {:>8}",
+            "time", "iterations", "imbalance", "stable"
+        );
+        for st in series {
+            let stable = match st.stable {
+                Some(true) => "yes",
+                Some(false) => "NO",
+                None => "-",
+            };
+            let _ = writeln!(
+                s,
+                "   {:>12.6} {:>10} {:>14.5e} {:>8}",
+                st.time, st.iterations, st.imbalance, stable
+            );
+        }
+    }
+    for w in &j.warnings {
+        let _ = writeln!(s, "warning: {w}");
+    }
+    for e in &j.errors {
+        let _ = writeln!(s, "error: {e}");
+    }
+    s
+}
