@@ -14,7 +14,16 @@ pub fn run(model: &Path, format: Format, save: Option<&Path>) -> ExitCode {
         Err(d) => return input_error(&d, format),
     };
     let tol = Tolerances::default();
-    let ic = linkage_solve::ic::initial_conditions(&loaded.model, &loaded.drivers, &tol);
+    let forces = match crate::common::applied_forces(&loaded) {
+        Ok(f) => f,
+        Err(d) => return input_error(&d, format),
+    };
+    let ic = linkage_solve::ic::initial_conditions(
+        &loaded.model,
+        &loaded.drivers,
+        forces.as_ref(),
+        &tol,
+    );
     let mut report = linkage_report::ic::to_json(&loaded.model, &ic, &loaded.warnings);
     let failed = !ic.assembly.converged || ic.inconsistent();
     if let Some(out) = save {

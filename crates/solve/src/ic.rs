@@ -11,6 +11,7 @@
 //!    `J a = f̈ − γ`; reactions `−Jᵀμ / UCF` on each element's I marker. Redundant rows are not
 //!    in J, so their reactions are zero, as in Adams.
 
+use crate::applied::AppliedForces;
 use crate::assemble::{assemble, hard_rows, Assembly, HardRow};
 use crate::drivers::ExpressionDrivers;
 use crate::linear::SparseLu;
@@ -58,6 +59,8 @@ pub struct AccelerationIc {
     /// CM acceleration and angular acceleration of every part (ground axes).
     pub accelerations: Vec<(DVec3, DVec3)>,
     pub reactions: Vec<Reaction>,
+    /// Rows in the solve and their multipliers (model force units).
+    pub multipliers: Vec<(usize, f64)>,
     pub max_error: f64,
     pub converged: bool,
 }
@@ -102,6 +105,7 @@ pub fn admitted_rows(v: &Verification) -> Vec<usize> {
 pub fn initial_conditions(
     model: &Model,
     drivers: &ExpressionDrivers,
+    forces: &dyn AppliedForces,
     tol: &Tolerances,
 ) -> InitialConditions {
     let input = State::input(model);
@@ -159,7 +163,15 @@ pub fn initial_conditions(
     let (velocity, acceleration) = if asm.converged {
         let rows = admitted_rows(&analysis);
         let vel = velocity_ic(model, &sys, &rows, &hard, drivers, &asm.state);
-        let acc = acceleration_ic(model, &sys, &rows, drivers, &asm.state, &vel.velocities);
+        let acc = acceleration_ic(
+            model,
+            &sys,
+            &rows,
+            drivers,
+            forces,
+            &asm.state,
+            &vel.velocities,
+        );
         (Some(vel), Some(acc))
     } else {
         (None, None)
@@ -356,10 +368,13 @@ pub fn acceleration_ic(
     sys: &System,
     rows: &[usize],
     drivers: &ExpressionDrivers,
+    forces: &dyn AppliedForces,
     s: &State,
     v: &[(DVec3, DVec3)],
 ) -> Result<AccelerationIc, String> {
     let n = model.parts.len();
+    let mut applied = vec![0.0; 6 * n];
+    forces.add_forces(s, v, &mut applied)?;
     let mut g = RowGradient::default();
     let mut eqs: Vec<(usize, RowGradient, f64)> = Vec::new();
     for &r in rows {
@@ -407,8 +422,8 @@ pub fn acceleration_ic(
         let w = v[k].1;
         let gyro = -w.cross(ig * w);
         for c in 0..3 {
-            rhs[6 * k + c] = p.mass * model.gravity[c];
-            rhs[6 * k + 3 + c] = gyro[c];
+            rhs[6 * k + c] = p.mass * model.gravity[c] + model.ucf() * applied[6 * k + c];
+            rhs[6 * k + 3 + c] = gyro[c] + model.ucf() * applied[6 * k + 3 + c];
         }
     }
     for (e, (_, grad, b)) in eqs.iter().enumerate() {
@@ -437,9 +452,15 @@ pub fn acceleration_ic(
     let rows_grads: Vec<(usize, &RowGradient)> = eqs.iter().map(|(r, g, _)| (*r, g)).collect();
     let lambda: Vec<f64> = (0..eqs.len()).map(|e| rhs[6 * n + e] / ucf).collect();
     let reactions = element_reactions(model, sys, &rows_grads, &lambda, s);
+    let multipliers = eqs
+        .iter()
+        .zip(&lambda)
+        .map(|((r, _, _), l)| (*r, *l))
+        .collect();
     Ok(AccelerationIc {
         accelerations: acc,
         reactions,
+        multipliers,
         max_error,
         converged: max_error <= model.ic.aerror.max(1e-9),
     })

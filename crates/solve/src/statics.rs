@@ -477,7 +477,7 @@ pub fn run(
     tol: &Tolerances,
     times: &[f64],
 ) -> StaticRun {
-    let ic = crate::ic::initial_conditions(model, drivers, tol);
+    let ic = crate::ic::initial_conditions(model, drivers, forces, tol);
     let mut steps = Vec::new();
     if !ic.assembly.converged || ic.inconsistent() {
         return StaticRun { ic, steps };

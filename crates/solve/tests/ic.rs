@@ -22,7 +22,12 @@ fn run_text(name: &str, text: &str) -> (Model, InitialConditions) {
         .unwrap_or_else(|e| panic!("{name}: {e}"))
         .model;
     let d = ExpressionDrivers::new(&m).unwrap();
-    let ic = initial_conditions(&m, &d, &Tolerances::default());
+    let ic = initial_conditions(
+        &m,
+        &d,
+        &linkage_solve::applied::NoForces,
+        &Tolerances::default(),
+    );
     (m, ic)
 }
 
