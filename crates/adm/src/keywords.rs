@@ -260,7 +260,7 @@ pub(crate) const JPRIM_TYPES: &[&str] = &[
 ];
 
 // ---------------------------------------------------------------------------------------------
-// Complete tables (typed statements).
+// Complete tables (typed statements). Force and data elements: ADM-REFERENCE §2.10–2.11.
 
 const UNITS_ARGS: &[ArgDef] = &[
     arg("FORCE", Words),
@@ -402,12 +402,9 @@ const COUPLER_ARGS: &[ArgDef] = &[
 
 const GEAR_ARGS: &[ArgDef] = &[arg("JOINTS", Numbers), arg("CV", Numbers)];
 
-// ---------------------------------------------------------------------------------------------
-// Partial tables (statements kept in generic form).
-
-const FORCE_FLAGS_SFORCE: &[ArgDef] = &[
-    arg("I", Any),
-    arg("J", Any),
+const SFORCE_ARGS: &[ArgDef] = &[
+    arg("I", Numbers),
+    arg("J", Numbers),
     arg("TRANSLATIONAL", Flag),
     arg("ROTATIONAL", Flag),
     arg("ACTIONONLY", Flag),
@@ -416,24 +413,64 @@ const FORCE_FLAGS_SFORCE: &[ArgDef] = &[
 ];
 
 const SPRINGDAMPER_ARGS: &[ArgDef] = &[
-    arg("I", Any),
-    arg("J", Any),
+    arg("I", Numbers),
+    arg("J", Numbers),
     arg("TRANSLATIONAL", Flag),
     arg("ROTATIONAL", Flag),
-    arg("K", Any),
-    arg("C", Any),
-    arg("KT", Any),
-    arg("CT", Any),
-    arg("LENGTH", Any),
-    arg("FORCE", Any),
-    arg("ANGLE", Any),
-    arg("TORQUE", Any),
+    arg("K", Numbers),
+    arg("C", Numbers),
+    arg("KT", Numbers),
+    arg("CT", Numbers),
+    arg("LENGTH", Numbers),
+    arg("FORCE", Numbers),
+    arg("ANGLE", Numbers),
+    arg("TORQUE", Numbers),
+];
+
+const BUSHING_ARGS: &[ArgDef] = &[
+    arg("I", Numbers),
+    arg("J", Numbers),
+    arg("K", Numbers),
+    arg("C", Numbers),
+    arg("KT", Numbers),
+    arg("CT", Numbers),
+    arg("FORCE", Numbers),
+    arg("TORQUE", Numbers),
+];
+
+const FIELD_ARGS: &[ArgDef] = &[
+    arg("I", Numbers),
+    arg("J", Numbers),
+    arg("KMATRIX", Numbers),
+    arg("CMATRIX", Numbers),
+    arg("CRATIO", Numbers),
+    arg("LENGTH", Numbers),
+    arg("FORCE", Numbers),
+    arg("FUNCTION", Expr),
+    arg("ROUTINE", Text),
+];
+
+const BEAM_ARGS: &[ArgDef] = &[
+    arg("I", Numbers),
+    arg("J", Numbers),
+    arg("LENGTH", Numbers),
+    arg("IXX", Numbers),
+    arg("IYY", Numbers),
+    arg("IZZ", Numbers),
+    arg("AREA", Numbers),
+    arg("ASY", Numbers),
+    arg("ASZ", Numbers),
+    arg("EMODULUS", Numbers),
+    arg("GMODULUS", Numbers),
+    arg("CRATIO", Numbers),
+    arg("CMATRIX", Numbers),
+    arg("FORMULATION", Words),
 ];
 
 const VFORCE_ARGS: &[ArgDef] = &[
-    arg("I", Any),
-    arg("JFLOAT", Any),
-    arg("RM", Any),
+    arg("I", Numbers),
+    arg("JFLOAT", Numbers),
+    arg("RM", Numbers),
     arg("FX", Expr),
     arg("FY", Expr),
     arg("FZ", Expr),
@@ -442,9 +479,9 @@ const VFORCE_ARGS: &[ArgDef] = &[
 ];
 
 const VTORQUE_ARGS: &[ArgDef] = &[
-    arg("I", Any),
-    arg("JFLOAT", Any),
-    arg("RM", Any),
+    arg("I", Numbers),
+    arg("JFLOAT", Numbers),
+    arg("RM", Numbers),
     arg("TX", Expr),
     arg("TY", Expr),
     arg("TZ", Expr),
@@ -453,9 +490,9 @@ const VTORQUE_ARGS: &[ArgDef] = &[
 ];
 
 const GFORCE_ARGS: &[ArgDef] = &[
-    arg("I", Any),
-    arg("JFLOAT", Any),
-    arg("RM", Any),
+    arg("I", Numbers),
+    arg("JFLOAT", Numbers),
+    arg("RM", Numbers),
     arg("FX", Expr),
     arg("FY", Expr),
     arg("FZ", Expr),
@@ -466,7 +503,33 @@ const GFORCE_ARGS: &[ArgDef] = &[
     arg("ROUTINE", Text),
 ];
 
-const VARIABLE_ARGS: &[ArgDef] = &[arg("FUNCTION", Expr), arg("IC", Any), arg("ROUTINE", Text)];
+const VARIABLE_ARGS: &[ArgDef] = &[
+    arg("FUNCTION", Expr),
+    arg("IC", Numbers),
+    arg("ROUTINE", Text),
+];
+
+const ARRAY_ARGS: &[ArgDef] = &[
+    arg("U", Flag),
+    arg("X", Flag),
+    arg("Y", Flag),
+    arg("IC", Flag),
+    arg("SIZE", Numbers),
+    arg("VARIABLES", Numbers),
+    arg("NUMBERS", Numbers),
+];
+
+const SPLINE_ARGS: &[ArgDef] = &[
+    arg("X", Numbers),
+    arg("Y", Numbers),
+    arg("Z", Numbers),
+    arg("LINEAR_EXTRAPOLATE", Flag),
+    arg("FILE", Text),
+    arg("BLOCK", Text),
+];
+
+// ---------------------------------------------------------------------------------------------
+// Partial tables (statements kept in generic form).
 
 const DIFF_ARGS: &[ArgDef] = &[
     arg("FUNCTION", Expr),
@@ -607,9 +670,9 @@ const NO_ARGS: &[ArgDef] = &[];
 /// Statements of a dataset (ADM-REFERENCE §1.5, plus FE_NODE and SECTION seen in real files).
 pub(crate) static DATASET_STATEMENTS: &[StatementDef] = &[
     stmt("ACCGRAV", Absent, ACCGRAV_ARGS, true),
-    stmt("ARRAY", Required, FILE_DATA_ARGS, false),
-    stmt("BEAM", Required, NO_ARGS, false),
-    stmt("BUSHING", Required, NO_ARGS, false),
+    stmt("ARRAY", Required, ARRAY_ARGS, true),
+    stmt("BEAM", Required, BEAM_ARGS, true),
+    stmt("BUSHING", Required, BUSHING_ARGS, true),
     stmt("CONTACT", Required, NO_ARGS, false),
     stmt("COUPLER", Required, COUPLER_ARGS, true),
     stmt("CURVE", Required, FUNCTION_ARGS, false),
@@ -623,12 +686,12 @@ pub(crate) static DATASET_STATEMENTS: &[StatementDef] = &[
     stmt("FE_NODE", Required, NO_ARGS, false),
     stmt("FE_PART", Required, NO_ARGS, false),
     stmt("FEMDATA", Required, NO_ARGS, false),
-    stmt("FIELD", Required, FUNCTION_ARGS, false),
+    stmt("FIELD", Required, FIELD_ARGS, true),
     stmt("FLEX_BODY", Required, NO_ARGS, false),
     stmt("FRICTION", Required, NO_ARGS, false),
     stmt("GCON", Required, GCON_ARGS, true),
     stmt("GEAR", Required, GEAR_ARGS, true),
-    stmt("GFORCE", Required, GFORCE_ARGS, false),
+    stmt("GFORCE", Required, GFORCE_ARGS, true),
     stmt("GRAPHICS", Required, NO_ARGS, false),
     stmt("GSE", Required, GSE_ARGS, false),
     stmt("IC", Absent, IC_ARGS, false),
@@ -658,18 +721,18 @@ pub(crate) static DATASET_STATEMENTS: &[StatementDef] = &[
     stmt("RESULTS", Absent, RESULTS_ARGS, false),
     stmt("SECTION", Required, NO_ARGS, false),
     stmt("SENSOR", Required, SENSOR_ARGS, false),
-    stmt("SFORCE", Required, FORCE_FLAGS_SFORCE, false),
-    stmt("SPLINE", Required, FILE_DATA_ARGS, false),
-    stmt("SPRINGDAMPER", Required, SPRINGDAMPER_ARGS, false),
+    stmt("SFORCE", Required, SFORCE_ARGS, true),
+    stmt("SPLINE", Required, SPLINE_ARGS, true),
+    stmt("SPRINGDAMPER", Required, SPRINGDAMPER_ARGS, true),
     stmt("STRING", Required, STRING_ARGS, false),
     stmt("SURFACE", Required, FILE_DATA_ARGS, false),
     stmt("TFSISO", Required, NO_ARGS, false),
     stmt("TITLE", Absent, NO_ARGS, false),
     stmt("UCON", Required, FUNCTION_ARGS, false),
     stmt("UNITS", Absent, UNITS_ARGS, true),
-    stmt("VARIABLE", Required, VARIABLE_ARGS, false),
-    stmt("VFORCE", Required, VFORCE_ARGS, false),
-    stmt("VTORQUE", Required, VTORQUE_ARGS, false),
+    stmt("VARIABLE", Required, VARIABLE_ARGS, true),
+    stmt("VFORCE", Required, VFORCE_ARGS, true),
+    stmt("VTORQUE", Required, VTORQUE_ARGS, true),
 ];
 
 // ---------------------------------------------------------------------------------------------
@@ -744,7 +807,7 @@ pub(crate) static COMMANDS: &[StatementDef] = &[
     stmt("REQUEST", Required, REQUEST_ARGS, false),
     stmt("SAVE", Absent, FILE_ARGS, false),
     stmt("SENSOR", Required, SENSOR_ARGS, false),
-    stmt("SFORCE", Required, FORCE_FLAGS_SFORCE, false),
+    stmt("SFORCE", Required, SFORCE_ARGS, false),
     stmt("SHOW", Absent, NO_ARGS, false),
     stmt("SIMULATE", Absent, SIMULATE_ARGS, false),
     stmt("SPLINE", Required, FILE_DATA_ARGS, false),

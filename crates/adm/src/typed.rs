@@ -58,6 +58,17 @@ pub struct Dataset {
     pub couplers: Vec<Coupler>,
     pub gears: Vec<Gear>,
     pub gcons: Vec<Gcon>,
+    pub sforces: Vec<Sforce>,
+    pub springdampers: Vec<SpringDamper>,
+    pub bushings: Vec<Bushing>,
+    pub fields: Vec<Field>,
+    pub beams: Vec<Beam>,
+    pub vforces: Vec<Vforce>,
+    pub vtorques: Vec<Vtorque>,
+    pub gforces: Vec<Gforce>,
+    pub variables: Vec<Variable>,
+    pub arrays: Vec<Array>,
+    pub splines: Vec<Spline>,
     /// Non-fatal findings (unknown statements, unknown arguments, …).
     pub warnings: Vec<Diagnostic>,
 }
@@ -318,4 +329,192 @@ pub struct Gcon {
     pub header: Header,
     pub i: Option<IdRef>,
     pub function: Option<Located<Function>>,
+}
+
+// ---- force elements (ADM-REFERENCE §2.10) ---------------------------------------------------
+
+/// Whether a two-marker force element acts along a line or about an axis.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum ForceDof {
+    /// `TRANSLATIONAL` (the default when neither keyword is written).
+    #[default]
+    Translational,
+    /// `ROTATIONAL`.
+    Rotational,
+}
+
+/// `SFORCE/id, I=, J=, TRANSLATIONAL | ROTATIONAL [, ACTIONONLY], FUNCTION = e`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Sforce {
+    pub header: Header,
+    pub i: IdRef,
+    pub j: IdRef,
+    pub dof: ForceDof,
+    pub action_only: bool,
+    pub function: Option<Located<Function>>,
+}
+
+/// `SPRINGDAMPER/id, I=, J=, TRANSLATIONAL, K=, C=, LENGTH=, FORCE=` or
+/// `ROTATIONAL, KT=, CT=, ANGLE=, TORQUE=`. Values as written (`None` = not given).
+#[derive(Clone, Debug, PartialEq)]
+pub struct SpringDamper {
+    pub header: Header,
+    pub i: IdRef,
+    pub j: IdRef,
+    pub dof: ForceDof,
+    pub k: Option<Located<f64>>,
+    pub c: Option<Located<f64>>,
+    pub length: Option<Located<f64>>,
+    pub force: Option<Located<f64>>,
+    pub kt: Option<Located<f64>>,
+    pub ct: Option<Located<f64>>,
+    /// Radians.
+    pub angle: Option<Located<f64>>,
+    pub torque: Option<Located<f64>>,
+}
+
+/// `BUSHING/id, I=, J=, K=, C=, KT=, CT=, FORCE=, TORQUE=` (three values each, along/about
+/// the J marker's x, y, z axes).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Bushing {
+    pub header: Header,
+    pub i: IdRef,
+    pub j: IdRef,
+    pub k: Option<Located<[f64; 3]>>,
+    pub c: Option<Located<[f64; 3]>>,
+    pub kt: Option<Located<[f64; 3]>>,
+    pub ct: Option<Located<[f64; 3]>>,
+    pub force: Option<Located<[f64; 3]>>,
+    pub torque: Option<Located<[f64; 3]>>,
+}
+
+/// `FIELD/id, I=, J=, KMATRIX=36 values, CMATRIX=36 values | CRATIO=r, LENGTH=6, FORCE=6`
+/// (or `FUNCTION=USER(…)`). The matrices are as written: column by column (Adams enters "the
+/// elements by columns from top to bottom, then from left to right").
+#[derive(Clone, Debug, PartialEq)]
+pub struct Field {
+    pub header: Header,
+    pub i: IdRef,
+    pub j: IdRef,
+    pub kmatrix: Option<Located<[f64; 36]>>,
+    pub cmatrix: Option<Located<[f64; 36]>>,
+    pub cratio: Option<Located<f64>>,
+    pub length: Option<Located<[f64; 6]>>,
+    pub force: Option<Located<[f64; 6]>>,
+    pub function: Option<Located<Function>>,
+}
+
+/// `FORMULATION` of a BEAM.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum BeamFormulation {
+    /// Linear Timoshenko beam (the default).
+    #[default]
+    Linear,
+    String,
+    Nonlinear,
+}
+
+/// `BEAM/id, I=, J=, LENGTH=, IXX=, IYY=, IZZ=, AREA=, ASY=, ASZ=, EMODULUS=, GMODULUS=,
+/// CRATIO= | CMATRIX=21 values [, FORMULATION=]`. `CMATRIX` is the lower triangle of the
+/// symmetric damping matrix, column by column, as written.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Beam {
+    pub header: Header,
+    pub i: IdRef,
+    pub j: IdRef,
+    pub length: Option<Located<f64>>,
+    pub ixx: Option<Located<f64>>,
+    pub iyy: Option<Located<f64>>,
+    pub izz: Option<Located<f64>>,
+    pub area: Option<Located<f64>>,
+    pub asy: Option<Located<f64>>,
+    pub asz: Option<Located<f64>>,
+    pub emodulus: Option<Located<f64>>,
+    pub gmodulus: Option<Located<f64>>,
+    pub cratio: Option<Located<f64>>,
+    pub cmatrix: Option<Located<[f64; 21]>>,
+    pub formulation: Option<Located<BeamFormulation>>,
+}
+
+/// `VFORCE/id, I=, JFLOAT=, RM=, FX=e\ FY=e\ FZ=e` (or `FUNCTION=USER(…)`).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Vforce {
+    pub header: Header,
+    pub i: IdRef,
+    pub jfloat: IdRef,
+    pub rm: IdRef,
+    /// `FX`, `FY`, `FZ` (components along RM's axes).
+    pub force: [Option<Located<Function>>; 3],
+    pub function: Option<Located<Function>>,
+}
+
+/// `VTORQUE/id, I=, JFLOAT=, RM=, TX=e\ TY=e\ TZ=e` (or `FUNCTION=USER(…)`).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Vtorque {
+    pub header: Header,
+    pub i: IdRef,
+    pub jfloat: IdRef,
+    pub rm: IdRef,
+    /// `TX`, `TY`, `TZ` (components about RM's axes).
+    pub torque: [Option<Located<Function>>; 3],
+    pub function: Option<Located<Function>>,
+}
+
+/// `GFORCE/id, I=, JFLOAT=, RM=, FX=e\ … \TZ=e` or `FUNCTION=USER(…)`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Gforce {
+    pub header: Header,
+    pub i: IdRef,
+    pub jfloat: IdRef,
+    pub rm: IdRef,
+    pub force: [Option<Located<Function>>; 3],
+    pub torque: [Option<Located<Function>>; 3],
+    pub function: Option<Located<Function>>,
+}
+
+// ---- data elements (ADM-REFERENCE §2.11) ----------------------------------------------------
+
+/// `VARIABLE/id, FUNCTION = e [, IC = r]`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Variable {
+    pub header: Header,
+    pub function: Option<Located<Function>>,
+    pub ic: Option<Located<f64>>,
+}
+
+/// The type keyword of an ARRAY.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ArrayKind {
+    /// Inputs of an LSE/GSE/TFSISO (`VARIABLES=`).
+    U,
+    /// States of an LSE/GSE/TFSISO.
+    X,
+    /// Outputs of an LSE/GSE/TFSISO.
+    Y,
+    /// Initial conditions / general constants (`NUMBERS=`).
+    Ic,
+}
+
+/// `ARRAY/id, [U | X | Y | IC,] [SIZE = n,] VARIABLES = ids | NUMBERS = r1, …`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Array {
+    pub header: Header,
+    /// `None` when no type keyword is written.
+    pub kind: Option<ArrayKind>,
+    pub size: Option<Located<usize>>,
+    pub numbers: Option<Located<Vec<f64>>>,
+    pub variables: Option<Vec<IdRef>>,
+}
+
+/// `SPLINE/id, X = x1, …, Y = y1, … [, Z = …] [, LINEAR_EXTRAPOLATE]` or `FILE = name`.
+/// A 2-D spline has `Z` and one `Y` per z value (each starting with its z value).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Spline {
+    pub header: Header,
+    pub x: Option<Located<Vec<f64>>>,
+    /// Every `Y =` argument, in order (one for a 1-D spline).
+    pub y: Vec<Located<Vec<f64>>>,
+    pub z: Option<Located<Vec<f64>>>,
+    pub linear_extrapolate: bool,
+    pub file: Option<Located<String>>,
 }

@@ -2,7 +2,9 @@
 //!
 //! Contract:
 //! - Types UNITS, ACCGRAV, PART, MARKER, JOINT, JPRIM, MOTION, COUPLER, GEAR and GCON
-//!   (ADM-REFERENCE §2.1–2.9); every other statement stays in generic form only.
+//!   (ADM-REFERENCE §2.1–2.9), the force elements SFORCE, SPRINGDAMPER, BUSHING, FIELD, BEAM,
+//!   VFORCE, VTORQUE, GFORCE and the data elements VARIABLE, ARRAY, SPLINE (§2.10–2.11, see
+//!   [`forces`]); every other statement stays in generic form only.
 //! - Checks what one statement can tell: value counts (`QP` needs 3 numbers), ids being
 //!   non-negative integers, unit names, joint/jprim types, required arguments (JOINT `I`, `J`,
 //!   type; MOTION target; COUPLER/GEAR `JOINTS`). References between elements are *not* checked
@@ -54,6 +56,17 @@ pub(crate) fn type_dataset(
             couplers: Vec::new(),
             gears: Vec::new(),
             gcons: Vec::new(),
+            sforces: Vec::new(),
+            springdampers: Vec::new(),
+            bushings: Vec::new(),
+            fields: Vec::new(),
+            beams: Vec::new(),
+            vforces: Vec::new(),
+            vtorques: Vec::new(),
+            gforces: Vec::new(),
+            variables: Vec::new(),
+            arrays: Vec::new(),
+            splines: Vec::new(),
             warnings: Vec::new(),
         },
         carrier: None,
@@ -163,6 +176,17 @@ impl Typer {
                 | "COUPLER"
                 | "GEAR"
                 | "GCON"
+                | "SFORCE"
+                | "SPRINGDAMPER"
+                | "BUSHING"
+                | "FIELD"
+                | "BEAM"
+                | "VFORCE"
+                | "VTORQUE"
+                | "GFORCE"
+                | "VARIABLE"
+                | "ARRAY"
+                | "SPLINE"
         );
         if !typed {
             return;
@@ -220,17 +244,81 @@ impl Typer {
                     self.ds.gears.push(g);
                 }
             }
-            _ => {
+            "GCON" => {
                 let g = self.gcon(st, index);
                 self.ds.gcons.push(g);
             }
+            _ => self.force_or_data(st, index),
+        }
+    }
+
+    /// Force and data elements ([`forces`]).
+    fn force_or_data(&mut self, st: &Statement, index: usize) {
+        match st.keyword.as_str() {
+            "SFORCE" => {
+                if let Some(e) = self.sforce(st, index) {
+                    self.ds.sforces.push(e);
+                }
+            }
+            "SPRINGDAMPER" => {
+                if let Some(e) = self.springdamper(st, index) {
+                    self.ds.springdampers.push(e);
+                }
+            }
+            "BUSHING" => {
+                if let Some(e) = self.bushing(st, index) {
+                    self.ds.bushings.push(e);
+                }
+            }
+            "FIELD" => {
+                if let Some(e) = self.field(st, index) {
+                    self.ds.fields.push(e);
+                }
+            }
+            "BEAM" => {
+                if let Some(e) = self.beam(st, index) {
+                    self.ds.beams.push(e);
+                }
+            }
+            "VFORCE" => {
+                if let Some(e) = self.vforce(st, index) {
+                    self.ds.vforces.push(e);
+                }
+            }
+            "VTORQUE" => {
+                if let Some(e) = self.vtorque(st, index) {
+                    self.ds.vtorques.push(e);
+                }
+            }
+            "GFORCE" => {
+                if let Some(e) = self.gforce(st, index) {
+                    self.ds.gforces.push(e);
+                }
+            }
+            "VARIABLE" => {
+                let v = self.variable(st, index);
+                self.ds.variables.push(v);
+            }
+            "ARRAY" => {
+                if let Some(e) = self.array(st, index) {
+                    self.ds.arrays.push(e);
+                }
+            }
+            "SPLINE" => {
+                if let Some(e) = self.spline(st, index) {
+                    self.ds.splines.push(e);
+                }
+            }
+            _ => {}
         }
     }
 
     fn warn_repeated_arguments(&mut self, st: &Statement) {
         let mut seen = HashSet::new();
         for a in &st.args {
-            if !seen.insert(a.key.as_str()) {
+            // A 2-D SPLINE has one `Y =` per curve.
+            let repeatable = st.keyword == "SPLINE" && a.key == "Y";
+            if !seen.insert(a.key.as_str()) && !repeatable {
                 let msg = format!(
                     "'{}' given more than once in {}; the first one is used",
                     a.key,
@@ -852,6 +940,8 @@ impl Typer {
         }
     }
 }
+
+mod forces;
 
 #[cfg(test)]
 mod tests;

@@ -28,6 +28,12 @@ const MALFORMED: &[(&str, u32, &str)] = &[
          continuation on line 2 (', DENSITY = …') has nothing to continue",
     ),
     (
+        "alex-marinov__mbdyn__contrib__a2m__samples__prova_beam01.adm",
+        2,
+        "converter torture test: 'IZ=30,5,1,4' gives four values to the single-valued IZZ \
+         of a BEAM",
+    ),
+    (
         "alex-marinov__mbdyn__contrib__a2m__samples__prova.adm",
         3,
         "parser torture test: 'PART/2930, %&(MASS=2,) …', a JPRIM without type, a MARKER on \

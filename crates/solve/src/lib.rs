@@ -14,6 +14,7 @@ pub mod graph;
 pub mod hessian;
 pub mod ic;
 pub mod linear;
+pub mod linearize;
 pub mod measures;
 pub mod rank;
 pub mod reactions;
