@@ -5,6 +5,7 @@
 
 mod common;
 mod ic_cmd;
+mod linear_cmd;
 mod static_cmd;
 mod verify_cmd;
 
@@ -65,6 +66,24 @@ enum Command {
         #[arg(long, value_name = "OUT.adm")]
         save: Option<PathBuf>,
     },
+    /// Linearize about the assembled configuration (or static equilibrium with --static-first):
+    /// eigenvalues, natural frequencies, damping ratios and mode shapes.
+    Linear {
+        /// The dataset (.adm).
+        model: PathBuf,
+        /// Output format.
+        #[arg(long, value_enum, default_value = "text")]
+        format: Format,
+        /// Find static equilibrium first and linearize about it.
+        #[arg(long)]
+        static_first: bool,
+        /// Drop damping (Adams NODAMPIN).
+        #[arg(long)]
+        no_damping: bool,
+        /// Skip mode shapes (Adams NOVECTOR).
+        #[arg(long)]
+        no_vectors: bool,
+    },
 }
 
 fn main() -> ExitCode {
@@ -78,6 +97,19 @@ fn main() -> ExitCode {
             format,
             save,
         } => ic_cmd::run(&model, format, save.as_deref()),
+        Command::Linear {
+            model,
+            format,
+            static_first,
+            no_damping,
+            no_vectors,
+        } => linear_cmd::run_linear(&linear_cmd::LinearArgs {
+            model: &model,
+            format,
+            static_first,
+            damping: !no_damping,
+            vectors: !no_vectors,
+        }),
         Command::Static {
             model,
             format,

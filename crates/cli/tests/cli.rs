@@ -369,3 +369,29 @@ fn static_non_convergence_exits_1_naming_the_largest_imbalance() {
         "{err}"
     );
 }
+
+#[test]
+fn linear_json_gives_eigenvalues_and_modes_in_cycles_per_time() {
+    let src = root().join("mechanisms/pendulum.adm");
+    let (code, v) = json(&["linear", src.to_str().unwrap(), "--format", "json"]);
+    assert_eq!(code, 0, "{v}");
+    let ev = v["eigenvalues"].as_array().unwrap();
+    assert_eq!(ev.len(), 1);
+    let f = (3.0f64 * 9.80665 / 2.0).sqrt() / std::f64::consts::TAU;
+    assert!((ev[0]["imag"].as_f64().unwrap() - f).abs() < 1e-9);
+    assert!(ev[0]["real"].as_f64().unwrap().abs() < 1e-9);
+    let mode = &v["modes"][0];
+    assert!((mode["frequency"].as_f64().unwrap() - f).abs() < 1e-9);
+    assert!(mode["damping_ratio"].as_f64().unwrap().abs() < 1e-9);
+    assert!(mode["shape"].is_array());
+    let (_, v) = json(&[
+        "linear",
+        src.to_str().unwrap(),
+        "--format",
+        "json",
+        "--no-vectors",
+        "--static-first",
+        "--no-damping",
+    ]);
+    assert!(v["modes"][0].get("shape").is_none());
+}

@@ -4,5 +4,6 @@
 //! text in the spirit of Adams' own output and into JSON with a stable schema.
 
 pub mod ic;
+pub mod linear;
 pub mod statics;
 pub mod verify;

@@ -1,0 +1,59 @@
+//! `linkage linear`: eigenvalues and modes about an operating point.
+
+use crate::common::{applied_forces, input_error, load, print_json, Format};
+use linkage_solve::linearize::{run, LinearOptions};
+use linkage_solve::tolerances::Tolerances;
+use std::path::Path;
+use std::process::ExitCode;
+
+/// Options of `linkage linear`.
+pub struct LinearArgs<'a> {
+    pub model: &'a Path,
+    pub format: Format,
+    pub static_first: bool,
+    pub damping: bool,
+    pub vectors: bool,
+}
+
+pub fn run_linear(args: &LinearArgs) -> ExitCode {
+    let loaded = match load(args.model) {
+        Ok(l) => l,
+        Err(d) => return input_error(&d, args.format),
+    };
+    let forces = match applied_forces(&loaded) {
+        Ok(f) => f,
+        Err(d) => return input_error(&d, args.format),
+    };
+    let opts = LinearOptions {
+        damping: args.damping,
+        vectors: args.vectors,
+    };
+    let result = run(
+        &loaded.model,
+        &loaded.drivers,
+        forces.as_ref(),
+        &Tolerances::default(),
+        args.static_first,
+        opts,
+    );
+    let report = linkage_report::linear::to_json(
+        &loaded.model,
+        &result,
+        args.static_first,
+        &loaded.warnings,
+    );
+    match args.format {
+        Format::Text => print!("{}", linkage_report::linear::to_text(&report)),
+        Format::Json => {
+            print_json(&report);
+        }
+    }
+    for e in &report.errors {
+        eprintln!("error: {e}");
+    }
+    if report.errors.is_empty() {
+        ExitCode::SUCCESS
+    } else {
+        ExitCode::from(1)
+    }
+}

@@ -1,0 +1,266 @@
+//! The linearization report: Adams-style eigenvalue table, frequencies, damping ratios and
+//! mode shapes; JSON.
+
+use linkage_adm::Diagnostic;
+use linkage_model::Model;
+use linkage_solve::linearize::{LinearRun, Linearization};
+use serde::Serialize;
+use std::f64::consts::TAU;
+use std::fmt::Write;
+
+#[derive(Clone, Debug, Serialize, PartialEq)]
+pub struct EigenvalueJson {
+    /// Cycles per time unit (Re λ / 2π).
+    pub real: f64,
+    /// Cycles per time unit (Im λ / 2π); a complex pair appears once, with `imag ≥ 0`.
+    pub imag: f64,
+}
+
+#[derive(Clone, Debug, Serialize, PartialEq)]
+pub struct ComponentJson {
+    pub magnitude: f64,
+    pub phase_deg: f64,
+}
+
+#[derive(Clone, Debug, Serialize, PartialEq)]
+pub struct PartShapeJson {
+    pub name: String,
+    /// X, Y, Z translation of the centre of mass (ground axes).
+    pub translation: Vec<ComponentJson>,
+    /// Rotation about ground X, Y, Z.
+    pub rotation: Vec<ComponentJson>,
+}
+
+#[derive(Clone, Debug, Serialize, PartialEq)]
+pub struct ModeJson {
+    pub number: usize,
+    /// Undamped natural frequency (cycles per time unit).
+    pub frequency: f64,
+    pub damping_ratio: f64,
+    pub real: f64,
+    pub imag: f64,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub shape: Option<Vec<PartShapeJson>>,
+}
+
+/// The JSON document of `linkage linear --format json`.
+#[derive(Clone, Debug, Serialize, PartialEq)]
+pub struct LinearJson {
+    pub file: String,
+    pub title: String,
+    pub operating_point: &'static str,
+    pub dof: usize,
+    pub states: usize,
+    pub eigenvalues: Vec<EigenvalueJson>,
+    pub modes: Vec<ModeJson>,
+    pub zero_eigenvalues: usize,
+    pub expected_zero_eigenvalues: usize,
+    pub warnings: Vec<String>,
+    pub errors: Vec<String>,
+}
+
+fn modes_json(model: &Model, l: &Linearization) -> Vec<ModeJson> {
+    l.modes
+        .iter()
+        .enumerate()
+        .map(|(k, m)| ModeJson {
+            number: k + 1,
+            frequency: m.frequency,
+            damping_ratio: m.damping_ratio,
+            real: m.real / TAU,
+            imag: m.imag / TAU,
+            shape: m.shape.as_ref().map(|sh| {
+                sh.iter()
+                    .map(|p| PartShapeJson {
+                        name: model.parts[p.part].origin.name.clone(),
+                        translation: p
+                            .translation
+                            .iter()
+                            .map(|c| ComponentJson {
+                                magnitude: c.magnitude,
+                                phase_deg: c.phase_deg,
+                            })
+                            .collect(),
+                        rotation: p
+                            .rotation
+                            .iter()
+                            .map(|c| ComponentJson {
+                                magnitude: c.magnitude,
+                                phase_deg: c.phase_deg,
+                            })
+                            .collect(),
+                    })
+                    .collect()
+            }),
+        })
+        .collect()
+}
+
+/// Builds the JSON document.
+pub fn to_json(
+    model: &Model,
+    run: &LinearRun,
+    static_first: bool,
+    warnings: &[Diagnostic],
+) -> LinearJson {
+    let mut warnings: Vec<String> = warnings.iter().map(|w| w.to_string()).collect();
+    let mut errors = Vec::new();
+    let (dof, modes, zeros, expected) = match &run.result {
+        Ok(l) => {
+            if l.massless_parts > 0 {
+                warnings.push(format!(
+                    "There are {} zero-mass parts in the model; 1e-8 times the smallest nonzero mass is used for them during linearization.",
+                    l.massless_parts
+                ));
+            }
+            if l.zero_eigenvalues != l.expected_zero_eigenvalues {
+                warnings.push(format!(
+                    "{} zero eigenvalues found, but the free motions without stiffness account for {}: check for missing stiffness or a near-singular pose",
+                    l.zero_eigenvalues, l.expected_zero_eigenvalues
+                ));
+            }
+            (
+                l.dof,
+                modes_json(model, l),
+                l.zero_eigenvalues,
+                l.expected_zero_eigenvalues,
+            )
+        }
+        Err(e) => {
+            errors.push(e.clone());
+            (0, Vec::new(), 0, 0)
+        }
+    };
+    LinearJson {
+        file: model.file.to_string(),
+        title: model.title.clone(),
+        operating_point: if static_first {
+            "static equilibrium"
+        } else {
+            "assembled configuration (initial conditions)"
+        },
+        dof,
+        states: 2 * dof,
+        eigenvalues: modes
+            .iter()
+            .map(|m| EigenvalueJson {
+                real: m.real,
+                imag: m.imag,
+            })
+            .collect(),
+        modes,
+        zero_eigenvalues: zeros,
+        expected_zero_eigenvalues: expected,
+        warnings,
+        errors,
+    }
+}
+
+/// Fortran-style `1.23456E-01` (Adams' number format), with `-0` shown as `0`.
+pub fn fortran_e(x: f64, digits: usize) -> String {
+    if x == 0.0 || !x.is_finite() {
+        return if x.is_finite() {
+            format!("{:.digits$}E+00", 0.0)
+        } else {
+            format!("{x}")
+        };
+    }
+    let e = x.abs().log10().floor() as i32;
+    let mut m = x / 10f64.powi(e);
+    let mut e = e;
+    if format!("{:.digits$}", m.abs()).starts_with("10") {
+        m /= 10.0;
+        e += 1;
+    }
+    format!(
+        "{m:.digits$}E{}{:02}",
+        if e < 0 { '-' } else { '+' },
+        e.abs()
+    )
+}
+
+/// Human report in the layout of Adams' eigenvalue table.
+pub fn to_text(j: &LinearJson) -> String {
+    let mut s = String::new();
+    let _ = writeln!(s, "LINEARIZATION: {}", j.title);
+    let _ = writeln!(s, "  file: {}", j.file);
+    let _ = writeln!(s, "  operating point: {}", j.operating_point);
+    let _ = writeln!(
+        s,
+        "  This model has {} kinematic states (displacements and velocities).",
+        j.states
+    );
+    let _ = writeln!(s);
+    let _ = writeln!(
+        s,
+        "               E I G E N V A L U E S  at time = 0.00000E+00"
+    );
+    let _ = writeln!(s, "    Number    Real(cycles/second)      Imag.(cycles/second)   Undamped freq.   Damping ratio");
+    for m in &j.modes {
+        let imag = if m.imag > 0.0 {
+            format!("+/- {:>16}", fortran_e(m.imag, 5))
+        } else {
+            " ".repeat(20)
+        };
+        let _ = writeln!(
+            s,
+            "    {:>6}    {:>16}      {imag}   {:>14}   {:>13}",
+            m.number,
+            fortran_e(m.real, 5),
+            fortran_e(m.frequency, 5),
+            fortran_e(m.damping_ratio, 5)
+        );
+    }
+    for m in &j.modes {
+        let Some(shape) = &m.shape else { continue };
+        let _ = writeln!(s);
+        let _ = writeln!(
+            s,
+            "Mode {}: undamped natural freq. = {}, damping ratio = {}",
+            m.number,
+            fortran_e(m.frequency, 6),
+            fortran_e(m.damping_ratio, 6)
+        );
+        let _ = writeln!(
+            s,
+            "   {:<20} {:>22} {:>22} {:>22} {:>22} {:>22} {:>22}",
+            "part", "X", "Y", "Z", "RX", "RY", "RZ"
+        );
+        for p in shape {
+            let cells: Vec<String> = p
+                .translation
+                .iter()
+                .chain(p.rotation.iter())
+                .map(|c| format!("{:.4} @ {:>7.2}°", c.magnitude, c.phase_deg))
+                .collect();
+            let _ = writeln!(
+                s,
+                "   {:<20} {:>22} {:>22} {:>22} {:>22} {:>22} {:>22}",
+                p.name, cells[0], cells[1], cells[2], cells[3], cells[4], cells[5]
+            );
+        }
+    }
+    let _ = writeln!(s);
+    let _ = writeln!(s, "{} zero eigenvalues (rigid-body motions); {} expected from the free motions without stiffness.", j.zero_eigenvalues, j.expected_zero_eigenvalues);
+    for w in &j.warnings {
+        let _ = writeln!(s, "warning: {w}");
+    }
+    for e in &j.errors {
+        let _ = writeln!(s, "error: {e}");
+    }
+    s
+}
+
+#[cfg(test)]
+mod tests {
+    use super::fortran_e;
+
+    #[test]
+    fn numbers_print_like_adams() {
+        // ADM-REFERENCE §12: λ = −1 ± 9.94987i rad/s prints as −1.59155E-01 ± 1.58357E+00.
+        assert_eq!(fortran_e(-1.0 / std::f64::consts::TAU, 5), "-1.59155E-01");
+        assert_eq!(fortran_e(9.94987 / std::f64::consts::TAU, 5), "1.58357E+00");
+        assert_eq!(fortran_e(-0.0, 5), "0.00000E+00");
+        assert_eq!(fortran_e(99999.9, 3), "1.000E+05");
+    }
+}
