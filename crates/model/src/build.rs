@@ -57,7 +57,8 @@ fn v3(a: [f64; 3]) -> DVec3 {
 
 /// Builds the model. Errors: unknown or duplicate ids, a joint whose markers are on the same
 /// part, zero or several GROUND parts, negative mass, non-physical inertia, markers on
-/// carriers linkage does not model (POINT_MASS, FLEX_BODY, FE_PART) used by constraints, …
+/// carriers linkage does not model (POINT_MASS, FLEX_BODY, FE_PART) used by constraints or
+/// forces, invalid force or data elements ([`crate::forces`]), …
 pub fn build_model(ds: &Dataset) -> Result<Built, Diagnostics> {
     let mut cx = Ctx {
         file: ds.file.clone(),
@@ -751,6 +752,22 @@ pub fn build_model(ds: &Dataset) -> Result<Built, Diagnostics> {
         });
     }
 
+    // --- force and data elements -----------------------------------------------------------
+    let unsupported: Vec<Option<&'static str>> = raw.iter().map(|r| r.3).collect();
+    let ground_name = ground.map_or("ground".to_string(), |g| g.header.name.clone());
+    let force_data = crate::forces::build_forces(
+        ds,
+        &crate::forces::MarkerTable {
+            index: &marker_index,
+            markers: &markers,
+            unsupported: &unsupported,
+            parts: &parts,
+            ground_name: &ground_name,
+        },
+        &mut cx.errors,
+        &mut cx.warnings,
+    );
+
     if !cx.errors.is_empty() {
         return Err(Diagnostics(cx.errors));
     }
@@ -764,6 +781,10 @@ pub fn build_model(ds: &Dataset) -> Result<Built, Diagnostics> {
         parts,
         markers,
         constraints,
+        forces: force_data.forces,
+        variables: force_data.variables,
+        arrays: force_data.arrays,
+        splines: force_data.splines,
         characteristic_length: 1.0,
         ic: crate::settings::ic_settings(ds, &ds.file, &mut cx.warnings),
         equilibrium: crate::settings::equilibrium_settings(ds, &ds.file, &mut cx.warnings),

@@ -2,7 +2,7 @@
 //!
 //! [`build_model`] turns a typed [`linkage_adm::Dataset`] into a [`Model`]: units and the units
 //! consistency factor, part frames (QG/REULER or XG/ZG), markers (QP/REULER or ZP/XP) placed in
-//! their part's frame, inertia moved to the centre of mass, and every constraint element with
+//! their part's frame, inertia moved to the centre of mass, and every constraint, force and data element with
 //! its references resolved. Every reference is checked; an input error is a
 //! [`linkage_adm::Diagnostic`] naming file, line and column. Nothing here panics on user input.
 //!
@@ -11,6 +11,7 @@
 //! body frame B, whose origin is the centre of mass and whose axes are the part's BCS axes.
 
 pub mod build;
+pub mod forces;
 pub mod frames;
 pub mod inertia;
 pub mod model;

@@ -214,6 +214,15 @@ pub struct Model {
     /// Joints, primitives, motions, couplers, gears and general constraints, in that order of
     /// kinds and in definition order within each kind.
     pub constraints: Vec<Constraint>,
+    /// SFORCE, SPRINGDAMPER, BUSHING, FIELD, BEAM, VFORCE, VTORQUE and GFORCE elements, in
+    /// that order of kinds and in definition order within each kind ([`crate::forces`]).
+    pub forces: Vec<crate::forces::ForceElement>,
+    /// VARIABLE elements (referenced by `VARVAL(id)` and ARRAY `VARIABLES`).
+    pub variables: Vec<crate::forces::Variable>,
+    /// ARRAY elements (referenced by `ARYVAL(id, n)`).
+    pub arrays: Vec<crate::forces::Array>,
+    /// SPLINE elements (referenced by `AKISPL`/`CUBSPL`).
+    pub splines: Vec<crate::forces::Spline>,
     /// `IC/` settings (Adams defaults where not given).
     pub ic: crate::settings::IcSettings,
     /// `EQUILIBRIUM/` settings.

@@ -9,6 +9,7 @@
 pub mod applied;
 pub mod assemble;
 pub mod drivers;
+pub mod dynamics;
 pub mod generate;
 pub mod graph;
 pub mod hessian;

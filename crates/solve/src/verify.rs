@@ -16,6 +16,12 @@ use linkage_model::{ConstraintKind, Model};
 pub trait Drivers {
     /// `f(t)` of the motion element `element`; `None` when it cannot be evaluated.
     fn value(&self, element: usize, t: f64) -> Option<f64>;
+
+    /// Displacement and its first two time derivatives; `None` when unknown.
+    fn rates(&self, element: usize, t: f64) -> Option<[f64; 3]> {
+        let _ = (element, t);
+        None
+    }
 }
 
 /// Drivers that cannot evaluate anything (motion residuals unknown).
