@@ -302,3 +302,104 @@ mod tests {
         assert_eq!(s.pattern, vec![true, false, false]);
     }
 }
+
+/// `INTEGRATOR/` settings (ADM-REFERENCE §8.5, §9.4). Adams' integrator names are accepted;
+/// linkage always integrates with HHT (index 3) and says which settings had no effect.
+#[derive(Clone, Debug, PartialEq)]
+pub struct IntegratorStatement {
+    /// The integrator named (GSTIFF, WSTIFF, HHT, NEWMARK, HASTIFF, …), upper case.
+    pub name: Option<String>,
+    pub error: Option<f64>,
+    pub hmax: Option<f64>,
+    pub hinit: Option<f64>,
+    pub hmin: Option<f64>,
+    pub alpha: Option<f64>,
+    pub maxit: Option<usize>,
+    /// Arguments given that linkage does not use (KMAX, CORRECTOR, FORMULATION, …).
+    pub ignored: Vec<String>,
+}
+
+const INTEGRATOR_NAMES: [&str; 18] = [
+    "GSTIFF",
+    "WSTIFF",
+    "HHT",
+    "NEWMARK",
+    "HASTIFF",
+    "CONSTANT_BDF",
+    "ABAM",
+    "RKF45",
+    "SI2",
+    "SI1",
+    "I3",
+    "ERROR",
+    "HMAX",
+    "HINIT",
+    "HMIN",
+    "ALPHA",
+    "MAXIT",
+    "KMAX",
+];
+
+/// Reads the `INTEGRATOR/` statements (later ones override earlier ones).
+pub fn integrator_statement(ds: &Dataset) -> IntegratorStatement {
+    let mut out = IntegratorStatement {
+        name: None,
+        error: None,
+        hmax: None,
+        hinit: None,
+        hmin: None,
+        alpha: None,
+        maxit: None,
+        ignored: Vec::new(),
+    };
+    for stmt in ds.statements.iter().filter(|st| st.keyword == "INTEGRATOR") {
+        let n = |k: &str| number(stmt, k, &INTEGRATOR_NAMES);
+        for name in [
+            "GSTIFF",
+            "WSTIFF",
+            "HHT",
+            "NEWMARK",
+            "HASTIFF",
+            "CONSTANT_BDF",
+            "ABAM",
+            "RKF45",
+        ] {
+            if find(stmt, name, &INTEGRATOR_NAMES).is_some_and(|a| a.values.is_empty()) {
+                out.name = Some(name.to_string());
+            }
+        }
+        out.error = n("ERROR").filter(|x| *x > 0.0).or(out.error);
+        out.hmax = n("HMAX").filter(|x| *x > 0.0).or(out.hmax);
+        out.hinit = n("HINIT").filter(|x| *x > 0.0).or(out.hinit);
+        out.hmin = n("HMIN").filter(|x| *x > 0.0).or(out.hmin);
+        out.alpha = n("ALPHA").or(out.alpha);
+        out.maxit = n("MAXIT")
+            .filter(|x| *x >= 1.0)
+            .map(|x| x as usize)
+            .or(out.maxit);
+        for a in &stmt.args {
+            let used = [
+                "ERROR",
+                "HMAX",
+                "HINIT",
+                "HMIN",
+                "ALPHA",
+                "MAXIT",
+                "GSTIFF",
+                "WSTIFF",
+                "HHT",
+                "NEWMARK",
+                "HASTIFF",
+                "CONSTANT_BDF",
+                "ABAM",
+                "RKF45",
+            ]
+            .iter()
+            .any(|k| k.starts_with(a.key.as_str()) && !a.key.is_empty());
+            if !used && !out.ignored.contains(&a.key) {
+                out.ignored.push(a.key.clone());
+            }
+        }
+    }
+    out
+}

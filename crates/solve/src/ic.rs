@@ -322,16 +322,30 @@ pub fn velocity_ic(
     let dim = 6 * n + m;
     let mut entries = Vec::new();
     let mut rhs = vec![0.0; dim];
-    for k in 0..n {
-        for c in 0..6 {
-            let w = if c < 3 { w_t } else { 1.0 };
+    // Given velocities are targets; the others are "inexact zeros" the solve may change freely
+    // (a small weight keeps the problem well posed). WX, WY, WZ are in the CM marker's axes.
+    const FREE: f64 = 1e-8;
+    for (k, p) in model.parts.iter().enumerate() {
+        for c in 0..3 {
+            let w = w_t * if p.velocity[c].is_some() { 1.0 } else { FREE };
             entries.push((6 * k + c, 6 * k + c, w));
-            let t = if c < 3 {
-                target[k].0[c]
+            rhs[6 * k + c] = w * target[k].0[c];
+        }
+        let r_cm = s.poses[k].r * p.r_b_cm;
+        let d = glam::DMat3::from_diagonal(DVec3::from_array([3, 4, 5].map(|i| {
+            if p.velocity[i].is_some() {
+                1.0
             } else {
-                target[k].1[c - 3]
-            };
-            rhs[6 * k + c] = w * t;
+                FREE
+            }
+        })));
+        let w_rot = r_cm * d * r_cm.transpose();
+        let b = w_rot * target[k].1;
+        for c in 0..3 {
+            for e in 0..3 {
+                entries.push((6 * k + 3 + c, 6 * k + 3 + e, w_rot.col(e)[c]));
+            }
+            rhs[6 * k + 3 + c] = b[c];
         }
     }
     for (e, (grad, b)) in eqs.iter().enumerate() {

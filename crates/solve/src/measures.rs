@@ -3,12 +3,21 @@
 //! Position measures (DX, DY, DZ, DM, AX, AY, AZ, PSI, THETA, PHI, YAW, PITCH, ROLL) are
 //! built from the same geometric [`Quantity`]s as the constraint rows, so their gradients are
 //! exact. The gradient variable of part `k`'s tangent coordinate `c` is `6k + c`.
+//!
+//! [`PositionEnv`] sees positions only (constraint rows, motions); [`StateEnv`] adds
+//! velocities, VARIABLE/ARRAY/SPLINE data and `MODE` (force expressions).
 
-use crate::rows::{BodyDir, BodyFrame, BodyPoint, EulerSeq, Quantity, RowGradient};
+use crate::forces::algebra::{Kinematics, Real, V3};
+use crate::forces::data::{ArrayData, DataElements};
+use crate::rows::{BodyDir, BodyFrame, BodyPoint, EulerSeq, Quantity, RowGradient, Velocities};
 use crate::state::State;
 use glam::{DMat3, DVec3};
-use linkage_expr::{Dual, Env, EvalError, MarkerArgs, MeasureKind};
+use linkage_expr::{
+    evaluate, evaluate_with_gradient, Dual, Env, EvalError, EvalErrorKind, MarkerArgs, MeasureKind,
+    SplineData, StateRef,
+};
 use linkage_model::{Body, Model};
+use std::cell::RefCell;
 use std::collections::HashMap;
 
 /// Marker frames by dataset id (ground frame for id 0).
@@ -181,5 +190,283 @@ pub fn add_dual_gradient(d: &Dual, c: f64, g: &mut RowGradient) {
         let mut block = [0.0; 6];
         block[comp] = v * c;
         g.add_block(k, block);
+    }
+}
+
+/// Memory of one [`StateEnv`]: VARIABLEs being evaluated (cycle detection) and values already
+/// computed (keyed by id and whether the gradient was requested).
+#[derive(Default)]
+struct VariableMemo {
+    active: Vec<u32>,
+    values: HashMap<(u32, bool), Dual>,
+}
+
+/// A position- and velocity-level environment: what force expressions see.
+///
+/// - Position measures (DX … ROLL) are those of [`PositionEnv`].
+/// - Velocity measures, with the marker roles of ADM-REFERENCE §5.3 (`j` the reference
+///   point, default ground origin; `k` the axes of the result, default ground; `l` the frame
+///   in which the time derivative is taken, default ground):
+///   - `VX/VY/VZ(i,j,k,l) = e_k·(v_Pi − v_Pj − ω_l × (P_i − P_j))`, `VM(i,j,l)` its length,
+///   - `VR(i,j,l) = (v_Pi − v_Pj)·(P_i − P_j)/|P_i − P_j|` (separating > 0; independent of l;
+///     0 when the points coincide),
+///   - `WX/WY/WZ(i,j,k) = e_k·(ω_i − ω_j)`, `WM(i,j) = |ω_i − ω_j|`.
+/// - `TIME` is the state's time, `MODE` the given mode.
+/// - `VARVAL(id)` evaluates VARIABLE/id's expression in this environment (a cycle of VARVAL
+///   references is an error); `ARYVAL(id, n)` reads ARRAY/id; `AKISPL`/`CUBSPL` read the 1-D
+///   SPLINEs.
+/// - Accelerations (ACCX …, WDTX …), generic force measures (FX … TM), element forces
+///   (JOINT(…), SFORCE(…), …) and DIFF states are unavailable (an error naming them).
+///
+/// Gradient variables: `6k + c` for part k's tangent position coordinate c and
+/// `6n + 6k + c` for its velocity coordinate c (v, then ω), n = number of parts.
+pub struct StateEnv<'a> {
+    pub frames: &'a MarkerFrames,
+    pub state: &'a State,
+    pub velocities: &'a Velocities,
+    pub data: &'a DataElements,
+    pub mode: i32,
+    memo: RefCell<VariableMemo>,
+}
+
+impl<'a> StateEnv<'a> {
+    /// An environment on `state` and `velocities` (one `(v, ω)` per part), mode 0.
+    pub fn new(
+        frames: &'a MarkerFrames,
+        state: &'a State,
+        velocities: &'a Velocities,
+        data: &'a DataElements,
+    ) -> StateEnv<'a> {
+        StateEnv {
+            frames,
+            state,
+            velocities,
+            data,
+            mode: 0,
+            memo: RefCell::new(VariableMemo::default()),
+        }
+    }
+
+    /// Sets the value of `MODE`.
+    pub fn with_mode(mut self, mode: i32) -> Self {
+        self.mode = mode;
+        self
+    }
+
+    fn kinematics(&self) -> Kinematics<'a> {
+        Kinematics {
+            state: self.state,
+            velocities: self.velocities,
+        }
+    }
+
+    /// A velocity measure, generic over values / values with gradients.
+    fn velocity_measure<R: Real>(
+        &self,
+        kind: MeasureKind,
+        m: MarkerArgs,
+    ) -> Result<Option<R>, EvalError> {
+        let kin = self.kinematics();
+        let (fi, fj) = (self.frames.get(m.i)?, self.frames.get(m.j)?);
+        let along_k = |v: &V3<R>, axis: usize| -> Result<R, EvalError> {
+            let fk = self.frames.get(m.k)?;
+            Ok(v.dot(&kin.dir::<R>(&fk.axis(axis))))
+        };
+        let length = |v: &V3<R>| {
+            let n2 = v.dot(v);
+            if n2.value() > 0.0 {
+                n2.sqrt()
+            } else {
+                R::cst(0.0)
+            }
+        };
+        Ok(Some(match kind {
+            MeasureKind::Vx
+            | MeasureKind::Vy
+            | MeasureKind::Vz
+            | MeasureKind::Vm
+            | MeasureKind::Vr => {
+                let (oi, oj) = (fi.origin(), fj.origin());
+                let d = kin.point::<R>(&oi).sub(&kin.point::<R>(&oj));
+                let v = kin
+                    .point_velocity::<R>(&oi)
+                    .sub(&kin.point_velocity::<R>(&oj));
+                if kind == MeasureKind::Vr {
+                    let dist = length(&d);
+                    if dist.value() == 0.0 {
+                        return Ok(Some(R::cst(0.0)));
+                    }
+                    return Ok(Some(v.dot(&d).div(&dist)));
+                }
+                let fl = self.frames.get(m.l)?;
+                let v = v.sub(&kin.omega::<R>(fl.body).cross(&d));
+                match kind {
+                    MeasureKind::Vx => along_k(&v, 0)?,
+                    MeasureKind::Vy => along_k(&v, 1)?,
+                    MeasureKind::Vz => along_k(&v, 2)?,
+                    _ => length(&v),
+                }
+            }
+            MeasureKind::Wx | MeasureKind::Wy | MeasureKind::Wz | MeasureKind::Wm => {
+                let w = kin.omega::<R>(fi.body).sub(&kin.omega::<R>(fj.body));
+                match kind {
+                    MeasureKind::Wx => along_k(&w, 0)?,
+                    MeasureKind::Wy => along_k(&w, 1)?,
+                    MeasureKind::Wz => along_k(&w, 2)?,
+                    _ => length(&w),
+                }
+            }
+            _ => return Ok(None),
+        }))
+    }
+
+    /// `VARVAL(id)`: the VARIABLE's expression, evaluated once per environment.
+    fn varval(&self, id: u32, gradient: bool) -> Result<Dual, EvalError> {
+        {
+            let memo = self.memo.borrow();
+            if let Some(d) = memo
+                .values
+                .get(&(id, gradient))
+                .or_else(|| memo.values.get(&(id, true)))
+            {
+                return Ok(if gradient {
+                    d.clone()
+                } else {
+                    Dual::constant(d.value())
+                });
+            }
+            if let Some(start) = memo.active.iter().position(|a| *a == id) {
+                let cycle: Vec<String> = memo.active[start..]
+                    .iter()
+                    .chain([&id])
+                    .map(|v| v.to_string())
+                    .collect();
+                return Err(EvalError::invalid_argument(format!(
+                    "VARVAL cycle: VARIABLE {} refer to each other",
+                    cycle.join(" → ")
+                )));
+            }
+        }
+        let Some(var) = self.data.variables.get(&id) else {
+            return Err(EvalError::unknown_reference(format!(
+                "VARIABLE/{id} does not exist"
+            )));
+        };
+        let Some(expr) = &var.expr else {
+            return Err(EvalError::new(
+                EvalErrorKind::UserSubroutine,
+                format!(
+                    "VARIABLE/{id} ({}) calls a USER subroutine, which cannot be run",
+                    var.name
+                ),
+            ));
+        };
+        self.memo.borrow_mut().active.push(id);
+        let result = if gradient {
+            evaluate_with_gradient(expr, self)
+        } else {
+            evaluate(expr, self).map(Dual::constant)
+        };
+        self.memo.borrow_mut().active.pop();
+        let d = result.map_err(|e| {
+            if e.message.starts_with("VARVAL cycle") || e.message.starts_with("in VARIABLE/") {
+                e
+            } else {
+                EvalError::new(
+                    e.kind,
+                    format!("in VARIABLE/{id} ({}): {}", var.name, e.message),
+                )
+            }
+        })?;
+        self.memo
+            .borrow_mut()
+            .values
+            .insert((id, gradient), d.clone());
+        Ok(d)
+    }
+
+    /// `ARYVAL(id, index)`, index 1-based.
+    fn aryval(&self, id: u32, index: u32, gradient: bool) -> Result<Dual, EvalError> {
+        let Some(array) = self.data.arrays.get(&id) else {
+            return Err(EvalError::unknown_reference(format!(
+                "ARRAY/{id} does not exist"
+            )));
+        };
+        let out_of_range = |len: usize| {
+            EvalError::invalid_argument(format!(
+                "ARYVAL({id}, {index}): ARRAY/{id} has {len} values"
+            ))
+        };
+        let k = index as usize - 1;
+        match array {
+            ArrayData::Numbers(v) => v
+                .get(k)
+                .map(|x| Dual::constant(*x))
+                .ok_or_else(|| out_of_range(v.len())),
+            ArrayData::Variables(v) => match v.get(k) {
+                Some(var) => self.varval(*var, gradient),
+                None => Err(out_of_range(v.len())),
+            },
+            ArrayData::States => Err(EvalError::unavailable(format!(
+                "ARRAY/{id} holds states of an LSE/GSE/TFSISO, which linkage does not model"
+            ))),
+        }
+    }
+}
+
+impl Env for StateEnv<'_> {
+    fn time(&self) -> f64 {
+        self.state.time
+    }
+
+    fn mode(&self) -> i32 {
+        self.mode
+    }
+
+    fn measure(
+        &self,
+        kind: MeasureKind,
+        markers: MarkerArgs,
+        gradient: bool,
+    ) -> Result<Dual, EvalError> {
+        use MeasureKind::*;
+        match kind {
+            Dx | Dy | Dz | Dm | Ax | Ay | Az | Psi | Theta | Phi | Yaw | Pitch | Roll => {
+                PositionEnv {
+                    frames: self.frames,
+                    state: self.state,
+                }
+                .measure(kind, markers, gradient)
+            }
+            _ => {
+                let value = if gradient {
+                    self.velocity_measure::<Dual>(kind, markers)?
+                } else {
+                    self.velocity_measure::<f64>(kind, markers)?
+                        .map(Dual::constant)
+                };
+                value.ok_or_else(|| {
+                    EvalError::unavailable(format!(
+                        "{} is not available: linkage evaluates force expressions on positions \
+                         and velocities only (no accelerations or forces)",
+                        kind.name()
+                    ))
+                })
+            }
+        }
+    }
+
+    fn state(&self, state: StateRef, gradient: bool) -> Result<Dual, EvalError> {
+        match state {
+            StateRef::Varval(id) => self.varval(id, gradient),
+            StateRef::Aryval { id, index } => self.aryval(id, index, gradient),
+            StateRef::Dif(id) | StateRef::Dif1(id) => Err(EvalError::unavailable(format!(
+                "DIF/DIF1({id}): DIFF states are not modelled by linkage"
+            ))),
+        }
+    }
+
+    fn spline(&self, id: u32) -> Option<&SplineData> {
+        self.data.splines.get(&id)
     }
 }

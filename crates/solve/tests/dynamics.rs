@@ -117,3 +117,182 @@ fn conservative_double_pendulum_keeps_its_energy() {
     assert!(drift < 1e-3 * scale, "energy drift {drift} (scale {scale})");
     assert_eq!(sim.outputs.len(), 1001);
 }
+
+#[test]
+fn damping_makes_the_energy_decrease_monotonically() {
+    use linkage_solve::dynamics::{simulate as integrate, ExtraDamping, Problem};
+    let text = mechanism_text("pendulum_offset.adm");
+    let ds = linkage_adm::parse_dataset(Arc::from("p.adm"), &text).unwrap();
+    let m = linkage_model::build_model(&ds).unwrap().model;
+    let d = ExpressionDrivers::new(&m).unwrap();
+    let ic = linkage_solve::ic::initial_conditions(&m, &d, &NoForces, &Tolerances::default());
+    let sys = linkage_solve::system::System::new(&m);
+    let rows = linkage_solve::ic::admitted_rows(&ic.analysis);
+    let p = Problem {
+        model: &m,
+        sys: &sys,
+        rows: &rows,
+        redundant: &[],
+        drivers: &d,
+        forces: &NoForces,
+        damping: Some(ExtraDamping(0.5)),
+        frozen_time: None,
+    };
+    let times: Vec<f64> = (0..=200).map(|k| k as f64 * 0.025).collect();
+    let v0 = vec![(glam::DVec3::ZERO, glam::DVec3::ZERO)];
+    let sim = integrate(
+        &p,
+        &ic.assembly.state,
+        &v0,
+        &times,
+        &IntegratorSettings {
+            error: 1e-6,
+            ..Default::default()
+        },
+        |_| {},
+    );
+    assert!(sim.failure.is_none(), "{:?}", sim.failure);
+    let part = &m.parts[0];
+    let energy: Vec<f64> = sim
+        .outputs
+        .iter()
+        .map(|o| {
+            let (v, w) = o.velocities[0];
+            let ig = o.state.poses[0].r * part.inertia * o.state.poses[0].r.transpose();
+            0.5 * part.mass * v.length_squared() + 0.5 * w.dot(ig * w)
+                - part.mass * m.gravity.dot(o.state.poses[0].p)
+        })
+        .collect();
+    for pair in energy.windows(2) {
+        assert!(
+            pair[1] <= pair[0] + 1e-9,
+            "energy rose: {} → {}",
+            pair[0],
+            pair[1]
+        );
+    }
+    assert!(energy[0] - energy[energy.len() - 1] > 0.5, "{energy:?}");
+}
+
+#[test]
+fn settling_finds_the_newton_equilibrium_and_says_why_it_stopped() {
+    let text = mechanism_text("pendulum_offset.adm").replace(
+        "END",
+        "EQUILIBRIUM/, DYNAMIC, GLOBAL_DAMPING = 4, SETTLING_TIME = 20\nEND",
+    );
+    let ds = linkage_adm::parse_dataset(Arc::from("settle.adm"), &text).unwrap();
+    let m = linkage_model::build_model(&ds).unwrap().model;
+    assert!(m.equilibrium.dynamic);
+    let d = ExpressionDrivers::new(&m).unwrap();
+    let s =
+        linkage_solve::settle::settle(&m, &d, &NoForces, &Tolerances::default(), &m.equilibrium);
+    assert!(
+        matches!(
+            s.stop,
+            Some(linkage_solve::settle::SettleStop::Settled { .. })
+        ),
+        "{:?}",
+        s.stop
+    );
+    let eq = s.equilibrium.unwrap().unwrap();
+    assert!(eq.converged);
+    let newton = linkage_solve::statics::run(&m, &d, &NoForces, &Tolerances::default(), &[0.0]);
+    let n_eq = newton.steps[0].1.as_ref().unwrap();
+    assert!((eq.state.poses[0].p - n_eq.state.poses[0].p).length() < 1e-6);
+    assert!((eq.state.poses[0].p - glam::DVec3::new(0.3, 0.7, 0.0)).length() < 1e-6);
+    // Without damping (and a short settling time) it does not settle, and says so.
+    let text = mechanism_text("pendulum_offset.adm")
+        .replace("END", "EQUILIBRIUM/, DYNAMIC, SETTLING_TIME = 2\nEND");
+    let ds = linkage_adm::parse_dataset(Arc::from("nosettle.adm"), &text).unwrap();
+    let m = linkage_model::build_model(&ds).unwrap().model;
+    let s =
+        linkage_solve::settle::settle(&m, &d, &NoForces, &Tolerances::default(), &m.equilibrium);
+    assert!(
+        matches!(
+            s.stop,
+            Some(linkage_solve::settle::SettleStop::SettlingTime { .. })
+        ),
+        "{:?}",
+        s.stop
+    );
+}
+
+#[test]
+fn swinging_door_carries_reactions_on_the_kept_rows_only() {
+    // The door (hinge axis global y) given an initial spin about y: it swings freely.
+    let text =
+        mechanism_text("door_two_hinges.adm").replacen("PART/2\n", "PART/2\n, WY = 1.0\n", 1);
+    let (m, r) = simulate("door.adm", &text, 1.0, 20, 1e-6);
+    let sim = r.simulation.as_ref().unwrap();
+    assert!(sim.failure.is_none(), "{:?}", sim.failure);
+    let top = m
+        .constraints
+        .iter()
+        .position(|c| c.origin.name == "hinge_top")
+        .unwrap();
+    let bottom = m
+        .constraints
+        .iter()
+        .position(|c| c.origin.name == "hinge_bottom")
+        .unwrap();
+    let weight = 20.0 * G;
+    for o in &sim.outputs {
+        let ft = o.reactions.iter().find(|x| x.element == top).unwrap().force;
+        let fb = o
+            .reactions
+            .iter()
+            .find(|x| x.element == bottom)
+            .unwrap()
+            .force;
+        // hinge_top's Yg row is removed: it carries no force along the hinge axis.
+        assert!(ft.y.abs() < 1e-9 * weight, "t = {}: {ft:?}", o.time);
+        assert!(
+            (fb.y + ft.y - weight).abs() < 1e-6 * weight,
+            "t = {}",
+            o.time
+        );
+    }
+    // It swings at constant angular velocity (no torque about the hinge axis); HHT's numerical
+    // dissipation (α = −0.3) costs a few 1e-5 over the second at ERROR 1e-6.
+    assert!((sim.outputs[0].velocities[0].1.y - 1.0).abs() < 1e-8);
+    let w_end = sim.outputs.last().unwrap().velocities[0].1;
+    assert!((w_end.y - 1.0).abs() < 1e-4, "{w_end:?}");
+}
+
+/// Two pulleys on revolutes to ground, the first driven; coupled twice.
+fn coupled_pulleys(second_ratio: &str) -> String {
+    format!(
+        "pulleys\nUNITS/, FORCE = NEWTON, MASS = KILOGRAM, LENGTH = METER, TIME = SECOND\nPART/1, GROUND\nMARKER/1, PART = 1\nMARKER/2, PART = 1, QP = 1, 0, 0\n\
+PART/2, MASS = 1, CM = 20, IP = 0.1, 0.1, 0.1\nMARKER/20, PART = 2\nPART/3, MASS = 1, CM = 30, IP = 0.1, 0.1, 0.1\nMARKER/30, PART = 3, QP = 1, 0, 0\n\
+JOINT/1, REVOLUTE, I = 20, J = 1\nJOINT/2, REVOLUTE, I = 30, J = 2\nCOUPLER/1, JOINTS = 1, 2, TYPE = R:R, SCALES = 1, -2\nCOUPLER/2, JOINTS = 1, 2, TYPE = R:R, SCALES = {second_ratio}\n\
+MOTION/1, JOINT = 1, ROTATION, FUNCTION = 90D * TIME\nEND\n"
+    )
+}
+
+#[test]
+fn consistent_duplicate_coupler_runs_and_a_drifting_one_stops_the_run() {
+    // The same ratio written twice: the second coupler is redundant and stays consistent.
+    let (m, r) = simulate("same.adm", &coupled_pulleys("2, -4"), 1.0, 10, 1e-6);
+    assert_eq!(r.ic.analysis.redundant.len(), 1);
+    let sim = r.simulation.as_ref().unwrap();
+    assert!(sim.failure.is_none(), "{:?}", sim.failure);
+    let last = sim.outputs.last().unwrap();
+    assert!(
+        (last.velocities[1].1.z - 0.5 * 90f64.to_radians()).abs() < 1e-6,
+        "{:?}",
+        last.velocities[1]
+    );
+    let _ = m;
+    // A slightly different ratio: consistent at the start (all angles zero), inconsistent as
+    // soon as the pulleys turn: the run stops, naming the equation, the time and the value.
+    let (m, r) = simulate("drift.adm", &coupled_pulleys("1, -2.01"), 1.0, 10, 1e-6);
+    let sim = r.simulation.as_ref().unwrap();
+    let f = sim.failure.as_ref().expect("the run must stop");
+    assert!(f.time > 0.0 && f.time < 0.5, "{f:?}");
+    assert!(f.message.contains("became inconsistent"), "{f:?}");
+    let named = m
+        .constraints
+        .iter()
+        .any(|c| f.message.contains(&c.origin.name));
+    assert!(named, "{f:?}");
+}

@@ -216,7 +216,10 @@ impl<R: Real> V3<R> {
     }
 
     pub fn dot(&self, o: &Self) -> R {
-        self.x.mul(&o.x).add(&self.y.mul(&o.y)).add(&self.z.mul(&o.z))
+        self.x
+            .mul(&o.x)
+            .add(&self.y.mul(&o.y))
+            .add(&self.z.mul(&o.z))
     }
 
     pub fn cross(&self, o: &Self) -> Self {
@@ -290,7 +293,10 @@ impl Kinematics<'_> {
                 if !R::GRADIENT {
                     return V3::constant(e);
                 }
-                V3::lift(e, &[0, 1, 2].map(|c| (var(6 * k + 3 + c), unit(c).cross(e))))
+                V3::lift(
+                    e,
+                    &[0, 1, 2].map(|c| (var(6 * k + 3 + c), unit(c).cross(e))),
+                )
             }
         }
     }
@@ -388,7 +394,8 @@ mod tests {
         for c in 0..3 {
             let dth = w.cross(unit(c).cross(u));
             let dw = unit(c).cross(u);
-            let got = |i: u32| DVec3::new(vp.x.derivative(i), vp.y.derivative(i), vp.z.derivative(i));
+            let got =
+                |i: u32| DVec3::new(vp.x.derivative(i), vp.y.derivative(i), vp.z.derivative(i));
             assert!((got(3 + c as u32) - dth).length() < 1e-15);
             assert!((got(9 + c as u32) - dw).length() < 1e-15);
             assert!((got(6 + c as u32) - unit(c)).length() < 1e-15);
