@@ -6,6 +6,7 @@
 mod common;
 mod ic_cmd;
 mod linear_cmd;
+mod simulate_cmd;
 mod static_cmd;
 mod verify_cmd;
 
@@ -84,6 +85,29 @@ enum Command {
         #[arg(long)]
         no_vectors: bool,
     },
+    /// Dynamic simulation to --end with output every --dtout or in --steps intervals.
+    Simulate {
+        /// The dataset (.adm).
+        model: PathBuf,
+        /// Output format of the summary.
+        #[arg(long, value_enum, default_value = "text")]
+        format: Format,
+        /// End time.
+        #[arg(long)]
+        end: f64,
+        /// Number of output intervals.
+        #[arg(long, conflicts_with = "dtout")]
+        steps: Option<usize>,
+        /// Output interval.
+        #[arg(long)]
+        dtout: Option<f64>,
+        /// Write the time histories as CSV.
+        #[arg(long, value_name = "FILE.csv")]
+        out: Option<PathBuf>,
+        /// Find static equilibrium first and start from it.
+        #[arg(long)]
+        start_at_equilibrium: bool,
+    },
 }
 
 fn main() -> ExitCode {
@@ -109,6 +133,23 @@ fn main() -> ExitCode {
             static_first,
             damping: !no_damping,
             vectors: !no_vectors,
+        }),
+        Command::Simulate {
+            model,
+            format,
+            end,
+            steps,
+            dtout,
+            out,
+            start_at_equilibrium,
+        } => simulate_cmd::run_simulate(&simulate_cmd::SimulateArgs {
+            model: &model,
+            format,
+            end,
+            steps,
+            dtout,
+            out: out.as_deref(),
+            start_at_equilibrium,
         }),
         Command::Static {
             model,

@@ -5,5 +5,6 @@
 
 pub mod ic;
 pub mod linear;
+pub mod simulate;
 pub mod statics;
 pub mod verify;

@@ -1,0 +1,127 @@
+//! `linkage simulate`: dynamic simulation with output at requested times.
+
+use crate::common::{applied_forces, input_error, load, print_json, Format};
+use linkage_model::settings::integrator_statement;
+use linkage_solve::dynamics::{run, IntegratorSettings};
+use linkage_solve::tolerances::Tolerances;
+use std::io::IsTerminal;
+use std::path::Path;
+use std::process::ExitCode;
+
+/// Options of `linkage simulate`.
+pub struct SimulateArgs<'a> {
+    pub model: &'a Path,
+    pub format: Format,
+    pub end: f64,
+    pub steps: Option<usize>,
+    pub dtout: Option<f64>,
+    pub out: Option<&'a Path>,
+    pub start_at_equilibrium: bool,
+}
+
+/// The output times: `steps` intervals, or every `dtout`, from 0 to `end`.
+fn output_times(end: f64, steps: Option<usize>, dtout: Option<f64>) -> Vec<f64> {
+    match (steps, dtout) {
+        (_, Some(dt)) if dt > 0.0 => {
+            let n = (end / dt - 1e-9).ceil().max(1.0) as usize;
+            (0..=n).map(|k| (k as f64 * dt).min(end)).collect()
+        }
+        (Some(n), _) => linkage_solve::statics::output_times(end, n),
+        _ => linkage_solve::statics::output_times(end, 100),
+    }
+}
+
+pub fn run_simulate(args: &SimulateArgs) -> ExitCode {
+    let loaded = match load(args.model) {
+        Ok(l) => l,
+        Err(d) => return input_error(&d, args.format),
+    };
+    let forces = match applied_forces(&loaded) {
+        Ok(f) => f,
+        Err(d) => return input_error(&d, args.format),
+    };
+    if !(args.end > 0.0 && args.end.is_finite()) {
+        eprintln!("error: --end must be a positive time");
+        return ExitCode::from(2);
+    }
+    let times = output_times(args.end, args.steps, args.dtout);
+    // INTEGRATOR settings: every Adams integrator name is accepted and mapped to HHT.
+    let stmt = integrator_statement(&loaded.dataset);
+    let mut notes = Vec::new();
+    if let Some(name) = &stmt.name {
+        if name != "HHT" {
+            notes.push(format!(
+                "INTEGRATOR {name} is mapped to linkage's HHT-I3 integrator (α = {})",
+                stmt.alpha.unwrap_or(-0.3)
+            ));
+        }
+    }
+    if !stmt.ignored.is_empty() {
+        notes.push(format!(
+            "INTEGRATOR arguments without effect in linkage: {}",
+            stmt.ignored.join(", ")
+        ));
+    }
+    let settings = IntegratorSettings {
+        error: stmt.error.unwrap_or(1e-3),
+        hmax: stmt.hmax,
+        hinit: stmt.hinit,
+        hmin: stmt.hmin.unwrap_or(1e-10),
+        alpha: stmt.alpha.unwrap_or(-0.3),
+        maxit: stmt.maxit.unwrap_or(10).max(4),
+    };
+    let bar = if std::io::stderr().is_terminal() {
+        let b = indicatif::ProgressBar::new(1000);
+        if let Ok(style) =
+            indicatif::ProgressStyle::with_template("{bar:40} {percent:>3}% t = {msg} {elapsed}")
+        {
+            b.set_style(style);
+        }
+        Some(b)
+    } else {
+        None
+    };
+    let end = args.end;
+    let result = run(
+        &loaded.model,
+        &loaded.drivers,
+        forces.as_ref(),
+        &Tolerances::default(),
+        &times,
+        &settings,
+        args.start_at_equilibrium,
+        |t| {
+            if let Some(b) = &bar {
+                b.set_position(((t / end).clamp(0.0, 1.0) * 1000.0) as u64);
+                b.set_message(format!("{t:.4}"));
+            }
+        },
+    );
+    if let Some(b) = &bar {
+        b.finish_and_clear();
+    }
+    let mut report =
+        linkage_report::simulate::summary(&loaded.model, &result, notes, &loaded.warnings);
+    if let Some(out) = args.out {
+        let csv = linkage_report::simulate::to_csv(&loaded.model, &result, None);
+        if let Err(e) = linkage_adm::writer::write_atomically(out, &csv) {
+            report
+                .errors
+                .push(format!("cannot write {}: {e}", out.display()));
+        }
+    }
+    match args.format {
+        Format::Text => print!("{}", linkage_report::simulate::to_text(&report)),
+        Format::Json => {
+            print_json(&report);
+        }
+    }
+    for e in &report.errors {
+        eprintln!("error: {e}");
+    }
+    if report.errors.is_empty() {
+        ExitCode::SUCCESS
+    } else {
+        ExitCode::from(1)
+    }
+}
