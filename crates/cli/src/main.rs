@@ -66,6 +66,10 @@ enum Command {
         /// Write the (last) equilibrium configuration as a new dataset.
         #[arg(long, value_name = "OUT.adm")]
         save: Option<PathBuf>,
+        /// Find the equilibrium by damped dynamics (EQUILIBRIUM/DYNAMIC settings), then
+        /// polish it with Newton statics.
+        #[arg(long, conflicts_with = "end")]
+        settle: bool,
     },
     /// Linearize about the assembled configuration (or static equilibrium with --static-first):
     /// eigenvalues, natural frequencies, damping ratios and mode shapes.
@@ -157,11 +161,13 @@ fn main() -> ExitCode {
             end,
             steps,
             save,
+            settle,
         } => static_cmd::run_static(&static_cmd::StaticArgs {
             model: &model,
             format,
             series: end.zip(steps),
             save: save.as_deref(),
+            settle,
         }),
     }
 }

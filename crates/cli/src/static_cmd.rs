@@ -24,6 +24,8 @@ pub struct StaticArgs<'a> {
     /// `(end time, steps)` for a quasi-static series.
     pub series: Option<(f64, usize)>,
     pub save: Option<&'a Path>,
+    /// Find the equilibrium by damped dynamics (also when the dataset says EQUILIBRIUM/DYNAMIC).
+    pub settle: bool,
 }
 
 /// The model's applied force elements.
@@ -45,6 +47,46 @@ pub fn run_static(args: &StaticArgs) -> ExitCode {
         Ok(f) => f,
         Err(d) => return input_error(&d, json_errors),
     };
+    if args.settle || (loaded.model.equilibrium.dynamic && args.series.is_none()) {
+        let st = linkage_solve::settle::settle(
+            &loaded.model,
+            &loaded.drivers,
+            applied.as_ref(),
+            &Tolerances::default(),
+            &loaded.model.equilibrium,
+        );
+        let eq_state = st
+            .equilibrium
+            .as_ref()
+            .and_then(|e| e.as_ref().ok())
+            .filter(|e| e.converged)
+            .map(|e| e.state.clone());
+        let mut report =
+            linkage_report::statics::settling_json(&loaded.model, st, &loaded.warnings);
+        if let (Some(out), Some(state)) = (args.save, &eq_state) {
+            if report.converged {
+                if let Err(e) = save_configuration(&loaded.dataset, &loaded.model, state, out) {
+                    report
+                        .errors
+                        .push(format!("cannot write {}: {e}", out.display()));
+                }
+            }
+        }
+        match args.format {
+            StaticFormat::Json => {
+                print_json(&report);
+            }
+            _ => print!("{}", linkage_report::statics::to_text(&report)),
+        }
+        for e in &report.errors {
+            eprintln!("error: {e}");
+        }
+        return if report.converged && report.errors.is_empty() {
+            ExitCode::SUCCESS
+        } else {
+            ExitCode::from(1)
+        };
+    }
     let times = match args.series {
         Some((end, steps)) => output_times(end, steps),
         None => vec![0.0],

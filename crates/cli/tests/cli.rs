@@ -395,3 +395,76 @@ fn linear_json_gives_eigenvalues_and_modes_in_cycles_per_time() {
     ]);
     assert!(v["modes"][0].get("shape").is_none());
 }
+
+#[test]
+fn static_settle_reports_the_stopping_criterion() {
+    let text = std::fs::read_to_string(root().join("mechanisms/pendulum_offset.adm"))
+        .unwrap()
+        .replace(
+            "END",
+            "EQUILIBRIUM/, GLOBAL_DAMPING = 4, SETTLING_TIME = 20\nEND",
+        );
+    let f = std::env::temp_dir().join(format!("linkage-settle-{}.adm", std::process::id()));
+    std::fs::write(&f, text).unwrap();
+    let (code, v) = json(&[
+        "static",
+        f.to_str().unwrap(),
+        "--settle",
+        "--format",
+        "json",
+    ]);
+    assert_eq!(code, 0, "{v}");
+    assert_eq!(v["settling"]["criterion"], "settled");
+    assert!((v["parts"][0]["position"][1].as_f64().unwrap() - 0.7).abs() < 1e-6);
+}
+
+#[test]
+fn simulate_writes_the_documented_csv_columns() {
+    let src = root().join("mechanisms/pendulum_offset.adm");
+    let out = std::env::temp_dir().join(format!("linkage-sim-{}.csv", std::process::id()));
+    let (code, v) = json(&[
+        "simulate",
+        src.to_str().unwrap(),
+        "--end",
+        "0.5",
+        "--dtout",
+        "0.05",
+        "--out",
+        out.to_str().unwrap(),
+        "--format",
+        "json",
+    ]);
+    assert_eq!(code, 0, "{v}");
+    assert_eq!(v["completed"], true);
+    assert_eq!(v["outputs"], 11);
+    let csv = std::fs::read_to_string(&out).unwrap();
+    let lines: Vec<&str> = csv.lines().collect();
+    assert_eq!(lines.len(), 12);
+    let header: Vec<&str> = lines[0].split(',').collect();
+    let want = [
+        "time",
+        "rod.x",
+        "rod.y",
+        "rod.z",
+        "rod.psi",
+        "rod.theta",
+        "rod.phi",
+        "rod.vx",
+        "rod.vy",
+        "rod.vz",
+        "rod.wx",
+        "rod.wy",
+        "rod.wz",
+        "hinge.fx",
+        "hinge.fy",
+        "hinge.fz",
+        "hinge.tx",
+        "hinge.ty",
+        "hinge.tz",
+    ];
+    assert_eq!(&header[..want.len()], &want);
+    let last: Vec<f64> = lines[11].split(',').map(|x| x.parse().unwrap()).collect();
+    assert!((last[0] - 0.5).abs() < 1e-12);
+    // The rod stays on its circle about the pivot (0.3, 1.2) at radius 0.5.
+    assert!(((last[1] - 0.3).hypot(last[2] - 1.2) - 0.5).abs() < 1e-8);
+}

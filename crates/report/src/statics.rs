@@ -56,8 +56,23 @@ pub struct StaticJson {
     pub parts: Vec<PartPoseJson>,
     pub reactions: Vec<ReactionJson>,
     pub steps: Vec<StepJson>,
+    /// When found by damped dynamics: what stopped the settling.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub settling: Option<SettlingJson>,
     pub warnings: Vec<String>,
     pub errors: Vec<String>,
+}
+
+/// How dynamic settling ended.
+#[derive(Clone, Debug, Serialize, PartialEq)]
+pub struct SettlingJson {
+    /// `settled` (kinetic energy and acceleration below their limits), `settling_time` (ran out:
+    /// not settled) or `failed`.
+    pub criterion: &'static str,
+    pub settling_time_used: f64,
+    pub kinetic_energy: Option<f64>,
+    pub acceleration: Option<f64>,
+    pub message: Option<String>,
 }
 
 fn a3(v: glam::DVec3) -> [f64; 3] {
@@ -208,6 +223,7 @@ pub fn to_json(model: &Model, run: &StaticRun, warnings: &[Diagnostic]) -> Stati
         parts: first.map(|s| s.parts.clone()).unwrap_or_default(),
         reactions: first.map(|s| s.reactions.clone()).unwrap_or_default(),
         steps: if steps.len() > 1 { steps } else { Vec::new() },
+        settling: None,
         warnings,
         errors,
     }
@@ -348,6 +364,21 @@ pub fn to_text(j: &StaticJson) -> String {
             );
         }
     }
+    if let Some(st) = &j.settling {
+        let why = match st.criterion {
+            "settled" => "kinetic energy and acceleration fell below their limits".to_string(),
+            "settling_time" => "SETTLING_TIME ran out: the model did NOT settle".to_string(),
+            _ => format!(
+                "the settling failed: {}",
+                st.message.clone().unwrap_or_default()
+            ),
+        };
+        let _ = writeln!(
+            s,
+            "Dynamic settling ({:.6} time units): {why}; then polished with Newton statics.",
+            st.settling_time_used
+        );
+    }
     for w in &j.warnings {
         let _ = writeln!(s, "warning: {w}");
     }
@@ -355,4 +386,66 @@ pub fn to_text(j: &StaticJson) -> String {
         let _ = writeln!(s, "error: {e}");
     }
     s
+}
+
+/// The report of a dynamic settling (`linkage static --settle`).
+pub fn settling_json(
+    model: &Model,
+    st: linkage_solve::settle::Settling,
+    warnings: &[Diagnostic],
+) -> StaticJson {
+    use linkage_solve::settle::SettleStop;
+    let settling = match &st.stop {
+        Some(SettleStop::Settled {
+            kinetic_energy,
+            acceleration,
+        }) => SettlingJson {
+            criterion: "settled",
+            settling_time_used: st.time_used,
+            kinetic_energy: Some(*kinetic_energy),
+            acceleration: Some(*acceleration),
+            message: None,
+        },
+        Some(SettleStop::SettlingTime {
+            kinetic_energy,
+            acceleration,
+        }) => SettlingJson {
+            criterion: "settling_time",
+            settling_time_used: st.time_used,
+            kinetic_energy: Some(*kinetic_energy),
+            acceleration: Some(*acceleration),
+            message: None,
+        },
+        Some(SettleStop::Failed(m)) => SettlingJson {
+            criterion: "failed",
+            settling_time_used: st.time_used,
+            kinetic_energy: None,
+            acceleration: None,
+            message: Some(m.clone()),
+        },
+        None => SettlingJson {
+            criterion: "failed",
+            settling_time_used: 0.0,
+            kinetic_energy: None,
+            acceleration: None,
+            message: Some("the model could not be assembled".into()),
+        },
+    };
+    let run = StaticRun {
+        ic: st.ic,
+        steps: st.equilibrium.map(|e| vec![(0.0, e)]).unwrap_or_default(),
+    };
+    let mut j = to_json(model, &run, warnings);
+    if settling.criterion != "settled" {
+        j.converged = false;
+        j.errors.push(match settling.criterion {
+            "settling_time" => "the model did not settle within SETTLING_TIME".to_string(),
+            _ => format!(
+                "dynamic settling failed: {}",
+                settling.message.clone().unwrap_or_default()
+            ),
+        });
+    }
+    j.settling = Some(settling);
+    j
 }
