@@ -13,6 +13,7 @@
 //! [`Diagnostic`] carrying the file, line and column it comes from.
 
 pub mod diagnostic;
+pub mod edit;
 pub mod statement;
 pub mod typed;
 pub mod writer;

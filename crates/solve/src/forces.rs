@@ -44,7 +44,7 @@ use crate::measures::{MarkerFrames, StateEnv};
 use crate::rows::{BodyFrame, Velocities};
 use crate::state::State;
 use algebra::{Kinematics, Real, V3};
-use data::{ArrayData, DataElements};
+use data::{ArrayData, DataElements, VariableProblem};
 use linkage_adm::{Diagnostic, Diagnostics, Function, Located};
 use linkage_expr::{parse, Dual, Expr, Special, StateKind};
 use linkage_model::forces::{ForceKind, VectorKind};
@@ -133,6 +133,7 @@ pub struct ForceSet {
     elements: Vec<Element>,
     mode: i32,
     tiny_length: f64,
+    warnings: Vec<Diagnostic>,
 }
 
 /// The frame of marker `m` of the model.
@@ -226,10 +227,20 @@ fn data_refs(e: &Expr) -> Vec<DataRef> {
     out
 }
 
-/// Why a data element reachable from an expression cannot be evaluated, if it cannot.
-fn check_refs(data: &DataElements, e: &Expr) -> Option<String> {
+/// Why a data element an expression uses cannot be evaluated.
+enum RefProblem {
+    /// Reported at the expression that uses it.
+    Message(String),
+    /// A VARIABLE that does not parse: its own diagnostic, located in its expression.
+    Located(Diagnostic),
+}
+
+/// The VARIABLE ids `e` uses (directly or through other VARIABLEs and ARRAYs), or why one of
+/// the data elements it uses cannot be evaluated.
+fn reachable(data: &DataElements, e: &Expr) -> Result<Vec<u32>, RefProblem> {
     let mut todo = data_refs(e);
     let mut seen = Vec::new();
+    let mut variables = Vec::new();
     while let Some(r) = todo.pop() {
         if seen.contains(&r) {
             continue;
@@ -237,23 +248,37 @@ fn check_refs(data: &DataElements, e: &Expr) -> Option<String> {
         seen.push(r);
         match r {
             DataRef::Variable(id) => match data.variables.get(&id) {
-                None => return Some(format!("VARVAL({id}): VARIABLE/{id} does not exist")),
-                Some(v) => match &v.expr {
-                    None => {
-                        return Some(format!(
+                None => {
+                    return Err(RefProblem::Message(format!(
+                        "VARVAL({id}): VARIABLE/{id} does not exist"
+                    )))
+                }
+                Some(v) => {
+                    variables.push(id);
+                    match &v.expr {
+                        Err(VariableProblem::User) => {
+                            return Err(RefProblem::Message(format!(
                             "VARIABLE/{id} ({}) calls a USER subroutine, which linkage cannot run",
                             v.name
-                        ))
+                        )))
+                        }
+                        Err(VariableProblem::Syntax(d)) => {
+                            return Err(RefProblem::Located(d.clone()))
+                        }
+                        Ok(x) => todo.extend(data_refs(x)),
                     }
-                    Some(x) => todo.extend(data_refs(x)),
-                },
+                }
             },
             DataRef::Array(id) => match data.arrays.get(&id) {
-                None => return Some(format!("ARYVAL({id}, …): ARRAY/{id} does not exist")),
+                None => {
+                    return Err(RefProblem::Message(format!(
+                        "ARYVAL({id}, …): ARRAY/{id} does not exist"
+                    )))
+                }
                 Some(ArrayData::States) => {
-                    return Some(format!(
+                    return Err(RefProblem::Message(format!(
                         "ARRAY/{id} holds states of an LSE/GSE/TFSISO, which linkage does not model"
-                    ))
+                    )))
                 }
                 Some(ArrayData::Variables(v)) => {
                     todo.extend(v.iter().map(|&id| DataRef::Variable(id)))
@@ -262,15 +287,15 @@ fn check_refs(data: &DataElements, e: &Expr) -> Option<String> {
             },
             DataRef::Spline(id) => {
                 if let Some(why) = data.unsupported_splines.get(&id) {
-                    return Some(why.clone());
+                    return Err(RefProblem::Message(why.clone()));
                 }
                 if !data.splines.contains_key(&id) {
-                    return Some(format!("SPLINE/{id} does not exist"));
+                    return Err(RefProblem::Message(format!("SPLINE/{id} does not exist")));
                 }
             }
         }
     }
-    None
+    Ok(variables)
 }
 
 /// Collects parse results and diagnostics while the laws are built.
@@ -278,6 +303,8 @@ struct Builder<'m> {
     model: &'m Model,
     data: &'m DataElements,
     errors: Vec<Diagnostic>,
+    /// VARIABLE ids some force expression uses.
+    used: Vec<u32>,
 }
 
 impl Builder<'_> {
@@ -288,17 +315,25 @@ impl Builder<'_> {
                 self.errors.push(d);
                 None
             }
-            Ok(e) => {
-                if let Some(why) = check_refs(self.data, &e) {
+            Ok(e) => match reachable(self.data, &e) {
+                Ok(vars) => {
+                    self.used.extend(vars);
+                    Some(e)
+                }
+                Err(RefProblem::Message(why)) => {
                     self.errors.push(Diagnostic::error(
                         self.model.file.clone(),
                         Some(f.span),
                         format!("{}: {what}: {why}", label(origin)),
                     ));
-                    return None;
+                    None
                 }
-                Some(e)
-            }
+                Err(RefProblem::Located(d)) => {
+                    let message = format!("{} (used by {})", d.message, label(origin));
+                    self.errors.push(Diagnostic { message, ..d });
+                    None
+                }
+            },
         }
     }
 
@@ -390,6 +425,7 @@ impl ForceSet {
             model,
             data: &data,
             errors: Vec::new(),
+            used: Vec::new(),
         };
         let mut elements = Vec::with_capacity(model.forces.len());
         for f in &model.forces {
@@ -405,6 +441,19 @@ impl ForceSet {
             errors.sort_by_key(|d| d.span);
             return Err(Diagnostics(errors));
         }
+        // VARIABLEs no force uses may hold what linkage cannot parse (INCANG, SENVAL, …).
+        let mut warnings: Vec<Diagnostic> = Vec::new();
+        for (id, v) in &data.variables {
+            if let (Err(VariableProblem::Syntax(d)), false) = (&v.expr, b.used.contains(id)) {
+                let message = format!("{}; no force element uses it, so it is ignored", d.message);
+                warnings.push(Diagnostic {
+                    severity: linkage_adm::Severity::Warning,
+                    message,
+                    ..d.clone()
+                });
+            }
+        }
+        warnings.sort_by_key(|d| d.span);
         Ok(ForceSet {
             nparts: model.parts.len(),
             frames: MarkerFrames::new(model),
@@ -412,7 +461,13 @@ impl ForceSet {
             elements,
             mode: 0,
             tiny_length: COINCIDENT_POINTS * model.characteristic_length,
+            warnings,
         })
+    }
+
+    /// Findings that do not prevent evaluation (VARIABLEs no force uses that do not parse).
+    pub fn warnings(&self) -> &[Diagnostic] {
+        &self.warnings
     }
 
     /// The value `MODE` returns in expressions (default 0; Adams uses e.g. 5 for statics).
@@ -443,34 +498,41 @@ impl ForceSet {
     /// The loads of element `e` at `(s, v)`.
     pub fn loads<R: Real>(&self, e: usize, s: &State, v: &Velocities) -> Result<Loads<R>, String> {
         let env = self.env(s, v);
-        let cx = Context {
+        self.element_loads(e, &self.context(s, v, &env))
+    }
+
+    fn context<'a>(&self, s: &'a State, v: &'a Velocities, env: &'a StateEnv<'a>) -> Context<'a> {
+        Context {
             kin: Kinematics {
                 state: s,
                 velocities: v,
             },
-            env: &env,
+            env,
             tiny_length: self.tiny_length,
-        };
+        }
+    }
+
+    fn element_loads<R: Real>(&self, e: usize, cx: &Context) -> Result<Loads<R>, String> {
         let el = &self.elements[e];
         el.law
-            .loads::<R>(&cx)
-            .map_err(|m| format!("{}: {m} (time {})", el.label, s.time))
+            .loads::<R>(cx)
+            .map_err(|m| format!("{}: {m} (time {})", el.label, cx.kin.state.time))
     }
 
     /// Calls `sink(k, Q_k)` with each element's generalised force on each moving part k
-    /// (force at the CM, torque about the CM).
+    /// (force at the CM, torque about the CM). One expression environment serves every
+    /// element, so a VARIABLE is evaluated once per call.
     fn generalised<R: Real>(
         &self,
         s: &State,
         v: &Velocities,
         mut sink: impl FnMut(usize, [R; 6]),
     ) -> Result<(), String> {
-        let kin = Kinematics {
-            state: s,
-            velocities: v,
-        };
+        let env = self.env(s, v);
+        let cx = self.context(s, v, &env);
+        let kin = cx.kin;
         for e in 0..self.elements.len() {
-            for load in self.loads::<R>(e, s, v)?.into_iter().flatten() {
+            for load in self.element_loads::<R>(e, &cx)?.into_iter().flatten() {
                 let Body::Part(k) = load.body else {
                     continue;
                 };

@@ -8,7 +8,7 @@
 //! velocities, VARIABLE/ARRAY/SPLINE data and `MODE` (force expressions).
 
 use crate::forces::algebra::{Kinematics, Real, V3};
-use crate::forces::data::{ArrayData, DataElements};
+use crate::forces::data::{ArrayData, DataElements, VariableProblem};
 use crate::rows::{BodyDir, BodyFrame, BodyPoint, EulerSeq, Quantity, RowGradient, Velocities};
 use crate::state::State;
 use glam::{DMat3, DVec3};
@@ -352,14 +352,23 @@ impl<'a> StateEnv<'a> {
                 "VARIABLE/{id} does not exist"
             )));
         };
-        let Some(expr) = &var.expr else {
-            return Err(EvalError::new(
-                EvalErrorKind::UserSubroutine,
-                format!(
-                    "VARIABLE/{id} ({}) calls a USER subroutine, which cannot be run",
-                    var.name
-                ),
-            ));
+        let expr = match &var.expr {
+            Ok(e) => e,
+            Err(VariableProblem::User) => {
+                return Err(EvalError::new(
+                    EvalErrorKind::UserSubroutine,
+                    format!(
+                        "VARIABLE/{id} ({}) calls a USER subroutine, which cannot be run",
+                        var.name
+                    ),
+                ))
+            }
+            Err(VariableProblem::Syntax(d)) => {
+                return Err(EvalError::invalid_argument(format!(
+                    "VARIABLE/{id} cannot be evaluated: {}",
+                    d.message
+                )))
+            }
         };
         self.memo.borrow_mut().active.push(id);
         let result = if gradient {
@@ -397,7 +406,11 @@ impl<'a> StateEnv<'a> {
                 "ARYVAL({id}, {index}): ARRAY/{id} has {len} values"
             ))
         };
-        let k = index as usize - 1;
+        let Some(k) = (index as usize).checked_sub(1) else {
+            return Err(EvalError::invalid_argument(format!(
+                "ARYVAL({id}, 0): the index is 1-based"
+            )));
+        };
         match array {
             ArrayData::Numbers(v) => v
                 .get(k)

@@ -4,8 +4,10 @@
 //! `VARVAL(id)` evaluates the VARIABLE's expression in the same environment (see
 //! [`crate::measures::StateEnv`]); `ARYVAL(id, n)` is value n (1-based) of an ARRAY: a number
 //! of its `NUMBERS`, or `VARVAL` of the n-th of its `VARIABLES`; `AKISPL`/`CUBSPL` read the
-//! 1-D SPLINEs. VARIABLEs that call `USER(…)`, X/Y arrays (states of LSE/GSE/TFSISO) and 2-D
-//! or file splines are kept as "unavailable": referencing them is an error that names them.
+//! 1-D SPLINEs. VARIABLEs that call `USER(…)` or do not parse, X/Y arrays (states of
+//! LSE/GSE/TFSISO) and 2-D or file splines are kept as "unusable": referencing them from a
+//! force is an error that names them, while unused ones do not matter (models often carry
+//! output VARIABLEs with measures linkage does not know).
 
 use super::parse_function;
 use linkage_adm::Diagnostic;
@@ -14,11 +16,20 @@ use linkage_model::forces::{ArrayValues, SplineValues};
 use linkage_model::Model;
 use std::collections::HashMap;
 
-/// A VARIABLE: its display name and expression (`None` when it calls a user subroutine).
+/// Why a VARIABLE cannot be evaluated.
+#[derive(Clone, Debug)]
+pub enum VariableProblem {
+    /// Its FUNCTION calls a USER subroutine.
+    User,
+    /// Its FUNCTION does not parse (the diagnostic is located in the expression).
+    Syntax(Diagnostic),
+}
+
+/// A VARIABLE: its display name and parsed expression.
 #[derive(Clone, Debug)]
 pub struct VariableData {
     pub name: String,
-    pub expr: Option<Expr>,
+    pub expr: Result<Expr, VariableProblem>,
 }
 
 /// What `ARYVAL` reads.
@@ -47,9 +58,9 @@ fn id32(id: u64) -> Option<u32> {
 }
 
 impl DataElements {
-    /// Parses every VARIABLE expression and prepares arrays and splines. Syntax errors in a
-    /// VARIABLE and invalid 1-D spline data are returned as diagnostics (the element is then
-    /// left out).
+    /// Parses every VARIABLE expression and prepares arrays and splines. Invalid 1-D spline
+    /// data are returned as diagnostics (the spline is then left out); VARIABLE problems are
+    /// kept in [`VariableData::expr`].
     pub fn new(model: &Model) -> (DataElements, Vec<Diagnostic>) {
         let mut data = DataElements::default();
         let mut errors = Vec::new();
@@ -58,16 +69,15 @@ impl DataElements {
                 continue;
             };
             let expr = match &v.function {
-                Some(f) if !f.value.user => {
-                    match parse_function(&model.file, f, &v.origin, "FUNCTION") {
-                        Ok(e) => Some(e),
-                        Err(d) => {
-                            errors.push(d);
-                            continue;
+                Some(f) if !f.value.user => parse_function(&model.file, f, &v.origin, "FUNCTION")
+                    .map_err(|d| {
+                        if d.message.contains("USER subroutine") {
+                            VariableProblem::User
+                        } else {
+                            VariableProblem::Syntax(d)
                         }
-                    }
-                }
-                _ => None,
+                    }),
+                _ => Err(VariableProblem::User),
             };
             data.variables.insert(
                 id,
