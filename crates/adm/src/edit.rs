@@ -302,7 +302,11 @@ impl<'a> Plan<'a> {
             while matches!(rest.get(k), Some(b' ' | b'\t')) {
                 k += 1;
             }
-            let digits = rest.iter().skip(k).take_while(|b| b.is_ascii_digit()).count();
+            let digits = rest
+                .iter()
+                .skip(k)
+                .take_while(|b| b.is_ascii_digit())
+                .count();
             let id: u64 = std::str::from_utf8(rest.get(k..k + digits)?)
                 .ok()?
                 .parse()
@@ -547,9 +551,10 @@ fn check(ds: &Dataset, text: &str, edits: &[Edit]) -> Result<(), Diagnostics> {
                 statement,
                 id,
                 kind,
-            } => new.jprims.iter().any(|j| {
-                j.header.statement == *statement && j.header.id == *id && j.kind == *kind
-            }),
+            } => new
+                .jprims
+                .iter()
+                .any(|j| j.header.statement == *statement && j.header.id == *id && j.kind == *kind),
             Edit::SetMarker {
                 statement,
                 key,
@@ -580,9 +585,10 @@ fn check(ds: &Dataset, text: &str, edits: &[Edit]) -> Result<(), Diagnostics> {
                             .all(|(a, b)| (a - b).abs() <= 1e-12 * b.abs().max(1.0))
                     })
             }),
-            Edit::AddJprim { id, kind, i, j, .. } => new.jprims.iter().any(|p| {
-                p.header.id == *id && p.kind == *kind && p.i.id == *i && p.j.id == *j
-            }),
+            Edit::AddJprim { id, kind, i, j, .. } => new
+                .jprims
+                .iter()
+                .any(|p| p.header.id == *id && p.kind == *kind && p.i.id == *i && p.j.id == *j),
         };
         if !ok {
             errors.push(internal(format!(
@@ -638,10 +644,9 @@ impl Lines {
     /// Line `number` (1-based).
     fn line(&self, number: u32) -> Option<Line> {
         let k = usize::try_from(number).ok()?.checked_sub(1)?;
-        self.lines.get(k).map(|&(start, content_end, _)| Line {
-            start,
-            content_end,
-        })
+        self.lines
+            .get(k)
+            .map(|&(start, content_end, _)| Line { start, content_end })
     }
 
     fn first_ending<'t>(&self, text: &'t str) -> &'t str {
@@ -657,10 +662,7 @@ impl Lines {
         let line = self.line(span.line)?;
         let content = text.get(line.start..line.content_end)?;
         let col = usize::try_from(span.col).ok()?.checked_sub(1)?;
-        content
-            .char_indices()
-            .nth(col)
-            .map(|(k, _)| line.start + k)
+        content.char_indices().nth(col).map(|(k, _)| line.start + k)
     }
 
     /// Byte range of the word (letters, digits, `_`) starting at `span`.
@@ -788,7 +790,10 @@ after end is kept\r\n";
             }],
         )
         .unwrap_err();
-        assert!(err.to_string().contains("JPRIM id 1 is already used"), "{err}");
+        assert!(
+            err.to_string().contains("JPRIM id 1 is already used"),
+            "{err}"
+        );
         let text = TEXT.replace(", J = 1\r\n", ", J = 1\r\n, IC = 5D\r\n");
         let d = crate::parse_dataset(Arc::from("t.adm"), &text).unwrap();
         let s = stmt(&d, 7, "JOINT");

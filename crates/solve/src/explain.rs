@@ -1,0 +1,108 @@
+//! Explain and repair redundancy (`linkage verify --explain`).
+//!
+//! Four findings, all from the rank analysis of [`crate::verify`]:
+//!
+//! * **Which reactions are determinate** ([`reactions`]). With redundant equations the
+//!   multipliers λ solving `Jᵀλ = Q` are not unique: any vector of the left null space of the
+//!   Jacobian can be added. Each redundant row `r` with `r = Σ c_k a_k` (its `depends_on`, on
+//!   the scaled, row-normalised Jacobian) gives the null vector `e_r − Σ c_k e_k`, and these
+//!   vectors are a basis of the left null space, so no new factorisation is needed. A reaction
+//!   component (force along or torque about an axis of the joint's J marker, or the value of a
+//!   scalar equation) is determined iff every basis vector gives it zero.
+//! * **Singular pose vs structural redundancy** ([`generic`]). The configuration is moved by a
+//!   small random step (10⁻³ of the characteristic length and 10⁻³ rad per part), re-assembled
+//!   by least change onto the constraints (motions left free) and analysed again; the
+//!   largest rank found over three trials gives the generic DOF and redundancy. A different
+//!   rank at the input flags a singular configuration.
+//! * **Redundant drivers and initial conditions** ([`conflicts`]): motions, joint initial
+//!   conditions and EXACT part coordinates ranked after the constraints; a dependent one fixes
+//!   a DOF twice, and it conflicts when the linearised values disagree.
+//! * **Replacement advice** ([`repair`]): weaker joints or primitive sets at the same markers
+//!   for the joints involved in the redundancy, each checked by the rank analysis of the
+//!   changed model; see that module for the search and the ranking measure.
+
+pub mod conflicts;
+pub mod generic;
+pub mod reactions;
+pub mod repair;
+
+use crate::rows::RowGradient;
+use crate::state::State;
+use crate::tolerances::Tolerances;
+use crate::verify::{Drivers, Verification};
+use linkage_model::Model;
+
+pub use conflicts::{ConflictKind, DriverConflict};
+pub use generic::{GenericMobility, Mobility};
+pub use reactions::{Direction, ElementReactions};
+pub use repair::{Change, ElementType, NewElement, Proposal, Realized, Turn};
+
+/// Everything `--explain` finds.
+#[derive(Clone, Debug)]
+pub struct Explanation {
+    /// DOF and redundancy at the input and at nearby regular configurations.
+    pub mobility: GenericMobility,
+    /// Reactions of every constraint element at the analysed configuration.
+    pub reactions: Vec<ElementReactions>,
+    /// Proposed changes, best first (numbered from 1 in reports).
+    pub suggestions: Vec<Proposal>,
+    /// The proposals were checked at a regular configuration near the input (the input pose is
+    /// singular).
+    pub suggestions_at_regular_configuration: bool,
+    pub conflicts: Vec<DriverConflict>,
+}
+
+/// Explains the redundancy that `v` (the verification of `model` at its input configuration)
+/// found.
+pub fn explain(
+    model: &Model,
+    drivers: &dyn Drivers,
+    tol: &Tolerances,
+    v: &Verification,
+) -> Explanation {
+    let input = State::input(model);
+    let length = model.characteristic_length;
+    let null = reactions::null_basis(
+        v.redundant
+            .iter()
+            .map(|r| (r.row, r.depends_on.as_slice())),
+    );
+    let reactions = reactions::determinacy(&v.system, &input, length, &null);
+    let at_input = Mobility::new(v.moving_parts, v.rows, v.rank);
+    let mobility = generic::generic_mobility(model, &v.system, &v.topology, &input, tol, at_input);
+    let (state, regular) = match (&mobility.regular_state, mobility.singular) {
+        (Some(s), true) => (s.clone(), true),
+        _ => (input.clone(), false),
+    };
+    let suggestions = repair::propose(
+        model,
+        drivers,
+        tol,
+        v,
+        &state,
+        &repair::RepairSettings::default(),
+    );
+    let conflicts = conflicts::driver_conflicts(model, &v.system, &input, drivers, tol);
+    Explanation {
+        mobility,
+        reactions,
+        suggestions,
+        suggestions_at_regular_configuration: regular,
+        conflicts,
+    }
+}
+
+/// The row gradient scaled as in the rank analysis (translation columns × `length`) as
+/// `(6·part + coordinate, value)` entries, and its 2-norm (the row normalisation).
+pub(crate) fn scaled_entries(g: &RowGradient, length: f64, out: &mut Vec<(usize, f64)>) -> f64 {
+    out.clear();
+    for (body, v) in &g.blocks {
+        for (c, x) in v.iter().enumerate() {
+            let x = if c < 3 { x * length } else { *x };
+            if x != 0.0 {
+                out.push((6 * body + c, x));
+            }
+        }
+    }
+    out.iter().map(|(_, x)| x * x).sum::<f64>().sqrt()
+}
