@@ -64,9 +64,52 @@ pub fn print_json<T: serde::Serialize>(v: &T) -> bool {
     }
 }
 
-/// The applied force elements of a loaded model (none yet: gravity is applied by the analyses).
+/// Statements whose forces or states linkage does not model: an analysis that needs forces
+/// refuses a dataset holding one (its results would be silently wrong).
+const UNMODELLED: [&str; 13] = [
+    "CONTACT",
+    "FRICTION",
+    "NFORCE",
+    "MFORCE",
+    "GSE",
+    "LSE",
+    "TFSISO",
+    "DIFF",
+    "PTCV",
+    "CVCV",
+    "FE_LOAD",
+    "UCON",
+    "FLEX_BODY",
+];
+
+/// Input errors for elements linkage cannot evaluate in a force analysis.
+pub fn unmodelled_elements(loaded: &Loaded) -> Result<(), Diagnostics> {
+    let errors: Vec<Diagnostic> = loaded
+        .dataset
+        .statements
+        .iter()
+        .filter(|st| UNMODELLED.contains(&st.keyword.as_str()))
+        .map(|st| {
+            let name = st.view_name.clone().unwrap_or_else(|| format!("{}_{}", st.keyword, st.id.unwrap_or(0)));
+            Diagnostic::error(
+                loaded.dataset.file.clone(),
+                Some(st.span),
+                format!("{name}: linkage does not model {} elements; a force analysis of this model would be wrong", st.keyword),
+            )
+        })
+        .collect();
+    if errors.is_empty() {
+        Ok(())
+    } else {
+        Err(Diagnostics(errors))
+    }
+}
+
+/// The applied force elements of a loaded model (gravity is applied by the analyses).
 pub fn applied_forces(
-    _loaded: &Loaded,
+    loaded: &Loaded,
 ) -> Result<Box<dyn linkage_solve::applied::AppliedForces>, Diagnostics> {
-    Ok(Box::new(linkage_solve::applied::NoForces))
+    unmodelled_elements(loaded)?;
+    let forces = linkage_solve::forces::ForceSet::new(&loaded.model)?;
+    Ok(Box::new(forces))
 }

@@ -37,10 +37,10 @@ pub enum ForceKind {
     Sforce(Sforce),
     SpringDamper(SpringDamper),
     Bushing(Bushing),
-    Field(Field),
-    Beam(Beam),
+    Field(Box<Field>),
+    Beam(Box<Beam>),
     /// VFORCE, VTORQUE and GFORCE.
-    Vector(VectorForce),
+    Vector(Box<VectorForce>),
 }
 
 /// `SFORCE`: a scalar force along the line J→I (or a torque about z_j), given by an
@@ -102,7 +102,7 @@ pub enum BeamDamping {
     /// Damping matrix = ratio · stiffness matrix.
     Ratio(f64),
     /// Symmetric damping matrix `m[r][c]`.
-    Matrix([[f64; 6]; 6]),
+    Matrix(Box<[[f64; 6]; 6]>),
 }
 
 /// `BEAM` from J (start) to I (end) along J's x axis, section properties as given.
@@ -386,13 +386,10 @@ pub fn matrix_by_columns(v: &[f64; 36]) -> [[f64; 6]; 6] {
 /// (column 1 rows 1..6, column 2 rows 2..6, …).
 pub fn symmetric_by_columns(v: &[f64; 21]) -> [[f64; 6]; 6] {
     let mut m = [[0.0; 6]; 6];
-    let mut n = 0;
-    for c in 0..6 {
-        for r in c..6 {
-            m[r][c] = v[n];
-            m[c][r] = v[n];
-            n += 1;
-        }
+    let lower = (0..6).flat_map(|c| (c..6).map(move |r| (r, c)));
+    for ((r, c), x) in lower.zip(v) {
+        m[r][c] = *x;
+        m[c][r] = *x;
     }
     m
 }
@@ -533,7 +530,7 @@ fn two_marker_elements(ds: &Dataset, rs: &mut Resolver, forces: &mut Vec<ForceEl
         }
         forces.push(ForceElement {
             origin: origin("FIELD", h),
-            kind: ForceKind::Field(Field {
+            kind: ForceKind::Field(Box::new(Field {
                 i,
                 j,
                 stiffness,
@@ -541,7 +538,7 @@ fn two_marker_elements(ds: &Dataset, rs: &mut Resolver, forces: &mut Vec<ForceEl
                 length: f.length.as_ref().map_or([0.0; 6], |l| l.value),
                 force: f.force.as_ref().map_or([0.0; 6], |l| l.value),
                 user,
-            }),
+            })),
         });
     }
     let mut seen = HashMap::new();
@@ -565,7 +562,7 @@ fn two_marker_elements(ds: &Dataset, rs: &mut Resolver, forces: &mut Vec<ForceEl
         };
         let (asy, asz) = (ratio(rs, &b.asy, "ASY"), ratio(rs, &b.asz, "ASZ"));
         let damping = match &b.cmatrix {
-            Some(c) => BeamDamping::Matrix(symmetric_by_columns(&c.value)),
+            Some(c) => BeamDamping::Matrix(Box::new(symmetric_by_columns(&c.value))),
             None => BeamDamping::Ratio(ratio(rs, &b.cratio, "CRATIO")),
         };
         let (
@@ -577,7 +574,7 @@ fn two_marker_elements(ds: &Dataset, rs: &mut Resolver, forces: &mut Vec<ForceEl
         };
         forces.push(ForceElement {
             origin: origin("BEAM", h),
-            kind: ForceKind::Beam(Beam {
+            kind: ForceKind::Beam(Box::new(Beam {
                 i,
                 j,
                 length,
@@ -595,7 +592,7 @@ fn two_marker_elements(ds: &Dataset, rs: &mut Resolver, forces: &mut Vec<ForceEl
                     .as_ref()
                     .map_or_else(Default::default, |f| f.value),
                 formulation_span: b.formulation.as_ref().map(|f| f.span),
-            }),
+            })),
         });
     }
 }
@@ -728,7 +725,7 @@ fn vector_elements(ds: &Dataset, rs: &mut Resolver, forces: &mut Vec<ForceElemen
         }
         forces.push(ForceElement {
             origin: origin(s.statement, h),
-            kind: ForceKind::Vector(VectorForce {
+            kind: ForceKind::Vector(Box::new(VectorForce {
                 kind: s.kind,
                 i,
                 jfloat,
@@ -737,7 +734,7 @@ fn vector_elements(ds: &Dataset, rs: &mut Resolver, forces: &mut Vec<ForceElemen
                 force: s.force,
                 torque: s.torque,
                 user: s.function,
-            }),
+            })),
         });
     }
 }

@@ -22,6 +22,7 @@ pub struct ExpressionDrivers {
 /// `∫ₐᵇ f` by adaptive Simpson quadrature to a relative accuracy of about 1e-12 (motion
 /// functions are smooth functions of time); `None` when `f` cannot be evaluated.
 pub fn integrate(f: &dyn Fn(f64) -> Option<f64>, a: f64, b: f64) -> Option<f64> {
+    #[allow(clippy::too_many_arguments)]
     fn simpson(
         f: &dyn Fn(f64) -> Option<f64>,
         a: f64,

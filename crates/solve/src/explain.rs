@@ -62,11 +62,7 @@ pub fn explain(
 ) -> Explanation {
     let input = State::input(model);
     let length = model.characteristic_length;
-    let null = reactions::null_basis(
-        v.redundant
-            .iter()
-            .map(|r| (r.row, r.depends_on.as_slice())),
-    );
+    let null = reactions::null_basis(v.redundant.iter().map(|r| (r.row, r.depends_on.as_slice())));
     let reactions = reactions::determinacy(&v.system, &input, length, &null);
     let at_input = Mobility::new(v.moving_parts, v.rows, v.rank);
     let mobility = generic::generic_mobility(model, &v.system, &v.topology, &input, tol, at_input);

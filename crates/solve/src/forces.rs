@@ -101,9 +101,9 @@ pub struct Context<'a> {
 /// The law of one element.
 #[derive(Clone, Debug)]
 pub enum Law {
-    Scalar(scalar::ScalarLaw),
-    SixDof(six_dof::SixDofLaw),
-    Vector(vector::VectorLaw),
+    Scalar(Box<scalar::ScalarLaw>),
+    SixDof(Box<six_dof::SixDofLaw>),
+    Vector(Box<vector::VectorLaw>),
 }
 
 impl Law {
@@ -356,24 +356,37 @@ impl Builder<'_> {
         Some(match kind {
             ForceKind::Sforce(s) => {
                 let f = self.expr(&s.function, origin, "FUNCTION")?;
-                Law::Scalar(scalar::ScalarLaw::sforce(frame(s.i), frame(s.j), s, f))
+                Law::Scalar(Box::new(scalar::ScalarLaw::sforce(
+                    frame(s.i),
+                    frame(s.j),
+                    s,
+                    f,
+                )))
             }
-            ForceKind::SpringDamper(s) => {
-                Law::Scalar(scalar::ScalarLaw::springdamper(frame(s.i), frame(s.j), s))
-            }
-            ForceKind::Bushing(b) => {
-                Law::SixDof(six_dof::SixDofLaw::bushing(frame(b.i), frame(b.j), b))
-            }
+            ForceKind::SpringDamper(s) => Law::Scalar(Box::new(scalar::ScalarLaw::springdamper(
+                frame(s.i),
+                frame(s.j),
+                s,
+            ))),
+            ForceKind::Bushing(b) => Law::SixDof(Box::new(six_dof::SixDofLaw::bushing(
+                frame(b.i),
+                frame(b.j),
+                b,
+            ))),
             ForceKind::Field(f) => {
                 if let Some(u) = &f.user {
                     self.errors
                         .extend(parse_function(&model.file, u, origin, "FUNCTION").err());
                     return None;
                 }
-                Law::SixDof(six_dof::SixDofLaw::field(frame(f.i), frame(f.j), f))
+                Law::SixDof(Box::new(six_dof::SixDofLaw::field(
+                    frame(f.i),
+                    frame(f.j),
+                    f,
+                )))
             }
             ForceKind::Beam(b) => match beam::law(frame(b.i), frame(b.j), b) {
-                Ok(l) => Law::SixDof(l),
+                Ok(l) => Law::SixDof(Box::new(l)),
                 Err(why) => {
                     self.errors.push(Diagnostic::error(
                         model.file.clone(),
@@ -400,7 +413,7 @@ impl Builder<'_> {
                 }
                 let has_force = !matches!(v.kind, VectorKind::Vtorque);
                 let has_torque = !matches!(v.kind, VectorKind::Vforce);
-                Law::Vector(vector::VectorLaw {
+                Law::Vector(Box::new(vector::VectorLaw {
                     i: frame(v.i),
                     reaction: v.reaction,
                     rm: frame(v.rm),
@@ -410,7 +423,7 @@ impl Builder<'_> {
                     } else {
                         [None, None, None]
                     },
-                })
+                }))
             }
         })
     }

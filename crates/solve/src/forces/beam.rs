@@ -64,7 +64,7 @@ pub fn law(i: BodyFrame, j: BodyFrame, b: &Beam) -> Result<SixDofLaw, String> {
     let k = stiffness(b);
     let damping = match &b.damping {
         BeamDamping::Ratio(r) => k.map(|row| row.map(|x| x * r)),
-        BeamDamping::Matrix(m) => *m,
+        BeamDamping::Matrix(m) => **m,
     };
     Ok(SixDofLaw {
         i,

@@ -46,6 +46,19 @@ pub struct SixDofLaw {
     pub preload: [f64; 6],
 }
 
+/// Where I is relative to J, in J's axes (see the module docs).
+#[derive(Clone, Debug)]
+pub struct Coordinates<R> {
+    /// `q − q₀` (angle differences wrapped to (−π, π]).
+    pub deflection: [R; 6],
+    /// `q̇`.
+    pub rates: [R; 6],
+    /// x_j, y_j, z_j in ground.
+    pub axes: [V3<R>; 3],
+    /// I's origin in ground (the point of application).
+    pub p_i: V3<R>,
+}
+
 fn diagonal(t: [f64; 3], r: [f64; 3]) -> [[f64; 6]; 6] {
     let mut m = [[0.0; 6]; 6];
     for c in 0..3 {
@@ -81,11 +94,8 @@ impl SixDofLaw {
         }
     }
 
-    /// `(q − q₀, q̇)` and the J axes in ground.
-    pub fn coordinates<R: Real>(
-        &self,
-        cx: &Context,
-    ) -> Result<([R; 6], [R; 6], [V3<R>; 3], V3<R>), String> {
+    /// The coordinates `q − q₀`, their rates `q̇`, J's axes and I's origin.
+    pub fn coordinates<R: Real>(&self, cx: &Context) -> Result<Coordinates<R>, String> {
         let kin = &cx.kin;
         let (pi_b, pj_b) = (self.i.origin(), self.j.origin());
         let ej = [0, 1, 2].map(|k| kin.dir::<R>(&self.j.axis(k)));
@@ -115,11 +125,21 @@ impl SixDofLaw {
             w_rel.dot(yj),
             w_rel.dot(zj),
         ];
-        Ok((dq, rates, ej, pi))
+        Ok(Coordinates {
+            deflection: dq,
+            rates,
+            axes: ej,
+            p_i: pi,
+        })
     }
 
     pub fn loads<R: Real>(&self, cx: &Context) -> Result<Loads<R>, String> {
-        let (dq, rates, ej, pi) = self.coordinates::<R>(cx)?;
+        let Coordinates {
+            deflection: dq,
+            rates,
+            axes: ej,
+            p_i: pi,
+        } = self.coordinates::<R>(cx)?;
         let generalised: [R; 6] = std::array::from_fn(|r| {
             let mut g = R::cst(self.preload[r]);
             for c in 0..6 {

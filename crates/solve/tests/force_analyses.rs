@@ -1,0 +1,134 @@
+//! Statics, linearization and dynamics with force elements, against closed forms.
+
+use linkage_model::Model;
+use linkage_solve::drivers::ExpressionDrivers;
+use linkage_solve::forces::ForceSet;
+use linkage_solve::linearize::LinearOptions;
+use linkage_solve::tolerances::Tolerances;
+use std::f64::consts::TAU;
+use std::sync::Arc;
+
+const G: f64 = 9.80665;
+
+fn load(text: &str) -> (Model, ExpressionDrivers, ForceSet) {
+    let ds = linkage_adm::parse_dataset(Arc::from("t.adm"), text).unwrap_or_else(|e| panic!("{e}"));
+    let m = linkage_model::build_model(&ds)
+        .unwrap_or_else(|e| panic!("{e}"))
+        .model;
+    let d = ExpressionDrivers::new(&m).unwrap();
+    let f = ForceSet::new(&m).unwrap_or_else(|e| panic!("{e}"));
+    (m, d, f)
+}
+
+/// A block of mass m on a vertical guide (translational joint along y) hanging from a spring
+/// to ground, free length 0.5 m, spring attached 1 m above the block's pin.
+fn spring_on_guide(m: f64, k: f64, c: f64) -> String {
+    format!(
+        "spring on a guide\nUNITS/, FORCE = NEWTON, MASS = KILOGRAM, LENGTH = METER, TIME = SECOND\n\
+PART/1, GROUND\nMARKER/1, PART = 1, QP = 0, 1, 0\nMARKER/2, PART = 1, REULER = 0D, -90D, 0D\n\
+PART/2, MASS = {m}, CM = 20, IP = 0.01, 0.01, 0.01\nMARKER/20, PART = 2\nMARKER/21, PART = 2, REULER = 0D, -90D, 0D\n\
+JOINT/1, TRANSLATIONAL, I = 21, J = 2\nSPRINGDAMPER/1, TRANSLATIONAL, I = 20, J = 1, K = {k}, C = {c}, LENGTH = 0.5\n\
+ACCGRAV/, JGRAV = -9.80665\nEND\n"
+    )
+}
+
+#[test]
+fn spring_and_mass_on_a_guide_deflect_by_mg_over_k() {
+    let (m, d, f) = load(&spring_on_guide(2.0, 1000.0, 0.0));
+    let r = linkage_solve::statics::run(&m, &d, &f, &Tolerances::default(), &[0.0]);
+    let eq = r.steps[0].1.as_ref().unwrap();
+    assert!(eq.converged, "{:?}", eq.worst);
+    // Spring from y = 1 down to the block: length 1 − y; equilibrium k(1 − y − 0.5) = m g.
+    let y = eq.state.poses[0].p.y;
+    let expected = 1.0 - 0.5 - 2.0 * G / 1000.0;
+    assert!((y - expected).abs() < 1e-9, "{y} vs {expected}");
+    assert_eq!(eq.stability.map(|s| s.0), Some(true));
+}
+
+#[test]
+fn mass_spring_damper_frequency_and_damping_ratio() {
+    // ADM-REFERENCE §12: m = 1, k = 100, c = 2 → λ = −1 ± 9.94987i rad/s, fn = 1.59155 Hz,
+    // ζ = 0.1; without damping Imag = 1.59155 Hz.
+    let (m, d, f) = load(&spring_on_guide(1.0, 100.0, 2.0));
+    let run = linkage_solve::linearize::run(
+        &m,
+        &d,
+        &f,
+        &Tolerances::default(),
+        true,
+        LinearOptions {
+            damping: true,
+            vectors: false,
+        },
+    );
+    let l = run.result.unwrap();
+    assert_eq!(l.dof, 1);
+    let mode = &l.modes[0];
+    assert!((mode.frequency - 10.0 / TAU).abs() < 1e-9, "{mode:?}");
+    assert!((mode.damping_ratio - 0.1).abs() < 1e-9, "{mode:?}");
+    assert!(
+        (mode.real / TAU + 0.159155).abs() < 1e-6 && (mode.imag / TAU - 1.58357).abs() < 1e-5,
+        "{mode:?}"
+    );
+    let run = linkage_solve::linearize::run(
+        &m,
+        &d,
+        &f,
+        &Tolerances::default(),
+        true,
+        LinearOptions {
+            damping: false,
+            vectors: false,
+        },
+    );
+    let mode = &run.result.unwrap().modes[0];
+    assert!(
+        mode.real.abs() < 1e-9 && (mode.imag / TAU - 1.59155).abs() < 1e-5,
+        "{mode:?}"
+    );
+}
+
+#[test]
+fn pendulum_with_a_torsion_spring_settles_where_the_torques_balance() {
+    // Rod (m = 2, L = 1) pinned at its top end, hanging along −y; a rotational spring about the
+    // pivot with KT = 5 N·m/rad whose free angle is 60° (about +z): KT(60° − θ) = m g (L/2) sin θ.
+    // mechanisms/pendulum.adm: hinge JOINT/1 with I = 202 (rod top), J = 102 (ground origin),
+    // axis global z.
+    let text = std::fs::read_to_string(
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../mechanisms/pendulum.adm"),
+    )
+    .unwrap()
+    .replace(
+        "\nEND",
+        "\nSPRINGDAMPER/1, ROTATIONAL, I = 202, J = 102, KT = 5, ANGLE = 60D\nEND",
+    );
+    assert!(text.contains("SPRINGDAMPER"));
+    let (m, d, f) = load(&text);
+    let r = linkage_solve::statics::run(&m, &d, &f, &Tolerances::default(), &[0.0]);
+    let eq = r.steps[0].1.as_ref().unwrap();
+    assert!(eq.converged, "{:?}", eq.worst);
+    // θ from the torque balance (bisection).
+    let g = |th: f64| 5.0 * (60f64.to_radians() - th) - 2.0 * G * 0.5 * th.sin();
+    let (mut a, mut b) = (0.0f64, 60f64.to_radians());
+    for _ in 0..200 {
+        let c = 0.5 * (a + b);
+        if g(c) > 0.0 {
+            a = c
+        } else {
+            b = c
+        }
+    }
+    let theta = 0.5 * (a + b);
+    // Pivot at the rod's top end; CM 0.5 below it when hanging.
+    let pivot = m
+        .marker_in_ground(m.markers.iter().position(|mk| mk.id == 102).unwrap())
+        .0;
+    let cm = eq.state.poses[0].p - pivot;
+    let got = cm.x.atan2(-cm.y).abs();
+    assert!(
+        (got - theta).abs() < 1e-6,
+        "{} vs {}",
+        got.to_degrees(),
+        theta.to_degrees()
+    );
+}
