@@ -554,6 +554,7 @@ const SENSOR_ARGS: &[ArgDef] = &[
     arg("ROUTINE", Text),
 ];
 
+/// REQUEST (ADM-REFERENCE §2.12): complete in datasets (typed), partial as a command.
 const REQUEST_ARGS: &[ArgDef] = &[
     arg("DISPLACEMENT", Flag),
     alias("D", "DISPLACEMENT", Flag),
@@ -563,9 +564,9 @@ const REQUEST_ARGS: &[ArgDef] = &[
     alias("A", "ACCELERATION", Flag),
     arg("FORCE", Flag),
     alias("F", "FORCE", Flag),
-    arg("I", Any),
-    arg("J", Any),
-    arg("RM", Any),
+    arg("I", Numbers),
+    arg("J", Numbers),
+    arg("RM", Numbers),
     arg("F1", Expr),
     arg("F2", Expr),
     arg("F3", Expr),
@@ -717,7 +718,7 @@ pub(crate) static DATASET_STATEMENTS: &[StatementDef] = &[
     stmt("POUTPUT", Required, NO_ARGS, false),
     stmt("PREFERENCES", Absent, NO_ARGS, false),
     stmt("PTCV", Required, NO_ARGS, false),
-    stmt("REQUEST", Required, REQUEST_ARGS, false),
+    stmt("REQUEST", Required, REQUEST_ARGS, true),
     stmt("RESULTS", Absent, RESULTS_ARGS, false),
     stmt("SECTION", Required, NO_ARGS, false),
     stmt("SENSOR", Required, SENSOR_ARGS, false),

@@ -14,6 +14,7 @@
 
 pub mod diagnostic;
 pub mod edit;
+pub mod reqfile;
 pub mod statement;
 pub mod typed;
 pub mod writer;

@@ -69,6 +69,8 @@ pub struct Dataset {
     pub variables: Vec<Variable>,
     pub arrays: Vec<Array>,
     pub splines: Vec<Spline>,
+    /// REQUEST statements (output definitions; ADM-REFERENCE §2.12).
+    pub requests: Vec<Request>,
     /// Non-fatal findings (unknown statements, unknown arguments, …).
     pub warnings: Vec<Diagnostic>,
 }
@@ -517,4 +519,61 @@ pub struct Spline {
     pub z: Option<Located<Vec<f64>>>,
     pub linear_extrapolate: bool,
     pub file: Option<Located<String>>,
+}
+
+// ---- output statements (ADM-REFERENCE §2.12) ------------------------------------------------
+
+/// The standard quantity of a `REQUEST/id, DISPLACEMENT | VELOCITY | ACCELERATION | FORCE`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum RequestKind {
+    /// x, y, z of I relative to J (in RM's axes) and the body 3-1-3 angles of I relative to J.
+    Displacement,
+    /// Velocity and angular velocity of I relative to J, in RM's axes.
+    Velocity,
+    /// Acceleration and angular acceleration of I relative to J, in RM's axes.
+    Acceleration,
+    /// Force and torque acting at I from the elements between I and J, in RM's axes.
+    Force,
+}
+
+impl RequestKind {
+    /// Upper-case keyword as in the dataset.
+    pub fn keyword(self) -> &'static str {
+        match self {
+            RequestKind::Displacement => "DISPLACEMENT",
+            RequestKind::Velocity => "VELOCITY",
+            RequestKind::Acceleration => "ACCELERATION",
+            RequestKind::Force => "FORCE",
+        }
+    }
+}
+
+/// `REQUEST/id, {DISPLACEMENT|VELOCITY|ACCELERATION|FORCE}, I=, J= [, RM=]` (a standard
+/// request), or `REQUEST/id, F1=e\F2=e\…\F8=e` (a function request), or
+/// `REQUEST/id, FUNCTION=USER(…)`; plus texts that only label the output.
+///
+/// Typing checks the form only: a standard request needs `I`; a request is one form (a kind
+/// with F1…F8 or FUNCTION is an error). `J` and `RM` default to ground when omitted (`None`).
+/// Expressions are kept as text: a `USER(…)` call is accepted here and refused by whoever
+/// evaluates the requests (linkage cannot run user subroutines).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Request {
+    pub header: Header,
+    /// The standard quantity, `None` for function requests.
+    pub kind: Option<RequestKind>,
+    pub i: Option<IdRef>,
+    pub j: Option<IdRef>,
+    pub rm: Option<IdRef>,
+    /// `F1` … `F8` (index 0 is F1); `None` = not written.
+    pub functions: [Option<Located<Function>>; 8],
+    /// `FUNCTION = USER(…)` (with `ROUTINE =`).
+    pub function: Option<Located<Function>>,
+    /// `COMMENT =` (alias `C`), as written.
+    pub comment: Option<Located<String>>,
+    /// `TITLE =`, as written (colon-separated labels).
+    pub title: Option<Located<String>>,
+    /// `CNAMES =` items, as written (quotes removed).
+    pub cnames: Vec<String>,
+    /// `RESULTS_NAME =`, as written.
+    pub results_name: Option<Located<String>>,
 }

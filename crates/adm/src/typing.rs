@@ -4,7 +4,8 @@
 //! - Types UNITS, ACCGRAV, PART, MARKER, JOINT, JPRIM, MOTION, COUPLER, GEAR and GCON
 //!   (ADM-REFERENCE §2.1–2.9), the force elements SFORCE, SPRINGDAMPER, BUSHING, FIELD, BEAM,
 //!   VFORCE, VTORQUE, GFORCE and the data elements VARIABLE, ARRAY, SPLINE (§2.10–2.11, see
-//!   [`forces`]); every other statement stays in generic form only.
+//!   [`forces`]), and the output statement REQUEST (§2.12); every other statement stays in
+//!   generic form only.
 //! - Checks what one statement can tell: value counts (`QP` needs 3 numbers), ids being
 //!   non-negative integers, unit names, joint/jprim types, required arguments (JOINT `I`, `J`,
 //!   type; MOTION target; COUPLER/GEAR `JOINTS`). References between elements are *not* checked
@@ -67,6 +68,7 @@ pub(crate) fn type_dataset(
             variables: Vec::new(),
             arrays: Vec::new(),
             splines: Vec::new(),
+            requests: Vec::new(),
             warnings: Vec::new(),
         },
         carrier: None,
@@ -187,6 +189,7 @@ impl Typer {
                 | "VARIABLE"
                 | "ARRAY"
                 | "SPLINE"
+                | "REQUEST"
         );
         if !typed {
             return;
@@ -247,6 +250,11 @@ impl Typer {
             "GCON" => {
                 let g = self.gcon(st, index);
                 self.ds.gcons.push(g);
+            }
+            "REQUEST" => {
+                if let Some(r) = self.request(st, index) {
+                    self.ds.requests.push(r);
+                }
             }
             _ => self.force_or_data(st, index),
         }
@@ -938,6 +946,111 @@ impl Typer {
             i: self.id_ref(st, "I"),
             function: self.function(st, "FUNCTION"),
         }
+    }
+}
+
+/// The text of a value, as written (a number as its value).
+fn value_text(v: &Value) -> String {
+    match v {
+        Value::Expr(e) => e.text.clone(),
+        Value::Str { text, .. } | Value::Word { text, .. } => text.clone(),
+        Value::Number { value, .. } => value.to_string(),
+    }
+}
+
+/// The text of an argument's values (items joined with `, `).
+fn text_of(arg: &Argument) -> String {
+    arg.values
+        .iter()
+        .map(value_text)
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
+impl Typer {
+    /// `key = free text`.
+    fn text(st: &Statement, key: &str) -> Option<Located<String>> {
+        let arg = st.arg(key)?;
+        Some(Located {
+            value: text_of(arg),
+            span: arg.values.first().map_or(arg.span, Value::span),
+        })
+    }
+
+    /// `REQUEST/id` (ADM-REFERENCE §2.12): one of the three forms of [`Request`].
+    fn request(&mut self, st: &Statement, index: usize) -> Option<Request> {
+        let kinds = [
+            ("DISPLACEMENT", RequestKind::Displacement),
+            ("VELOCITY", RequestKind::Velocity),
+            ("ACCELERATION", RequestKind::Acceleration),
+            ("FORCE", RequestKind::Force),
+        ];
+        let kind = self
+            .one_of(
+                st,
+                &kinds,
+                "quantity (DISPLACEMENT, VELOCITY, ACCELERATION, FORCE)",
+            )
+            .ok()?;
+        const F: [&str; 8] = ["F1", "F2", "F3", "F4", "F5", "F6", "F7", "F8"];
+        let functions = F.map(|k| self.function(st, k));
+        let function = self.function(st, "FUNCTION");
+        let first_f = st.args.iter().find(|a| F.contains(&a.key.as_str()));
+        if let (Some(kind), Some(other)) = (kind, first_f.or(st.arg("FUNCTION"))) {
+            let msg = format!(
+                "{} is a {} request and also gives '{}'; a request is either a quantity with \
+                 I=, J=, or F1…F8 expressions, or FUNCTION=USER(…)",
+                label(st),
+                kind.keyword(),
+                other.key
+            );
+            self.error(other.span, msg);
+            return None;
+        }
+        if let (Some(f), Some(_)) = (first_f, st.arg("FUNCTION")) {
+            let msg = format!(
+                "{} gives both '{}' and FUNCTION; use F1…F8 expressions or FUNCTION=USER(…)",
+                label(st),
+                f.key
+            );
+            self.error(f.span, msg);
+            return None;
+        }
+        let (i, j, rm) = if kind.is_some() {
+            let i = self.required_id(st, "I", "marker");
+            (Some(i?), self.id_ref(st, "J"), self.id_ref(st, "RM"))
+        } else {
+            (
+                self.id_ref(st, "I"),
+                self.id_ref(st, "J"),
+                self.id_ref(st, "RM"),
+            )
+        };
+        if kind.is_none() && first_f.is_none() && function.is_none() {
+            let msg = format!(
+                "{} defines no output (no DISPLACEMENT, VELOCITY, ACCELERATION, FORCE, F1…F8 \
+                 or FUNCTION)",
+                label(st)
+            );
+            self.warning(st.span, msg);
+        }
+        let cnames = st
+            .arg("CNAMES")
+            .map(|a| a.values.iter().map(value_text).collect())
+            .unwrap_or_default();
+        Some(Request {
+            header: header(st, index),
+            kind,
+            i,
+            j,
+            rm,
+            functions,
+            function,
+            comment: Self::text(st, "COMMENT"),
+            title: Self::text(st, "TITLE"),
+            cnames,
+            results_name: Self::text(st, "RESULTS_NAME"),
+        })
     }
 }
 

@@ -36,6 +36,17 @@ enum Command {
         /// Output format.
         #[arg(long, value_enum, default_value = "text")]
         format: Format,
+        /// Explain the redundancy: which reactions are determinate, whether the pose is
+        /// singular, conflicting motions and initial conditions, and changes of joints that
+        /// remove the redundant equations (each checked by a rank analysis).
+        #[arg(long)]
+        explain: bool,
+        /// Apply proposal K (numbered from 1 as in the report) and write the model to --save.
+        #[arg(long, value_name = "K", requires = "save")]
+        apply: Option<usize>,
+        /// Where --apply writes the changed dataset.
+        #[arg(long, value_name = "OUT.adm", requires = "apply")]
+        save: Option<PathBuf>,
     },
     /// Initial conditions: assemble the model (least change), then velocities, accelerations
     /// and reaction forces at the start time.
@@ -116,9 +127,18 @@ enum Command {
 
 fn main() -> ExitCode {
     match Cli::parse().command {
-        Command::Verify { model, format } => verify_cmd::run(&verify_cmd::VerifyArgs {
+        Command::Verify {
+            model,
+            format,
+            explain,
+            apply,
+            save,
+        } => verify_cmd::run(&verify_cmd::VerifyArgs {
             model: &model,
             format,
+            explain,
+            apply,
+            save: save.as_deref(),
         }),
         Command::Ic {
             model,

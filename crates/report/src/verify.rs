@@ -102,6 +102,9 @@ pub struct VerifyJson {
     pub near_ties: Vec<EquationRef>,
     pub warnings: Vec<String>,
     pub errors: Vec<String>,
+    /// `--explain`: suggestions, determinate reactions, singular configuration, drivers.
+    #[serde(flatten)]
+    pub explain: Option<crate::explain::ExplainJson>,
 }
 
 fn unit_name(u: RowUnit) -> &'static str {
@@ -207,6 +210,7 @@ pub fn to_json(model: &Model, v: &Verification, warnings: &[Diagnostic]) -> Veri
             .collect(),
         warnings: warnings.iter().map(|w| w.to_string()).collect(),
         errors: Vec::new(),
+        explain: None,
     }
 }
 

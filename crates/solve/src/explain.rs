@@ -22,6 +22,7 @@
 //!   changed model; see that module for the search and the ranking measure.
 
 pub mod conflicts;
+pub mod dense;
 pub mod generic;
 pub mod reactions;
 pub mod repair;
@@ -70,14 +71,7 @@ pub fn explain(
         (Some(s), true) => (s.clone(), true),
         _ => (input.clone(), false),
     };
-    let suggestions = repair::propose(
-        model,
-        drivers,
-        tol,
-        v,
-        &state,
-        &repair::RepairSettings::default(),
-    );
+    let suggestions = repair::propose(model, tol, v, &state, &repair::RepairSettings::default());
     let conflicts = conflicts::driver_conflicts(model, &v.system, &input, drivers, tol);
     Explanation {
         mobility,

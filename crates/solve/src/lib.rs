@@ -21,6 +21,7 @@ pub mod linearize;
 pub mod measures;
 pub mod rank;
 pub mod reactions;
+pub mod requests;
 pub mod rows;
 pub mod settle;
 pub mod state;

@@ -144,9 +144,17 @@ fn svals(v: &Verification, s: &linkage_solve::state::State, l: f64) -> Vec<f64> 
     for r in 0..rows {
         v.system.gradient(r, s, &mut g);
         let mut nn = 0.0;
-        for (b, x) in &g.blocks { for c in 0..6 { let y = if c < 3 { x[c] * l } else { x[c] }; nn += y * y; a[(r, 6 * b + c)] = y; } }
+        for (b, x) in &g.blocks {
+            for c in 0..6 {
+                let y = if c < 3 { x[c] * l } else { x[c] };
+                nn += y * y;
+                a[(r, 6 * b + c)] = y;
+            }
+        }
         let nn: f64 = nn.sqrt();
-        for c in 0..n { a[(r, c)] /= nn; }
+        for c in 0..n {
+            a[(r, c)] /= nn;
+        }
     }
     a.singular_values().unwrap()
 }

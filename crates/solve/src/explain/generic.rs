@@ -12,10 +12,12 @@
 //! assembly is repeated with the new set (at most four rounds). A trial counts only when every
 //! non-motion equation holds to 10⁻⁹ (relative to L for lengths).
 //!
-//! The rank is lower semi-continuous, so the generic rank near the input is the largest rank
+//! Ranks are decided by [`super::dense::analyse`] (an SVD per loop where loops are small: the
+//! random poses are not axis-aligned). The rank is lower semi-continuous, so the generic rank near the input is the largest rank
 //! found; the generic DOF and redundancy follow from it, and the configuration is singular
 //! when the input rank differs.
 
+use super::dense::analyse;
 use crate::assemble::assemble;
 use crate::graph::Topology;
 use crate::state::State;
@@ -136,11 +138,12 @@ pub fn generic_mobility(
                 break;
             }
             state = asm.state;
-            let ra = rank_analysis(sys, &state, topo, length, tol);
             if admissible(sys, &state, length) {
-                found = Some(Mobility::new(n, sys.rows.len(), ra.rank));
+                let rank = analyse(sys, &state, topo, length, tol).rank;
+                found = Some(Mobility::new(n, sys.rows.len(), rank));
                 break;
             }
+            let ra = rank_analysis(sys, &state, topo, length, tol);
             rows = non_motion(&ra.admitted);
         }
         if let Some(m) = found {

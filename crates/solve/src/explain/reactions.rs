@@ -7,7 +7,8 @@
 //! scaled, row-normalised Jacobian, so that the multipliers change by `m_r = n_r/‖row_r‖`)
 //! the change of each reaction is `ΔF = Σ m_r f_r`, `ΔT = Σ m_r t_r`. A component `u·F`
 //! (`u` an axis of the J marker) is *determinate* when `|u·ΔF| ≤ 10⁻⁷·Σ |m_r|‖f_r‖` for every
-//! basis vector (the contributions cancel to rounding); otherwise it depends on which
+//! basis vector (the contributions cancel to rounding; null-vector entries below 10⁻¹⁰ of the
+//! largest are rounding and ignored); otherwise it depends on which
 //! equations were removed. Scalar equations (body 1-2-3 motions, couplers, gears, general
 //! constraints) are reported by their equation label.
 //!
@@ -177,7 +178,7 @@ pub fn determinacy(
         let max = vector.iter().map(|(_, c)| c.abs()).fold(0.0, f64::max);
         let mut acc: HashMap<usize, Acc> = HashMap::new();
         for &(r, c) in vector {
-            if r >= nrows || c.abs() <= 1e-12 * max {
+            if r >= nrows || c.abs() <= 1e-10 * max {
                 continue;
             }
             let e = sys.rows[r].element;

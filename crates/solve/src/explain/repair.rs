@@ -53,14 +53,13 @@
 //! [`RepairSettings::per_signature`] proposals of the same kind of change (e.g. "REVOLUTE →
 //! JPRIM INLINE" at different joints) are listed.
 
-use super::reactions::{determinacy, null_basis, Direction, ElementReactions};
-use super::scaled_entries;
-use crate::graph::{Block, Topology};
-use crate::rows::RowGradient;
+use super::dense::analyse;
+use super::reactions::{determinacy, Direction, ElementReactions};
+use crate::graph::{topology, Block, Topology};
 use crate::state::State;
 use crate::system::System;
 use crate::tolerances::Tolerances;
-use crate::verify::{rank_analysis, verify_at, Drivers, Verification};
+use crate::verify::{rank_analysis, Verification};
 use glam::{DMat3, DVec3};
 use linkage_adm::edit::{Edit, MarkerKey};
 use linkage_adm::{JointType, JprimType};
@@ -551,7 +550,6 @@ struct Search<'a> {
     block_rank: Vec<usize>,
     base_rank: usize,
     base_dof: i64,
-    base_red: usize,
     budget: Cell<usize>,
 }
 
@@ -560,9 +558,6 @@ struct Evaluation {
     red: usize,
     cond: Option<f64>,
 }
-
-/// Largest loop (columns) whose conditioning is computed densely.
-const DENSE_LIMIT: usize = 360;
 
 impl Search<'_> {
     fn evaluate(&self, changes: &[Change]) -> Option<Evaluation> {
@@ -604,18 +599,17 @@ impl Search<'_> {
             blk.elements.sort_unstable();
             topo.blocks.push(blk);
         }
-        let ra = rank_analysis(&sys, self.state, &topo, self.length, self.tol);
+        let an = analyse(&sys, self.state, &topo, self.length, self.tol);
         let before: usize = blocks.iter().map(|&b| self.block_rank[b]).sum();
-        let rank = self.base_rank + ra.rank - before;
+        let rank = (self.base_rank + an.rank).checked_sub(before)?;
         let n = self.model.parts.len();
         let dof = 6 * n as i64 - rank as i64;
         let red = sys.rows.len().saturating_sub(rank);
-        let cond = if dof == self.base_dof && red < self.base_red {
-            conditioning(&sys, self.state, self.length, &topo, &ra.admitted)
-        } else {
-            None
-        };
-        Some(Evaluation { dof, red, cond })
+        Some(Evaluation {
+            dof,
+            red,
+            cond: an.conditioning,
+        })
     }
 
     fn valid(&self, e: &Evaluation, below: usize) -> bool {
@@ -623,54 +617,16 @@ impl Search<'_> {
     }
 }
 
-/// `σ_min/σ_max` of the admitted rows of `topo`'s blocks (scaled, row-normalised).
-fn conditioning(
-    sys: &System,
-    s: &State,
-    length: f64,
-    topo: &Topology,
-    admitted: &[usize],
-) -> Option<f64> {
-    let mut parts: Vec<usize> = topo.blocks.iter().flat_map(|b| b.parts.clone()).collect();
-    parts.sort_unstable();
-    parts.dedup();
-    let ncols = 6 * parts.len();
-    if ncols == 0 || ncols > DENSE_LIMIT || admitted.len() > DENSE_LIMIT || admitted.is_empty() {
-        return None;
-    }
-    let mut dense = vec![0.0; admitted.len() * ncols];
-    let mut g = RowGradient::default();
-    let mut entries = Vec::new();
-    for (k, &r) in admitted.iter().enumerate() {
-        sys.gradient(r, s, &mut g);
-        let norm = scaled_entries(&g, length, &mut entries);
-        if norm <= 0.0 {
-            continue;
-        }
-        for &(c, x) in &entries {
-            if let Ok(p) = parts.binary_search(&(c / 6)) {
-                dense[k * ncols + 6 * p + c % 6] = x / norm;
-            }
-        }
-    }
-    let mat = faer::Mat::<f64>::from_fn(admitted.len(), ncols, |i, j| dense[i * ncols + j]);
-    let sv = mat.singular_values().ok()?;
-    let max = sv.iter().copied().fold(0.0, f64::max);
-    let min = sv.iter().copied().fold(f64::INFINITY, f64::min);
-    (max > 0.0 && min.is_finite()).then(|| min / max)
-}
-
 /// Proposals for the redundancy of `v` (the verification of `model`), checked at `state`.
 pub fn propose(
     model: &Model,
-    drivers: &dyn Drivers,
     tol: &Tolerances,
     v: &Verification,
     state: &State,
     settings: &RepairSettings,
 ) -> Vec<Proposal> {
     let length = model.characteristic_length;
-    let base = rank_analysis(&v.system, state, &v.topology, length, tol);
+    let base = analyse(&v.system, state, &v.topology, length, tol);
     let rows = v.system.rows.len();
     let n = model.parts.len();
     let base_red = rows.saturating_sub(base.rank);
@@ -685,16 +641,6 @@ pub fn propose(
             }
         }
     }
-    let mut block_rank = vec![0usize; v.topology.blocks.len()];
-    for &r in &base.admitted {
-        if let Some(b) = element_block
-            .get(v.system.rows[r].element)
-            .copied()
-            .flatten()
-        {
-            block_rank[b] += 1;
-        }
-    }
     let search = Search {
         model,
         input: State::input(model),
@@ -704,23 +650,34 @@ pub fn propose(
         topo: &v.topology,
         idealized: &v.idealized,
         element_block,
-        block_rank,
+        block_rank: base.block_rank.clone(),
         base_rank: base.rank,
         base_dof: 6 * n as i64 - base.rank as i64,
-        base_red,
         budget: Cell::new((settings.evaluations / rows.max(1)).clamp(60, 4000)),
     };
 
-    // Elements involved: owners of redundant rows first, then what they depend on.
+    // Elements involved: owners of redundant rows (priority policy) first, then every element
+    // the left null space touches, by how many null vectors touch it.
     let mut score: Vec<(usize, usize)> = Vec::new();
     let mut bump = |e: usize, w: usize| match score.iter_mut().find(|(k, _)| *k == e) {
         Some((_, s)) => *s += w,
         None => score.push((e, w)),
     };
-    for (r, _, deps, _) in &base.redundant {
+    let greedy = rank_analysis(&v.system, state, &v.topology, length, tol);
+    for (r, _, _, _) in &greedy.redundant {
         bump(v.system.rows[*r].element, 1000);
-        for d in deps {
-            bump(v.system.rows[d.row].element, 1);
+    }
+    for vector in &base.null {
+        let max = vector.iter().map(|(_, c)| c.abs()).fold(0.0, f64::max);
+        let mut touched: Vec<usize> = vector
+            .iter()
+            .filter(|(_, c)| c.abs() > 1e-10 * max)
+            .map(|(r, _)| v.system.rows[*r].element)
+            .collect();
+        touched.sort_unstable();
+        touched.dedup();
+        for e in touched {
+            bump(e, 1);
         }
     }
     score.retain(|(e, _)| eligible(model, *e));
@@ -747,72 +704,57 @@ pub fn propose(
         }
     }
     let mut found: Vec<Candidate> = singles.iter().filter(|c| c.red == 0).cloned().collect();
-    let partial: Vec<&Candidate> = singles.iter().filter(|c| c.red > 0).collect();
+    // Partial single changes, those that remove most first.
+    let mut partial: Vec<&Candidate> = singles.iter().filter(|c| c.red > 0).collect();
+    partial.sort_by_key(|c| c.red);
 
-    // Pairs, those that may remove everything first.
-    let mut pairs: Vec<(usize, usize, bool)> = Vec::new();
+    // Pairs that may remove everything (the rows two changes remove add up to the
+    // redundancy).
     for a in 0..partial.len() {
         for b in a + 1..partial.len() {
-            if partial[a].changes[0].element == partial[b].changes[0].element {
+            if partial[a].changes[0].element == partial[b].changes[0].element
+                || 2 * base_red - partial[a].red - partial[b].red != base_red
+            {
                 continue;
             }
-            let removed = 2 * base_red - partial[a].red - partial[b].red;
-            if removed <= base_red {
-                pairs.push((a, b, removed == base_red));
-            }
-        }
-    }
-    pairs.sort_by_key(|p| !p.2);
-    let mut partial_pairs: Vec<Candidate> = Vec::new();
-    for (a, b, _) in pairs {
-        let mut changes = partial[a].changes.clone();
-        changes.extend(partial[b].changes.iter().cloned());
-        if let Some(ev) = search.evaluate(&changes) {
-            if search.valid(&ev, partial[a].red.min(partial[b].red)) {
-                let c = Candidate {
-                    changes,
-                    red: ev.red,
-                    cond: ev.cond,
-                };
-                if c.red == 0 {
-                    found.push(c);
-                } else {
-                    partial_pairs.push(c);
+            let mut changes = partial[a].changes.clone();
+            changes.extend(partial[b].changes.iter().cloned());
+            if let Some(ev) = search.evaluate(&changes) {
+                if search.valid(&ev, 1) {
+                    found.push(Candidate {
+                        changes,
+                        red: 0,
+                        cond: ev.cond,
+                    });
                 }
             }
-        } else if search.budget.get() == 0 {
-            break;
         }
     }
 
-    // Greedy completion when nothing removes everything.
+    // Greedy completion when nothing removes everything: from the three best partial changes
+    // (of different elements), add at each step the change of a further element that removes
+    // most (the first whose rows all come off, trying the largest removals first).
     let mut pool: Vec<Candidate> = Vec::new();
     if found.is_empty() {
-        let mut starts: Vec<Candidate> = partial
-            .iter()
-            .map(|c| (*c).clone())
-            .chain(partial_pairs.iter().cloned())
-            .collect();
-        starts.sort_by_key(|c| (c.red, c.changes.len()));
         let mut seeds: Vec<Candidate> = Vec::new();
-        for s in starts {
+        for s in &partial {
             if seeds.len() >= 3 {
                 break;
             }
             if !seeds.iter().any(|x| x.elements() == s.elements()) {
-                seeds.push(s);
+                seeds.push((*s).clone());
             }
         }
         for mut cur in seeds {
-            while cur.red > 0 {
+            while cur.red > 0 && search.budget.get() > 0 {
                 let used = cur.elements();
                 let mut best: Option<Candidate> = None;
                 for s in &partial {
-                    let e = s.changes[0].element;
-                    if used.contains(&e) || base_red - s.red > cur.red {
+                    let removes = base_red - s.red;
+                    if used.contains(&s.changes[0].element) || removes > cur.red {
                         continue;
                     }
-                    if best.as_ref().is_some_and(|b| b.red == 0) {
+                    if best.as_ref().is_some_and(|b| cur.red - b.red >= removes) {
                         break;
                     }
                     let mut changes = cur.changes.clone();
@@ -843,7 +785,6 @@ pub fn propose(
     }
     let mut list = if found.is_empty() {
         pool.extend(partial.iter().map(|c| (*c).clone()));
-        pool.extend(partial_pairs);
         pool
     } else {
         found
@@ -859,23 +800,27 @@ pub fn propose(
             )
     });
     // Merge marker-turn variants, limit each kind of change.
+    let key = |c: &Candidate| -> Vec<(usize, Vec<ElementType>)> {
+        let mut k: Vec<(usize, Vec<ElementType>)> = c
+            .changes
+            .iter()
+            .map(|ch| (ch.element, ch.into.iter().map(|n| n.kind).collect()))
+            .collect();
+        k.sort_by_key(|x| x.0);
+        k
+    };
     let mut chosen: Vec<Candidate> = Vec::new();
-    let mut signatures: Vec<(Vec<(Option<ElementType>, Vec<ElementType>)>, usize)> = Vec::new();
+    let mut signatures: Vec<(Vec<String>, usize)> = Vec::new();
     for c in list {
-        let key = |c: &Candidate| -> Vec<(usize, Vec<ElementType>)> {
-            let mut k: Vec<_> = c
-                .changes
-                .iter()
-                .map(|ch| (ch.element, ch.into.iter().map(|n| n.kind).collect()))
-                .collect();
-            k.sort_by_key(|x: &(usize, Vec<ElementType>)| x.0);
-            k
-        };
         if chosen.iter().any(|x| key(x) == key(&c)) {
             continue;
         }
-        let mut sig: Vec<_> = c.changes.iter().map(|ch| ch.signature(model)).collect();
-        sig.sort_by_key(|s| format!("{s:?}"));
+        let mut sig: Vec<String> = c
+            .changes
+            .iter()
+            .map(|ch| format!("{:?}", ch.signature(model)))
+            .collect();
+        sig.sort();
         match signatures.iter_mut().find(|(s, _)| *s == sig) {
             Some((_, count)) if *count >= settings.per_signature => continue,
             Some((_, count)) => *count += 1,
@@ -887,61 +832,17 @@ pub fn propose(
         }
     }
 
-    // Full verification of each proposal on the changed model.
-    let before = {
-        let null = null_basis(base.redundant.iter().map(|(r, _, d, _)| (*r, d.as_slice())));
-        determinacy(&v.system, state, length, &null)
-    };
+    // Every proposal is checked in full on the changed model.
+    let before = determinacy(&v.system, state, length, &base.null);
+    let input = State::input(model);
     let mut out: Vec<(Proposal, usize)> = Vec::new();
     for c in chosen {
-        let real = realize(model, &c.changes);
-        let v2 = verify_at(&real.model, state, drivers, tol);
-        if v2.dof != search.base_dof || v2.redundant.len() != c.red {
+        let Some((proposal, count)) = check(model, tol, v, state, &input, &before, &c) else {
             continue;
-        }
-        let null = null_basis(
-            v2.redundant
-                .iter()
-                .map(|r| (r.row, r.depends_on.as_slice())),
-        );
-        let after = determinacy(&v2.system, state, length, &null);
-        let named = |m: &Model, r: &ElementReactions, dirs: Vec<Direction>| NamedReactions {
-            name: m.constraints[r.element].origin.name.clone(),
-            kind: m.constraints[r.element].description(),
-            directions: dirs,
         };
-        let indeterminate_after: Vec<NamedReactions> = after
-            .iter()
-            .filter(|r| !r.indeterminate.is_empty())
-            .map(|r| named(&real.model, r, r.indeterminate.clone()))
-            .collect();
-        let mut now_determinate = Vec::new();
-        for b in before.iter().filter(|b| !b.indeterminate.is_empty()) {
-            let Some(a) = after.iter().find(|a| a.element == b.element) else {
-                continue;
-            };
-            let dirs: Vec<Direction> = b
-                .indeterminate
-                .iter()
-                .filter(|d| a.determinate.contains(d))
-                .copied()
-                .collect();
-            if !dirs.is_empty() {
-                now_determinate.push(named(model, b, dirs));
-            }
+        if proposal.dof_after == search.base_dof && proposal.redundant_after == c.red {
+            out.push((proposal, count));
         }
-        let count: usize = indeterminate_after.iter().map(|r| r.directions.len()).sum();
-        out.push((
-            Proposal {
-                changes: c.changes,
-                dof_after: v2.dof,
-                redundant_after: v2.redundant.len(),
-                conditioning: c.cond,
-                indeterminate_after,
-                now_determinate,
-            },
-            count,
-        ));
     }
     out.sort_by(|(a, ca), (b, cb)| {
         (a.changes.len(), a.redundant_after, *ca)
@@ -955,4 +856,75 @@ pub fn propose(
     });
     out.truncate(settings.max_proposals);
     out.into_iter().map(|(p, _)| p).collect()
+}
+
+/// The changed model analysed in full at `state`: DOF, redundancy and reactions. Returns the
+/// proposal and its number of indeterminate reaction components.
+fn check(
+    model: &Model,
+    tol: &Tolerances,
+    v: &Verification,
+    state: &State,
+    input: &State,
+    before: &[ElementReactions],
+    c: &Candidate,
+) -> Option<(Proposal, usize)> {
+    let length = model.characteristic_length;
+    let real = realize(model, &c.changes);
+    let m2 = &real.model;
+    let mut ideal: Vec<usize> = v.idealized.clone();
+    for &(orig, new) in &real.appended {
+        if v.idealized.contains(&orig) {
+            ideal.push(new);
+        }
+    }
+    let sys = if ideal.is_empty() {
+        System::new(m2)
+    } else {
+        System::with_idealized(m2, input, &ideal)
+    };
+    let all: Vec<usize> = (0..m2.constraints.len()).collect();
+    let topo = topology(m2, &all);
+    let an = analyse(&sys, state, &topo, length, tol);
+    let rank = an.rank;
+    let dof = 6 * m2.parts.len() as i64 - rank as i64;
+    let redundant = sys.rows.len().checked_sub(rank)?;
+    let after = determinacy(&sys, state, length, &an.null);
+    let named = |m: &Model, r: &ElementReactions, dirs: Vec<Direction>| NamedReactions {
+        name: m.constraints[r.element].origin.name.clone(),
+        kind: m.constraints[r.element].description(),
+        directions: dirs,
+    };
+    let indeterminate_after: Vec<NamedReactions> = after
+        .iter()
+        .filter(|r| !r.indeterminate.is_empty())
+        .map(|r| named(m2, r, r.indeterminate.clone()))
+        .collect();
+    let mut now_determinate = Vec::new();
+    for b in before.iter().filter(|b| !b.indeterminate.is_empty()) {
+        let Some(a) = after.iter().find(|a| a.element == b.element) else {
+            continue;
+        };
+        let dirs: Vec<Direction> = b
+            .indeterminate
+            .iter()
+            .filter(|d| a.determinate.contains(d))
+            .copied()
+            .collect();
+        if !dirs.is_empty() {
+            now_determinate.push(named(model, b, dirs));
+        }
+    }
+    let count = indeterminate_after.iter().map(|r| r.directions.len()).sum();
+    Some((
+        Proposal {
+            changes: c.changes.clone(),
+            dof_after: dof,
+            redundant_after: redundant,
+            conditioning: c.cond,
+            indeterminate_after,
+            now_determinate,
+        },
+        count,
+    ))
 }
