@@ -1,8 +1,11 @@
-//! `linkage simulate`: dynamic simulation with output at requested times.
+//! `linkage simulate`: dynamic simulation with output at requested times; the CSV gets the
+//! dataset's REQUEST outputs as extra columns.
 
 use crate::common::{applied_forces, input_error, load, print_json, Format};
 use linkage_model::settings::integrator_statement;
-use linkage_solve::dynamics::{run, IntegratorSettings};
+use linkage_report::simulate::ExtraColumns;
+use linkage_solve::dynamics::{run, DynamicRun, IntegratorSettings};
+use linkage_solve::requests::RequestSet;
 use linkage_solve::tolerances::Tolerances;
 use std::io::IsTerminal;
 use std::path::Path;
@@ -31,6 +34,39 @@ fn output_times(end: f64, steps: Option<usize>, dtout: Option<f64>) -> Vec<f64> 
     }
 }
 
+/// REQUEST columns at every output. An output where a request cannot be evaluated gets NaN in
+/// every request column; the first such error is reported (the run then exits with 1).
+fn request_columns(
+    requests: &RequestSet,
+    model: &linkage_model::Model,
+    run: &DynamicRun,
+    errors: &mut Vec<String>,
+) -> ExtraColumns {
+    let names = requests.columns();
+    let outputs = run.simulation.as_ref().map_or(&[][..], |s| &s.outputs[..]);
+    let mut failed = 0usize;
+    let values = outputs
+        .iter()
+        .map(|o| match requests.evaluate(model, o) {
+            Ok(v) => v,
+            Err(e) => {
+                if failed == 0 {
+                    errors.push(format!("REQUEST output: {e}"));
+                }
+                failed += 1;
+                vec![f64::NAN; names.len()]
+            }
+        })
+        .collect();
+    if failed > 1 {
+        errors.push(format!(
+            "REQUEST columns are NaN at {failed} of {} outputs",
+            outputs.len()
+        ));
+    }
+    (names, values)
+}
+
 pub fn run_simulate(args: &SimulateArgs) -> ExitCode {
     let loaded = match load(args.model) {
         Ok(l) => l,
@@ -39,6 +75,15 @@ pub fn run_simulate(args: &SimulateArgs) -> ExitCode {
     let forces = match applied_forces(&loaded) {
         Ok(f) => f,
         Err(d) => return input_error(&d, args.format),
+    };
+    // REQUESTs only shape the CSV: they are resolved (and their errors reported) only when
+    // one is written.
+    let requests = match args.out {
+        Some(_) => match RequestSet::new(&loaded.model, &loaded.dataset) {
+            Ok(r) => Some(r),
+            Err(d) => return input_error(&d, args.format),
+        },
+        None => None,
     };
     if !(args.end > 0.0 && args.end.is_finite()) {
         eprintln!("error: --end must be a positive time");
@@ -103,7 +148,11 @@ pub fn run_simulate(args: &SimulateArgs) -> ExitCode {
     let mut report =
         linkage_report::simulate::summary(&loaded.model, &result, notes, &loaded.warnings);
     if let Some(out) = args.out {
-        let csv = linkage_report::simulate::to_csv(&loaded.model, &result, None);
+        let extra = requests
+            .as_ref()
+            .filter(|r| !r.is_empty())
+            .map(|r| request_columns(r, &loaded.model, &result, &mut report.errors));
+        let csv = linkage_report::simulate::to_csv(&loaded.model, &result, extra.as_ref());
         if let Err(e) = linkage_adm::writer::write_atomically(out, &csv) {
             report
                 .errors

@@ -260,7 +260,7 @@ pub fn to_text(j: &ExplainJson) -> String {
         _ => {
             let _ = writeln!(
                 s,
-                "   Generic DOF unknown: no nearby configuration could be assembled ({} trials).",
+                "   Generic DOF unknown: none of {} nearby poses could be assembled with every equation satisfied (a near-singular pose or a slightly inconsistent model).",
                 j.generic_trials
             );
         }

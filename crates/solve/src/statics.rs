@@ -260,6 +260,12 @@ pub fn equilibrium(
         for (k, l) in lambda.iter_mut().enumerate() {
             *l += rhs[6 * n + k] * scale;
         }
+        if scale < 1.0 {
+            // A step cut by TLIMIT/ALIMIT leaves the second-order constraint error of a large
+            // move: bring the configuration back onto the constraints (least change) so the
+            // next Newton step starts from an assembled pose.
+            project_onto_constraints(model, sys, &used, &mut s);
+        }
         if done {
             // The last (small) correction is applied: the result is one Newton step better
             // than the convergence test.
@@ -314,6 +320,56 @@ pub fn equilibrium(
         kinematic,
         approximate_rows,
     })
+}
+
+/// A few minimum-change Gauss–Newton corrections of the positions onto `Φ = 0`:
+/// `[W Jᵀ; J 0][δ; μ] = [0; −Φ]`, `W = diag(1/L², 1)` per part.
+fn project_onto_constraints(model: &Model, sys: &System, used: &[(usize, f64)], s: &mut State) {
+    let n = model.parts.len();
+    let m = used.len();
+    let l2 = model.characteristic_length.powi(2);
+    let mut g = RowGradient::default();
+    for _ in 0..4 {
+        let phi: Vec<f64> = used.iter().map(|(r, d)| sys.residual(*r, s, *d)).collect();
+        if phi
+            .iter()
+            .all(|v| v.abs() <= 1e-12 * model.characteristic_length.max(1.0))
+        {
+            return;
+        }
+        let mut e = Vec::new();
+        for k in 0..6 * n {
+            e.push((k, k, if k % 6 < 3 { 1.0 / l2 } else { 1.0 }));
+        }
+        for (k, (r, _)) in used.iter().enumerate() {
+            sys.gradient(*r, s, &mut g);
+            for (body, b) in &g.blocks {
+                for (c, x) in b.iter().enumerate() {
+                    if *x != 0.0 {
+                        e.push((6 * n + k, 6 * body + c, *x));
+                        e.push((6 * body + c, 6 * n + k, *x));
+                    }
+                }
+            }
+        }
+        let mut rhs = vec![0.0; 6 * n + m];
+        for (k, v) in phi.iter().enumerate() {
+            rhs[6 * n + k] = -v;
+        }
+        if SparseLu::factor(6 * n + m, &e)
+            .and_then(|lu| lu.solve(&mut rhs))
+            .is_err()
+        {
+            return;
+        }
+        for k in 0..n {
+            s.increment(
+                k,
+                DVec3::new(rhs[6 * k], rhs[6 * k + 1], rhs[6 * k + 2]),
+                DVec3::new(rhs[6 * k + 3], rhs[6 * k + 4], rhs[6 * k + 5]),
+            );
+        }
+    }
 }
 
 /// Least-squares multipliers at the start, `min |Q − Jᵀλ|_W` (torques weighted by 1/L²), so
