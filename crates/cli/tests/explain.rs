@@ -123,9 +123,11 @@ fn fourbar_json_has_the_explain_keys_and_both_proposals_apply() {
     // Everything but the changed joints and the statements added before END is kept.
     let before = std::fs::read_to_string(&src).unwrap();
     let after = std::fs::read_to_string(dir.join("pair.adm")).unwrap();
+    let n = before.lines().count() - 1; // up to END
     let changed: Vec<(&str, &str)> = before
         .lines()
         .zip(after.lines())
+        .take(n)
         .filter(|(a, b)| a != b)
         .collect();
     assert_eq!(
@@ -134,14 +136,11 @@ fn fourbar_json_has_the_explain_keys_and_both_proposals_apply() {
             (", REVOLUTE", ", SPHERICAL"),
             (", REVOLUTE", ", UNIVERSAL"),
             (", I = 303", ", I = 404"),
-            ("!", "!"),
-        ][..changed.len().min(3)]
-            .to_vec(),
-        "{changed:?}"
+        ]
     );
     let tail = &after[after.find("MARKER/404").unwrap()..];
     assert!(tail.starts_with("MARKER/404\n, PART = 3\n, QP = 1.75, 0.0, 0.0\n"));
-    assert!(after.ends_with("!\nEND\n"));
+    assert!(after.ends_with(", REULER = 180.0D, 90.0D, 180.0D\nEND\n"));
     std::fs::remove_dir_all(&dir).ok();
 }
 
@@ -173,10 +172,7 @@ fn door_axial_reactions_are_indeterminate_until_spherical_and_inline() {
     assert_eq!(after["indeterminate"].as_array().unwrap().len(), 0);
     let det = after["determinate"].as_array().unwrap();
     assert_eq!(det.len(), 2);
-    let spherical = det
-        .iter()
-        .find(|r| r["type"] == "Spherical Joint")
-        .unwrap();
+    let spherical = det.iter().find(|r| r["type"] == "Spherical Joint").unwrap();
     assert_eq!(
         spherical["directions"],
         serde_json::json!(["force along Xj", "force along Yj", "force along Zj"])
@@ -189,11 +185,7 @@ fn parallelogram_chain_singular_only_with_horizontal_cranks() {
     let dir = scratch("chain");
     for (deg, singular) in [(0.0, true), (60.0, false)] {
         let path = dir.join(format!("chain{deg}.adm"));
-        std::fs::write(
-            &path,
-            linkage_solve::generate::parallelogram_chain(3, deg),
-        )
-        .unwrap();
+        std::fs::write(&path, linkage_solve::generate::parallelogram_chain(3, deg)).unwrap();
         let v = explain(path.to_str().unwrap());
         assert_eq!(v["singular_configuration"], singular, "{deg}");
         assert_eq!(v["generic_dof"], 1, "{deg}");
@@ -227,7 +219,10 @@ fn motion_and_joint_ic_conflict_is_named() {
     assert_eq!(c[0]["name"], "hinge");
     assert_eq!(c[0]["type"], "IC rotation");
     assert_eq!(c[0]["kind"], "conflict");
-    assert_eq!(c[0]["with"], serde_json::json!(["hinge_drive (Rotational Motion)"]));
+    assert_eq!(
+        c[0]["with"],
+        serde_json::json!(["hinge_drive (Rotational Motion)"])
+    );
     assert_eq!(c[0]["mismatch_unit"], "degrees");
     assert!((c[0]["mismatch"].as_f64().unwrap().abs() - 10.0).abs() < 1e-9);
     let (code, text, _) = run(&[

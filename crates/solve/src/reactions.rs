@@ -21,7 +21,7 @@ pub struct Reaction {
     pub torque: DVec3,
 }
 
-/// Reactions of every joint, primitive and motion. `rows` are the rows in the solve with their
+/// Reactions of every joint, primitive, motion and general constraint. `rows` are the rows in the solve with their
 /// gradients at `s`, `lambda` their multipliers in model force units. Rows not in the solve
 /// (redundant ones) carry zero, as in Adams.
 pub fn element_reactions(
@@ -54,10 +54,17 @@ pub fn element_reactions(
             ConstraintKind::Joint { .. }
                 | ConstraintKind::Jprim { .. }
                 | ConstraintKind::Motion { .. }
+                | ConstraintKind::Gcon { .. }
         ) {
             continue;
         }
-        let Some((i, j)) = con.markers() else {
+        // A general constraint acts on its I marker's part (and whatever its expression
+        // measures); its reaction is reported on the I marker.
+        let markers = match &con.kind {
+            ConstraintKind::Gcon { i, .. } => Some((*i, *i)),
+            _ => con.markers(),
+        };
+        let Some((i, j)) = markers else {
             continue;
         };
         let p_i = {

@@ -14,7 +14,8 @@ use linkage_solve::verify::{verify, Verification};
 use std::path::Path;
 
 fn model_from_text(name: &str, text: &str) -> Model {
-    let ds = linkage_adm::parse_dataset(name.into(), text).unwrap_or_else(|e| panic!("{name}: {e}"));
+    let ds =
+        linkage_adm::parse_dataset(name.into(), text).unwrap_or_else(|e| panic!("{name}: {e}"));
     linkage_model::build_model(&ds)
         .unwrap_or_else(|e| panic!("{name}: {e}"))
         .model
@@ -125,7 +126,11 @@ fn fourbar_in_plane_reactions_are_determinate_out_of_plane_are_not() {
         assert_eq!(r.determinate, [Direction::Force(0), Direction::Force(1)]);
         assert_eq!(
             r.indeterminate,
-            [Direction::Force(2), Direction::Torque(0), Direction::Torque(1)]
+            [
+                Direction::Force(2),
+                Direction::Torque(0),
+                Direction::Torque(1)
+            ]
         );
     }
 }
@@ -171,7 +176,11 @@ fn door_spherical_and_inline_make_the_axial_hinge_forces_determinate() {
     let made = p.now_determinate.iter().find(|r| &r.name == name).unwrap();
     assert_eq!(
         made.directions,
-        [Direction::Force(0), Direction::Force(1), Direction::Force(2)]
+        [
+            Direction::Force(0),
+            Direction::Force(1),
+            Direction::Force(2)
+        ]
     );
     assert_eq!(verify_applied("door_two_hinges.adm", p), (1, 0));
     // After the change no reaction is indeterminate.
@@ -252,7 +261,11 @@ fn motion_and_joint_ic_on_the_same_rotation_conflict() {
     assert_eq!(c.with, ["hinge_drive (Rotational Motion)"]);
     assert!(!c.with_constraints_only);
     // IC = 10D against the motion's 0 at T = 0.
-    assert!((c.mismatch.unwrap().abs() - 10.0).abs() < 1e-9, "{:?}", c.mismatch);
+    assert!(
+        (c.mismatch.unwrap().abs() - 10.0).abs() < 1e-9,
+        "{:?}",
+        c.mismatch
+    );
     // With IC = 0D the two agree: a duplicate.
     let text = mechanism_text("revolute_motion_ic_conflict.adm").replace("IC = 10D", "IC = 0D");
     let (_, e) = analyse(&model_from_text("same.adm", &text));
@@ -344,7 +357,10 @@ fn translational_with_three_redundant_rotations_becomes_an_inline_primitive() {
     let p = &e.suggestions[0];
     assert_eq!(p.changes.len(), 1);
     let (from, to) = p.changes[0].describe(&m);
-    assert_eq!((from.as_str(), to.as_str()), ("TRANSLATIONAL", "JPRIM INLINE"));
+    assert_eq!(
+        (from.as_str(), to.as_str()),
+        ("TRANSLATIONAL", "JPRIM INLINE")
+    );
     assert_eq!((p.dof_after, p.redundant_after), (1, 0));
     // Applied to the text: the joint becomes a primitive in place, named as before.
     let ds = linkage_adm::parse_dataset("slider.adm".into(), text).unwrap();
