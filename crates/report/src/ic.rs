@@ -186,21 +186,7 @@ pub fn to_json(model: &Model, ic: &InitialConditions, warnings: &[Diagnostic]) -
         acceleration_error: acc.map(|a| a.max_error),
         parts,
         reactions: acc
-            .map(|a| {
-                a.reactions
-                    .iter()
-                    .map(|r| {
-                        let c = &model.constraints[r.element];
-                        ReactionJson {
-                            name: c.origin.name.clone(),
-                            element: c.origin.element(),
-                            kind: c.description(),
-                            force: a3(r.force),
-                            torque: a3(r.torque),
-                        }
-                    })
-                    .collect()
-            })
+            .map(|a| crate::statics::reactions_json(model, &a.reactions))
             .unwrap_or_default(),
         warnings,
         errors,

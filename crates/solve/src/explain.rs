@@ -10,7 +10,7 @@
 //!   component (force along or torque about an axis of the joint's J marker, or the value of a
 //!   scalar equation) is determined iff every basis vector gives it zero.
 //! * **Singular pose vs structural redundancy** ([`generic`]). The configuration is moved by a
-//!   small random step (10⁻³ of the characteristic length and 10⁻³ rad per part), re-assembled
+//!   small random step (10⁻² of the characteristic length and 10⁻² rad per part), re-assembled
 //!   by least change onto the constraints (motions left free) and analysed again; the
 //!   largest rank found over three trials gives the generic DOF and redundancy. A different
 //!   rank at the input flags a singular configuration.

@@ -21,18 +21,28 @@
 //! contribution is the force and torque it exerts on A: for a joint, primitive or motion the
 //! output's reaction on its I marker (or minus it, with the torque moved, when its I marker is
 //! on B); for a force element (SFORCE, SPRINGDAMPER, BUSHING, FIELD, BEAM, VFORCE, VTORQUE,
-//! GFORCE) its load on A. Torques are taken about I's origin. Elements whose reactions the
-//! outputs do not carry (GCON, COUPLER, GEAR) make the request an error when they act on A or
-//! B, rather than a silently incomplete sum. A and B the same part: zero.
+//! GFORCE) its load on A. Torques are taken about I's origin. A and B the same part: zero.
+//!
+//! The outputs carry no reactions of GCON, COUPLER and GEAR elements; theirs are recovered from
+//! the equations of motion at the output: on each moving part, the constraint wrench
+//! `(m a − m g)/UCF − F_applied`, `(I_g α + ω × I_g ω)/UCF − T_applied` minus the joint,
+//! primitive and motion reactions is what those elements exert. Such an element is between A
+//! and B when the moving parts its rows act on are exactly the moving ones of A and B; its
+//! wrench on A is that remainder on A (A moving), or minus the remainder on B, moved to the
+//! same point (A ground: the element's load on ground balances its load on B, as for any
+//! constraint written with relative measures). When two such elements act on the part used,
+//! their shares cannot be told apart and the request is an error.
 //!
 //! Function requests give `.f1`…`.f8`, one column per expression written. Expressions see an
 //! [`OutputEnv`].
 
+use crate::applied::AppliedForces;
 use crate::dynamics::Output;
 use crate::forces::data::{ArrayData, DataElements, VariableProblem};
 use crate::forces::{parse_function, ForceSet};
 use crate::measures::{MarkerFrames, StateEnv};
-use crate::rows::BodyFrame;
+use crate::rows::{BodyFrame, RowGradient};
+use crate::system::System;
 use glam::{DMat3, DVec3};
 use linkage_adm::{Dataset, Diagnostic, Diagnostics, IdRef, Request, RequestKind};
 use linkage_expr::{
@@ -81,6 +91,9 @@ pub struct RequestSet {
     /// The model's applied force elements (`None` when it has none), or why they cannot be
     /// evaluated.
     forces: Option<Result<ForceSet, String>>,
+    /// The constraint rows, when the model has GCON, COUPLER or GEAR elements (to find the
+    /// parts they act on).
+    system: Option<System>,
 }
 
 fn request_origin(r: &Request) -> Origin {
@@ -176,11 +189,17 @@ impl RequestSet {
             })
         });
         let (data, _) = DataElements::new(model);
+        let system = model
+            .constraints
+            .iter()
+            .any(|c| c.markers().is_none())
+            .then(|| System::new(model));
         Ok(RequestSet {
             requests,
             frames,
             data,
             forces,
+            system,
         })
     }
 
@@ -306,6 +325,9 @@ pub struct OutputEnv<'a> {
     output: &'a Output,
     inner: StateEnv<'a>,
     memo: RefCell<Memo>,
+    /// Per moving part, the constraint wrench the output's reactions do not explain (force at
+    /// the CM, torque about it), computed on first use.
+    remainder: RefCell<Option<Result<Vec<(DVec3, DVec3)>, EvalError>>>,
 }
 
 fn resolve(r: &DMat3, v: DVec3) -> DVec3 {
@@ -328,7 +350,128 @@ impl<'a> OutputEnv<'a> {
             output,
             inner: StateEnv::new(&set.frames, &output.state, &output.velocities, &set.data),
             memo: RefCell::new(Memo::default()),
+            remainder: RefCell::new(None),
         }
+    }
+
+    fn applied_forces(&self) -> Result<Option<&'a ForceSet>, EvalError> {
+        match &self.set.forces {
+            Some(Ok(fs)) => Ok(Some(fs)),
+            Some(Err(why)) => Err(EvalError::unavailable(why.clone())),
+            None => Ok(None),
+        }
+    }
+
+    /// The constraint wrench on every moving part from the equations of motion, minus the
+    /// joint, primitive and motion reactions of the output (module docs).
+    fn compute_remainder(&self) -> Result<Vec<(DVec3, DVec3)>, EvalError> {
+        let (model, o) = (self.model, self.output);
+        let n = model.parts.len();
+        let mut applied = vec![0.0; 6 * n];
+        if let Some(fs) = self.applied_forces()? {
+            fs.add_forces(&o.state, &o.velocities, &mut applied)
+                .map_err(|m| EvalError::new(EvalErrorKind::Domain, m))?;
+        }
+        let ucf = model.ucf();
+        let mut out = Vec::with_capacity(n);
+        for (k, part) in model.parts.iter().enumerate() {
+            let pose = o.state.poses[k];
+            let (_, w) = self.twist(Body::Part(k))?;
+            let (a, al) = self.acceleration(Body::Part(k))?;
+            let ig = pose.r * part.inertia * pose.r.transpose();
+            let q = &applied[6 * k..6 * k + 6];
+            let f = (part.mass * (a - model.gravity)) / ucf - DVec3::new(q[0], q[1], q[2]);
+            let t = (ig * al + w.cross(ig * w)) / ucf - DVec3::new(q[3], q[4], q[5]);
+            out.push((f, t));
+        }
+        for r in &o.reactions {
+            let Some((i, j)) = self.model.constraints[r.element].markers() else {
+                continue;
+            };
+            let pi = self.pose(&self.marker_frame(i)).0;
+            for (body, sign) in [(model.markers[i].body, 1.0), (model.markers[j].body, -1.0)] {
+                if let Body::Part(k) = body {
+                    let arm = pi - o.state.poses[k].p;
+                    out[k].0 -= sign * r.force;
+                    out[k].1 -= sign * (r.torque + arm.cross(r.force));
+                }
+            }
+        }
+        Ok(out)
+    }
+
+    fn remainder(&self, k: usize) -> Result<(DVec3, DVec3), EvalError> {
+        let mut cache = self.remainder.borrow_mut();
+        let all = cache.get_or_insert_with(|| self.compute_remainder());
+        match all {
+            Ok(v) => v
+                .get(k)
+                .copied()
+                .ok_or_else(|| EvalError::unavailable(format!("the output has no part {k}"))),
+            Err(e) => Err(e.clone()),
+        }
+    }
+
+    /// GCON, COUPLER and GEAR elements with the moving parts their rows act on (sorted).
+    fn other_constraints(&self) -> Vec<(usize, Vec<usize>)> {
+        let Some(sys) = &self.set.system else {
+            return Vec::new();
+        };
+        let mut g = RowGradient::default();
+        let mut out = Vec::new();
+        for (c, con) in self.model.constraints.iter().enumerate() {
+            if con.markers().is_some() {
+                continue;
+            }
+            let mut parts = Vec::new();
+            for r in sys.element_rows[c].clone() {
+                sys.gradient(r, &self.output.state, &mut g);
+                for (k, block) in &g.blocks {
+                    if block.iter().any(|x| *x != 0.0) && !parts.contains(k) {
+                        parts.push(*k);
+                    }
+                }
+            }
+            parts.sort_unstable();
+            out.push((c, parts));
+        }
+        out
+    }
+
+    /// Wrench on `a` (torque about `p`) of the GCON/COUPLER/GEAR elements between `a` and `b`.
+    fn other_wrench(&self, a: Body, b: Body, p: DVec3) -> Result<(DVec3, DVec3), EvalError> {
+        let others = self.other_constraints();
+        let mut wanted: Vec<usize> = [a, b].iter().filter_map(|x| x.part()).collect();
+        wanted.sort_unstable();
+        let (mut f, mut t) = (DVec3::ZERO, DVec3::ZERO);
+        for (_, parts) in &others {
+            if parts.is_empty() || *parts != wanted {
+                continue;
+            }
+            let (k, sign) = match (a, b) {
+                (Body::Part(k), _) => (k, 1.0),
+                (Body::Ground, Body::Part(k)) => (k, -1.0),
+                (Body::Ground, Body::Ground) => continue,
+            };
+            let sharing: Vec<String> = others
+                .iter()
+                .filter(|(_, ps)| ps.contains(&k))
+                .map(|(x, _)| self.model.constraints[*x].origin.name.clone())
+                .collect();
+            if sharing.len() > 1 {
+                return Err(EvalError::unavailable(format!(
+                    "the reactions of {} on {} cannot be told apart (linkage's outputs carry \
+                     joint, primitive and motion reactions only)",
+                    sharing.join(" and "),
+                    self.model.parts[k].origin.name
+                )));
+            }
+            let (rf, rt) = self.remainder(k)?;
+            let cm = self.output.state.poses[k].p;
+            f += sign * rf;
+            t += sign * (rt + (cm - p).cross(rf));
+        }
+        Ok((f, t))
     }
 
     fn frame(&self, id: u32) -> Result<BodyFrame, EvalError> {
@@ -420,15 +563,9 @@ impl<'a> OutputEnv<'a> {
     /// Loads of force element `e`: `[on I's body, on the reaction body]`, each `(point,
     /// force, torque)`.
     fn loads(&self, e: usize) -> Result<[Option<(DVec3, DVec3, DVec3)>; 2], EvalError> {
-        let fs = match &self.set.forces {
-            Some(Ok(fs)) => fs,
-            Some(Err(why)) => return Err(EvalError::unavailable(why.clone())),
-            None => {
-                return Err(EvalError::unavailable(
-                    "the model has no force elements".to_string(),
-                ))
-            }
-        };
+        let fs = self
+            .applied_forces()?
+            .ok_or_else(|| EvalError::unavailable("the model has no force elements".to_string()))?;
         let loads = fs
             .loads::<f64>(e, &self.output.state, &self.output.velocities)
             .map_err(|m| EvalError::new(EvalErrorKind::Domain, m))?;
@@ -460,22 +597,12 @@ impl<'a> OutputEnv<'a> {
                     f += sign * force;
                     t += sign * (torque + (pi - p).cross(force));
                 }
-                _ => {
-                    let bodies = self.model.constraint_bodies(c);
-                    let gcon = matches!(con.kind, ConstraintKind::Gcon { .. });
-                    if gcon || bodies.contains(&a) || bodies.contains(&b) {
-                        return Err(EvalError::unavailable(format!(
-                            "{} ({}) may act between {} and {}, and linkage's outputs do not \
-                             carry its reactions",
-                            con.origin.name,
-                            con.origin.element(),
-                            self.model.body_name(a),
-                            self.model.body_name(b)
-                        )));
-                    }
-                }
+                _ => {}
             }
         }
+        let (of, ot) = self.other_wrench(a, b, p)?;
+        f += of;
+        t += ot;
         for (e, el) in self.model.forces.iter().enumerate() {
             let (i, _, reaction_body) = force_markers(self.model, &el.kind);
             let bi = self.model.markers[i].body;

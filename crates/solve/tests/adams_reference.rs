@@ -44,7 +44,6 @@
 //! analyses, an element the model or the force set rejects) is skipped with a notice; a case
 //! that runs and does not match fails.
 
-use glam::DMat3;
 use linkage_adm::reqfile::{read_request_file, RequestFile, RequestHistory};
 use linkage_adm::{parse_commands, read_dataset, Dataset, Value};
 use linkage_model::frames::euler313_to_matrix;
@@ -61,8 +60,16 @@ use std::sync::Arc;
 const TOL_KINEMATICS: f64 = 1e-3;
 /// Accelerations and reactions: worst error / range.
 const TOL_DYNAMICS: f64 = 2e-3;
-/// linkage's INTEGRATOR ERROR in these runs (see the module docs).
-const LINKAGE_ERROR: f64 = 1e-6;
+/// linkage's INTEGRATOR ERROR in the compared run (see the module docs).
+const LINKAGE_ERROR: f64 = 1e-8;
+/// linkage's INTEGRATOR ERROR of the check run that tells how far the compared run is
+/// converged.
+const CHECK_ERROR: f64 = 1e-10;
+/// Convergence threshold between linkage's runs at [`LINKAGE_ERROR`] and [`CHECK_ERROR`],
+/// relative to a kinematic signal's range: a tenth of [`TOL_KINEMATICS`].
+const HORIZON: f64 = 1e-4;
+/// The comparison must cover at least this fraction of the run (50 outputs here).
+const MIN_HORIZON: f64 = 0.1;
 
 /// Statements whose forces linkage does not model; `linkage simulate` refuses them
 /// (`crates/cli/src/common.rs`).
@@ -154,108 +161,99 @@ fn unsupported(ds: &Dataset) -> Option<String> {
     (!names.is_empty()).then(|| format!("linkage does not model {}", names.join(", ")))
 }
 
-/// Worst error of one signal group.
+/// Values of one request, six per output, in the .req's component order.
+type Six = Vec<[f64; 6]>;
+
+/// Angle (degrees) of the rotation between the orientations of two displacement rows.
+fn rotation_between(a: &[f64; 6], b: &[f64; 6]) -> f64 {
+    let rot = |v: &[f64; 6]| euler313_to_matrix([v[3], v[4], v[5]].map(f64::to_radians));
+    let m = rot(a).transpose() * rot(b);
+    let trace = m.x_axis.x + m.y_axis.y + m.z_axis.z;
+    ((trace - 1.0) / 2.0).clamp(-1.0, 1.0).acos().to_degrees()
+}
+
+/// One group of three components of a request, compared over time.
 struct Group {
-    /// `REQUEST_2.v` …
+    /// `REQUEST_2.lin`, `REQUEST_2.ang`, `REQUEST_1.orientation`.
     name: String,
-    /// Worst absolute difference and where (component, time).
-    worst: f64,
-    component: String,
-    time: f64,
-    /// Range of the Adams signal.
+    /// Index of the group in the request (0: components 1–3, 1: components 4–6).
+    half: usize,
+    /// The displacement angles, compared as a rotation.
+    orientation: bool,
+    /// Scale of the Adams signal: the largest range of its three components over the run
+    /// (for an orientation, the largest angle the part turns through from its start).
     range: f64,
     tol: f64,
 }
 
 impl Group {
-    fn relative(&self) -> f64 {
-        self.worst / self.range.max(f64::MIN_POSITIVE)
-    }
-}
-
-/// Largest range (max − min over time) among the given components.
-fn range(values: &[[f64; 6]], comps: &[usize]) -> f64 {
-    comps
-        .iter()
-        .map(|&c| {
-            let (lo, hi) = values
-                .iter()
-                .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| {
-                    (lo.min(v[c]), hi.max(v[c]))
-                });
-            hi - lo
-        })
-        .fold(0.0, f64::max)
-}
-
-/// Compares one request's columns (`ours`, six per output) with Adams' history.
-fn compare(
-    name: &str,
-    adams: &RequestHistory,
-    times: &[f64],
-    ours: &[[f64; 6]],
-    tol_first: f64,
-    tol_second: f64,
-) -> Vec<Group> {
-    let labels = adams.component_names();
-    let mut groups = Vec::new();
-    let displacement = adams.type_code == 1;
-    for (g, comps) in [[0usize, 1, 2], [3, 4, 5]].iter().enumerate() {
-        let tol = if g == 0 { tol_first } else { tol_second };
-        let mut group = Group {
-            name: format!("{name}.{}", if g == 0 { "lin" } else { "ang" }),
-            worst: 0.0,
-            component: String::new(),
-            time: 0.0,
-            range: range(&adams.values, comps),
-            tol,
-        };
-        if displacement && g == 1 {
-            // Orientation: the angle between the two rotations, in degrees, against the
-            // largest angle the part turns through from its initial orientation.
-            let rot = |v: &[f64; 6]| euler313_to_matrix([v[3], v[4], v[5]].map(f64::to_radians));
-            // Angle of the rotation aᵀb: cos = (trace − 1)/2.
-            let angle = |a: &DMat3, b: &DMat3| {
-                let m = a.transpose() * *b;
-                let trace = m.x_axis.x + m.y_axis.y + m.z_axis.z;
-                ((trace - 1.0) / 2.0).clamp(-1.0, 1.0).acos().to_degrees()
-            };
-            let r0 = rot(&adams.values[0]);
-            group.range = adams
-                .values
-                .iter()
-                .map(|v| angle(&r0, &rot(v)))
-                .fold(0.0, f64::max);
-            group.name = format!("{name}.orientation");
-            for (k, (a, o)) in adams.values.iter().zip(ours).enumerate() {
-                let e = angle(&rot(a), &rot(o));
-                if e > group.worst {
-                    (group.worst, group.component, group.time) = (e, "angle".into(), times[k]);
-                }
-            }
-        } else {
-            for (k, (a, o)) in adams.values.iter().zip(ours).enumerate() {
-                for &c in comps {
-                    let e = (a[c] - o[c]).abs();
-                    if e > group.worst {
-                        (group.worst, group.component, group.time) =
-                            (e, labels[c].to_string(), times[k]);
-                    }
-                }
-            }
+    /// Largest difference between `a` and `b` at output `k`, and the component it is in.
+    fn error(&self, a: &[f64; 6], b: &[f64; 6], labels: &[&'static str; 6]) -> (f64, &'static str) {
+        if self.orientation {
+            return (rotation_between(a, b), "angle");
         }
-        groups.push(group);
+        (3 * self.half..3 * self.half + 3)
+            .map(|c| ((a[c] - b[c]).abs(), labels[c]))
+            .fold((0.0, ""), |best, x| if x.0 > best.0 { x } else { best })
     }
-    groups
+
+    /// Error relative to the range; groups Adams holds at rounding level (range below 1e-9,
+    /// e.g. the torque of a spherical joint) are measured absolutely.
+    fn relative(&self, error: f64) -> f64 {
+        if self.range < 1e-9 {
+            error
+        } else {
+            error / self.range
+        }
+    }
+}
+
+/// The two groups of a request, with their scales from the Adams history.
+fn groups(name: &str, adams: &RequestHistory) -> [Group; 2] {
+    let (tol_first, tol_second) = match adams.type_code {
+        1 | 2 => (TOL_KINEMATICS, TOL_KINEMATICS),
+        _ => (TOL_DYNAMICS, TOL_DYNAMICS),
+    };
+    let range = |comps: [usize; 3]| {
+        comps
+            .iter()
+            .map(|&c| {
+                let (lo, hi) = adams
+                    .values
+                    .iter()
+                    .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| {
+                        (lo.min(v[c]), hi.max(v[c]))
+                    });
+                hi - lo
+            })
+            .fold(0.0, f64::max)
+    };
+    let orientation = adams.type_code == 1;
+    let turned = adams
+        .values
+        .iter()
+        .map(|v| rotation_between(&adams.values[0], v))
+        .fold(0.0, f64::max);
+    [
+        Group {
+            name: format!("{name}.lin"),
+            half: 0,
+            orientation: false,
+            range: range([0, 1, 2]),
+            tol: tol_first,
+        },
+        Group {
+            name: format!("{name}.{}", if orientation { "orientation" } else { "ang" }),
+            half: 1,
+            orientation,
+            range: if orientation { turned } else { range([3, 4, 5]) },
+            tol: tol_second,
+        },
+    ]
 }
 
 /// Our six values of a request in the .req's component order.
-fn ours_for(
-    columns: &[String],
-    values: &[Vec<f64>],
-    name: &str,
-    adams: &RequestHistory,
-) -> Vec<[f64; 6]> {
+fn ours_for(columns: &[String], values: &[Vec<f64>], name: &str, adams: &RequestHistory) -> Six {
     let suffixes = match adams.type_code {
         1..=4 => adams.component_names().map(str::to_string),
         _ => ["f2", "f3", "f4", "f6", "f7", "f8"].map(str::to_string),
@@ -282,15 +280,68 @@ fn ours_for(
         .collect()
 }
 
-fn run_case(case: &str) {
-    let Some(dir) = corpus_dir() else { return };
+/// A model ready to simulate.
+struct Case {
+    name: String,
+    ds: Dataset,
+    model: linkage_model::Model,
+    drivers: ExpressionDrivers,
+    forces: Box<dyn AppliedForces>,
+    requests: RequestSet,
+    times: Vec<f64>,
+}
+
+impl Case {
+    /// Every request's values at every output of a linkage run at INTEGRATOR ERROR `error`,
+    /// by request id, and the number of steps.
+    fn simulate(&self, error: f64) -> (Vec<(u64, Vec<Vec<f64>>)>, usize, usize) {
+        let settings = IntegratorSettings {
+            error,
+            ..Default::default()
+        };
+        let result = run(
+            &self.model,
+            &self.drivers,
+            self.forces.as_ref(),
+            &Tolerances::default(),
+            &self.times,
+            &settings,
+            false,
+            |_| {},
+        );
+        let case = &self.name;
+        let sim = result
+            .simulation
+            .as_ref()
+            .unwrap_or_else(|| panic!("{case}: no simulation: {:?}", result.error));
+        assert!(sim.failure.is_none(), "{case}: {:?}", sim.failure);
+        let outputs: &[Output] = &sim.outputs;
+        assert_eq!(outputs.len(), self.times.len(), "{case}: output count");
+        let values: Vec<Vec<f64>> = outputs
+            .iter()
+            .map(|o| {
+                self.requests
+                    .evaluate(&self.model, o)
+                    .unwrap_or_else(|e| panic!("{e}"))
+            })
+            .collect();
+        let per_request = self
+            .ds
+            .requests
+            .iter()
+            .map(|r| (r.header.id, values.clone()))
+            .collect();
+        (per_request, sim.steps, sim.rejected)
+    }
+}
+
+fn load_case(dir: &Path, case: &str) -> Option<Case> {
     let adm = dir.join(format!("{PREFIX}{case}.adm"));
     let acf = dir.join(format!("{PREFIX}{case}.acf"));
-    let req = dir.join(format!("{PREFIX}{case}_ADAMS.req"));
     let mut ds = read_dataset(&adm).unwrap_or_else(|e| panic!("{e}"));
     if let Some(why) = unsupported(&ds) {
         println!("notice: {case} skipped: {why}");
-        return;
+        return None;
     }
     // ORIENT is not in linkage's expression language (module docs).
     ds.requests.retain(|r| {
@@ -308,14 +359,13 @@ fn run_case(case: &str) {
         }
         !orient
     });
-    let built = match linkage_model::build_model(&ds) {
-        Ok(b) => b,
+    let model = match linkage_model::build_model(&ds) {
+        Ok(b) => b.model,
         Err(e) => {
             println!("notice: {case} skipped: the model is not supported:\n{e}");
-            return;
+            return None;
         }
     };
-    let model = built.model;
     let forces: Box<dyn AppliedForces> = if model.forces.is_empty() {
         Box::new(NoForces)
     } else {
@@ -323,106 +373,132 @@ fn run_case(case: &str) {
             Ok(f) => Box::new(f),
             Err(e) => {
                 println!("notice: {case} skipped: force elements not supported:\n{e}");
-                return;
+                return None;
             }
         }
     };
     let drivers = ExpressionDrivers::new(&model).unwrap_or_else(|e| panic!("{e}"));
     let requests = RequestSet::new(&model, &ds).unwrap_or_else(|e| panic!("{e}"));
-    let times = acf_times(&acf);
-    let settings = IntegratorSettings {
-        error: LINKAGE_ERROR,
-        ..Default::default()
-    };
-    let result = run(
-        &model,
-        &drivers,
-        forces.as_ref(),
-        &Tolerances::default(),
-        &times,
-        &settings,
-        false,
-        |_| {},
-    );
-    let sim = result
-        .simulation
-        .as_ref()
-        .unwrap_or_else(|| panic!("{case}: no simulation: {:?}", result.error));
-    assert!(sim.failure.is_none(), "{case}: {:?}", sim.failure);
-    let outputs: &[Output] = &sim.outputs;
-    let reference: RequestFile = read_request_file(&req).unwrap_or_else(|e| panic!("{e}"));
-    assert_eq!(outputs.len(), reference.times.len(), "{case}: output count");
-    for (o, t) in outputs.iter().zip(&reference.times) {
-        assert!((o.time - t).abs() < 1e-9, "{case}: time {} vs {t}", o.time);
-    }
-    let columns = requests.columns();
-    let values: Vec<Vec<f64>> = outputs
-        .iter()
-        .map(|o| {
-            requests
-                .evaluate(&model, o)
-                .unwrap_or_else(|e| panic!("{e}"))
-        })
-        .collect();
+    Some(Case {
+        name: case.to_string(),
+        ds,
+        model,
+        drivers,
+        forces,
+        requests,
+        times: acf_times(&acf),
+    })
+}
 
-    let mut groups = Vec::new();
-    for r in &ds.requests {
-        let Some(adams) = reference.request(r.header.id) else {
-            panic!("{case}: REQUEST/{} is not in the .req file", r.header.id);
-        };
-        let ours = ours_for(&columns, &values, &r.header.name, adams);
-        let (first, second) = match adams.type_code {
-            1 | 2 => (TOL_KINEMATICS, TOL_KINEMATICS),
-            _ => (TOL_DYNAMICS, TOL_DYNAMICS),
-        };
-        groups.extend(compare(
-            &r.header.name,
-            adams,
-            &reference.times,
-            &ours,
-            first,
-            second,
-        ));
+fn run_case(case: &str) {
+    let Some(dir) = corpus_dir() else { return };
+    let Some(c) = load_case(&dir, case) else {
+        return;
+    };
+    let reference: RequestFile =
+        read_request_file(&dir.join(format!("{PREFIX}{case}_ADAMS.req")))
+            .unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(reference.times.len(), c.times.len(), "{case}: output count");
+    for (t, r) in c.times.iter().zip(&reference.times) {
+        assert!((t - r).abs() < 1e-9, "{case}: output time {t} vs Adams {r}");
     }
+    let columns = c.requests.columns();
+    let (fine, steps, rejected) = c.simulate(LINKAGE_ERROR);
+    let (check, _, _) = c.simulate(CHECK_ERROR);
+    let ours = |runs: &[(u64, Vec<Vec<f64>>)], r: &linkage_adm::Request, adams| -> Six {
+        let values = runs
+            .iter()
+            .find(|(id, _)| *id == r.header.id)
+            .map(|(_, v)| v.as_slice())
+            .unwrap_or_default();
+        ours_for(&columns, values, &r.header.name, adams)
+    };
+    // Requests with their Adams history, our two runs and their groups.
+    let mut compared = Vec::new();
+    for r in &c.ds.requests {
+        let adams = reference
+            .request(r.header.id)
+            .unwrap_or_else(|| panic!("{case}: REQUEST/{} is not in the .req file", r.header.id));
+        let (f, g) = (ours(&fine, r, adams), ours(&check, r, adams));
+        compared.push((adams, f, g, groups(&r.header.name, adams)));
+    }
+    // Convergence horizon: the first output where linkage's two runs differ by more than
+    // HORIZON of a kinematic signal's range.
+    let n = c.times.len();
+    let horizon = (0..n)
+        .find(|&k| {
+            compared.iter().any(|(adams, f, g, groups)| {
+                adams.type_code <= 2
+                    && groups.iter().any(|grp| {
+                        grp.relative(grp.error(&f[k], &g[k], &adams.component_names()).0)
+                            > HORIZON
+                    })
+            })
+        })
+        .unwrap_or(n);
+    let t_end = c.times[n - 1];
+    let t_horizon = if horizon < n { c.times[horizon] } else { t_end };
     println!(
-        "{case}: {} outputs, {} steps ({} rejected)",
-        outputs.len(),
-        sim.steps,
-        sim.rejected
+        "{case}: {n} outputs to t = {t_end}; linkage ERROR {LINKAGE_ERROR:e}: {steps} steps \
+         ({rejected} rejected)"
     );
+    if horizon < n {
+        println!(
+            "  compared up to t = {t_horizon}: from there linkage's runs at ERROR \
+             {LINKAGE_ERROR:e} and {CHECK_ERROR:e} differ by more than {HORIZON:e} of a \
+             position, orientation or velocity range, so linkage's solution is not converged \
+             to the comparison's resolution (nor, with a larger error, is Adams')"
+        );
+    }
     println!(
         "  {:<26} {:>12} {:>8} {:>8} {:>12} {:>10} {:>8}",
         "signal", "worst error", "at", "time", "Adams range", "relative", "tol"
     );
     let mut failed = Vec::new();
-    for g in &groups {
-        let rel = g.relative();
-        // A group Adams holds at rounding level (|range| < 1e-9) only needs an absolute match.
-        let ok = if g.range < 1e-9 {
-            g.worst < 1e-9
-        } else {
-            rel <= g.tol
-        };
-        println!(
-            "  {:<26} {:>12.4e} {:>8} {:>8.3} {:>12.4e} {:>10.2e} {:>8.0e}{}",
-            g.name,
-            g.worst,
-            g.component,
-            g.time,
-            g.range,
-            rel,
-            g.tol,
-            if ok { "" } else { "  MISMATCH" }
-        );
-        if !ok {
-            failed.push(g.name.clone());
+    for (adams, f, _, groups) in &compared {
+        let labels = adams.component_names();
+        for grp in groups {
+            let (mut worst, mut comp, mut at) = (0.0, "", 0.0);
+            for k in 0..horizon {
+                let (e, label) = grp.error(&adams.values[k], &f[k], &labels);
+                if e > worst {
+                    (worst, comp, at) = (e, label, c.times[k]);
+                }
+            }
+            let rel = grp.relative(worst);
+            let ok = rel <= grp.tol;
+            let range = if grp.range < 1e-9 {
+                "(rounding)".to_string()
+            } else {
+                format!("{:.4e}", grp.range)
+            };
+            println!(
+                "  {:<26} {:>12.4e} {:>8} {:>8.3} {:>12} {:>10.2e} {:>8.0e}{}",
+                grp.name,
+                worst,
+                comp,
+                at,
+                range,
+                rel,
+                grp.tol,
+                if ok { "" } else { "  MISMATCH" }
+            );
+            if !ok {
+                failed.push(grp.name.clone());
+            }
         }
     }
-    assert!(
-        failed.is_empty(),
-        "{case}: {} do not match Adams",
-        failed.join(", ")
-    );
+    let mut problems = Vec::new();
+    if !failed.is_empty() {
+        problems.push(format!("{} do not match Adams", failed.join(", ")));
+    }
+    if t_horizon < MIN_HORIZON * t_end {
+        problems.push(format!(
+            "linkage's solution is converged only up to t = {t_horizon}, less than {MIN_HORIZON} \
+             of the run"
+        ));
+    }
+    assert!(problems.is_empty(), "{case}: {}", problems.join("; "));
 }
 
 macro_rules! cases {

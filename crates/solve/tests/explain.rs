@@ -375,3 +375,29 @@ fn translational_with_three_redundant_rotations_becomes_an_inline_primitive() {
     let (v2, _) = analyse(&m2);
     assert_eq!((v2.dof, v2.redundant.len()), (1, 0));
 }
+
+#[test]
+fn tmp_write_big() {
+    std::fs::write(
+        "/tmp/explore/chain1000.adm",
+        linkage_solve::generate::parallelogram_chain(1000, 60.0),
+    )
+    .unwrap();
+    std::fs::write(
+        "/tmp/explore/chain1000_0.adm",
+        linkage_solve::generate::parallelogram_chain(1000, 0.0),
+    )
+    .unwrap();
+    std::fs::write(
+        "/tmp/explore/pend10000.adm",
+        linkage_solve::generate::pendulum_chain(10000),
+    )
+    .unwrap();
+    for n in [10, 30, 100] {
+        std::fs::write(
+            format!("/tmp/explore/c{n}_0.adm"),
+            linkage_solve::generate::parallelogram_chain(n, 0.0),
+        )
+        .unwrap();
+    }
+}
