@@ -26,7 +26,7 @@ fn solve(name: &str, text: &str, times: &[f64]) -> (Model, StaticRun) {
     (m, r)
 }
 
-fn part<'a>(m: &Model, name: &str) -> usize {
+fn part(m: &Model, name: &str) -> usize {
     m.parts
         .iter()
         .position(|p| p.origin.name == name)
