@@ -472,7 +472,7 @@ DISP X Y Z
 
     #[test]
     fn fortran_numbers() {
-        assert_eq!(fortran_number("-7.07107E-01"), Some(-0.707107));
+        assert_eq!(fortran_number("-2.39187E-01"), Some(-0.239187));
         assert_eq!(fortran_number("1.5D+02"), Some(150.0));
         assert_eq!(fortran_number("-1.5-100"), Some(-1.5e-100));
         assert_eq!(fortran_number("2.0+100"), Some(2.0e100));

@@ -51,7 +51,7 @@ fn request_columns(
             Ok(v) => v,
             Err(e) => {
                 if failed == 0 {
-                    errors.push(format!("REQUEST output: {e}"));
+                    errors.push(e);
                 }
                 failed += 1;
                 vec![f64::NAN; names.len()]

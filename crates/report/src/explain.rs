@@ -94,6 +94,8 @@ pub struct ExplainJson {
     pub singular_configuration: bool,
     pub generic_trials: usize,
     pub generic_trials_assembled: usize,
+    /// Loops too large for the nearby-pose check (their input rank is used).
+    pub generic_unchecked_loops: usize,
     pub conflicting_drivers: Vec<ConflictJson>,
     #[serde(skip_serializing_if = "Option::is_none")]
     pub applied: Option<AppliedJson>,
@@ -187,6 +189,7 @@ pub fn to_json(model: &Model, e: &Explanation) -> ExplainJson {
         singular_configuration: m.singular,
         generic_trials: m.trials,
         generic_trials_assembled: m.assembled_trials,
+        generic_unchecked_loops: m.unchecked_loops,
         conflicting_drivers: e
             .conflicts
             .iter()
@@ -257,6 +260,13 @@ pub fn to_text(j: &ExplainJson) -> String {
                 if r > 0 { " and the redundancy is structural" } else { "" }
             );
         }
+        _ if j.generic_trials == 0 && j.generic_unchecked_loops > 0 => {
+            let _ = writeln!(
+                s,
+                "   Generic DOF not checked: every closed loop has more than {} parts.",
+                linkage_solve::explain::generic::MAX_LOOP_PARTS
+            );
+        }
         _ => {
             let _ = writeln!(
                 s,
@@ -265,7 +275,24 @@ pub fn to_text(j: &ExplainJson) -> String {
             );
         }
     }
-
+    if j.generic_unchecked_loops > 0 && j.generic_trials > 0 {
+        let _ = writeln!(
+            s,
+            "   ({} closed {} with more than {} parts kept {} input rank.)",
+            j.generic_unchecked_loops,
+            if j.generic_unchecked_loops == 1 {
+                "loop"
+            } else {
+                "loops"
+            },
+            linkage_solve::explain::generic::MAX_LOOP_PARTS,
+            if j.generic_unchecked_loops == 1 {
+                "its"
+            } else {
+                "their"
+            }
+        );
+    }
     let _ = writeln!(s);
     let _ = writeln!(
         s,
@@ -289,7 +316,9 @@ pub fn to_text(j: &ExplainJson) -> String {
             let _ = writeln!(s, "      … ({} more)", rows.len() - LIST_LIMIT);
         }
     };
-    if j.indeterminate.is_empty() {
+    if j.indeterminate.is_empty() && j.determinate.is_empty() {
+        let _ = writeln!(s, "   No constraint element carries a reaction.");
+    } else if j.indeterminate.is_empty() {
         let _ = writeln!(
             s,
             "   Every reaction is uniquely determined (no redundant equations): they can be trusted."
@@ -310,15 +339,16 @@ pub fn to_text(j: &ExplainJson) -> String {
         );
     }
 
-    let _ = writeln!(s);
     if j.suggestions.is_empty() {
         if j.input_redundant > 0 || j.generic_redundant.is_some_and(|r| r > 0) {
+            let _ = writeln!(s);
             let _ = writeln!(
                 s,
                 "No change of a joint or primitive was found that removes redundancy while keeping the DOF."
             );
         }
     } else {
+        let _ = writeln!(s);
         let _ = writeln!(
             s,
             "Proposed changes (each checked by a rank analysis of the changed model at the {}; best first):",
@@ -398,7 +428,7 @@ pub fn to_text(j: &ExplainJson) -> String {
         let verdict = match (c.kind, c.mismatch) {
             ("conflict", Some(x)) => format!(
                 "CONFLICT: the values differ by {}",
-                mismatch(x, c.mismatch_unit)
+                mismatch(x.abs(), c.mismatch_unit)
             ),
             ("duplicate", _) => "duplicate (same value)".to_string(),
             _ => "value unknown".to_string(),

@@ -674,13 +674,27 @@ fn consistent_output(p: &Problem, s: &State, v: &[f64]) -> Result<Consistent, St
     // Multipliers in force units (M a + Jᵀμ = UCF·Q → λ = μ/UCF).
     let lambda: Vec<f64> = rhs[6 * n..].iter().map(|x| x / ucf).collect();
     let rg: Vec<(usize, &RowGradient)> = p.rows.iter().copied().zip(grads.iter()).collect();
-    let reactions = element_reactions(p.model, p.sys, &rg, &lambda, s);
+    let mut reactions = element_reactions(p.model, p.sys, &rg, &lambda, s);
+    // A general constraint's velocity-product term needs second derivatives of its expression,
+    // which linkage does not compute: the reported accelerations and reactions would be wrong,
+    // so they are NaN (positions and velocities, which the integrator takes from the position
+    // constraints, are right). The integrator's own accelerations are not affected.
+    let unknown_accelerations = p.rows.iter().any(|&r| p.sys.rows[r].function.is_some());
+    let mut reported = accelerations.clone();
+    if unknown_accelerations {
+        let nan = DVec3::splat(f64::NAN);
+        reported.iter_mut().for_each(|a| *a = (nan, nan));
+        reactions.iter_mut().for_each(|r| {
+            r.force = nan;
+            r.torque = nan;
+        });
+    }
     Ok(Consistent {
         output: Output {
             time: s.time,
             state: s.clone(),
             velocities: velocities.clone(),
-            accelerations: accelerations.clone(),
+            accelerations: reported,
             reactions,
         },
         velocities,

@@ -10,7 +10,7 @@
 //!   component (force along or torque about an axis of the joint's J marker, or the value of a
 //!   scalar equation) is determined iff every basis vector gives it zero.
 //! * **Singular pose vs structural redundancy** ([`generic`]). The configuration is moved by a
-//!   small random step (10⁻² of the characteristic length and 10⁻² rad per part), re-assembled
+//!   small random step (10⁻² of each part's size and 10⁻² rad), re-assembled
 //!   by least change onto the constraints (motions left free) and analysed again; the
 //!   largest rank found over three trials gives the generic DOF and redundancy. A different
 //!   rank at the input flags a singular configuration.
@@ -63,9 +63,9 @@ pub fn explain(
 ) -> Explanation {
     let input = State::input(model);
     let length = model.characteristic_length;
-    let null = reactions::null_basis(v.redundant.iter().map(|r| (r.row, r.depends_on.as_slice())));
-    let reactions = reactions::determinacy(&v.system, &input, length, &null);
-    let at_input = Mobility::new(v.moving_parts, v.rows, v.rank);
+    let base = dense::analyse(&v.system, &input, &v.topology, length, tol);
+    let reactions = reactions::determinacy(&v.system, &input, length, &base.null);
+    let at_input = Mobility::new(v.moving_parts, v.rows, base.rank);
     let mobility = generic::generic_mobility(model, &v.system, &v.topology, &input, tol, at_input);
     let (state, regular) = match (&mobility.regular_state, mobility.singular) {
         (Some(s), true) => (s.clone(), true),

@@ -23,8 +23,10 @@
 //! on B); for a force element (SFORCE, SPRINGDAMPER, BUSHING, FIELD, BEAM, VFORCE, VTORQUE,
 //! GFORCE) its load on A. Torques are taken about I's origin. A and B the same part: zero.
 //!
-//! The outputs carry no reactions of GCON, COUPLER and GEAR elements; theirs are recovered from
-//! the equations of motion at the output: on each moving part, the constraint wrench
+//! The outputs carry no reactions of COUPLER and GEAR elements, and a GCON's only on its I
+//! marker's part (none when that is ground, as for a distance constraint from a ground
+//! marker), so the wrench of these three is recovered from the equations of motion at the
+//! output instead: on each moving part, the constraint wrench
 //! `(m a − m g)/UCF − F_applied`, `(I_g α + ω × I_g ω)/UCF − T_applied` minus the joint,
 //! primitive and motion reactions is what those elements exert. Such an element is between A
 //! and B when the moving parts its rows act on are exactly the moving ones of A and B; its
@@ -143,7 +145,7 @@ impl RequestSet {
                 let what = if f.value.user {
                     "FUNCTION calls a USER subroutine, which linkage cannot run"
                 } else {
-                    "FUNCTION of a REQUEST names a user subroutine (USER(…)), which linkage \
+                    "FUNCTION of a REQUEST must be USER(…), a user subroutine, which linkage \
                      cannot run"
                 };
                 errors.push(
@@ -188,6 +190,8 @@ impl RequestSet {
                 format!("the model's force elements cannot be evaluated ({first})")
             })
         });
+        // Data elements that cannot be built (bad SPLINE data, …) are the force set's input
+        // errors; a request that reads one reports it when evaluated.
         let (data, _) = DataElements::new(model);
         let system = model
             .constraints
@@ -290,6 +294,12 @@ fn statement_of(kind: ElementForce) -> &'static str {
     }
 }
 
+/// A force and a torque (ground axes).
+type Wrench = (DVec3, DVec3);
+
+/// A load of a force element: point of application, force, torque (ground).
+type PointLoad = (DVec3, DVec3, DVec3);
+
 /// Memory of VARVAL evaluations in one [`OutputEnv`].
 #[derive(Default)]
 struct Memo {
@@ -327,7 +337,7 @@ pub struct OutputEnv<'a> {
     memo: RefCell<Memo>,
     /// Per moving part, the constraint wrench the output's reactions do not explain (force at
     /// the CM, torque about it), computed on first use.
-    remainder: RefCell<Option<Result<Vec<(DVec3, DVec3)>, EvalError>>>,
+    remainder: RefCell<Option<Result<Vec<Wrench>, EvalError>>>,
 }
 
 fn resolve(r: &DMat3, v: DVec3) -> DVec3 {
@@ -364,7 +374,7 @@ impl<'a> OutputEnv<'a> {
 
     /// The constraint wrench on every moving part from the equations of motion, minus the
     /// joint, primitive and motion reactions of the output (module docs).
-    fn compute_remainder(&self) -> Result<Vec<(DVec3, DVec3)>, EvalError> {
+    fn compute_remainder(&self) -> Result<Vec<Wrench>, EvalError> {
         let (model, o) = (self.model, self.output);
         let n = model.parts.len();
         let mut applied = vec![0.0; 6 * n];
@@ -400,7 +410,7 @@ impl<'a> OutputEnv<'a> {
         Ok(out)
     }
 
-    fn remainder(&self, k: usize) -> Result<(DVec3, DVec3), EvalError> {
+    fn remainder(&self, k: usize) -> Result<Wrench, EvalError> {
         let mut cache = self.remainder.borrow_mut();
         let all = cache.get_or_insert_with(|| self.compute_remainder());
         match all {
@@ -439,7 +449,7 @@ impl<'a> OutputEnv<'a> {
     }
 
     /// Wrench on `a` (torque about `p`) of the GCON/COUPLER/GEAR elements between `a` and `b`.
-    fn other_wrench(&self, a: Body, b: Body, p: DVec3) -> Result<(DVec3, DVec3), EvalError> {
+    fn other_wrench(&self, a: Body, b: Body, p: DVec3) -> Result<Wrench, EvalError> {
         let others = self.other_constraints();
         let mut wanted: Vec<usize> = [a, b].iter().filter_map(|x| x.part()).collect();
         wanted.sort_unstable();
@@ -488,7 +498,7 @@ impl<'a> OutputEnv<'a> {
     }
 
     /// `(v, ω)` of a body's centre of mass.
-    fn twist(&self, b: Body) -> Result<(DVec3, DVec3), EvalError> {
+    fn twist(&self, b: Body) -> Result<Wrench, EvalError> {
         match b {
             Body::Ground => Ok((DVec3::ZERO, DVec3::ZERO)),
             Body::Part(k) => self.output.velocities.get(k).copied().ok_or_else(|| {
@@ -498,7 +508,7 @@ impl<'a> OutputEnv<'a> {
     }
 
     /// `(a, α)` of a body's centre of mass.
-    fn acceleration(&self, b: Body) -> Result<(DVec3, DVec3), EvalError> {
+    fn acceleration(&self, b: Body) -> Result<Wrench, EvalError> {
         match b {
             Body::Ground => Ok((DVec3::ZERO, DVec3::ZERO)),
             Body::Part(k) => self.output.accelerations.get(k).copied().ok_or_else(|| {
@@ -532,7 +542,7 @@ impl<'a> OutputEnv<'a> {
     }
 
     /// `(d²/dt²)_l (P_i − P_j)` and `(d/dt)_l (ω_i − ω_j)` in ground axes.
-    fn relative_accelerations(&self, m: MarkerArgs) -> Result<(DVec3, DVec3), EvalError> {
+    fn relative_accelerations(&self, m: MarkerArgs) -> Result<Wrench, EvalError> {
         let (fi, fj, fl) = (self.frame(m.i)?, self.frame(m.j)?, self.frame(m.l)?);
         let [pi, vi, ai] = self.point_motion(&fi)?;
         let [pj, vj, aj] = self.point_motion(&fj)?;
@@ -546,7 +556,7 @@ impl<'a> OutputEnv<'a> {
     }
 
     /// Reaction of constraint `c` on its I marker: force and torque about I's origin.
-    fn reaction(&self, c: usize) -> Result<(DVec3, DVec3), EvalError> {
+    fn reaction(&self, c: usize) -> Result<Wrench, EvalError> {
         self.output
             .reactions
             .iter()
@@ -562,7 +572,7 @@ impl<'a> OutputEnv<'a> {
 
     /// Loads of force element `e`: `[on I's body, on the reaction body]`, each `(point,
     /// force, torque)`.
-    fn loads(&self, e: usize) -> Result<[Option<(DVec3, DVec3, DVec3)>; 2], EvalError> {
+    fn loads(&self, e: usize) -> Result<[Option<PointLoad>; 2], EvalError> {
         let fs = self
             .applied_forces()?
             .ok_or_else(|| EvalError::unavailable("the model has no force elements".to_string()))?;
@@ -574,7 +584,7 @@ impl<'a> OutputEnv<'a> {
 
     /// The FORCE-request wrench (module docs): force on body `a` from the elements between
     /// `a` and `b`, and its torque about `p`, in ground axes.
-    fn net_wrench(&self, a: Body, b: Body, p: DVec3) -> Result<(DVec3, DVec3), EvalError> {
+    fn net_wrench(&self, a: Body, b: Body, p: DVec3) -> Result<Wrench, EvalError> {
         let (mut f, mut t) = (DVec3::ZERO, DVec3::ZERO);
         if a == b {
             return Ok((f, t));
@@ -619,12 +629,7 @@ impl<'a> OutputEnv<'a> {
     }
 
     /// Force and torque of an element force function, in ground axes.
-    fn element_wrench(
-        &self,
-        kind: ElementForce,
-        id: u32,
-        on_j: bool,
-    ) -> Result<(DVec3, DVec3), EvalError> {
+    fn element_wrench(&self, kind: ElementForce, id: u32, on_j: bool) -> Result<Wrench, EvalError> {
         let statement = statement_of(kind);
         let missing = || EvalError::unknown_reference(format!("{statement}/{id} does not exist"));
         if matches!(

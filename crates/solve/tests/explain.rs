@@ -221,7 +221,11 @@ fn parallelogram_chain_with_horizontal_cranks_is_a_singular_configuration() {
         assert!(!e.mobility.singular);
         let g = e.mobility.generic.unwrap();
         assert_eq!((g.dof, g.redundant), (1, 9));
-        assert_eq!(e.mobility.assembled_trials, e.mobility.trials);
+        assert_eq!(
+            e.mobility.assembled_trials, e.mobility.trials,
+            "{:?}",
+            e.mobility.generic
+        );
         assert!(!e.suggestions_at_regular_configuration);
     }
 }
@@ -238,7 +242,7 @@ fn bricard_linkage_moves_with_one_structural_redundancy() {
     let g = e.mobility.generic.unwrap();
     assert_eq!((g.dof, g.redundant), (1, 1));
     assert!(!e.mobility.singular);
-    assert_eq!(e.mobility.assembled_trials, 3);
+    assert_eq!((e.mobility.assembled_trials, e.mobility.trials), (3, 3));
     // A single joint made weaker (e.g. a cylindrical) removes the redundancy.
     let p = &e.suggestions[0];
     assert_eq!((p.changes.len(), p.dof_after, p.redundant_after), (1, 1, 0));
@@ -374,30 +378,4 @@ fn translational_with_three_redundant_rotations_becomes_an_inline_primitive() {
     assert_eq!(m2.constraints[0].origin.name, "rail");
     let (v2, _) = analyse(&m2);
     assert_eq!((v2.dof, v2.redundant.len()), (1, 0));
-}
-
-#[test]
-fn tmp_write_big() {
-    std::fs::write(
-        "/tmp/explore/chain1000.adm",
-        linkage_solve::generate::parallelogram_chain(1000, 60.0),
-    )
-    .unwrap();
-    std::fs::write(
-        "/tmp/explore/chain1000_0.adm",
-        linkage_solve::generate::parallelogram_chain(1000, 0.0),
-    )
-    .unwrap();
-    std::fs::write(
-        "/tmp/explore/pend10000.adm",
-        linkage_solve::generate::pendulum_chain(10000),
-    )
-    .unwrap();
-    for n in [10, 30, 100] {
-        std::fs::write(
-            format!("/tmp/explore/c{n}_0.adm"),
-            linkage_solve::generate::parallelogram_chain(n, 0.0),
-        )
-        .unwrap();
-    }
 }
