@@ -360,10 +360,23 @@ pub fn to_text(j: &ExplainJson) -> String {
                 .iter()
                 .map(|c| format!("{}: {} -> {}", c.name, c.from, c.to))
                 .collect();
-            let _ = writeln!(s, "   {:>2}. {}", p.number, changes.join("; "));
+            if changes.len() <= 2 {
+                let _ = writeln!(s, "   {:>2}. {}", p.number, changes.join("; "));
+            } else {
+                let _ = writeln!(s, "   {:>2}. {} changes:", p.number, changes.len());
+                for c in &changes {
+                    let _ = writeln!(s, "          {c}");
+                }
+            }
             let cond = p
                 .reaction_conditioning
-                .map(|c| format!(", reaction conditioning {c:.3}"))
+                .map(|c| {
+                    if c >= 1e-3 {
+                        format!(", reaction conditioning {c:.3}")
+                    } else {
+                        format!(", reaction conditioning {c:.2e}")
+                    }
+                })
                 .unwrap_or_default();
             let red = if p.redundant_after == 0 {
                 "no redundant equations".to_string()

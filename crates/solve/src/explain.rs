@@ -1,25 +1,27 @@
 //! Explain and repair redundancy (`linkage verify --explain`).
 //!
-//! Four findings, all from the rank analysis of [`crate::verify`]:
+//! Four findings, all from the rank analysis of the constraint Jacobian (scaled and
+//! row-normalised as in [`crate::verify`]; decided per loop by [`dense`]: an SVD where loops
+//! are small, the sparse greedy analysis otherwise):
 //!
 //! * **Which reactions are determinate** ([`reactions`]). With redundant equations the
 //!   multipliers λ solving `Jᵀλ = Q` are not unique: any vector of the left null space of the
-//!   Jacobian can be added. Each redundant row `r` with `r = Σ c_k a_k` (its `depends_on`, on
-//!   the scaled, row-normalised Jacobian) gives the null vector `e_r − Σ c_k e_k`, and these
-//!   vectors are a basis of the left null space, so no new factorisation is needed. A reaction
-//!   component (force along or torque about an axis of the joint's J marker, or the value of a
-//!   scalar equation) is determined iff every basis vector gives it zero.
-//! * **Singular pose vs structural redundancy** ([`generic`]). The configuration is moved by a
-//!   small random step (10⁻² of each part's size and 10⁻² rad), re-assembled
-//!   by least change onto the constraints (motions left free) and analysed again; the
-//!   largest rank found over three trials gives the generic DOF and redundancy. A different
-//!   rank at the input flags a singular configuration.
+//!   Jacobian can be added. A reaction component (force along or torque about an axis of the
+//!   joint's J marker, or the value of a scalar equation) is determined iff every basis vector
+//!   of that null space gives it zero. The basis is the SVD's, or — for large loops — the
+//!   vectors `e_r − Σ c_k e_k` of the redundant rows' `depends_on`, with no new factorisation.
+//! * **Singular pose vs structural redundancy** ([`generic`]). The configuration is moved by
+//!   small random steps (10⁻² of each part's size and 10⁻² rad) and, when that hints at a
+//!   singular pose, along single joint coordinates, re-assembled by least change onto the
+//!   constraints (motions left free) and analysed again; the largest rank found gives the
+//!   generic DOF and redundancy. A different rank at the input flags a singular configuration.
 //! * **Redundant drivers and initial conditions** ([`conflicts`]): motions, joint initial
 //!   conditions and EXACT part coordinates ranked after the constraints; a dependent one fixes
 //!   a DOF twice, and it conflicts when the linearised values disagree.
 //! * **Replacement advice** ([`repair`]): weaker joints or primitive sets at the same markers
 //!   for the joints involved in the redundancy, each checked by the rank analysis of the
-//!   changed model; see that module for the search and the ranking measure.
+//!   changed model; see that module for the search and the ranking measure. At a singular
+//!   input they are checked at the regular configuration the second finding found.
 
 pub mod conflicts;
 pub mod dense;

@@ -3,8 +3,9 @@
 //!
 //! # Candidates
 //!
-//! Only elements involved in the redundancy are changed: the owners of redundant rows and the
-//! elements their dependencies (`depends_on`) lean on, owners first, at most
+//! Only elements involved in the redundancy are changed: the owners of the redundant rows
+//! (priority policy of verify) and every element the left null space of the Jacobian touches
+//! (the rows a redundancy runs through), owners first, at most
 //! [`RepairSettings::max_elements`]. Joints driven by a MOTION, used by a COUPLER or GEAR, or
 //! carrying initial conditions are left alone (their statements would no longer be valid).
 //! Each candidate element is replaced, at the same markers, by a weaker set of equations whose
@@ -24,32 +25,39 @@
 //! | JPRIM ORIENTATION | PARALLEL_AXES |
 //!
 //! ¹ The cross pin `z_i·z_j = 0` needs one marker's z axis perpendicular to the joint axis:
-//! a new marker at the same point, the I (or J) marker turned by 90° about its own y axis
-//! (z along the former x) or its x axis (z along the former y); all four are tried, since
-//! which pin direction stops the motion it must stop depends on the loop (a coupler pin along
-//! the coupler leaves the coupler's spin free).
+//! the I (or J) marker re-oriented, turned by 90° about its own y axis (z along the former x)
+//! or its x axis (z along the former y); all four are tried, since which pin direction stops
+//! the motion it must stop depends on the loop (a coupler pin along the coupler leaves the
+//! coupler's spin free). The re-oriented marker is a new MARKER at the same point on the same
+//! part (the original may be used by other statements — motions, forces, requests, function
+//! expressions — that must not change); the joint is pointed at it.
 //!
 //! # Search
 //!
-//! Each candidate is applied to a copy of the model ([`realize`]), compiled, and the rank
-//! analysis is run on the biconnected blocks it touches (the others are unchanged). A change
-//! is kept when the DOF is unchanged and the redundancy decreased. Single changes are
-//! combined in pairs (elements differ, the rows they remove together at most the redundancy),
-//! and when no single change or pair removes every redundant equation, the best partial
-//! proposals are completed greedily, one further element at a time. The number of rank
-//! analyses is bounded ([`RepairSettings::evaluations`]). Every proposal shown has been
-//! verified in full ([`crate::verify::verify_at`]) on the changed model.
+//! Each candidate is applied to a copy of the model ([`realize`]), compiled, and the rank of
+//! the biconnected blocks it touches is found again ([`super::dense::analyse`]; the other
+//! blocks are unchanged). A change is kept when the DOF is unchanged and the redundancy
+//! decreased (weaker equations whose span lies in the original span and the same DOF admit
+//! exactly the original motions). Single changes of different elements are combined in pairs
+//! when the rows they remove add up to the redundancy, and when neither a single change nor a
+//! pair removes every redundant equation, the three best partial changes are completed
+//! greedily, one further element at a time (the change that removes most, trying the largest
+//! removals first). The number of rank analyses is bounded
+//! ([`RepairSettings::evaluations`]). Every proposal shown has then been checked on the whole
+//! changed model (rank of every block, and its reactions).
 //!
 //! # Ranking
 //!
 //! Proposals that remove all redundancy are shown when there are any (otherwise those that
 //! remove most). They are ranked by the number of elements changed, then by how evenly the
-//! remaining reactions can be shared: fewer indeterminate reaction components first, then the
-//! larger *reaction conditioning* `σ_min/σ_max` of the scaled, row-normalised Jacobian of the
-//! independent equations of the changed loops. `λ = (J_kᵀ)⁺Q`, so `1/σ_min` bounds how much
-//! an applied load is amplified into reactions: a poorly conditioned set carries some load by
-//! large, opposing reactions in few elements. Variants that differ only in which way a marker
-//! is turned are merged (the better conditioned is kept), and at most
+//! reactions can be shared: fewer indeterminate reaction components first, then the larger
+//! *reaction conditioning* — the smallest over the changed loops of `σ_r/σ_1`, the smallest
+//! non-zero over the largest singular value of the loop's scaled, row-normalised Jacobian.
+//! The reactions solve `J_kᵀλ = Q` on the kept equations, so `1/σ_r` bounds how much an
+//! applied load is amplified into reactions: a poorly conditioned support carries some load by
+//! large, opposing reactions in few elements (near 0 close to a singular pose; `null` for
+//! loops too large for a dense SVD). Variants that differ only in which way a marker is
+//! turned are merged (the better conditioned is kept), and at most
 //! [`RepairSettings::per_signature`] proposals of the same kind of change (e.g. "REVOLUTE →
 //! JPRIM INLINE" at different joints) are listed.
 
