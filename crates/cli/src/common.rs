@@ -64,31 +64,13 @@ pub fn print_json<T: serde::Serialize>(v: &T) -> bool {
     }
 }
 
-/// Statements whose forces or states linkage does not model: an analysis that needs forces
-/// refuses a dataset holding one (its results would be silently wrong).
-const UNMODELLED: [&str; 13] = [
-    "CONTACT",
-    "FRICTION",
-    "NFORCE",
-    "MFORCE",
-    "GSE",
-    "LSE",
-    "TFSISO",
-    "DIFF",
-    "PTCV",
-    "CVCV",
-    "FE_LOAD",
-    "UCON",
-    "FLEX_BODY",
-];
-
 /// Input errors for elements linkage cannot evaluate in a force analysis.
 pub fn unmodelled_elements(loaded: &Loaded) -> Result<(), Diagnostics> {
     let errors: Vec<Diagnostic> = loaded
         .dataset
         .statements
         .iter()
-        .filter(|st| UNMODELLED.contains(&st.keyword.as_str()))
+        .filter(|st| linkage_solve::forces::UNMODELLED_STATEMENTS.contains(&st.keyword.as_str()))
         .map(|st| {
             let name = st.view_name.clone().unwrap_or_else(|| format!("{}_{}", st.keyword, st.id.unwrap_or(0)));
             Diagnostic::error(

@@ -51,6 +51,24 @@ use linkage_model::forces::{ForceKind, VectorKind};
 use linkage_model::{Body, Model, Origin};
 use std::sync::Arc;
 
+/// Statements whose forces or states linkage does not model: an analysis that needs forces
+/// refuses a dataset holding one (its results would be silently wrong).
+pub const UNMODELLED_STATEMENTS: [&str; 13] = [
+    "CONTACT",
+    "FRICTION",
+    "NFORCE",
+    "MFORCE",
+    "GSE",
+    "LSE",
+    "TFSISO",
+    "DIFF",
+    "PTCV",
+    "CVCV",
+    "FE_LOAD",
+    "UCON",
+    "FLEX_BODY",
+];
+
 /// Two points closer than this (relative to the model's characteristic length) coincide: the
 /// line of action of a translational SFORCE or SPRINGDAMPER between them is undefined.
 pub const COINCIDENT_POINTS: f64 = 1e-12;

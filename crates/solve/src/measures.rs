@@ -8,13 +8,13 @@
 //! velocities, VARIABLE/ARRAY/SPLINE data and `MODE` (force expressions).
 
 use crate::forces::algebra::{Kinematics, Real, V3};
-use crate::forces::data::{ArrayData, DataElements, VariableProblem};
+use crate::forces::data::{ArrayData, DataElements};
 use crate::rows::{BodyDir, BodyFrame, BodyPoint, EulerSeq, Quantity, RowGradient, Velocities};
 use crate::state::State;
 use glam::{DMat3, DVec3};
 use linkage_expr::{
-    evaluate, evaluate_with_gradient, Dual, Env, EvalError, EvalErrorKind, MarkerArgs, MeasureKind,
-    SplineData, StateRef,
+    evaluate, evaluate_with_gradient, Dual, Env, EvalError, MarkerArgs, MeasureKind, SplineData,
+    StateRef,
 };
 use linkage_model::{Body, Model};
 use std::cell::RefCell;
@@ -347,29 +347,7 @@ impl<'a> StateEnv<'a> {
                 )));
             }
         }
-        let Some(var) = self.data.variables.get(&id) else {
-            return Err(EvalError::unknown_reference(format!(
-                "VARIABLE/{id} does not exist"
-            )));
-        };
-        let expr = match &var.expr {
-            Ok(e) => e,
-            Err(VariableProblem::User) => {
-                return Err(EvalError::new(
-                    EvalErrorKind::UserSubroutine,
-                    format!(
-                        "VARIABLE/{id} ({}) calls a USER subroutine, which cannot be run",
-                        var.name
-                    ),
-                ))
-            }
-            Err(VariableProblem::Syntax(d)) => {
-                return Err(EvalError::invalid_argument(format!(
-                    "VARIABLE/{id} cannot be evaluated: {}",
-                    d.message
-                )))
-            }
-        };
+        let expr = self.data.variable_expr(id)?;
         self.memo.borrow_mut().active.push(id);
         let result = if gradient {
             evaluate_with_gradient(expr, self)
@@ -383,7 +361,11 @@ impl<'a> StateEnv<'a> {
             } else {
                 EvalError::new(
                     e.kind,
-                    format!("in VARIABLE/{id} ({}): {}", var.name, e.message),
+                    format!(
+                        "in VARIABLE/{id} ({}): {}",
+                        self.data.variables.get(&id).map_or("", |v| v.name.as_str()),
+                        e.message
+                    ),
                 )
             }
         })?;

@@ -40,7 +40,7 @@
 
 use crate::applied::AppliedForces;
 use crate::dynamics::Output;
-use crate::forces::data::{ArrayData, DataElements, VariableProblem};
+use crate::forces::data::{ArrayData, DataElements};
 use crate::forces::{parse_function, ForceSet};
 use crate::measures::{MarkerFrames, StateEnv};
 use crate::rows::{BodyFrame, RowGradient};
@@ -718,28 +718,7 @@ impl<'a> OutputEnv<'a> {
                 )));
             }
         }
-        let var =
-            self.set.data.variables.get(&id).ok_or_else(|| {
-                EvalError::unknown_reference(format!("VARIABLE/{id} does not exist"))
-            })?;
-        let expr = match &var.expr {
-            Ok(e) => e,
-            Err(VariableProblem::User) => {
-                return Err(EvalError::new(
-                    EvalErrorKind::UserSubroutine,
-                    format!(
-                        "VARIABLE/{id} ({}) calls a USER subroutine, which cannot be run",
-                        var.name
-                    ),
-                ))
-            }
-            Err(VariableProblem::Syntax(d)) => {
-                return Err(EvalError::invalid_argument(format!(
-                    "VARIABLE/{id} cannot be evaluated: {}",
-                    d.message
-                )))
-            }
-        };
+        let expr = self.set.data.variable_expr(id)?;
         self.memo.borrow_mut().active.push(id);
         let result = evaluate(expr, self);
         self.memo.borrow_mut().active.pop();
@@ -749,7 +728,15 @@ impl<'a> OutputEnv<'a> {
             } else {
                 EvalError::new(
                     e.kind,
-                    format!("in VARIABLE/{id} ({}): {}", var.name, e.message),
+                    format!(
+                        "in VARIABLE/{id} ({}): {}",
+                        self.set
+                            .data
+                            .variables
+                            .get(&id)
+                            .map_or("", |v| v.name.as_str()),
+                        e.message
+                    ),
                 )
             }
         })?;

@@ -89,24 +89,6 @@ const HORIZON: f64 = 1e-4;
 /// The comparison must cover at least this fraction of the run (50 outputs here).
 const MIN_HORIZON: f64 = 0.1;
 
-/// Statements whose forces linkage does not model; `linkage simulate` refuses them
-/// (`crates/cli/src/common.rs`).
-const UNMODELLED: [&str; 13] = [
-    "CONTACT",
-    "FRICTION",
-    "NFORCE",
-    "MFORCE",
-    "GSE",
-    "LSE",
-    "TFSISO",
-    "DIFF",
-    "PTCV",
-    "CVCV",
-    "FE_LOAD",
-    "UCON",
-    "FLEX_BODY",
-];
-
 const PREFIX: &str = "projectchrono__chrono__data__adams__test_";
 
 fn corpus_dir() -> Option<PathBuf> {
@@ -173,7 +155,7 @@ fn unsupported(ds: &Dataset) -> Option<String> {
     let names: Vec<String> = ds
         .statements
         .iter()
-        .filter(|st| UNMODELLED.contains(&st.keyword.as_str()))
+        .filter(|st| linkage_solve::forces::UNMODELLED_STATEMENTS.contains(&st.keyword.as_str()))
         .map(|st| format!("{}/{}", st.keyword, st.id.unwrap_or(0)))
         .collect();
     (!names.is_empty()).then(|| format!("linkage does not model {}", names.join(", ")))

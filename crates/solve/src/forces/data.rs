@@ -11,7 +11,7 @@
 
 use super::parse_function;
 use linkage_adm::Diagnostic;
-use linkage_expr::{Expr, SplineData};
+use linkage_expr::{EvalError, EvalErrorKind, Expr, SplineData};
 use linkage_model::forces::{ArrayValues, SplineValues};
 use linkage_model::Model;
 use std::collections::HashMap;
@@ -58,6 +58,29 @@ fn id32(id: u64) -> Option<u32> {
 }
 
 impl DataElements {
+    /// The parsed expression of VARIABLE/`id`, or the evaluation error that names why it
+    /// cannot be used (missing, USER subroutine, syntax error).
+    pub fn variable_expr(&self, id: u32) -> Result<&Expr, EvalError> {
+        let var = self
+            .variables
+            .get(&id)
+            .ok_or_else(|| EvalError::unknown_reference(format!("VARIABLE/{id} does not exist")))?;
+        match &var.expr {
+            Ok(e) => Ok(e),
+            Err(VariableProblem::User) => Err(EvalError::new(
+                EvalErrorKind::UserSubroutine,
+                format!(
+                    "VARIABLE/{id} ({}) calls a USER subroutine, which cannot be run",
+                    var.name
+                ),
+            )),
+            Err(VariableProblem::Syntax(d)) => Err(EvalError::invalid_argument(format!(
+                "VARIABLE/{id} cannot be evaluated: {}",
+                d.message
+            ))),
+        }
+    }
+
     /// Parses every VARIABLE expression and prepares arrays and splines. Invalid 1-D spline
     /// data are returned as diagnostics (the spline is then left out); VARIABLE problems are
     /// kept in [`VariableData::expr`].
