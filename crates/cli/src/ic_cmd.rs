@@ -25,7 +25,7 @@ pub fn run(model: &Path, format: Format, save: Option<&Path>) -> ExitCode {
         &tol,
     );
     let mut report = linkage_report::ic::to_json(&loaded.model, &ic, &loaded.warnings);
-    let failed = !ic.assembly.converged || ic.inconsistent();
+    let failed = !ic.assembly.converged || ic.inconsistent() || !report.errors.is_empty();
     if let Some(out) = save {
         if failed {
             report.errors.push(format!(

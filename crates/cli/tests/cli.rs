@@ -472,9 +472,10 @@ fn simulate_writes_the_documented_csv_columns() {
 /// Corpus datasets carrying EQUILIBRIUM settings: those whose elements linkage models reach
 /// equilibrium. Datasets refused as input (CONTACT, FRICTION, DIFF, …) are skipped with a
 /// notice. Two SOLIDWORKS-exported 3-RPR robots are known not to converge within their
-/// settings (see the issue notes): Fkinev1 needs 30 iterations for MAXIT 25 (checked below
-/// with MAXIT 40), Controls_Plant_2 has free motions without stiffness and zero actuator
-/// forces.
+/// settings: Fkinev1's equilibrium lies so far from its input configuration that TLIMIT (20 mm
+/// per iteration by default) alone needs more than 20 of its 25 iterations (proved below from
+/// the travel of the parts, then solved with MAXIT 40); Controls_Plant_2 has free motions
+/// without stiffness and zero actuator forces.
 #[test]
 fn corpus_datasets_with_equilibrium_settings_reach_equilibrium() {
     let Some(dir) = corpus() else { return };
@@ -524,4 +525,38 @@ fn corpus_datasets_with_equilibrium_settings_reach_equilibrium() {
     let (code, v) = json(&["static", tmp.to_str().unwrap(), "--format", "json"]);
     assert_eq!(code, 0, "{v}");
     assert_eq!(v["stable"], true);
+    let iterations = v["iterations"].as_u64().unwrap();
+    // Travel of the centres of mass from the assembled input configuration to the
+    // equilibrium: every Newton step moves a part by at most TLIMIT = 20 (mm).
+    let (code, start) = json(&["ic", tmp.to_str().unwrap(), "--format", "json"]);
+    assert_eq!(code, 0, "{start}");
+    let position = |p: &serde_json::Value| -> Vec<f64> {
+        p["position"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|x| x.as_f64().unwrap())
+            .collect()
+    };
+    let travel = v["parts"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|p| {
+            let s = start["parts"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .find(|q| q["name"] == p["name"])
+                .unwrap();
+            let (a, b) = (position(p), position(s));
+            (0..3).map(|i| (a[i] - b[i]).powi(2)).sum::<f64>().sqrt()
+        })
+        .fold(0.0, f64::max);
+    let lower_bound = (travel / 20.0).ceil() as u64;
+    assert!(lower_bound > 20, "travel {travel}");
+    assert!(
+        iterations >= lower_bound && iterations <= 40,
+        "{iterations} vs {lower_bound}"
+    );
 }

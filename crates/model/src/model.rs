@@ -41,6 +41,16 @@ impl Origin {
     pub fn element(&self) -> String {
         format!("{}/{}", self.statement, self.id)
     }
+
+    /// The label used in messages: `SFORCE_3 (SFORCE/3, line 12)`.
+    pub fn label(&self) -> String {
+        format!(
+            "{} ({}, line {})",
+            self.name,
+            self.element(),
+            self.span.line
+        )
+    }
 }
 
 /// A moving part. Its body frame B has its origin at the centre of mass and the axes of the

@@ -47,6 +47,10 @@ pub struct ResidualJson {
 #[derive(Clone, Debug, Serialize, PartialEq)]
 pub struct PartStateJson {
     pub name: String,
+    /// Centre of mass in ground at the assembled configuration.
+    pub position: [f64; 3],
+    /// 3-1-3 body angles of the part's axes in degrees.
+    pub reuler: [f64; 3],
     pub velocity: [f64; 3],
     pub angular_velocity: [f64; 3],
     pub acceleration: Option<[f64; 3]>,
@@ -120,6 +124,10 @@ pub fn to_json(model: &Model, ic: &InitialConditions, warnings: &[Diagnostic]) -
             })
             .collect()
     };
+    errors.extend(ic.motion_errors.iter().cloned());
+    if let Some(v) = &ic.velocity {
+        errors.extend(v.motion_errors.iter().cloned());
+    }
     if !ic.assembly.converged {
         errors.push(format!(
             "displacement initial conditions did not converge in {} iterations (largest residual {:.3e})",
@@ -136,6 +144,7 @@ pub fn to_json(model: &Model, ic: &InitialConditions, warnings: &[Diagnostic]) -
         }
         None => None,
     };
+    let poses = crate::statics::part_poses(model, &ic.assembly.state);
     let parts = match &ic.velocity {
         Some(vel) => model
             .parts
@@ -143,6 +152,8 @@ pub fn to_json(model: &Model, ic: &InitialConditions, warnings: &[Diagnostic]) -
             .enumerate()
             .map(|(k, p)| PartStateJson {
                 name: p.origin.name.clone(),
+                position: poses[k].position,
+                reuler: poses[k].reuler,
                 velocity: a3(vel.velocities[k].0),
                 angular_velocity: a3(vel.velocities[k].1),
                 acceleration: acc.map(|a| a3(a.accelerations[k].0)),

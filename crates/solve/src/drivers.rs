@@ -12,6 +12,7 @@ use linkage_expr::{evaluate, evaluate_time_series, parse, Expr, TimeEnv};
 use linkage_model::{ConstraintKind, Model};
 
 /// Parsed motion functions of a model.
+#[derive(Clone)]
 pub struct ExpressionDrivers {
     /// Per constraint element: the displacement-level function, if any.
     functions: Vec<Option<(Expr, MotionLevel, Option<f64>)>>,
@@ -169,6 +170,70 @@ impl ExpressionDrivers {
         &self.warnings
     }
 
+    /// Velocity and acceleration `(q̇, q̈)` a motion prescribes at time `t`, at any level:
+    /// displacement `(ḟ, f̈)`, velocity `(f, ḟ)`, acceleration `(ICVEL + ∫₀ᵗ f, f)`.
+    /// `None` for a motion without a function linkage can run; `Some(Err)` with the cause when
+    /// the expression cannot be evaluated.
+    pub fn motion_rates(&self, element: usize, t: f64) -> Option<Result<(f64, f64), String>> {
+        let (e, level, _) = self.functions.get(element)?.as_ref()?;
+        let series = match evaluate_time_series(e, &TimeEnv { time: t, mode: 0 }) {
+            Ok(s) => s,
+            Err(err) => return Some(Err(format!("FUNCTION: {}", err.message))),
+        };
+        Some(match level {
+            MotionLevel::Displacement => Ok((series[1], series[2])),
+            MotionLevel::Velocity => Ok((series[0], series[1])),
+            MotionLevel::Acceleration => {
+                let f = |x: f64| {
+                    evaluate_time_series(e, &TimeEnv { time: x, mode: 0 })
+                        .map(|s| s[0])
+                        .ok()
+                };
+                match integrate(&f, 0.0, t) {
+                    Some(i) => Ok((self.icvel(element).unwrap_or(0.0) + i, series[0])),
+                    None => Err(self.why_unknown(element, t)),
+                }
+            }
+        })
+    }
+
+    /// Whether the motion is a velocity or acceleration motion without ICDISP (its start
+    /// displacement is free, decided by the assembly).
+    pub fn free_start(&self, element: usize) -> bool {
+        matches!(
+            self.functions.get(element),
+            Some(Some((_, level, None))) if *level != MotionLevel::Displacement
+        )
+    }
+
+    /// A copy whose velocity and acceleration motions without ICDISP start from the
+    /// displacement they have in the assembled configuration `s` (Adams: the assembly decides a
+    /// free start displacement; the motion then integrates from it). `rows` are the constraint
+    /// rows in use; a motion's driven row measures its displacement.
+    pub fn anchored(&self, sys: &crate::system::System, rows: &[usize], s: &State) -> Self {
+        let mut out = self.clone();
+        for &r in rows {
+            let row = &sys.rows[r];
+            if !row.driven {
+                continue;
+            }
+            if !out.free_start(row.element) {
+                continue;
+            }
+            // ICDISP is the displacement at time 0: the measured displacement at s.time minus
+            // what the motion adds between 0 and s.time.
+            let set = |out: &mut Self, v: f64| {
+                if let Some(Some((_, _, icdisp))) = out.functions.get_mut(row.element) {
+                    *icdisp = Some(v);
+                }
+            };
+            set(&mut out, 0.0);
+            let travelled = out.value(row.element, s.time).unwrap_or(0.0);
+            set(&mut out, sys.residual(r, s, 0.0) - travelled);
+        }
+        out
+    }
+
     /// `[f, ḟ, f̈]` of a displacement-level motion at time `t`.
     pub fn series(&self, element: usize, t: f64) -> Option<Result<[f64; 3], String>> {
         let (e, level, _) = self.functions.get(element)?.as_ref()?;
@@ -198,6 +263,38 @@ impl Drivers for ExpressionDrivers {
                 Some([self.value(element, t)?, vel, series[0]])
             }
         }
+    }
+
+    /// The cause of an unknown value: the USER subroutine, the missing ICDISP, or the
+    /// expression's error at `t` (or inside the quadrature of a velocity/acceleration motion).
+    fn why_unknown(&self, element: usize, t: f64) -> String {
+        let Some(Some((e, level, icdisp))) = self.functions.get(element) else {
+            return "its FUNCTION is a USER subroutine (or absent), which linkage cannot run"
+                .into();
+        };
+        if *level != MotionLevel::Displacement && icdisp.is_none() {
+            return format!(
+                "a {} motion without ICDISP has no known displacement",
+                if *level == MotionLevel::Velocity {
+                    "velocity"
+                } else {
+                    "acceleration"
+                }
+            );
+        }
+        if let Err(err) = evaluate_time_series(e, &TimeEnv { time: t, mode: 0 }) {
+            return format!("FUNCTION: {}", err.message);
+        }
+        // The quadrature failed somewhere in [0, t]: find the first failing sample.
+        let samples = 64;
+        (0..=samples)
+            .map(|i| t * i as f64 / samples as f64)
+            .find_map(|x| {
+                evaluate_time_series(e, &TimeEnv { time: x, mode: 0 })
+                    .err()
+                    .map(|err| format!("FUNCTION at time {x}: {}", err.message))
+            })
+            .unwrap_or_else(|| "the integral of FUNCTION does not converge".into())
     }
 
     /// Displacement motions: `f(t)`. Velocity and acceleration motions: their ICDISP at t = 0

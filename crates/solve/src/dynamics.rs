@@ -158,9 +158,11 @@ impl Problem<'_> {
                     self.drivers
                         .value(row.element, self.time(t))
                         .ok_or_else(|| {
-                            format!(
-                                "{}: the motion cannot be evaluated at time {}",
-                                self.model.constraints[row.element].origin.name, t
+                            crate::verify::motion_error(
+                                self.model,
+                                self.drivers,
+                                row.element,
+                                self.time(t),
                             )
                         })
                 } else {
@@ -782,6 +784,7 @@ pub fn run(
     };
     let rows = crate::ic::admitted_rows(&ic.analysis);
     let redundant: Vec<usize> = ic.analysis.redundant.iter().map(|r| r.row).collect();
+    let drivers = &drivers.anchored(&sys, &rows, &ic.assembly.state);
     let problem = Problem {
         model,
         sys: &sys,

@@ -201,7 +201,7 @@ pub(crate) fn parse_function(
 
 /// The label used in messages: `SFORCE_3 (SFORCE/3, line 12)`.
 fn label(o: &Origin) -> String {
-    format!("{} ({}, line {})", o.name, o.element(), o.span.line)
+    o.label()
 }
 
 /// A data element an expression names with a literal id.

@@ -51,6 +51,9 @@ pub struct VelocityIc {
     /// Largest violation of the velocity equations.
     pub max_error: f64,
     pub converged: bool,
+    /// Motions whose velocity could not be evaluated (element, time and cause); their
+    /// equations are left out.
+    pub motion_errors: Vec<String>,
 }
 
 /// Acceleration and force IC result.
@@ -77,6 +80,10 @@ pub struct InitialConditions {
     pub velocity: Option<VelocityIc>,
     /// `Err` with the reason when the acceleration/force solve could not be done.
     pub acceleration: Option<Result<AccelerationIc, String>>,
+    /// Motions whose displacement at the start time cannot be evaluated (left out of the
+    /// assembly): element, time and cause. Velocity and acceleration motions without ICDISP
+    /// are not listed (the assembly decides their start displacement).
+    pub motion_errors: Vec<String>,
 }
 
 impl InitialConditions {
@@ -142,6 +149,16 @@ pub fn initial_conditions(
             &input,
         );
     }
+    let motion_errors = admitted_rows(&analysis)
+        .into_iter()
+        .filter(|&r| sys.rows[r].driven)
+        .map(|r| sys.rows[r].element)
+        .filter(|&e| {
+            crate::verify::Drivers::value(drivers, e, input.time).is_none()
+                && !drivers.free_start(e)
+        })
+        .map(|e| crate::verify::motion_error(model, drivers, e, input.time))
+        .collect();
     let after = residuals(&sys, &asm.state, drivers);
     let repaired = analysis_repairs(&sys, &before, &after, model, tol);
     let moved = (0..model.parts.len())
@@ -177,6 +194,7 @@ pub fn initial_conditions(
         (None, None)
     };
     InitialConditions {
+        motion_errors,
         assembly: asm,
         analysis,
         hard,
@@ -261,12 +279,21 @@ pub fn velocity_ic(
     let target = velocity_targets(model, s);
     let mut g = RowGradient::default();
     let mut eqs: Vec<(RowGradient, f64)> = Vec::new();
+    let mut motion_errors = Vec::new();
     for &r in rows {
         let row = &sys.rows[r];
         let rhs = if row.driven {
-            match drivers.series(row.element, s.time) {
-                Some(Ok(f)) => f[1],
-                _ => continue,
+            match drivers.motion_rates(row.element, s.time) {
+                Some(Ok((vel, _))) => vel,
+                Some(Err(e)) => {
+                    motion_errors.push(format!(
+                        "{}: the motion's velocity at time {}: {e}",
+                        model.constraints[row.element].origin.label(),
+                        s.time
+                    ));
+                    continue;
+                }
+                None => continue,
             }
         } else {
             0.0
@@ -370,9 +397,10 @@ pub fn velocity_ic(
         .map(|(grad, b)| (rate(grad, &velocities) - b).abs())
         .fold(0.0, f64::max);
     VelocityIc {
-        converged: solved.is_ok() && max_error <= model.ic.verror,
+        converged: solved.is_ok() && max_error <= model.ic.verror && motion_errors.is_empty(),
         velocities,
         max_error,
+        motion_errors,
     }
 }
 
@@ -400,12 +428,13 @@ pub fn acceleration_ic(
             ));
         }
         let fdd = if row.driven {
-            match drivers.series(row.element, s.time) {
-                Some(Ok(f)) => f[2],
+            match drivers.motion_rates(row.element, s.time) {
+                Some(Ok((_, acc))) => acc,
                 Some(Err(e)) => {
                     return Err(format!(
-                        "{}: {e}",
-                        model.constraints[row.element].origin.name
+                        "{}: the motion's acceleration at time {}: {e}",
+                        model.constraints[row.element].origin.label(),
+                        s.time
                     ))
                 }
                 None => continue,

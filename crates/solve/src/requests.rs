@@ -121,12 +121,7 @@ impl RequestSet {
         let mut requests = Vec::new();
         for r in &dataset.requests {
             let origin = request_origin(r);
-            let label = format!(
-                "{} ({}, line {})",
-                origin.name,
-                origin.element(),
-                origin.span.line
-            );
+            let label = origin.label();
             let mut marker = |role: &str, id: Option<IdRef>| -> u32 {
                 let Some(id) = id else { return 0 };
                 match u32::try_from(id.id) {

@@ -66,6 +66,7 @@ pub fn settle(
     let sys = System::new(model);
     let rows = crate::ic::admitted_rows(&ic.analysis);
     let redundant: Vec<usize> = ic.analysis.redundant.iter().map(|r| r.row).collect();
+    let drivers = &drivers.anchored(&sys, &rows, &ic.assembly.state);
     let t0 = ic.assembly.state.time;
     let problem = Problem {
         model,

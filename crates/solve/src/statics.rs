@@ -110,9 +110,11 @@ pub fn equilibrium(
             match drivers.value(row.element, start.time) {
                 Some(f) => used.push((r, f)),
                 None => {
-                    return Err(format!(
-                        "{}: the motion's displacement at time {} cannot be evaluated",
-                        model.constraints[row.element].origin.name, start.time
+                    return Err(crate::verify::motion_error(
+                        model,
+                        drivers,
+                        row.element,
+                        start.time,
                     ))
                 }
             }
@@ -540,6 +542,7 @@ pub fn run(
     }
     let sys = System::new(model);
     let rows = crate::ic::admitted_rows(&ic.analysis);
+    let drivers = &drivers.anchored(&sys, &rows, &ic.assembly.state);
     let mut history: Vec<State> = Vec::new();
     for &t in times {
         let mut start = match history.as_slice() {

@@ -22,6 +22,26 @@ pub trait Drivers {
         let _ = (element, t);
         None
     }
+
+    /// Why `value(element, t)` is `None`, for messages (e.g. the expression's domain error).
+    fn why_unknown(&self, element: usize, t: f64) -> String {
+        let _ = (element, t);
+        "its value is unknown".into()
+    }
+}
+
+/// `NAME (MOTION/id, line N): the motion's displacement cannot be evaluated at time t: why`.
+pub fn motion_error(
+    model: &linkage_model::Model,
+    drivers: &dyn Drivers,
+    element: usize,
+    t: f64,
+) -> String {
+    format!(
+        "{}: the motion's displacement cannot be evaluated at time {t}: {}",
+        model.constraints[element].origin.label(),
+        drivers.why_unknown(element, t)
+    )
 }
 
 /// Drivers that cannot evaluate anything (motion residuals unknown).
