@@ -560,3 +560,30 @@ fn corpus_datasets_with_equilibrium_settings_reach_equilibrium() {
         "{iterations} vs {lower_bound}"
     );
 }
+
+/// A 67-part SOLIDWORKS export (195 redundant equations, parts with tiny inertia about their
+/// axes) integrates: the corrector accepts acceleration corrections whose effect on positions
+/// and velocities is far below the integration error (before, it stalled at noise level and
+/// gave up at the minimum step).
+#[test]
+fn corpus_robot_with_tiny_inertias_integrates() {
+    let Some(dir) = corpus() else { return };
+    let f = dir.join(
+        "kiterunner347__3-RPR-parallel--robot__Matlab_Adams__Controls_Plant_2__Controls_Plant_2.adm",
+    );
+    let out = std::env::temp_dir().join(format!("linkage-cp2-{}.csv", std::process::id()));
+    let (code, _, err) = run(&[
+        "simulate",
+        f.to_str().unwrap(),
+        "--end",
+        "0.1",
+        "--steps",
+        "2",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let csv = std::fs::read_to_string(&out).unwrap();
+    assert_eq!(csv.lines().count(), 4);
+    assert!(!csv.contains("NaN"));
+}
