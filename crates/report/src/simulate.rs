@@ -127,7 +127,7 @@ pub fn summary(
                 warnings.push("The model has general constraints (GCON): their accelerations need second derivatives of the constraint expression, which linkage does not compute yet, so accelerations and reactions are reported as NaN.".into());
             }
             if sim.kinematic {
-                warnings.push("The data set is kinematically determinate (0 degrees of freedom): positions come from the constraints at every step; a kinematic analysis would be as accurate.".into());
+                warnings.push("The data set is kinematically determinate (0 degrees of freedom): a kinematic analysis was run instead of integration (positions from the constraints at each output time, then velocities, accelerations and reactions).".into());
             }
             (
                 sim.failure.is_none(),

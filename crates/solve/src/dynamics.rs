@@ -112,7 +112,7 @@ impl Problem<'_> {
         self.model.parts.len()
     }
 
-    fn time(&self, t: f64) -> f64 {
+    pub(crate) fn time(&self, t: f64) -> f64 {
         self.frozen_time.unwrap_or(t)
     }
 
@@ -149,7 +149,7 @@ impl Problem<'_> {
     }
 
     /// Drive values of the rows (motions at time t).
-    fn drives(&self, t: f64) -> Result<Vec<f64>, String> {
+    pub(crate) fn drives(&self, t: f64) -> Result<Vec<f64>, String> {
         self.rows
             .iter()
             .map(|&r| {
@@ -173,7 +173,7 @@ impl Problem<'_> {
     }
 }
 
-fn apply(s: &State, d: &[f64]) -> State {
+pub(crate) fn apply(s: &State, d: &[f64]) -> State {
     let mut t = s.clone();
     for k in 0..s.poses.len() {
         t.increment(
@@ -185,7 +185,7 @@ fn apply(s: &State, d: &[f64]) -> State {
     t
 }
 
-fn flat(v: &[(DVec3, DVec3)]) -> Vec<f64> {
+pub(crate) fn flat(v: &[(DVec3, DVec3)]) -> Vec<f64> {
     v.iter()
         .flat_map(|(a, b)| [a.x, a.y, a.z, b.x, b.y, b.z])
         .collect()
@@ -226,7 +226,9 @@ pub fn simulate(
         rejected: 0,
         kinematic: m >= 6 * n && n > 0,
     };
-    let length = p.model.characteristic_length;
+    if sim.kinematic {
+        return crate::kinematics::run(p, start, v0, times, progress);
+    }
     let t_end = times.last().copied().unwrap_or(start.time);
     // Consistent accelerations at the start.
     let first = match consistent_output(p, start, &flat(v0)) {
@@ -307,34 +309,9 @@ pub fn simulate(
                 cur = next;
                 progress(cur.s.time);
                 // Redundant rows must stay satisfied.
-                for &r in p.redundant {
-                    let row = &p.sys.rows[r];
-                    let drive = if row.driven {
-                        p.drivers.value(row.element, p.time(cur.s.time))
-                    } else {
-                        Some(0.0)
-                    };
-                    let Some(drive) = drive else { continue };
-                    let val = p.sys.residual(r, &cur.s, drive);
-                    let tol = crate::tolerances::Tolerances {
-                        length: 1e-6,
-                        angle: 1e-6,
-                        ..Default::default()
-                    };
-                    if !within_tolerance(row.unit, val, &tol, length) {
-                        let c = &p.model.constraints[row.element];
-                        sim.failure = Some(Failure {
-                            time: cur.s.time,
-                            message: format!(
-                                "the redundant equation {} of {} (removed as consistent) became inconsistent: residual {:.6e}{}",
-                                row.label,
-                                c.origin.name,
-                                report_residual(row.unit, val),
-                                if matches!(row.unit, crate::system::RowUnit::Direction | crate::system::RowUnit::Angle) { " deg" } else { "" }
-                            ),
-                        });
-                        return sim;
-                    }
+                if let Some(f) = redundant_failure(p, &cur.s) {
+                    sim.failure = Some(f);
+                    return sim;
                 }
                 let grow = if err > 0.0 {
                     (0.9 * (tol / err).powf(1.0 / 3.0)).clamp(0.2, 2.0)
@@ -375,6 +352,44 @@ pub fn simulate(
         }
     }
     sim
+}
+
+/// The first removed (redundant) row that no longer holds at `s`: Adams' "consistent
+/// redundant constraint that becomes inconsistent", with element, equation, time and value.
+pub(crate) fn redundant_failure(p: &Problem, s: &State) -> Option<Failure> {
+    let tol = crate::tolerances::Tolerances {
+        length: 1e-6,
+        angle: 1e-6,
+        ..Default::default()
+    };
+    for &r in p.redundant {
+        let row = &p.sys.rows[r];
+        let drive = if row.driven {
+            p.drivers.value(row.element, p.time(s.time))
+        } else {
+            Some(0.0)
+        };
+        let Some(drive) = drive else { continue };
+        let val = p.sys.residual(r, s, drive);
+        if !within_tolerance(row.unit, val, &tol, p.model.characteristic_length) {
+            let c = &p.model.constraints[row.element];
+            let degrees = matches!(
+                row.unit,
+                crate::system::RowUnit::Direction | crate::system::RowUnit::Angle
+            );
+            return Some(Failure {
+                time: s.time,
+                message: format!(
+                    "the redundant equation {} of {} (removed as consistent) became inconsistent: residual {:.6e}{}",
+                    row.label,
+                    c.origin.name,
+                    report_residual(row.unit, val),
+                    if degrees { " deg" } else { "" }
+                ),
+            });
+        }
+    }
+    None
 }
 
 /// `Jᵀλ − Q` in mass × acceleration units.
@@ -596,8 +611,8 @@ fn hht_step(
 }
 
 /// Output values made consistent with the constraints at `s`.
-struct Consistent {
-    output: Output,
+pub(crate) struct Consistent {
+    pub(crate) output: Output,
     velocities: Vec<(DVec3, DVec3)>,
     accelerations: Vec<(DVec3, DVec3)>,
     lambda: Vec<f64>,
@@ -605,7 +620,7 @@ struct Consistent {
 
 /// Projects velocities onto `J v = ḟ` (least change, mass-weighted) and solves the
 /// accelerations and multipliers (`M a + UCF·Jᵀλ = UCF·Q`, `J a = f̈ − γ`).
-fn consistent_output(p: &Problem, s: &State, v: &[f64]) -> Result<Consistent, String> {
+pub(crate) fn consistent_output(p: &Problem, s: &State, v: &[f64]) -> Result<Consistent, String> {
     let n = p.n();
     let m = p.rows.len();
     let dim = 6 * n + m;

@@ -16,6 +16,7 @@ pub mod generate;
 pub mod graph;
 pub mod hessian;
 pub mod ic;
+pub mod kinematics;
 pub mod linear;
 pub mod linearize;
 pub mod measures;
