@@ -636,6 +636,12 @@ fn consistent_output(p: &Problem, s: &State, v: &[f64]) -> Result<Consistent, St
     for (k, part) in p.model.parts.iter().enumerate() {
         let ig = s.poses[k].r * part.inertia * s.poses[k].r.transpose();
         let mass = if part.mass > 0.0 { part.mass } else { 1e-12 };
+        // The rotational inertia is regularised only where it is singular (a point mass, a
+        // massless part): elsewhere the equations are exact, so that a constraint wrench
+        // recovered from them (FORCE requests) vanishes to rounding where it should.
+        let inertia = &part.inertia;
+        let trace = inertia.x_axis.x + inertia.y_axis.y + inertia.z_axis.z;
+        let singular = trace <= 0.0 || inertia.determinant() <= 1e-10 * (trace / 3.0).powi(3);
         for c in 0..3 {
             mass_entries.push((6 * k + c, 6 * k + c, mass));
             for d in 0..3 {
@@ -644,7 +650,9 @@ fn consistent_output(p: &Problem, s: &State, v: &[f64]) -> Result<Consistent, St
                     mass_entries.push((6 * k + 3 + c, 6 * k + 3 + d, x));
                 }
             }
-            mass_entries.push((6 * k + 3 + c, 6 * k + 3 + c, 1e-12 * mass * length * length));
+            if singular {
+                mass_entries.push((6 * k + 3 + c, 6 * k + 3 + c, 1e-12 * mass * length * length));
+            }
         }
     }
     let mut kkt = mass_entries.clone();
