@@ -451,3 +451,39 @@ fn distance_pendulum_statics_see_the_rod_geometric_stiffness() {
     );
     assert_eq!(eq.stability.map(|s| s.0), Some(true));
 }
+
+/// A general constraint with explicit TIME: the rod length `L(t) = 2 + 0.1 sin 3t`. The
+/// outputs' velocities satisfy `v·p̂ = L̇` (the velocity equations carry `−∂Φ/∂t`) and their
+/// accelerations `a·p̂ + (|v|² − (v·p̂)²)/|p| = L̈` (the acceleration equations carry the
+/// time terms of the bias), at the start (initial conditions) and all along.
+#[test]
+fn time_dependent_distance_constraint_drives_velocities_and_accelerations() {
+    let text = DISTANCE_PENDULUM.replace(
+        "FUNCTION=DM(20, 1) - 2",
+        "FUNCTION=DM(20, 1) - 2 - 0.1*SIN(3*TIME)",
+    );
+    let r = simulate(&text, 1.0, 20);
+    let sim = r.simulation.as_ref().expect("simulated");
+    assert!(sim.failure.is_none(), "{:?}", sim.failure);
+    assert_eq!(sim.outputs.len(), 21);
+    for o in &sim.outputs {
+        let t = o.time;
+        let (p, v, a) = (o.state.poses[0].p, o.velocities[0].0, o.accelerations[0].0);
+        let length = 2.0 + 0.1 * (3.0 * t).sin();
+        let rate = 0.3 * (3.0 * t).cos();
+        let acc = -0.9 * (3.0 * t).sin();
+        let n = p / p.length();
+        assert!(
+            (p.length() - length).abs() < 1e-9,
+            "t = {t}: |p| = {}",
+            p.length()
+        );
+        assert!(
+            (v.dot(n) - rate).abs() < 1e-9,
+            "t = {t}: v·p̂ = {}",
+            v.dot(n)
+        );
+        let radial = a.dot(n) + (v.length_squared() - v.dot(n).powi(2)) / p.length();
+        assert!((radial - acc).abs() < 1e-8, "t = {t}: {radial} vs {acc}");
+    }
+}
