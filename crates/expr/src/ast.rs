@@ -130,14 +130,18 @@ impl Expr {
         self.any(&mut |e| matches!(e, Expr::Constant(Constant::Time)))
     }
 
-    /// True if the expression uses a measure, an element force or a state reference, i.e.
-    /// depends on the model state (and is therefore not allowed in a MOTION function).
+    /// True if the expression uses a measure (including `ORIENT`), an element force or a state
+    /// reference, i.e. depends on the model state (and is therefore not allowed in a MOTION
+    /// function).
     pub fn uses_state(&self) -> bool {
         self.any(&mut |e| {
             matches!(
                 e,
                 Expr::Call {
-                    func: Function::Measure(_) | Function::ElementForce(_) | Function::State(_),
+                    func: Function::Measure(_)
+                        | Function::ElementForce(_)
+                        | Function::State(_)
+                        | Function::Orient,
                     ..
                 }
             )

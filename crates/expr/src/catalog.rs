@@ -354,6 +354,9 @@ pub enum Function {
     ElementForce(ElementForce),
     /// A state reference.
     State(StateKind),
+    /// `ORIENT(system, component, i [, j])`: a component of the orientation of marker i
+    /// relative to marker j in one of the systems of [`crate::orient`].
+    Orient,
 }
 
 /// Upper bound used for "any number of arguments".
@@ -374,6 +377,9 @@ impl Function {
         if let Some(f) = ElementForce::from_name(name) {
             return Some(Function::ElementForce(f));
         }
+        if name == "ORIENT" {
+            return Some(Function::Orient);
+        }
         StateKind::from_name(name).map(Function::State)
     }
 
@@ -385,6 +391,7 @@ impl Function {
             Function::Measure(f) => f.name(),
             Function::ElementForce(f) => f.name(),
             Function::State(f) => f.name(),
+            Function::Orient => "ORIENT",
         }
     }
 
@@ -409,6 +416,7 @@ impl Function {
             Function::ElementForce(_) => (3, 4),
             Function::State(StateKind::Aryval) => (2, 2),
             Function::State(_) => (1, 1),
+            Function::Orient => (3, 4),
         }
     }
 }
@@ -446,6 +454,7 @@ mod tests {
             .chain(MeasureKind::ALL.iter().map(|&f| Function::Measure(f)))
             .chain(ElementForce::ALL.iter().map(|&f| Function::ElementForce(f)))
             .chain(StateKind::ALL.iter().map(|&f| Function::State(f)))
+            .chain([Function::Orient])
             .collect();
         for f in all {
             assert!(seen.insert(f.name()), "duplicate {}", f.name());

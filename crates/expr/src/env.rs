@@ -93,6 +93,53 @@ pub trait Env {
         )))
     }
 
+    /// A marker measure as a truncated Taylor series along the environment's current motion:
+    /// `[m, dm/dt, d²m/dt²]` (the value and its first two total time derivatives), used by
+    /// [`crate::evaluate_path_series`]. What "the current motion" is belongs to the
+    /// environment (for the solver: part poses moving with given velocities and
+    /// accelerations).
+    ///
+    /// Default: an [`crate::EvalErrorKind::NotTimeOnly`] error (contexts such as MOTION
+    /// functions, where only TIME may vary).
+    fn measure_series(
+        &self,
+        kind: MeasureKind,
+        markers: MarkerArgs,
+    ) -> Result<[f64; 3], EvalError> {
+        let _ = markers;
+        Err(EvalError::not_time_only(kind.name()))
+    }
+
+    /// The direction cosines of marker `i` relative to marker `j` (0: ground), with their
+    /// gradients, for `ORIENT` ([`crate::orient`]): the matrix `R = A_jᵀ·A_i` whose columns
+    /// are i's axes resolved in j's axes, **column-major**: entry `3c + r` is
+    /// `R[r][c] = x_j,r · x_i,c` (r, c = 0, 1, 2 for x, y, z). `gradient` as for
+    /// [`Env::measure`].
+    ///
+    /// Default: unavailable.
+    fn rotation(&self, i: u32, j: u32, gradient: bool) -> Result<[Dual; 9], EvalError> {
+        let _ = (i, j, gradient);
+        Err(EvalError::unavailable(
+            "ORIENT is not available in this context",
+        ))
+    }
+
+    /// The entries of [`Env::rotation`] as series along the current motion (as
+    /// [`Env::measure_series`]): `[R, dR/dt, d²R/dt²]` per entry, same order.
+    ///
+    /// Default: an [`crate::EvalErrorKind::NotTimeOnly`] error.
+    fn rotation_series(&self, i: u32, j: u32) -> Result<[[f64; 3]; 9], EvalError> {
+        let _ = (i, j);
+        Err(EvalError::not_time_only("ORIENT"))
+    }
+
+    /// The rate of TIME along the motion of [`crate::evaluate_path_series`]: 1 (default), or 0
+    /// when the caller freezes time (e.g. for second derivatives with respect to positions
+    /// only, or dynamic settling at a fixed time).
+    fn time_rate(&self) -> f64 {
+        1.0
+    }
+
     /// Value (and gradient) of an element force function such as `JOINT(id, jflag, comp, rm)`.
     fn element_force(
         &self,

@@ -42,8 +42,9 @@ pub enum EvalErrorKind {
     /// A quantity is not available in this evaluation context (for example a measure in a
     /// context whose environment does not provide measures).
     Unavailable,
-    /// [`crate::evaluate_time_series`] met a measure or state reference: a MOTION function
-    /// must depend on time only.
+    /// [`crate::evaluate_time_series`] (or [`crate::evaluate_path_series`] in an environment
+    /// that has no series of that quantity) met a measure or state reference: a MOTION
+    /// function must depend on time only.
     NotTimeOnly,
     /// The expression calls `USER(...)`, a user subroutine, which cannot be run.
     UserSubroutine,
@@ -90,5 +91,17 @@ impl EvalError {
     /// A quantity the environment cannot provide ([`EvalErrorKind::Unavailable`]).
     pub fn unavailable(message: impl Into<String>) -> Self {
         Self::new(EvalErrorKind::Unavailable, message)
+    }
+
+    /// `what` (e.g. `DX`) met where only TIME may vary ([`EvalErrorKind::NotTimeOnly`]): the
+    /// error of a MOTION function that uses the model state.
+    pub fn not_time_only(what: &str) -> Self {
+        Self::new(
+            EvalErrorKind::NotTimeOnly,
+            format!(
+                "a MOTION function must depend on time only, but this expression uses {what}, \
+                 which depends on the model state"
+            ),
+        )
     }
 }

@@ -10,6 +10,7 @@ use crate::env::{ElementForceArgs, Env, MarkerArgs, StateRef};
 use crate::error::{EvalError, EvalErrorKind};
 use crate::functions;
 use crate::num::Num;
+use crate::orient::OrientValue;
 use crate::spline::SplineMethod;
 use crate::taylor::Taylor;
 
@@ -40,12 +41,33 @@ pub fn evaluate_with_gradient<E: Env + ?Sized>(expr: &Expr, env: &E) -> Result<D
 
 /// Evaluates an expression of TIME only, returning `[f, df/dt, d²f/dt²]` exactly (truncated
 /// Taylor arithmetic in t). A measure or state reference gives an
-/// [`EvalErrorKind::NotTimeOnly`] error ("a MOTION function must depend on time only ...").
+/// [`EvalErrorKind::NotTimeOnly`] error ("a MOTION function must depend on time only ...")
+/// with environments that supply no series (such as [`crate::TimeEnv`]); it is
+/// [`evaluate_path_series`] under the name MOTION functions use.
 pub fn evaluate_time_series<E: Env + ?Sized>(expr: &Expr, env: &E) -> Result<[f64; 3], EvalError> {
+    evaluate_path_series(expr, env)
+}
+
+/// Evaluates `expr` along the environment's current motion, returning
+/// `[f, df/dt, d²f/dt²]` exactly (truncated Taylor arithmetic to second order).
+///
+/// `TIME` is the series `[t, ṫ, 0]` with `ṫ =` [`Env::time_rate`] (1 unless the environment
+/// freezes time); measures and direction cosines (`ORIENT`) are the series the environment
+/// returns from [`Env::measure_series`] and [`Env::rotation_series`]. With an expression
+/// `f(m(t), t)` of measures `m` this is the total derivative
+/// `ḟ = f_m·ṁ + f_t·ṫ`,
+/// `f̈ = f_m·m̈ + ṁᵀ f_mm ṁ + 2 ṫ f_mt·ṁ + ṫ² f_tt`:
+/// an environment that moves the model with given velocities and zero accelerations gets
+/// the velocity-product ("bias") term of a constraint's acceleration equation, and one that
+/// freezes time and moves along a unit tangent direction u gets `uᵀ ∇²f u`.
+///
+/// Element forces and states (`JOINT(…)`, `VARVAL`, …) have no series: an
+/// [`EvalErrorKind::NotTimeOnly`] error. Non-finite results are a domain error.
+pub fn evaluate_path_series<E: Env + ?Sized>(expr: &Expr, env: &E) -> Result<[f64; 3], EvalError> {
     let t = Evaluator { env }.scalar::<Taylor>(expr)?;
     if !t.all_finite() {
         return Err(EvalError::domain(
-            "time derivative is not finite: the expression is not differentiable at this time",
+            "time derivative is not finite: the expression is not differentiable here",
         ));
     }
     Ok(t.derivatives())
@@ -157,6 +179,7 @@ impl<E: Env + ?Sized> Evaluator<'_, E> {
             Function::Measure(kind) => self.measure::<N>(kind, args)?,
             Function::ElementForce(kind) => self.element_force::<N>(kind, args)?,
             Function::State(kind) => self.state::<N>(kind, args)?,
+            Function::Orient => self.orient::<N>(args)?,
         };
         finite(result, || format!("the result of {}", func.name()))
     }
@@ -228,8 +251,32 @@ impl<E: Env + ?Sized> Evaluator<'_, E> {
                 MarkerRole::L => m.l = id,
             }
         }
-        let d = self.env.measure(kind, m, N::GRADIENT)?;
-        from_env::<N>(d, name)
+        let value = N::measure(self.env, kind, m)?;
+        if !value.val().is_finite() {
+            return Err(EvalError::domain(format!(
+                "{name} returned the non-finite value {}",
+                value.val()
+            )));
+        }
+        Ok(value)
+    }
+
+    /// `ORIENT(system, component, i [, j])`.
+    fn orient<N: Num>(&self, args: &[Expr]) -> Result<N, EvalError> {
+        const NAME: &str = "ORIENT";
+        let arg = |pos: usize, what: &str| self.optional_integer_arg(NAME, pos, what, args);
+        let system = arg(0, "orientation system")?;
+        let component = arg(1, "component")?;
+        let i = arg(2, "marker id")?;
+        let j = arg(3, "marker id")?;
+        let what = OrientValue::new(system, component)?;
+        let r = N::rotation(self.env, i, j)?;
+        if r.iter().any(|x| !x.val().is_finite()) {
+            return Err(EvalError::domain(
+                "ORIENT: the environment returned non-finite direction cosines",
+            ));
+        }
+        what.evaluate(&r)
     }
 
     fn element_force<N: Num>(&self, kind: ElementForce, args: &[Expr]) -> Result<N, EvalError> {

@@ -136,7 +136,8 @@ fn cos<N: Num>(x: &N) -> N {
     x.chain(c, -s, -c)
 }
 
-fn atan2<N: Num>(y: &N, x: &N) -> Result<N, EvalError> {
+/// `ATAN2(y, x)` with exact derivatives (an error when both are zero).
+pub(crate) fn atan2<N: Num>(y: &N, x: &N) -> Result<N, EvalError> {
     let (yv, xv) = (y.val(), x.val());
     if yv == 0.0 && xv == 0.0 {
         return Err(EvalError::domain("ATAN2 with both arguments zero"));

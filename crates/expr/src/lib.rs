@@ -84,6 +84,10 @@
 //!   VTORQUE GFORCE` as `NAME(id, jflag, comp [, rm])` → [`Env::element_force`]; `jflag`
 //!   must be 0/1 and `comp` 1..8 ([`ForceComponent`]).
 //! * States ([`StateKind`]): `VARVAL(id) DIF(id) DIF1(id) ARYVAL(id, n)` → [`Env::state`].
+//! * `ORIENT(system, component, i [, j])` ([`Function::Orient`]): Euler angles of the 12
+//!   body-fixed and 12 space-fixed sequences, projection angles, yaw/pitch/roll, Euler and
+//!   Rodrigues parameters, direction cosines ([`orient`] has the table), computed from the
+//!   direction cosines that [`Env::rotation`] supplies.
 //! * Splines: `AKISPL(x, z, id [, iord])`, `CUBSPL(...)` read [`SplineData`] from
 //!   [`Env::spline`]; `z` is evaluated but ignored (1-D splines only); `iord` ∈ {0, 1, 2}.
 //!   Build the data once with [`SplineData::new`]`(x, y, linear_extrapolate)`, which validates
@@ -102,9 +106,15 @@
 //!   the environment's variables (forward-mode AD; the environment returns each measure's
 //!   value and partial derivatives). `TIME` carries the derivative 1 for
 //!   [`Env::time_variable`] if the environment defines one.
-//! * [`evaluate_time_series`] → `[f, df/dt, d²f/dt²]` for expressions of TIME only (MOTION
-//!   functions), exact via truncated Taylor arithmetic in t; any measure or state reference is
-//!   an [`EvalErrorKind::NotTimeOnly`] error.
+//! * [`evaluate_path_series`] → `[f, df/dt, d²f/dt²]` along the environment's current
+//!   motion, exact via truncated Taylor arithmetic: TIME advances at [`Env::time_rate`],
+//!   measures and direction cosines are the series of [`Env::measure_series`] and
+//!   [`Env::rotation_series`] (the solver uses this for the second derivatives of general
+//!   constraints). Element forces and states have no series
+//!   ([`EvalErrorKind::NotTimeOnly`]).
+//! * [`evaluate_time_series`] → the same for expressions of TIME only (MOTION functions):
+//!   with an environment that supplies no series, any measure or state reference is an
+//!   [`EvalErrorKind::NotTimeOnly`] error.
 //!
 //! Non-smooth functions (ABS, MIN, MAX, SIGN, DIM, MOD, AINT, ANINT, IF, the flat parts of
 //! the steps, IMPACT/BISTOP switching) use the derivative of the branch active at the current
@@ -128,6 +138,7 @@ mod eval;
 pub mod functions;
 mod lexer;
 mod num;
+pub mod orient;
 pub mod parser;
 pub mod spline;
 mod taylor;
@@ -140,6 +151,7 @@ pub use catalog::{
 pub use dual::Dual;
 pub use env::{ElementForceArgs, Env, MarkerArgs, StateRef, TimeEnv};
 pub use error::{EvalError, EvalErrorKind, ParseError};
-pub use eval::{evaluate, evaluate_time_series, evaluate_with_gradient};
+pub use eval::{evaluate, evaluate_path_series, evaluate_time_series, evaluate_with_gradient};
+pub use orient::{orient, OrientSystem};
 pub use parser::{parse, MAX_DEPTH, MAX_NESTING};
 pub use spline::{SplineData, SplineError, SplineMethod};

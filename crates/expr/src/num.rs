@@ -1,14 +1,16 @@
 //! The number abstraction the evaluator is generic over.
 //!
 //! Three implementations: `f64` (plain values), [`Dual`] (value + sparse gradient) and
-//! [`Taylor`] (truncated Taylor series in time, for MOTION functions). Every elementary
+//! [`Taylor`] (truncated Taylor series in time: MOTION functions, and expressions along a path
+//! of the model through [`Env::measure_series`]). Every elementary
 //! function is expressed through [`Num::chain`], which applies a scalar function given its
 //! value and first two derivatives at the current point; this is exact to the order each
 //! type carries.
 
+use crate::catalog::MeasureKind;
 use crate::dual::Dual;
-use crate::env::Env;
-use crate::error::{EvalError, EvalErrorKind};
+use crate::env::{Env, MarkerArgs};
+use crate::error::EvalError;
 use crate::taylor::Taylor;
 
 pub(crate) trait Num: Clone + Sized {
@@ -36,7 +38,15 @@ pub(crate) trait Num: Clone + Sized {
 
     /// The current time.
     fn time<E: Env + ?Sized>(env: &E) -> Self;
-    /// Converts a value supplied by the environment for `what` (e.g. `DX`).
+    /// A marker measure from the environment.
+    fn measure<E: Env + ?Sized>(
+        env: &E,
+        kind: MeasureKind,
+        m: MarkerArgs,
+    ) -> Result<Self, EvalError>;
+    /// The direction cosines of marker `i` relative to `j` ([`Env::rotation`]).
+    fn rotation<E: Env + ?Sized>(env: &E, i: u32, j: u32) -> Result<[Self; 9], EvalError>;
+    /// Converts a value supplied by the environment for `what` (an element force or a state).
     fn from_env(d: Dual, what: &str) -> Result<Self, EvalError>;
 }
 
@@ -84,6 +94,16 @@ impl Num for f64 {
     }
     fn time<E: Env + ?Sized>(env: &E) -> Self {
         env.time()
+    }
+    fn measure<E: Env + ?Sized>(
+        env: &E,
+        kind: MeasureKind,
+        m: MarkerArgs,
+    ) -> Result<Self, EvalError> {
+        Ok(env.measure(kind, m, false)?.value())
+    }
+    fn rotation<E: Env + ?Sized>(env: &E, i: u32, j: u32) -> Result<[Self; 9], EvalError> {
+        Ok(env.rotation(i, j, false)?.map(|d| d.value()))
     }
     fn from_env(d: Dual, _what: &str) -> Result<Self, EvalError> {
         Ok(d.value())
@@ -138,6 +158,16 @@ impl Num for Dual {
             None => Dual::constant(env.time()),
         }
     }
+    fn measure<E: Env + ?Sized>(
+        env: &E,
+        kind: MeasureKind,
+        m: MarkerArgs,
+    ) -> Result<Self, EvalError> {
+        env.measure(kind, m, true)
+    }
+    fn rotation<E: Env + ?Sized>(env: &E, i: u32, j: u32) -> Result<[Self; 9], EvalError> {
+        env.rotation(i, j, true)
+    }
     fn from_env(d: Dual, _what: &str) -> Result<Self, EvalError> {
         Ok(d)
     }
@@ -189,15 +219,19 @@ impl Num for Taylor {
         self.c.iter().all(|x| x.is_finite())
     }
     fn time<E: Env + ?Sized>(env: &E) -> Self {
-        Taylor::variable(env.time())
+        Taylor::from_derivatives([env.time(), env.time_rate(), 0.0])
+    }
+    fn measure<E: Env + ?Sized>(
+        env: &E,
+        kind: MeasureKind,
+        m: MarkerArgs,
+    ) -> Result<Self, EvalError> {
+        Ok(Taylor::from_derivatives(env.measure_series(kind, m)?))
+    }
+    fn rotation<E: Env + ?Sized>(env: &E, i: u32, j: u32) -> Result<[Self; 9], EvalError> {
+        Ok(env.rotation_series(i, j)?.map(Taylor::from_derivatives))
     }
     fn from_env(_d: Dual, what: &str) -> Result<Self, EvalError> {
-        Err(EvalError::new(
-            EvalErrorKind::NotTimeOnly,
-            format!(
-                "a MOTION function must depend on time only, but this expression uses {what}, \
-                 which depends on the model state"
-            ),
-        ))
+        Err(EvalError::not_time_only(what))
     }
 }

@@ -1,7 +1,8 @@
 //! Truncated Taylor series in time: `f(t + h) ≈ c0 + c1·h + c2·h²`.
 //!
-//! Used by [`crate::evaluate_time_series`] to obtain f, df/dt and d²f/dt² = 2·c2 exactly for
-//! expressions of TIME only.
+//! Used by [`crate::evaluate_time_series`] and [`crate::evaluate_path_series`] to obtain f,
+//! df/dt and d²f/dt² = 2·c2 exactly (to the order carried) for expressions of TIME and of
+//! quantities whose series the environment supplies.
 
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(crate) struct Taylor {
@@ -25,8 +26,16 @@ impl Taylor {
     }
 
     /// The independent variable itself at `t`.
+    #[cfg(test)]
     pub fn variable(t: f64) -> Self {
         Taylor { c: [t, 1.0, 0.0] }
+    }
+
+    /// The series of a quantity with value `f`, rate `f'` and second derivative `f''`.
+    pub fn from_derivatives([f, d1, d2]: [f64; 3]) -> Self {
+        Taylor {
+            c: [f, d1, 0.5 * d2],
+        }
     }
 
     /// `[f, f', f'']`.

@@ -51,6 +51,7 @@ fn all_functions() -> Vec<Function> {
         .chain(MeasureKind::ALL.iter().map(|&f| Function::Measure(f)))
         .chain(ElementForce::ALL.iter().map(|&f| Function::ElementForce(f)))
         .chain(StateKind::ALL.iter().map(|&f| Function::State(f)))
+        .chain([Function::Orient])
         .collect()
 }
 

@@ -119,13 +119,6 @@ pub fn summary(
                     f.time, f.message
                 ));
             }
-            if sim
-                .outputs
-                .iter()
-                .any(|o| o.accelerations.iter().any(|a| a.0.x.is_nan()))
-            {
-                warnings.push("The model has general constraints (GCON): their accelerations need second derivatives of the constraint expression, which linkage does not compute yet, so accelerations and reactions are reported as NaN.".into());
-            }
             if sim.kinematic {
                 warnings.push("The data set is kinematically determinate (0 degrees of freedom): a kinematic analysis was run instead of integration (positions from the constraints at each output time, then velocities, accelerations and reactions).".into());
             }

@@ -209,7 +209,7 @@ pub fn to_json(model: &Model, run: &StaticRun, warnings: &[Diagnostic]) -> Stati
         .iter()
         .any(|(_, e)| e.as_ref().is_ok_and(|e| e.approximate_rows > 0))
     {
-        warnings.push("some constraint rows (Euler-angle motions or general constraints) lack second derivatives: their geometric stiffness is omitted from the Newton matrix".into());
+        warnings.push("the second derivatives of some general constraints (GCON) could not be evaluated at the solution: their geometric stiffness is omitted from the Newton matrix and the stability verdict".into());
     }
     let first = steps.first();
     StaticJson {

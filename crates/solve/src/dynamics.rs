@@ -116,6 +116,24 @@ impl Problem<'_> {
         self.frozen_time.unwrap_or(t)
     }
 
+    /// How fast the constraints' TIME advances: 0 when it is frozen.
+    fn time_rate(&self) -> f64 {
+        if self.frozen_time.is_some() {
+            0.0
+        } else {
+            1.0
+        }
+    }
+
+    /// An expression of row `r` that cannot be evaluated, with its element's name.
+    fn row_error(&self, r: usize, e: &linkage_expr::EvalError) -> String {
+        let c = &self.model.constraints[self.sys.rows[r].element];
+        format!(
+            "{}: the constraint's time derivatives cannot be evaluated: {e}",
+            c.origin.name
+        )
+    }
+
     /// `UCF·Q` (mass × acceleration units): gravity, applied forces, gyroscopic terms, extra
     /// damping.
     fn generalized(&self, s: &State, v: &[(DVec3, DVec3)]) -> Result<Vec<f64>, String> {
@@ -448,7 +466,8 @@ fn hht_step(
             })
             .collect();
         s1 = apply(&cur.s, &d);
-        s1.time = t1;
+        // The constraints see the analysis time (frozen when settling).
+        s1.time = p.time(t1);
         v1 = (0..6 * n)
             .map(|i| cur.v[i] + h * ((1.0 - gamma) * cur.a[i] + gamma * a[i]))
             .collect();
@@ -524,9 +543,7 @@ fn hht_step(
             let mut hb = HessianBlocks::default();
             for (k, &r) in p.rows.iter().enumerate() {
                 hb.clear();
-                for (c, q) in &p.sys.rows[r].terms {
-                    q.hessian(&s1, *c, &mut hb);
-                }
+                p.sys.hessian(r, &s1, 1.0, &mut hb);
                 hb.triplets(ucf * lambda[k] * kq, &mut e);
                 p.sys.gradient(r, &s1, &mut g);
                 for (body, b) in &g.blocks {
@@ -618,22 +635,41 @@ pub(crate) struct Consistent {
     lambda: Vec<f64>,
 }
 
-/// Projects velocities onto `J v = ḟ` (least change, mass-weighted) and solves the
-/// accelerations and multipliers (`M a + UCF·Jᵀλ = UCF·Q`, `J a = f̈ − γ`).
+/// Projects velocities onto `J v = ḟ − ∂Φ/∂t` (least change, mass-weighted) and solves the
+/// accelerations and multipliers (`M a + UCF·Jᵀλ = UCF·Q`, `J a = f̈ − γ`, with the exact
+/// velocity-product terms γ of every row, general constraints included:
+/// [`System::acceleration_bias`]).
 pub(crate) fn consistent_output(p: &Problem, s: &State, v: &[f64]) -> Result<Consistent, String> {
     let n = p.n();
     let m = p.rows.len();
     let dim = 6 * n + m;
     let ucf = p.model.ucf();
     let length = p.model.characteristic_length;
+    // The constraint expressions see the analysis time (frozen when settling).
+    let frozen;
+    let se: &State = if p.time(s.time) == s.time {
+        s
+    } else {
+        frozen = State {
+            poses: s.poses.clone(),
+            time: p.time(s.time),
+        };
+        &frozen
+    };
     let mut grads = vec![RowGradient::default(); m];
     for (k, &r) in p.rows.iter().enumerate() {
-        p.sys.gradient(r, s, &mut grads[k]);
+        p.sys.gradient(r, se, &mut grads[k]);
     }
     let mut mass_entries: Vec<(usize, usize, f64)> = Vec::new();
     for (k, part) in p.model.parts.iter().enumerate() {
         let ig = s.poses[k].r * part.inertia * s.poses[k].r.transpose();
         let mass = if part.mass > 0.0 { part.mass } else { 1e-12 };
+        // The rotational inertia is regularised only where it is singular (a point mass, a
+        // massless part): elsewhere the equations are exact, so that a constraint wrench
+        // recovered from them (FORCE requests) vanishes to rounding where it should.
+        let inertia = &part.inertia;
+        let trace = inertia.x_axis.x + inertia.y_axis.y + inertia.z_axis.z;
+        let singular = trace <= 0.0 || inertia.determinant() <= 1e-10 * (trace / 3.0).powi(3);
         for c in 0..3 {
             mass_entries.push((6 * k + c, 6 * k + c, mass));
             for d in 0..3 {
@@ -642,7 +678,9 @@ pub(crate) fn consistent_output(p: &Problem, s: &State, v: &[f64]) -> Result<Con
                     mass_entries.push((6 * k + 3 + c, 6 * k + 3 + d, x));
                 }
             }
-            mass_entries.push((6 * k + 3 + c, 6 * k + 3 + c, 1e-12 * mass * length * length));
+            if singular {
+                mass_entries.push((6 * k + 3 + c, 6 * k + 3 + c, 1e-12 * mass * length * length));
+            }
         }
     }
     let mut kkt = mass_entries.clone();
@@ -665,14 +703,19 @@ pub(crate) fn consistent_output(p: &Problem, s: &State, v: &[f64]) -> Result<Con
         mv[i] += x * v[j];
     }
     rhs[..6 * n].copy_from_slice(&mv);
+    let time_rate = p.time_rate();
     for (k, &r) in p.rows.iter().enumerate() {
         let row = &p.sys.rows[r];
-        if row.driven {
-            rhs[6 * n + k] = match drive_series(p, row.element, s.time) {
+        rhs[6 * n + k] = if row.driven {
+            match drive_series(p, row.element, s.time) {
                 Some(f) => f[1],
                 None => rate_of(&grads[k], v),
-            };
-        }
+            }
+        } else {
+            -p.sys
+                .explicit_rate(r, se, time_rate)
+                .map_err(|e| p.row_error(r, &e))?
+        };
     }
     lu.solve(&mut rhs)
         .map_err(|_| "the velocity projection is singular".to_string())?;
@@ -684,11 +727,10 @@ pub(crate) fn consistent_output(p: &Problem, s: &State, v: &[f64]) -> Result<Con
     rhs[..6 * n].copy_from_slice(&q);
     for (k, &r) in p.rows.iter().enumerate() {
         let row = &p.sys.rows[r];
-        let bias: f64 = row
-            .terms
-            .iter()
-            .map(|(c, qq)| c * qq.rates(s, &velocities).1)
-            .sum();
+        let bias = p
+            .sys
+            .acceleration_bias(r, se, &velocities, time_rate)
+            .map_err(|e| p.row_error(r, &e))?;
         let fdd = if row.driven {
             drive_series(p, row.element, s.time).map_or(0.0, |f| f[2])
         } else {
@@ -702,27 +744,13 @@ pub(crate) fn consistent_output(p: &Problem, s: &State, v: &[f64]) -> Result<Con
     // Multipliers in force units (M a + Jᵀμ = UCF·Q → λ = μ/UCF).
     let lambda: Vec<f64> = rhs[6 * n..].iter().map(|x| x / ucf).collect();
     let rg: Vec<(usize, &RowGradient)> = p.rows.iter().copied().zip(grads.iter()).collect();
-    let mut reactions = element_reactions(p.model, p.sys, &rg, &lambda, s);
-    // A general constraint's velocity-product term needs second derivatives of its expression,
-    // which linkage does not compute: the reported accelerations and reactions would be wrong,
-    // so they are NaN (positions and velocities, which the integrator takes from the position
-    // constraints, are right). The integrator's own accelerations are not affected.
-    let unknown_accelerations = p.rows.iter().any(|&r| p.sys.rows[r].function.is_some());
-    let mut reported = accelerations.clone();
-    if unknown_accelerations {
-        let nan = DVec3::splat(f64::NAN);
-        reported.iter_mut().for_each(|a| *a = (nan, nan));
-        reactions.iter_mut().for_each(|r| {
-            r.force = nan;
-            r.torque = nan;
-        });
-    }
+    let reactions = element_reactions(p.model, p.sys, &rg, &lambda, s);
     Ok(Consistent {
         output: Output {
             time: s.time,
             state: s.clone(),
             velocities: velocities.clone(),
-            accelerations: reported,
+            accelerations: accelerations.clone(),
             reactions,
         },
         velocities,

@@ -6,7 +6,6 @@
 //! a clique of three or more vertices is biconnected, so an element never straddles blocks).
 //! Cost: O(V + E), iterative (no recursion, so chains of any length are fine).
 
-use linkage_expr::{Expr, Function};
 use linkage_model::{Body, ConstraintKind, Model};
 
 /// A biconnected block: elements and the moving parts they touch.
@@ -36,8 +35,9 @@ fn vertex(b: Body) -> usize {
 }
 
 /// Bodies an element connects. For a general constraint these are the bodies of every marker
-/// its expression measures (literal ids), its I marker and ground; when an id is computed, all
-/// parts (the element then joins everything in one block, which is always correct).
+/// its expression measures or orients (literal ids, [`crate::measures::referenced_markers`]),
+/// its I marker and ground; when an id is computed, all parts (the element then joins
+/// everything in one block, which is always correct).
 pub fn element_bodies(model: &Model, e: usize) -> Vec<Body> {
     let ConstraintKind::Gcon {
         function: Some(f), ..
@@ -49,29 +49,13 @@ pub fn element_bodies(model: &Model, e: usize) -> Vec<Body> {
     let Ok(expr) = linkage_expr::parse(&f.value.expr.text) else {
         return bodies;
     };
-    let mut ids: Vec<u64> = Vec::new();
-    let mut computed = false;
-    expr.walk(&mut |node| {
-        if let Expr::Call {
-            func: Function::Measure(_),
-            args,
-        } = node
-        {
-            for a in args {
-                match a {
-                    Expr::Number(x) if *x >= 0.0 && x.fract() == 0.0 => ids.push(*x as u64),
-                    _ => computed = true,
-                }
-            }
-        }
-    });
-    if computed {
+    let Some(ids) = crate::measures::referenced_markers(&expr) else {
         return std::iter::once(Body::Ground)
             .chain((0..model.parts.len()).map(Body::Part))
             .collect();
-    }
+    };
     for id in ids {
-        if let Some(m) = model.markers.iter().find(|m| m.id == id) {
+        if let Some(m) = model.markers.iter().find(|m| m.id == u64::from(id)) {
             if !bodies.contains(&m.body) {
                 bodies.push(m.body);
             }

@@ -5,11 +5,12 @@
 //!    assembly of the independent rows and hard conditions ([`crate::assemble`]), then the rank
 //!    analysis again at the assembled configuration; if it admits a row the assembly did not
 //!    satisfy, assemble once more with the new set.
-//! 2. Velocity: `min ½(v − v₀)ᵀW(v − v₀)` subject to `J v = ḟ(t)` (motions) and the joints'
-//!    initial velocities.
+//! 2. Velocity: `min ½(v − v₀)ᵀW(v − v₀)` subject to `J v = ḟ(t) − ∂Φ/∂t` (motions, and
+//!    general constraints that depend on TIME) and the joints' initial velocities.
 //! 3. Acceleration and force: `M a + Jᵀμ = Q` (gravity and gyroscopic terms),
-//!    `J a = f̈ − γ`; reactions `−Jᵀμ / UCF` on each element's I marker. Redundant rows are not
-//!    in J, so their reactions are zero, as in Adams.
+//!    `J a = f̈ − γ` with the exact velocity-product terms γ of every row, general constraints
+//!    included ([`System::acceleration_bias`]); reactions `−Jᵀμ / UCF` on each element's I
+//!    marker. Redundant rows are not in J, so their reactions are zero, as in Adams.
 
 use crate::applied::AppliedForces;
 use crate::assemble::{assemble, hard_rows, Assembly, HardRow};
@@ -282,7 +283,7 @@ pub fn velocity_ic(
     let mut motion_errors = Vec::new();
     for &r in rows {
         let row = &sys.rows[r];
-        let rhs = if row.driven {
+        let drive = if row.driven {
             match drivers.motion_rates(row.element, s.time) {
                 Some(Ok((vel, _))) => vel,
                 Some(Err(e)) => {
@@ -298,6 +299,9 @@ pub fn velocity_ic(
         } else {
             0.0
         };
+        // A general constraint that depends on TIME: ∇Φ·v = −∂Φ/∂t (0 if it cannot be
+        // evaluated here, which the acceleration solve then reports).
+        let rhs = drive - sys.explicit_rate(r, s, 1.0).unwrap_or(0.0);
         sys.gradient(r, s, &mut g);
         eqs.push((g.clone(), rhs));
     }
@@ -421,12 +425,6 @@ pub fn acceleration_ic(
     let mut eqs: Vec<(usize, RowGradient, f64)> = Vec::new();
     for &r in rows {
         let row = &sys.rows[r];
-        if row.function.is_some() {
-            return Err(format!(
-                "{}: accelerations of a general constraint need second derivatives of its expression, which linkage does not compute yet",
-                model.constraints[row.element].origin.name
-            ));
-        }
         let fdd = if row.driven {
             match drivers.motion_rates(row.element, s.time) {
                 Some(Ok((_, acc))) => acc,
@@ -442,7 +440,12 @@ pub fn acceleration_ic(
         } else {
             0.0
         };
-        let bias: f64 = row.terms.iter().map(|(c, q)| c * q.rates(s, v).1).sum();
+        let bias = sys.acceleration_bias(r, s, v, 1.0).map_err(|e| {
+            format!(
+                "{}: the second time derivative of the constraint cannot be evaluated: {e}",
+                model.constraints[row.element].origin.name
+            )
+        })?;
         sys.gradient(r, s, &mut g);
         eqs.push((r, g.clone(), fdd - bias));
     }

@@ -190,9 +190,7 @@ pub fn linearize(
     let mut trip = Vec::new();
     for &(r, lam) in lambda {
         hb.clear();
-        for (c, q) in &sys.rows[r].terms {
-            q.hessian(s, *c, &mut hb);
-        }
+        sys.hessian(r, s, 1.0, &mut hb);
         trip.clear();
         hb.triplets(lam * ucf, &mut trip);
         for &(i, j, x) in &trip {

@@ -4,17 +4,25 @@
 //! built from the same geometric [`Quantity`]s as the constraint rows, so their gradients are
 //! exact. The gradient variable of part `k`'s tangent coordinate `c` is `6k + c`.
 //!
+//! `ORIENT` reads the direction cosines `R = A_jᵀ·A_i` of two markers, each entry a
+//! [`Quantity::Dot`] of their axes (`R[r][c] = x_j,r · x_i,c`).
+//!
 //! [`PositionEnv`] sees positions only (constraint rows, motions); [`StateEnv`] adds
-//! velocities, VARIABLE/ARRAY/SPLINE data and `MODE` (force expressions).
+//! velocities, VARIABLE/ARRAY/SPLINE data and `MODE` (force expressions); [`PathEnv`] moves the
+//! parts with given velocities and accelerations and supplies the position measures as
+//! second-order series in time (second derivatives of general constraints).
 
 use crate::forces::algebra::{Kinematics, Real, V3};
 use crate::forces::data::{ArrayData, DataElements};
-use crate::rows::{BodyDir, BodyFrame, BodyPoint, EulerSeq, Quantity, RowGradient, Velocities};
+use crate::rows::{
+    dir_series, point_series, BodyDir, BodyFrame, BodyPoint, EulerSeq, Quantity, RowGradient,
+    Velocities,
+};
 use crate::state::State;
 use glam::{DMat3, DVec3};
 use linkage_expr::{
-    evaluate, evaluate_with_gradient, Dual, Env, EvalError, MarkerArgs, MeasureKind, SplineData,
-    StateRef,
+    evaluate, evaluate_with_gradient, Dual, Env, EvalError, Expr, Function, MarkerArgs,
+    MeasureKind, SplineData, StateRef,
 };
 use linkage_model::{Body, Model};
 use std::cell::RefCell;
@@ -152,9 +160,38 @@ impl PositionEnv<'_> {
     }
 }
 
+/// The direction cosine `R[r][c] = x_j,r · x_i,c` of frame `fi` relative to `fj`.
+fn cosine(fi: BodyFrame, fj: BodyFrame, r: usize, c: usize) -> Quantity {
+    Quantity::Dot(fj.axis(r), fi.axis(c))
+}
+
+impl PositionEnv<'_> {
+    /// Direction cosines of marker `i` relative to marker `j`, column-major (entry `3c + r` is
+    /// `R[r][c]`), with gradients if asked.
+    fn rotation_entries(&self, i: u32, j: u32, gradient: bool) -> Result<[Dual; 9], EvalError> {
+        let (fi, fj) = (self.frames.get(i)?, self.frames.get(j)?);
+        let mut g = RowGradient::default();
+        Ok(std::array::from_fn(|e| {
+            let q = cosine(fi, fj, e % 3, e / 3);
+            let value = q.value(self.state);
+            if gradient {
+                g.clear();
+                q.gradient(self.state, 1.0, &mut g);
+                dual(value, &g)
+            } else {
+                Dual::constant(value)
+            }
+        }))
+    }
+}
+
 impl Env for PositionEnv<'_> {
     fn time(&self) -> f64 {
         self.state.time
+    }
+
+    fn rotation(&self, i: u32, j: u32, gradient: bool) -> Result<[Dual; 9], EvalError> {
+        self.rotation_entries(i, j, gradient)
     }
 
     fn measure(
@@ -181,6 +218,40 @@ impl Env for PositionEnv<'_> {
         q.gradient(self.state, 1.0, &mut g);
         Ok(dual(value, &g))
     }
+}
+
+/// The marker ids an expression's measures and `ORIENT` calls name (ground's 0 included),
+/// or `None` when some id is computed rather than written as a literal (then any marker may
+/// be meant).
+pub fn referenced_markers(expr: &Expr) -> Option<Vec<u32>> {
+    let mut ids = Vec::new();
+    let mut computed = false;
+    expr.walk(&mut |node| {
+        let Expr::Call { func, args } = node else {
+            return;
+        };
+        let markers = match func {
+            Function::Measure(_) => args.as_slice(),
+            // ORIENT(system, component, i [, j]).
+            Function::Orient => args.get(2..).unwrap_or_default(),
+            _ => return,
+        };
+        for a in markers {
+            match a {
+                Expr::Number(x) if *x >= 0.0 && x.fract() == 0.0 && *x <= f64::from(u32::MAX) => {
+                    // Exact: a whole number in u32 range.
+                    ids.push(*x as u32)
+                }
+                _ => computed = true,
+            }
+        }
+    });
+    if computed {
+        return None;
+    }
+    ids.sort_unstable();
+    ids.dedup();
+    Some(ids)
 }
 
 /// Adds `c · ∂f/∂q` of an expression's gradient to a row gradient.
@@ -451,6 +522,14 @@ impl Env for StateEnv<'_> {
         }
     }
 
+    fn rotation(&self, i: u32, j: u32, gradient: bool) -> Result<[Dual; 9], EvalError> {
+        PositionEnv {
+            frames: self.frames,
+            state: self.state,
+        }
+        .rotation(i, j, gradient)
+    }
+
     fn state(&self, state: StateRef, gradient: bool) -> Result<Dual, EvalError> {
         match state {
             StateRef::Varval(id) => self.varval(id, gradient),
@@ -463,5 +542,106 @@ impl Env for StateEnv<'_> {
 
     fn spline(&self, id: u32) -> Option<&SplineData> {
         self.data.splines.get(&id)
+    }
+}
+
+/// Position measures along a motion of the model: the parts at `state`, moving with the twists
+/// `velocities` (CM velocity and angular velocity, ground axes) and the accelerations
+/// `accelerations` (CM acceleration and angular acceleration; zero when `None`), while TIME
+/// advances at `time_rate` (1, or 0 to freeze it).
+///
+/// Values and gradients are those of [`PositionEnv`]. [`Env::measure_series`] gives
+/// `[m, ṁ, m̈]` of every position measure and [`Env::rotation_series`] those of the direction
+/// cosines, so that [`linkage_expr::evaluate_path_series`] returns a general constraint's
+/// `[f, ḟ, f̈]` along that motion:
+///
+/// * `DX/DY/DZ(i, j, k) = (P_i − P_j)·e_k`, `AX/AY/AZ(i, j) = atan2(s, c)` of two dot
+///   products, the direction cosines `x_j,r·x_i,c`: products of the point and direction
+///   series `P̈ = a_c + α×u + ω×(ω×u)`, `ë = α×e + ω×(ω×e)` ([`Quantity::series`]);
+/// * `DM(i, j) = |d|`, `d = P_i − P_j`: `ṙ = d·ḋ/r`, `r̈ = (ḋ·ḋ + d·d̈ − ṙ²)/r` (a domain error
+///   where the markers coincide: |d| has no derivative there);
+/// * `PSI … ROLL`: the Euler-angle rates from the relative angular velocity in J's axes and its
+///   rate ([`Quantity::series`]).
+///
+/// With zero accelerations the second derivative is the velocity-product term of the
+/// acceleration equations; with frozen time and the velocity set to a unit tangent direction
+/// u it is `uᵀ ∇²f u` (the polarization of [`crate::hessian`]). Velocity measures would need
+/// third derivatives of positions and are unavailable (a general constraint may not use them,
+/// see [`crate::drivers::ExpressionDrivers::new`]).
+pub struct PathEnv<'a> {
+    pub frames: &'a MarkerFrames,
+    pub state: &'a State,
+    pub velocities: &'a Velocities,
+    pub accelerations: Option<&'a Velocities>,
+    pub time_rate: f64,
+}
+
+impl PathEnv<'_> {
+    fn position(&self) -> PositionEnv<'_> {
+        PositionEnv {
+            frames: self.frames,
+            state: self.state,
+        }
+    }
+}
+
+impl Env for PathEnv<'_> {
+    fn time(&self) -> f64 {
+        self.state.time
+    }
+
+    fn time_rate(&self) -> f64 {
+        self.time_rate
+    }
+
+    fn measure(
+        &self,
+        kind: MeasureKind,
+        markers: MarkerArgs,
+        gradient: bool,
+    ) -> Result<Dual, EvalError> {
+        self.position().measure(kind, markers, gradient)
+    }
+
+    fn rotation(&self, i: u32, j: u32, gradient: bool) -> Result<[Dual; 9], EvalError> {
+        self.position().rotation(i, j, gradient)
+    }
+
+    fn measure_series(&self, kind: MeasureKind, m: MarkerArgs) -> Result<[f64; 3], EvalError> {
+        let (s, v, acc) = (self.state, self.velocities, self.accelerations);
+        if kind == MeasureKind::Dm {
+            let (fi, fj) = (self.frames.get(m.i)?, self.frames.get(m.j)?);
+            let pi = point_series(&fi.origin(), s, v, acc);
+            let pj = point_series(&fj.origin(), s, v, acc);
+            let d = [pi[0] - pj[0], pi[1] - pj[1], pi[2] - pj[2]];
+            let r = d[0].length();
+            if r == 0.0 {
+                return Err(EvalError::domain(format!(
+                    "DM({}, {}): the markers coincide, where the distance has no derivative",
+                    m.i, m.j
+                )));
+            }
+            let rate = d[0].dot(d[1]) / r;
+            let acc2 = (d[1].dot(d[1]) + d[0].dot(d[2]) - rate * rate) / r;
+            return Ok([r, rate, acc2]);
+        }
+        match self.position().quantity(kind, m)? {
+            Some(q) => Ok(q.series(s, v, acc)),
+            None => Err(EvalError::unavailable(format!(
+                "{} along a path would need third derivatives of the positions: only position \
+                 measures have second-order series",
+                kind.name()
+            ))),
+        }
+    }
+
+    fn rotation_series(&self, i: u32, j: u32) -> Result<[[f64; 3]; 9], EvalError> {
+        let (fi, fj) = (self.frames.get(i)?, self.frames.get(j)?);
+        let (s, v, acc) = (self.state, self.velocities, self.accelerations);
+        let xi: [[DVec3; 3]; 3] = std::array::from_fn(|c| dir_series(&fi.axis(c), s, v, acc));
+        let xj: [[DVec3; 3]; 3] = std::array::from_fn(|r| dir_series(&fj.axis(r), s, v, acc));
+        Ok(std::array::from_fn(|e| {
+            crate::rows::dot_series(&xj[e % 3], &xi[e / 3])
+        }))
     }
 }

@@ -806,6 +806,10 @@ impl Env for OutputEnv<'_> {
         Ok(Dual::constant(value))
     }
 
+    fn rotation(&self, i: u32, j: u32, _gradient: bool) -> Result<[Dual; 9], EvalError> {
+        self.inner.rotation(i, j, false)
+    }
+
     fn element_force(
         &self,
         kind: ElementForce,

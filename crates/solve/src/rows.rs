@@ -175,18 +175,51 @@ fn twist(v: &Velocities, b: Body) -> (DVec3, DVec3) {
     }
 }
 
-/// Position, velocity and acceleration (at zero part accelerations) of a body-fixed point.
-fn point_motion(p: &BodyPoint, s: &State, v: &Velocities) -> (DVec3, DVec3, DVec3) {
+/// Position, velocity and acceleration of a body-fixed point whose body moves with the twists
+/// `v` and the accelerations `acc` (CM acceleration and angular acceleration, ground axes;
+/// zero when `None`): `[P, v_c + ω×u, a_c + α×u + ω×(ω×u)]` with the arm `u = R·p_b`.
+pub fn point_series(
+    p: &BodyPoint,
+    s: &State,
+    v: &Velocities,
+    acc: Option<&Velocities>,
+) -> [DVec3; 3] {
     let (pos, u) = p.eval(s);
     let (vc, w) = twist(v, p.body);
-    (pos, vc + w.cross(u), w.cross(w.cross(u)))
+    let (ac, al) = acc.map_or((DVec3::ZERO, DVec3::ZERO), |a| twist(a, p.body));
+    [pos, vc + w.cross(u), ac + al.cross(u) + w.cross(w.cross(u))]
 }
 
-/// A body-fixed direction, its rate, and its acceleration at zero angular acceleration.
-fn dir_motion(d: &BodyDir, s: &State, v: &Velocities) -> (DVec3, DVec3, DVec3) {
+/// A body-fixed direction, its rate and its second derivative: `[e, ω×e, α×e + ω×(ω×e)]`
+/// (α = 0 when `acc` is `None`).
+pub fn dir_series(d: &BodyDir, s: &State, v: &Velocities, acc: Option<&Velocities>) -> [DVec3; 3] {
     let e = d.eval(s);
     let (_, w) = twist(v, d.body);
-    (e, w.cross(e), w.cross(w.cross(e)))
+    let al = acc.map_or(DVec3::ZERO, |a| twist(a, d.body).1);
+    [e, w.cross(e), al.cross(e) + w.cross(w.cross(e))]
+}
+
+/// `[a·b, (a·b)˙, (a·b)¨]` of two vector series.
+pub fn dot_series(a: &[DVec3; 3], b: &[DVec3; 3]) -> [f64; 3] {
+    [
+        a[0].dot(b[0]),
+        a[1].dot(b[0]) + a[0].dot(b[1]),
+        a[2].dot(b[0]) + 2.0 * a[1].dot(b[1]) + a[0].dot(b[2]),
+    ]
+}
+
+/// `[θ, θ̇, θ̈]` of `θ = atan2(s, c)` from the series of s and c:
+/// `θ̇ = (c ṡ − s ċ)/ρ`, `θ̈ = (c s̈ − s c̈)/ρ − 2 (c ṡ − s ċ)(s ṡ + c ċ)/ρ²`, `ρ = s² + c²`
+/// (rates zero where ρ vanishes).
+pub fn atan2_series([sn, sd, sdd]: [f64; 3], [cs, cd, cdd]: [f64; 3]) -> [f64; 3] {
+    let rho = sn * sn + cs * cs;
+    if rho <= 1e-300 {
+        return [sn.atan2(cs), 0.0, 0.0];
+    }
+    let rate = (cs * sd - sn * cd) / rho;
+    let acc =
+        (cs * sdd - sn * cdd) / rho - 2.0 * (cs * sd - sn * cd) * (sn * sd + cs * cd) / (rho * rho);
+    [sn.atan2(cs), rate, acc]
 }
 
 /// Gradient of one row: per-body 6-vectors `[∂/∂x; ∂/∂θ]`, bodies unique.
@@ -312,47 +345,28 @@ impl Quantity {
     /// `dQ/dt` and `d²Q/dt²` along the part velocities `v` with zero part accelerations (the
     /// "γ" term of the acceleration equations: `Q̈ = ∇Q·a + bias`).
     pub fn rates(&self, s: &State, v: &Velocities) -> (f64, f64) {
+        let [_, rate, acc] = self.series(s, v, None);
+        (rate, acc)
+    }
+
+    /// `[Q, Q̇, Q̈]` with the parts moving with the twists `v` and the accelerations `acc`
+    /// (CM acceleration and angular acceleration in ground; zero when `None`, which gives the
+    /// bias of `Q̈ = ∇Q·a + bias`). Rates are zero at a pose where the quantity is not
+    /// differentiable (an angle of two parallel axes, a singular Euler sequence).
+    pub fn series(&self, s: &State, v: &Velocities, acc: Option<&Velocities>) -> [f64; 3] {
         match self {
-            Quantity::Dot(a, b) => {
-                let (a0, a1, a2) = dir_motion(a, s, v);
-                let (b0, b1, b2) = dir_motion(b, s, v);
-                (
-                    a1.dot(b0) + a0.dot(b1),
-                    a2.dot(b0) + 2.0 * a1.dot(b1) + a0.dot(b2),
-                )
-            }
+            Quantity::Dot(a, b) => dot_series(&dir_series(a, s, v, acc), &dir_series(b, s, v, acc)),
             Quantity::Proj { i, j, e } => {
-                let (pi, vi, ai) = point_motion(i, s, v);
-                let (pj, vj, aj) = point_motion(j, s, v);
-                let (e0, e1, e2) = dir_motion(e, s, v);
-                let (d0, d1, d2) = (pi - pj, vi - vj, ai - aj);
-                (
-                    d1.dot(e0) + d0.dot(e1),
-                    d2.dot(e0) + 2.0 * d1.dot(e1) + d0.dot(e2),
-                )
+                let pi = point_series(i, s, v, acc);
+                let pj = point_series(j, s, v, acc);
+                let d = [pi[0] - pj[0], pi[1] - pj[1], pi[2] - pj[2]];
+                dot_series(&d, &dir_series(e, s, v, acc))
             }
             Quantity::Angle { x, x_ref, y_ref } => {
-                let (x0, x1, x2) = dir_motion(x, s, v);
-                let (r0, r1, r2) = dir_motion(x_ref, s, v);
-                let (y0, y1, y2) = dir_motion(y_ref, s, v);
-                let (sn, sd, sdd) = (
-                    x0.dot(y0),
-                    x1.dot(y0) + x0.dot(y1),
-                    x2.dot(y0) + 2.0 * x1.dot(y1) + x0.dot(y2),
-                );
-                let (cs, cd, cdd) = (
-                    x0.dot(r0),
-                    x1.dot(r0) + x0.dot(r1),
-                    x2.dot(r0) + 2.0 * x1.dot(r1) + x0.dot(r2),
-                );
-                let rho = sn * sn + cs * cs;
-                if rho <= 1e-300 {
-                    return (0.0, 0.0);
-                }
-                let rate = (cs * sd - sn * cd) / rho;
-                let acc = (cs * sdd - sn * cdd) / rho
-                    - 2.0 * (cs * sd - sn * cd) * (sn * sd + cs * cd) / (rho * rho);
-                (rate, acc)
+                let x = dir_series(x, s, v, acc);
+                let sn = dot_series(&x, &dir_series(y_ref, s, v, acc));
+                let cs = dot_series(&x, &dir_series(x_ref, s, v, acc));
+                atan2_series(sn, cs)
             }
             Quantity::Euler { i, j, seq, k } => {
                 let (_, ri) = i.eval(s);
@@ -360,18 +374,20 @@ impl Quantity {
                 let b = seq.angles(&(rj.transpose() * ri));
                 let (e, d0, d1) = seq.rate_matrix(b);
                 if e.determinant().abs() <= 1e-12 {
-                    return (0.0, 0.0);
+                    return [b[*k], 0.0, 0.0];
                 }
                 let einv = e.inverse();
                 let (_, wi) = twist(v, i.body);
                 let (_, wj) = twist(v, j.body);
-                // ω_rel in J axes, its rate at zero angular accelerations.
+                let alpha = |body: Body| acc.map_or(DVec3::ZERO, |a| twist(a, body).1);
+                // ω_rel = R_jᵀ(ω_i − ω_j) in J axes; d/dt(R_jᵀ x) = R_jᵀ(ẋ − ω_j × x).
                 let w_rel = rj.transpose() * (wi - wj);
-                let w_rel_dot = -(rj.transpose() * wj.cross(wi - wj));
+                let w_rel_dot =
+                    rj.transpose() * (alpha(i.body) - alpha(j.body) - wj.cross(wi - wj));
                 let bd = einv * w_rel;
                 let e_dot = d0 * bd[0] + d1 * bd[1];
                 let bdd = einv * (w_rel_dot - e_dot * bd);
-                (bd[*k], bdd[*k])
+                [b[*k], bd[*k], bdd[*k]]
             }
         }
     }

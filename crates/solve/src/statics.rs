@@ -58,8 +58,9 @@ pub struct Equilibrium {
     pub worst: Vec<(Imbalance, f64)>,
     /// The model has no degrees of freedom: positions come from the constraints alone.
     pub kinematic: bool,
-    /// Rows whose second derivatives are not available (Euler-angle motions, GCON
-    /// expressions): the Newton matrix misses their geometric stiffness.
+    /// Rows whose second derivatives could not be evaluated (a general constraint's
+    /// expression failing along a path at the pose): the Newton matrix misses their geometric
+    /// stiffness. Every geometric row and every evaluable expression has exact ones.
     pub approximate_rows: usize,
 }
 
@@ -123,15 +124,8 @@ pub fn equilibrium(
         }
     }
     let m = used.len();
-    let approximate_rows =
-        used.iter()
-            .filter(|(r, _)| {
-                sys.rows[*r].function.is_some()
-                    || sys.rows[*r].terms.iter().any(|(_, q)| {
-                        q.is_angle() && matches!(q, crate::rows::Quantity::Euler { .. })
-                    })
-            })
-            .count();
+    // Rows whose second derivatives could not be evaluated at the last Newton matrix.
+    let mut approximate = vec![false; m];
     let kinematic = m >= 6 * n;
     let mut s = start.clone();
     let mut lambda = initial_multipliers(model, sys, &used, forces, &s, &vel)?;
@@ -192,9 +186,7 @@ pub fn equilibrium(
                     continue;
                 }
                 hb.clear();
-                for (c, q) in &sys.rows[*r].terms {
-                    q.hessian(&s, *c, &mut hb);
-                }
+                approximate[k] = !sys.hessian(*r, &s, 1.0, &mut hb);
                 hb.triplets(lambda[k], &mut e);
             }
             // STABILITY × M (scaled to the stiffness units of each coordinate).
@@ -320,7 +312,7 @@ pub fn equilibrium(
         stability,
         worst,
         kinematic,
-        approximate_rows,
+        approximate_rows: approximate.iter().filter(|a| **a).count(),
     })
 }
 
@@ -476,9 +468,7 @@ fn reduced_stability(
     let mut trip = Vec::new();
     for (k, (r, _)) in used.iter().enumerate() {
         hb.clear();
-        for (c, qn) in &sys.rows[*r].terms {
-            qn.hessian(s, *c, &mut hb);
-        }
+        sys.hessian(*r, s, 1.0, &mut hb);
         trip.clear();
         hb.triplets(lambda[k], &mut trip);
         for &(i, j, v) in &trip {

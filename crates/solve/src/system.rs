@@ -4,12 +4,14 @@
 //! primitive rows (translational rows first, rotational last), one row per motion, coupler,
 //! gear, rack-and-pinion and screw. Every analysis uses these rows.
 
-use crate::measures::{add_dual_gradient, MarkerFrames, PositionEnv};
-use crate::rows::{BodyDir, BodyFrame, EulerSeq, Quantity, RowGradient};
+use crate::measures::{add_dual_gradient, MarkerFrames, PathEnv, PositionEnv};
+use crate::rows::{BodyDir, BodyFrame, EulerSeq, Quantity, RowGradient, Velocities};
 use crate::state::State;
 use glam::{DMat3, DQuat, DVec3};
 use linkage_adm::{CouplerDof, JointType, JprimType, MotionAxis};
-use linkage_expr::{evaluate, evaluate_with_gradient, parse, Expr};
+use linkage_expr::{
+    evaluate, evaluate_path_series, evaluate_with_gradient, parse, EvalError, Expr,
+};
 use linkage_model::{Body, ConstraintKind, Model, MotionCoordinate};
 use std::ops::Range;
 use std::sync::Arc;
@@ -606,6 +608,58 @@ impl System {
                 add_dual_gradient(&d, 1.0, g);
             }
         }
+    }
+}
+
+impl System {
+    /// `∂Φ_r/∂t` at fixed positions, without a motion's drive (the caller adds `ḟ(t)`): the
+    /// explicit time dependence of a general constraint's expression, TIME advancing at
+    /// `time_rate` (0 freezes it); 0 for every other row. The velocity equations are
+    /// `∇Φ_r·v = ḟ(t) − explicit_rate`.
+    pub fn explicit_rate(&self, r: usize, s: &State, time_rate: f64) -> Result<f64, EvalError> {
+        let Some(f) = &self.rows[r].function else {
+            return Ok(0.0);
+        };
+        if time_rate == 0.0 || !f.uses_time() {
+            return Ok(0.0);
+        }
+        let still = vec![(DVec3::ZERO, DVec3::ZERO); self.nparts];
+        let env = PathEnv {
+            frames: &self.markers,
+            state: s,
+            velocities: &still,
+            accelerations: None,
+            time_rate,
+        };
+        Ok(evaluate_path_series(f, &env)?[1])
+    }
+
+    /// The velocity-product term `γ_r` of `Φ̈_r = ∇Φ_r·a + γ_r − f̈(t)` (a motion's `f̈` is the
+    /// caller's): `Σ c_k Q̈_k` of the geometric terms at zero accelerations
+    /// ([`Quantity::rates`]) plus, for a general constraint, the second derivative of its
+    /// expression along the twists `v` with zero accelerations and TIME advancing at
+    /// `time_rate` (`vᵀ∇²f v + 2 ṫ ∇f_t·v + ṫ² f_tt`, [`PathEnv`]). Exact: with it the
+    /// acceleration equations `∇Φ·a = f̈ − γ` hold to rounding.
+    pub fn acceleration_bias(
+        &self,
+        r: usize,
+        s: &State,
+        v: &Velocities,
+        time_rate: f64,
+    ) -> Result<f64, EvalError> {
+        let row = &self.rows[r];
+        let mut bias: f64 = row.terms.iter().map(|(c, q)| c * q.rates(s, v).1).sum();
+        if let Some(f) = &row.function {
+            let env = PathEnv {
+                frames: &self.markers,
+                state: s,
+                velocities: v,
+                accelerations: None,
+                time_rate,
+            };
+            bias += evaluate_path_series(f, &env)?[2];
+        }
+        Ok(bias)
     }
 }
 
