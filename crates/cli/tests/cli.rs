@@ -474,8 +474,9 @@ fn simulate_writes_the_documented_csv_columns() {
 /// notice. Two SOLIDWORKS-exported 3-RPR robots are known not to converge within their
 /// settings: Fkinev1's equilibrium lies so far from its input configuration that TLIMIT (20 mm
 /// per iteration by default) alone needs more than 20 of its 25 iterations (proved below from
-/// the travel of the parts, then solved with MAXIT 40); Controls_Plant_2 has free motions
-/// without stiffness and zero actuator forces.
+/// the travel of the parts, then solved with MAXIT 40); Controls_Plant_2 has no equilibrium
+/// near its input configuration (its stand assembly slides down without bound:
+/// `controls_plant_2_has_no_static_equilibrium`).
 #[test]
 fn corpus_datasets_with_equilibrium_settings_reach_equilibrium() {
     let Some(dir) = corpus() else { return };
@@ -586,4 +587,64 @@ fn corpus_robot_with_tiny_inertias_integrates() {
     let csv = std::fs::read_to_string(&out).unwrap();
     assert_eq!(csv.lines().count(), 4);
     assert!(!csv.contains("NaN"));
+}
+
+/// Controls_Plant_2 (67 parts, 31 DOF, zero actuator forces) has no static equilibrium that
+/// damped dynamics can reach: settled with GLOBAL_DAMPING 20 (time constant 50 ms) for 10 s, its
+/// stand assembly (`Stands_Double_2` and its bolts and bearings) keeps descending along gravity,
+/// by more than the whole model's height (1.9 m), with kinetic energy that does not decay. A
+/// bounded mechanism would have stopped: the potential energy falls without limit along a
+/// sliding freedom, so Newton statics cannot converge and rightly reports it.
+#[test]
+fn controls_plant_2_has_no_static_equilibrium() {
+    let Some(dir) = corpus() else { return };
+    let f = dir.join(
+        "kiterunner347__3-RPR-parallel--robot__Matlab_Adams__Controls_Plant_2__Controls_Plant_2.adm",
+    );
+    let text = std::fs::read_to_string(&f).unwrap().replacen(
+        "EQUILIBRIUM/",
+        "EQUILIBRIUM/, GLOBAL_DAMPING = 20, SETTLING_TIME = 10",
+        1,
+    );
+    let tmp = std::env::temp_dir().join(format!("linkage-cp2-settle-{}.adm", std::process::id()));
+    std::fs::write(&tmp, text).unwrap();
+    let (code, start) = json(&["ic", tmp.to_str().unwrap(), "--format", "json"]);
+    assert_eq!(code, 0, "{start}");
+    let (code, v) = json(&[
+        "static",
+        tmp.to_str().unwrap(),
+        "--settle",
+        "--format",
+        "json",
+    ]);
+    assert_eq!(code, 1, "{v}");
+    assert_eq!(
+        v["settling"]["criterion"], "settling_time",
+        "{}",
+        v["settling"]
+    );
+    assert!(v["settling"]["kinetic_energy"].as_f64().unwrap() > 1.0);
+    let y = |doc: &serde_json::Value, name: &str| -> f64 {
+        doc["parts"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .find(|p| p["name"] == name)
+            .unwrap()["position"][1]
+            .as_f64()
+            .unwrap()
+    };
+    let heights: Vec<f64> = start["parts"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|p| p["position"][1].as_f64().unwrap())
+        .collect();
+    let height = heights.iter().cloned().fold(f64::MIN, f64::max)
+        - heights.iter().cloned().fold(f64::MAX, f64::min);
+    let descent = y(&start, "Stands_Double_2") - y(&v, "Stands_Double_2");
+    assert!(
+        descent > height,
+        "descent {descent} vs model height {height}"
+    );
 }
