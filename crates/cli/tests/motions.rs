@@ -5,24 +5,9 @@
 //! −y, L = 1 m) with one MOTION appended on its revolute. A prescribed rotation θ(t) puts the
 //! CM at `(0.5 sin θ, −0.5 cos θ)` and the 3-1-3 angle ψ = θ.
 
+mod common;
+use common::*;
 use std::path::{Path, PathBuf};
-use std::process::Command;
-
-fn root() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
-}
-
-fn run(args: &[&str]) -> (i32, String, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_linkage"))
-        .args(args)
-        .output()
-        .expect("binary runs");
-    (
-        out.status.code().unwrap_or(-1),
-        String::from_utf8_lossy(&out.stdout).into_owned(),
-        String::from_utf8_lossy(&out.stderr).into_owned(),
-    )
-}
 
 /// The pendulum with `motion` appended; returns the file and the motion's line number.
 fn pendulum_with(tag: &str, motion: &str) -> (PathBuf, usize) {

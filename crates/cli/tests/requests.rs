@@ -1,23 +1,8 @@
 //! `linkage simulate --out`: REQUEST outputs as extra CSV columns, and REQUEST input errors.
 
+mod common;
+use common::*;
 use std::path::{Path, PathBuf};
-use std::process::Command;
-
-fn root() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
-}
-
-fn run(args: &[&str]) -> (i32, String, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_linkage"))
-        .args(args)
-        .output()
-        .unwrap_or_else(|e| panic!("binary runs: {e}"));
-    (
-        out.status.code().unwrap_or(-1),
-        String::from_utf8_lossy(&out.stdout).into_owned(),
-        String::from_utf8_lossy(&out.stderr).into_owned(),
-    )
-}
 
 /// `mechanisms/pendulum_offset.adm` with `extra` statements before END, written to a temp
 /// file named after `tag`.
