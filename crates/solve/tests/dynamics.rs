@@ -296,3 +296,43 @@ fn consistent_duplicate_coupler_runs_and_a_drifting_one_stops_the_run() {
         .any(|c| f.message.contains(&c.origin.name));
     assert!(named, "{f:?}");
 }
+
+#[test]
+fn double_pendulum_far_from_the_origin_swings_like_at_the_origin() {
+    // Coordinates of 1e4 m resolve positions to ~2e-12 m only: the corrector must accept
+    // rounding-level corrections (it used to stagnate and halve the step down to HMIN).
+    let text =
+        linkage_solve::generate::pendulum_chain(2).replace("JGRAV = -9.80665", "IGRAV = -9.80665");
+    let far = text
+        .replace("MARKER/1, PART = 1", "MARKER/1, PART = 1, QP = 10000, 0, 0")
+        .replace("QP = 0,", "QP = 10000,");
+    let (_, near) = simulate("near.adm", &text, 2.0, 20, 1e-6);
+    let (_, far) = simulate("far.adm", &far, 2.0, 20, 1e-6);
+    let (near, far) = (
+        near.simulation.as_ref().unwrap(),
+        far.simulation.as_ref().unwrap(),
+    );
+    assert!(near.failure.is_none(), "{:?}", near.failure);
+    assert!(far.failure.is_none(), "{:?}", far.failure);
+    assert_eq!(near.outputs.len(), 21);
+    assert_eq!(far.outputs.len(), 21);
+    let shift = glam::DVec3::new(1e4, 0.0, 0.0);
+    for (a, b) in near.outputs.iter().zip(&far.outputs) {
+        for k in 0..2 {
+            let dp = (b.state.poses[k].p - shift - a.state.poses[k].p).length();
+            let dw = (b.velocities[k].1 - a.velocities[k].1).length();
+            // Same motion; the runs differ by rounding (≈ 2e-8 m and 8e-8 rad/s here).
+            assert!(
+                dp < 1e-6 && dw < 1e-6,
+                "t = {}: dp {dp:e} dw {dw:e}",
+                a.time
+            );
+        }
+    }
+    // The chain did swing (≈ 1 m at the tip), so the comparison means something.
+    let tip = near.outputs.last().unwrap().state.poses[1].p;
+    assert!(
+        (tip - glam::DVec3::new(0.0, -1.5, 0.0)).length() > 0.5,
+        "{tip:?}"
+    );
+}
