@@ -7,6 +7,14 @@ use linkage_solve::tolerances::Tolerances;
 use std::sync::Arc;
 use std::time::Instant;
 
+/// CPU time of this thread in seconds (Linux `/proc/thread-self/schedstat`), less sensitive
+/// to other processes than the wall clock; `None` elsewhere.
+fn cpu_time() -> Option<f64> {
+    let text = std::fs::read_to_string("/proc/thread-self/schedstat").ok()?;
+    let ns: f64 = text.split_whitespace().next()?.parse().ok()?;
+    Some(ns * 1e-9)
+}
+
 fn main() {
     let args: Vec<String> = std::env::args().collect();
     let n: usize = args.get(1).and_then(|a| a.parse().ok()).unwrap_or(100);
@@ -47,6 +55,7 @@ fn main() {
         .unwrap_or_default();
     let times: Vec<f64> = (0..=5).map(|k| interval * k as f64 / 5.0).collect();
     let t = Instant::now();
+    let cpu = cpu_time();
     let sim = simulate(
         &problem,
         &ic.assembly.state,
@@ -56,9 +65,10 @@ fn main() {
         |_| {},
     );
     let el = t.elapsed();
+    let cpu = cpu_time().zip(cpu).map_or(f64::NAN, |(b, a)| b - a);
     println!(
-        "simulate {el:?} ({:.3} s per simulated second) steps {} rejected {} failure {:?}",
-        el.as_secs_f64() / interval,
+        "simulate {el:?}, cpu {cpu:.4} s ({:.3} s per simulated second) steps {} rejected {} failure {:?}",
+        cpu / interval,
         sim.steps,
         sim.rejected,
         sim.failure

@@ -101,7 +101,18 @@ pub struct FixedPatternLu {
     factored: bool,
     /// Nonzero contributions outside the pattern since the last [`FixedPatternLu::clear`].
     missing: Vec<(usize, usize)>,
+    /// The slots the assembly met, in call order: `(row, col, rows, slot)` of every run of
+    /// `rows` consecutive entries of a column starting at `(row, col)`, `NO_RUN` when they are
+    /// not consecutive in the pattern. An assembly that repeats the same calls (the usual
+    /// case: same loops over the same model) replays the slots instead of searching them;
+    /// where the calls diverge the log is recorded afresh.
+    slot_log: Vec<[u32; 4]>,
+    /// Position of the next call in `slot_log` since the last clear.
+    cursor: usize,
 }
+
+/// `slot_log` entry of a run that is not consecutive in the pattern.
+const NO_RUN: u32 = u32::MAX;
 
 fn lu_error(e: faer::sparse::linalg::LuError) -> LinearError {
     match e {
@@ -152,6 +163,8 @@ impl FixedPatternLu {
             solve_scratch,
             factored: false,
             missing: Vec::new(),
+            slot_log: Vec::new(),
+            cursor: 0,
         })
     }
 
@@ -185,6 +198,8 @@ impl FixedPatternLu {
             .map_err(oom)?,
             factored: false,
             missing: Vec::new(),
+            slot_log: Vec::new(),
+            cursor: 0,
         })
     }
 
@@ -193,6 +208,7 @@ impl FixedPatternLu {
         self.values.fill(0.0);
         self.missing.clear();
         self.factored = false;
+        self.cursor = 0;
     }
 
     /// Slot of `(row, col)` in the value array.
@@ -209,11 +225,40 @@ impl FixedPatternLu {
             .map(|k| start + k)
     }
 
+    /// Slot of the first of `rows` entries of column `col` starting at row `row`, when all of
+    /// them are in the pattern, consecutively; replayed from the log when the call repeats
+    /// the last assembly's.
+    #[inline]
+    fn run(&mut self, row: usize, col: usize, rows: usize) -> Option<usize> {
+        let key = [row, col, rows].map(|x| u32::try_from(x).unwrap_or(NO_RUN));
+        if let Some(&[r, c, n, k]) = self.slot_log.get(self.cursor) {
+            if [r, c, n] == key {
+                self.cursor += 1;
+                return (k != NO_RUN).then_some(k as usize);
+            }
+            // The calls diverged from the last assembly's: record them from here.
+            self.slot_log.truncate(self.cursor);
+        }
+        let found = self.slot(row, col).filter(|&k| {
+            rows > 0
+                && k + rows <= self.pattern.col_ptr()[col + 1]
+                && self.pattern.row_idx()[k + rows - 1] == row + rows - 1
+        });
+        let slot = found.map_or(Some(NO_RUN), |k| {
+            u32::try_from(k).ok().filter(|&k| k != NO_RUN)
+        });
+        if let (Some(slot), false) = (slot, key.contains(&NO_RUN)) {
+            self.slot_log.push([key[0], key[1], key[2], slot]);
+            self.cursor += 1;
+        }
+        found
+    }
+
     /// Adds `value` at `(row, col)`. A nonzero value outside the pattern is recorded (see
     /// [`FixedPatternLu::has_missing`]); a zero one is ignored.
     #[inline]
     pub fn add(&mut self, row: usize, col: usize, value: f64) {
-        match self.slot(row, col) {
+        match self.run(row, col, 1) {
             Some(k) => self.values[k] += value,
             None => {
                 if value != 0.0 {
@@ -225,7 +270,7 @@ impl FixedPatternLu {
     }
 
     /// Adds the dense block `scale · value(i, j)`, `i < rows`, `j < cols`, at `(row0, col0)`:
-    /// one search per column when the block's rows are contiguous in the pattern. An entry
+    /// one slot per column when the block's rows are consecutive in the pattern. An entry
     /// outside the pattern is missing when `value(i, j)` is nonzero, whatever `scale` (so a
     /// block that happens to be scaled by zero still claims its place).
     #[inline]
@@ -238,16 +283,13 @@ impl FixedPatternLu {
     ) {
         for j in 0..cols {
             let col = col0 + j;
-            match self.slot(row0, col) {
-                Some(k)
-                    if k + rows <= self.pattern.col_ptr()[col + 1]
-                        && self.pattern.row_idx()[k + rows - 1] == row0 + rows - 1 =>
-                {
-                    for i in 0..rows {
-                        self.values[k + i] += scale * value(i, j);
+            match self.run(row0, col, rows) {
+                Some(k) => {
+                    for (i, x) in self.values[k..k + rows].iter_mut().enumerate() {
+                        *x += scale * value(i, j);
                     }
                 }
-                _ => {
+                None => {
                     for i in 0..rows {
                         let v = value(i, j);
                         match self.slot(row0 + i, col) {
@@ -448,6 +490,42 @@ mod tests {
         let mut twin = lu.same_pattern().unwrap();
         assert_eq!(twin.nnz(), lu.nnz());
         assert!(twin.solve_in_place(&mut x).is_err(), "not factorised yet");
+    }
+
+    #[test]
+    fn assemblies_in_another_order_replay_what_matches_and_search_the_rest() {
+        let coords = [(0, 0), (1, 0), (2, 0), (1, 1), (2, 2), (0, 2)];
+        let mut lu = FixedPatternLu::new(3, coords).unwrap();
+        // [2 0 1; 1 3 0; 1 0 4] x = [3, 4, 5] → x = (1, 1, 1).
+        let fill_a = |lu: &mut FixedPatternLu| {
+            lu.add_block((0, 0), (3, 1), 1.0, |i, _| [2.0, 1.0, 1.0][i]);
+            lu.add(1, 1, 3.0);
+            lu.add(0, 2, 1.0);
+            lu.add(2, 2, 4.0);
+        };
+        let fill_b = |lu: &mut FixedPatternLu| {
+            lu.add(2, 2, 4.0);
+            lu.add_block((0, 0), (2, 1), 1.0, |i, _| [2.0, 1.0][i]);
+            lu.add(2, 0, 1.0);
+            lu.add(1, 1, 1.0);
+            lu.add(0, 2, 1.0);
+            lu.add(1, 1, 2.0);
+        };
+        for fill in [
+            &fill_a as &dyn Fn(&mut FixedPatternLu),
+            &fill_a,
+            &fill_b,
+            &fill_b,
+            &fill_a,
+        ] {
+            lu.clear();
+            fill(&mut lu);
+            assert!(!lu.has_missing());
+            lu.factor().unwrap();
+            let mut x = [3.0, 4.0, 5.0];
+            lu.solve_in_place(&mut x).unwrap();
+            assert!(x.iter().all(|v| (v - 1.0).abs() < 1e-14), "{x:?}");
+        }
     }
 
     #[test]
