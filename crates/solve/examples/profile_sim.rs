@@ -1,5 +1,6 @@
 //! Times the phases of a simulation of a generated chain: `cargo run --release --example
-//! profile_sim -- N [pendulum] [interval]` (parallelogram chain by default, 0.05 s).
+//! profile_sim -- N [parallelogram|pendulum|swinging] [interval]` (parallelogram chain, 0.05 s
+//! by default; `swinging`: the pendulum chain with gravity across it).
 use linkage_solve::applied::NoForces;
 use linkage_solve::drivers::ExpressionDrivers;
 use linkage_solve::dynamics::{simulate, IntegratorSettings, Problem};
@@ -18,10 +19,12 @@ fn cpu_time() -> Option<f64> {
 fn main() {
     let args: Vec<String> = std::env::args().collect();
     let n: usize = args.get(1).and_then(|a| a.parse().ok()).unwrap_or(100);
-    let text = if args.get(2).map(String::as_str) == Some("pendulum") {
-        linkage_solve::generate::pendulum_chain(n)
-    } else {
-        linkage_solve::generate::parallelogram_chain(n, 60.0)
+    let text = match args.get(2).map(String::as_str) {
+        Some("pendulum") => linkage_solve::generate::pendulum_chain(n),
+        // Gravity across the hanging chain: it swings.
+        Some("swinging") => linkage_solve::generate::pendulum_chain(n)
+            .replace("JGRAV = -9.80665", "IGRAV = -9.80665"),
+        _ => linkage_solve::generate::parallelogram_chain(n, 60.0),
     };
     let interval: f64 = args.get(3).and_then(|a| a.parse().ok()).unwrap_or(0.05);
     let ds = linkage_adm::parse_dataset(Arc::from("g.adm"), &text).expect("parses");

@@ -101,18 +101,30 @@ pub struct FixedPatternLu {
     factored: bool,
     /// Nonzero contributions outside the pattern since the last [`FixedPatternLu::clear`].
     missing: Vec<(usize, usize)>,
-    /// The slots the assembly met, in call order: `(row, col, rows, slot)` of every run of
-    /// `rows` consecutive entries of a column starting at `(row, col)`, `NO_RUN` when they are
-    /// not consecutive in the pattern. An assembly that repeats the same calls (the usual
-    /// case: same loops over the same model) replays the slots instead of searching them;
-    /// where the calls diverge the log is recorded afresh.
-    slot_log: Vec<[u32; 4]>,
+    /// The slots the assembly met, in call order (the map from contributions to slots). For
+    /// every run of `rows` entries of column `col` from row `row`: `row, col, rows`, then
+    /// `CONSECUTIVE, slot` when they lie one after the other in the pattern, or `SCATTERED`
+    /// and each entry's slot (`ABSENT` when it is outside the pattern). An assembly that
+    /// repeats the same calls (the usual case: the same loops over the same model) replays
+    /// the slots instead of searching them; where the calls diverge, the log is recorded
+    /// afresh from there.
+    slot_log: Vec<u32>,
     /// Position of the next call in `slot_log` since the last clear.
     cursor: usize,
 }
 
-/// `slot_log` entry of a run that is not consecutive in the pattern.
-const NO_RUN: u32 = u32::MAX;
+/// `slot_log` markers (see there).
+const CONSECUTIVE: u32 = 0;
+const SCATTERED: u32 = 1;
+const ABSENT: u32 = u32::MAX;
+
+/// Where the entries of a run are.
+enum Run {
+    /// From this slot on, one after the other.
+    Consecutive(usize),
+    /// Their slots (or `ABSENT`) are at this position of `slot_log`.
+    Scattered(usize),
+}
 
 fn lu_error(e: faer::sparse::linalg::LuError) -> LinearError {
     match e {
@@ -225,48 +237,63 @@ impl FixedPatternLu {
             .map(|k| start + k)
     }
 
-    /// Slot of the first of `rows` entries of column `col` starting at row `row`, when all of
-    /// them are in the pattern, consecutively; replayed from the log when the call repeats
-    /// the last assembly's.
+    /// Where the `rows` entries of column `col` from row `row` are: replayed from the log when
+    /// the call repeats the last assembly's, searched (and logged) otherwise. `None` when the
+    /// indices do not fit the log (more than 2³² − 1 entries): the caller searches.
     #[inline]
-    fn run(&mut self, row: usize, col: usize, rows: usize) -> Option<usize> {
-        let key = [row, col, rows].map(|x| u32::try_from(x).unwrap_or(NO_RUN));
-        if let Some(&[r, c, n, k]) = self.slot_log.get(self.cursor) {
-            if [r, c, n] == key {
-                self.cursor += 1;
-                return (k != NO_RUN).then_some(k as usize);
+    fn run(&mut self, row: usize, col: usize, rows: usize) -> Option<Run> {
+        let key = [row, col, rows].map(|x| u32::try_from(x).ok().filter(|&x| x != ABSENT));
+        let [Some(r), Some(c), Some(n)] = key else {
+            return None;
+        };
+        let at = self.cursor;
+        if let Some([lr, lc, ln, kind]) = self.slot_log.get(at..at + 4) {
+            if [*lr, *lc, *ln] == [r, c, n] {
+                return if *kind == CONSECUTIVE {
+                    let k = self.slot_log[at + 4] as usize;
+                    self.cursor = at + 5;
+                    Some(Run::Consecutive(k))
+                } else {
+                    self.cursor = at + 4 + rows;
+                    Some(Run::Scattered(at + 4))
+                };
             }
-            // The calls diverged from the last assembly's: record them from here.
-            self.slot_log.truncate(self.cursor);
         }
-        let found = self.slot(row, col).filter(|&k| {
-            rows > 0
-                && k + rows <= self.pattern.col_ptr()[col + 1]
-                && self.pattern.row_idx()[k + rows - 1] == row + rows - 1
-        });
-        let slot = found.map_or(Some(NO_RUN), |k| {
-            u32::try_from(k).ok().filter(|&k| k != NO_RUN)
-        });
-        if let (Some(slot), false) = (slot, key.contains(&NO_RUN)) {
-            self.slot_log.push([key[0], key[1], key[2], slot]);
-            self.cursor += 1;
-        }
-        found
+        // The calls diverge from the last assembly's: record them from here.
+        self.slot_log.truncate(at);
+        let slot32 = |k: usize| u32::try_from(k).ok().filter(|&k| k != ABSENT);
+        let consecutive = self
+            .slot(row, col)
+            .filter(|&k| {
+                rows > 0
+                    && k + rows <= self.pattern.col_ptr()[col + 1]
+                    && self.pattern.row_idx()[k + rows - 1] == row + rows - 1
+            })
+            .and_then(|k| slot32(k).map(|k32| (k, k32)));
+        self.slot_log.extend([r, c, n]);
+        Some(match consecutive {
+            Some((k, k32)) => {
+                self.slot_log.extend([CONSECUTIVE, k32]);
+                self.cursor = at + 5;
+                Run::Consecutive(k)
+            }
+            None => {
+                self.slot_log.push(SCATTERED);
+                for i in 0..rows {
+                    let k = self.slot(row + i, col).and_then(slot32).unwrap_or(ABSENT);
+                    self.slot_log.push(k);
+                }
+                self.cursor = at + 4 + rows;
+                Run::Scattered(at + 4)
+            }
+        })
     }
 
     /// Adds `value` at `(row, col)`. A nonzero value outside the pattern is recorded (see
     /// [`FixedPatternLu::has_missing`]); a zero one is ignored.
     #[inline]
     pub fn add(&mut self, row: usize, col: usize, value: f64) {
-        match self.run(row, col, 1) {
-            Some(k) => self.values[k] += value,
-            None => {
-                if value != 0.0 {
-                    self.missing.push((row, col));
-                }
-            }
-        }
-        self.factored = false;
+        self.add_block((row, col), (1, 1), 1.0, |_, _| value);
     }
 
     /// Adds the dense block `scale · value(i, j)`, `i < rows`, `j < cols`, at `(row0, col0)`:
@@ -284,9 +311,19 @@ impl FixedPatternLu {
         for j in 0..cols {
             let col = col0 + j;
             match self.run(row0, col, rows) {
-                Some(k) => {
+                Some(Run::Consecutive(k)) => {
                     for (i, x) in self.values[k..k + rows].iter_mut().enumerate() {
                         *x += scale * value(i, j);
+                    }
+                }
+                Some(Run::Scattered(at)) => {
+                    for i in 0..rows {
+                        let v = value(i, j);
+                        match self.slot_log[at + i] {
+                            ABSENT if v != 0.0 => self.missing.push((row0 + i, col)),
+                            ABSENT => {}
+                            k => self.values[k as usize] += scale * v,
+                        }
                     }
                 }
                 None => {
