@@ -514,6 +514,11 @@ pub struct Integrator<'p, 'a> {
     hht: Hht,
     cur: Step,
     trial: Step,
+    /// Accelerations and multipliers of the step before `cur`, and the size of the step from
+    /// there to `cur` (`None` before the first step): the corrector's predictor.
+    prev_a: Vec<f64>,
+    prev_lambda: Vec<f64>,
+    prev_h: Option<f64>,
     work: Workspace,
 }
 
@@ -544,6 +549,9 @@ impl<'p, 'a> Integrator<'p, 'a> {
                 p,
                 settings: settings.clone(),
                 hht,
+                prev_a: cur.a.clone(),
+                prev_lambda: cur.lambda.clone(),
+                prev_h: None,
                 cur,
                 trial,
                 work,
@@ -582,6 +590,9 @@ impl<'p, 'a> Integrator<'p, 'a> {
 
     /// Makes the trial step (from the last successful [`Integrator::try_step`]) current.
     pub fn accept(&mut self) {
+        self.prev_a.copy_from_slice(&self.cur.a);
+        self.prev_lambda.copy_from_slice(&self.cur.lambda);
+        self.prev_h = Some(self.trial.s.time - self.cur.s.time);
         std::mem::swap(&mut self.cur, &mut self.trial);
     }
 
@@ -599,6 +610,9 @@ impl<'p, 'a> Integrator<'p, 'a> {
             hht,
             cur,
             trial,
+            prev_a,
+            prev_lambda,
+            prev_h,
             work: w,
         } = self;
         let p: &Problem = p;
@@ -608,10 +622,28 @@ impl<'p, 'a> Integrator<'p, 'a> {
         let length = p.model.characteristic_length;
         let t1 = cur.s.time + h;
         p.drives_into(t1, &mut w.drives)?;
-        trial.a.copy_from_slice(&cur.a);
-        trial.lambda.copy_from_slice(&cur.lambda);
+        // Predictor: accelerations and multipliers extrapolated linearly from the last two
+        // steps (the ratio of step sizes capped at 2), or the current ones.
+        let r = prev_h
+            .filter(|hp| *hp > 0.0)
+            .map_or(0.0, |hp| (h / hp).min(2.0));
+        for ((x, now), before) in trial.a.iter_mut().zip(&cur.a).zip(prev_a.iter()) {
+            *x = now + r * (now - before);
+        }
+        for ((x, now), before) in trial
+            .lambda
+            .iter_mut()
+            .zip(&cur.lambda)
+            .zip(prev_lambda.iter())
+        {
+            *x = now + r * (now - before);
+        }
         let mut converged = false;
         let mut da_prev = f64::INFINITY;
+        // Contraction of the last correction relative to the one before (0: none yet).
+        let mut rate = 0.0f64;
+        // Whether the matrix was factorised during this step.
+        let mut fresh = false;
         for it in 0..settings.maxit {
             trial.place(cur, h, *hht);
             trial.evaluate(p, w)?;
@@ -641,9 +673,14 @@ impl<'p, 'a> Integrator<'p, 'a> {
                 };
                 phi_ok &= raw.abs() <= limit;
             }
-            // Newton matrix (refreshed when missing, built for another step size, or after
-            // three iterations with it).
-            let stale = w.matrix_h.is_none_or(|hh| (hh - h).abs() > 1e-12 * h) || it >= 3;
+            // Modified Newton: the matrix is kept across iterations and steps, and refreshed
+            // when there is none, when the step size is more than a factor 2 away from the
+            // one it was built for, when the last correction contracted by less than
+            // `MATRIX_REFRESH_RATE` (the matrix no longer describes the iterate well), or
+            // when three iterations with a matrix from an earlier step did not converge.
+            let stale = w.matrix_h.is_none_or(|hh| h > 2.0 * hh || h < 0.5 * hh)
+                || rate > MATRIX_REFRESH_RATE
+                || (it >= 3 && !fresh);
             if stale {
                 w.matrix_h = None;
                 assemble_iteration_matrix(p, &trial.s, &trial.lambda, h, *hht, w)?;
@@ -651,6 +688,7 @@ impl<'p, 'a> Integrator<'p, 'a> {
                     format!("the integrator's Newton matrix cannot be factorised: {err}")
                 })?;
                 w.matrix_h = Some(h);
+                fresh = true;
             }
             for x in w.rhs.iter_mut() {
                 *x = -*x;
@@ -675,11 +713,11 @@ impl<'p, 'a> Integrator<'p, 'a> {
             // Coordinates far from the origin (a 1000-loop chain reaches x = 1000 m) resolve
             // positions to ε·|x| only, so the residuals carry noise that the scaled matrix
             // turns into corrections of ε·|x|/(βh²) in the accelerations: a correction that
-            // no longer contracts (at least halving) while moving positions by less than a
-            // tenth of the constraint tolerance is that noise, and the iterate is as
-            // converged as the arithmetic allows.
+            // no longer contracts (at least halving) with a matrix built during this step,
+            // while moving positions by less than a tenth of the constraint tolerance, is
+            // that noise, and the iterate is as converged as the arithmetic allows.
             let moved = beta * h * h * da;
-            let stagnant = da >= 0.5 * da_prev && moved <= CORRECTOR_NOISE;
+            let stagnant = fresh && da >= 0.5 * da_prev && moved <= CORRECTOR_NOISE;
             if phi_ok
                 && (da <= CORRECTOR_RELATIVE * amax.max(1e-8)
                     || moved <= CORRECTOR_ROUNDING
@@ -688,6 +726,12 @@ impl<'p, 'a> Integrator<'p, 'a> {
                 converged = true;
                 break;
             }
+            // The rate compares two corrections made with the same matrix.
+            rate = if !stale && da_prev.is_finite() && da_prev > 0.0 {
+                da / da_prev
+            } else {
+                0.0
+            };
             da_prev = da;
         }
         if !converged {
@@ -708,6 +752,10 @@ impl<'p, 'a> Integrator<'p, 'a> {
         Ok(err)
     }
 }
+
+/// The corrector refreshes its matrix when a correction is more than this fraction of the one
+/// before (modified Newton converging too slowly).
+const MATRIX_REFRESH_RATE: f64 = 0.05;
 
 /// Simulates from `start` (assembled, with consistent velocities `v0`) to `end`, with output at
 /// `times` (ascending, within [start.time, end]).
