@@ -13,12 +13,26 @@
 //! with `β = (1−α)²/4`, `γ = 1/2 − α`, `α ∈ [−1/3, 0]` (⊕: translation added, rotation applied
 //! with the exponential map). Newton uses the scaled iteration matrix
 //! `[M + (1+α)(βh² K_T + γh C_T), (1+α)Jᵀ; J, 0]` (K_T with the geometric stiffness), kept
-//! across iterations and steps while it converges well (modified Newton). The step size is
-//! controlled with the local error estimate `h²|β − 1/6|·‖a_{n+1} − a_n‖` against the
-//! INTEGRATOR ERROR. Output times are hit exactly; at each output the velocities and
-//! accelerations are made consistent with the constraints (projection and the acceleration/
-//! force solve), which also gives the reactions. Redundant rows (removed as in verify) are
-//! checked every step; one that becomes violated stops the run.
+//! across iterations and steps while it converges well (modified Newton: refreshed when a
+//! correction contracts by less than `MATRIX_REFRESH_RATE` (0.05), when the step size moved by
+//! more than a factor 2, or after three iterations with a matrix from an earlier step). The
+//! scaling makes the matrix nearly independent of h, which is what allows keeping it across
+//! step-size changes. The iteration starts from accelerations and multipliers extrapolated
+//! linearly from the last two steps. The step size is controlled with the local error
+//! estimate `h²|β − 1/6|·‖a_{n+1} − a_n‖` against the INTEGRATOR ERROR. Output times are hit
+//! exactly; at each output the velocities and accelerations are made consistent with the
+//! constraints (projection and the acceleration/force solve), which also gives the reactions.
+//! Redundant rows (removed as in verify) are checked every step; one that becomes violated
+//! stops the run.
+//!
+//! Cost: [`Integrator`] holds every buffer a step needs (MuJoCo's "model read-only, data
+//! preallocated"): a step allocates nothing once the iteration matrix's sparsity pattern is
+//! known (a test counts the allocations). The matrix lives in a
+//! [`crate::linear::FixedPatternLu`]: its pattern (the entries nonzero when first assembled,
+//! grown if another becomes nonzero) gets its column ordering and symbolic analysis once;
+//! each refresh is a numeric refactorisation into the same storage. Per iteration: the rows'
+//! residuals and gradients, the generalised forces, one sparse solve — O(rows + parts) for a
+//! chain; per refresh additionally the assembly (row second derivatives) and the numeric LU.
 
 use crate::applied::AppliedForces;
 use crate::hessian::HessianBlocks;
@@ -286,9 +300,7 @@ impl Step {
             *v = v0 + h * ((1.0 - gamma) * a0 + gamma * a);
         }
     }
-}
 
-impl Step {
     /// `Jᵀλ − Q` (mass × acceleration units) at this step's positions, velocities and
     /// multipliers, into `force_term`. Leaves the velocities as pairs in `w.twists` and the
     /// rows' gradients at `s` in `w.grads`.
@@ -346,7 +358,7 @@ struct Workspace {
 
 impl Workspace {
     /// Buffers for `p`, and the iteration matrix's pattern found by assembling it at `start`
-    /// with velocities `v0` (see [`assemble_iteration_matrix`]).
+    /// with velocities `v0` (n of them; see [`assemble_iteration_matrix`]).
     fn new(p: &Problem, start: &State, v0: &Velocities, hht: Hht) -> Result<Workspace, String> {
         let (n, m) = (p.n(), p.rows.len());
         let dim = 6 * n + m;
@@ -372,6 +384,8 @@ impl Workspace {
             projection: diagonal()?,
             projection_pattern: 0,
         };
+        // Only which entries are nonzero matters here: any step size, zero multipliers (the
+        // rows' second derivatives claim their places all the same).
         let lambda = vec![0.0; m];
         assemble_iteration_matrix(p, start, &lambda, 1e-3, hht, &mut w)?;
         Ok(w)
@@ -523,18 +537,28 @@ pub struct Integrator<'p, 'a> {
 }
 
 impl<'p, 'a> Integrator<'p, 'a> {
-    /// Starts at `start` (assembled) with velocities `v0`, projected onto the velocity
-    /// constraints; accelerations and multipliers from the constraint-consistent solve.
-    /// Returns the integrator and the output at the start.
+    /// Starts at `start` (assembled) with velocities `v0` (one per part; missing ones are
+    /// zero), projected onto the velocity constraints; accelerations and multipliers from the
+    /// constraint-consistent solve. Returns the integrator and the output at the start.
     pub fn new(
         p: &'p Problem<'a>,
         start: &State,
         v0: &Velocities,
         settings: &IntegratorSettings,
     ) -> Result<(Integrator<'p, 'a>, Output), String> {
+        if start.poses.len() != p.n() {
+            return Err(format!(
+                "the start state has {} parts, the model {}",
+                start.poses.len(),
+                p.n()
+            ));
+        }
+        let v0: Vec<(DVec3, DVec3)> = (0..p.n())
+            .map(|k| v0.get(k).copied().unwrap_or((DVec3::ZERO, DVec3::ZERO)))
+            .collect();
         let hht = Hht::new(settings.alpha);
-        let mut work = Workspace::new(p, start, v0, hht)?;
-        let first = consistent_output(p, start, &flat(v0), &mut work)?;
+        let mut work = Workspace::new(p, start, &v0, hht)?;
+        let first = consistent_output(p, start, &flat(&v0), &mut work)?;
         let mut cur = Step {
             s: start.clone(),
             v: flat(&first.velocities),

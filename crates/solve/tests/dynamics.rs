@@ -337,3 +337,48 @@ fn double_pendulum_far_from_the_origin_swings_like_at_the_origin() {
         "{tip:?}"
     );
 }
+
+#[test]
+fn missing_initial_velocities_start_the_pendulum_at_rest() {
+    use linkage_solve::dynamics::{simulate as integrate, Problem};
+    let ds = linkage_adm::parse_dataset(Arc::from("p.adm"), &mechanism_text("pendulum_offset.adm"))
+        .unwrap();
+    let m = linkage_model::build_model(&ds).unwrap().model;
+    let d = ExpressionDrivers::new(&m).unwrap();
+    let ic = linkage_solve::ic::initial_conditions(&m, &d, &NoForces, &Tolerances::default());
+    let sys = linkage_solve::system::System::new(&m);
+    let rows = linkage_solve::ic::admitted_rows(&ic.analysis);
+    let p = Problem {
+        model: &m,
+        sys: &sys,
+        rows: &rows,
+        redundant: &[],
+        drivers: &d,
+        forces: &NoForces,
+        damping: None,
+        frozen_time: None,
+    };
+    // No velocities given (an initial-conditions result without a velocity stage): the
+    // same run as with zero velocities.
+    let run = |v0: &[(glam::DVec3, glam::DVec3)]| {
+        integrate(
+            &p,
+            &ic.assembly.state,
+            v0,
+            &[0.0, 0.1],
+            &IntegratorSettings::default(),
+            |_| {},
+        )
+    };
+    let (missing, zero) = (run(&[]), run(&[(glam::DVec3::ZERO, glam::DVec3::ZERO)]));
+    assert!(missing.failure.is_none(), "{:?}", missing.failure);
+    assert_eq!(missing.outputs.len(), 2);
+    let (v, w) = missing.outputs[0].velocities[0];
+    assert_eq!((v.length(), w.length()), (0.0, 0.0));
+    for (a, b) in missing.outputs.iter().zip(&zero.outputs) {
+        assert_eq!(a.state, b.state);
+        assert_eq!(a.velocities, b.velocities);
+    }
+    // Released from rest, it has started to swing.
+    assert!(missing.outputs[1].velocities[0].1.length() > 0.1);
+}
