@@ -516,12 +516,17 @@ fn assemble_iteration_matrix(
 ///
 /// Allocation: [`Integrator::try_step`] and [`Integrator::accept`] allocate nothing
 /// themselves once the iteration matrix's pattern has been found (the first factorisation,
-/// and again only if a new nonzero appears). What they call may: the sparse LU's L and U
-/// storage grows if partial pivoting ever produces more fill than before (amortised, inside
-/// faer); force elements built on expressions allocate in the expression evaluator and in
-/// the dual numbers of their Jacobians (per element evaluation); motions given by
-/// expressions allocate in the evaluator. Models without those (e.g. the generated chains)
-/// step without any allocation — a test counts them.
+/// and again only if a new nonzero appears). What they call may:
+/// - faer's numeric LU grows its L and U storage if partial pivoting ever produces more fill
+///   than any earlier factorisation (amortised doubling);
+/// - force elements: the generalised forces of elements without expressions (SPRINGDAMPER,
+///   BUSHING, FIELD, BEAM) allocate nothing; expressions (SFORCE, VFORCE, VTORQUE, GFORCE,
+///   VARIABLEs) allocate in the evaluator at every evaluation; force Jacobians, evaluated at
+///   each matrix refresh only, use dual numbers whose gradients are heap vectors;
+/// - motions given by expressions allocate in the evaluator.
+///
+/// Models without expressions and force elements (e.g. the generated chains) step without a
+/// single allocation; `tests/allocations.rs` counts them.
 pub struct Integrator<'p, 'a> {
     p: &'p Problem<'a>,
     settings: IntegratorSettings,

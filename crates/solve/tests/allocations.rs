@@ -141,3 +141,36 @@ fn parallelogram_chain_with_removed_rows_steps_without_allocating() {
         c.travelled
     );
 }
+
+#[test]
+fn spring_damper_and_bushing_forces_evaluate_without_allocating() {
+    use linkage_solve::applied::AppliedForces;
+    // Force elements without expressions: their generalised forces (every corrector
+    // iteration) allocate nothing. Their Jacobians (matrix refreshes only) are evaluated with
+    // dual numbers, whose gradients are heap vectors.
+    let text = linkage_solve::generate::pendulum_chain(3).replace(
+        "END",
+        "SPRINGDAMPER/1, I = 102, J = 1, TRANSLATIONAL, K = 100, C = 3, LENGTH = 0.5\n\
+         SPRINGDAMPER/2, I = 112, J = 101, ROTATIONAL, KT = 30, CT = 2\n\
+         BUSHING/1, I = 121, J = 1, K = 10, 20, 30, C = 1, 2, 3, KT = 4, 5, 6, CT = 0.4, 0.5, 0.6\n\
+         END",
+    );
+    let m = model(&text);
+    let forces = linkage_solve::forces::ForceSet::new(&m).expect("force elements build");
+    assert_eq!(forces.elements().len(), 3);
+    let s = linkage_solve::state::State::input(&m);
+    let v: Vec<(glam::DVec3, glam::DVec3)> = (0..3)
+        .map(|k| (glam::DVec3::new(0.1 * k as f64, 0.2, 0.0), glam::DVec3::Z))
+        .collect();
+    let mut q = vec![0.0; 18];
+    let before = allocations();
+    for _ in 0..10 {
+        q.fill(0.0);
+        forces.add_forces(&s, &v, &mut q).expect("forces evaluate");
+    }
+    assert_eq!(allocations() - before, 0);
+    // The elements do act: the bushing holds the last link's tip (y = −3, velocity
+    // (0.2, 0.2, 0) + ẑ × (0, −0.5, 0) = (0.7, 0.2, 0)) towards ground's origin:
+    // F_y = −K_y·(−3) − C_y·0.2 = 60 − 0.4 N.
+    assert!((q[13] - 59.6).abs() < 1e-9, "{q:?}");
+}
