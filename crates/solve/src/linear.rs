@@ -8,11 +8,14 @@
 //!   values change, factorised many times (the integrator's iteration matrix). The column
 //!   ordering (COLAMD) and the symbolic analysis are computed once per pattern; each
 //!   refactorisation writes the values into preallocated storage and reuses the scratch
-//!   memory, and solves work in the caller's buffer. Values are added by coordinates: the slot
-//!   of `(row, col)` is found by binary search in the column's sorted row indices
-//!   (O(log column length), no allocation). A nonzero value outside the pattern is kept aside
-//!   and reported by [`FixedPatternLu::has_missing`]; [`FixedPatternLu::grow`] then extends
-//!   the pattern (a new symbolic analysis) and the caller assembles again.
+//!   memory, and solves work in the caller's buffer. Values are added by coordinates, in
+//!   runs down a column: the first assembly finds each run's slots by binary search in the
+//!   column's sorted row indices and logs them; later assemblies making the same calls replay
+//!   the log (a precomputed map from contributions to slots), searching again only where the
+//!   calls differ. No allocation once the log has its size. A nonzero value outside the
+//!   pattern is kept aside and reported by [`FixedPatternLu::has_missing`];
+//!   [`FixedPatternLu::grow`] then extends the pattern (a new symbolic analysis) and the
+//!   caller assembles again.
 //!
 //! A singular or ill-posed system is reported, never a panic or a silent NaN.
 
@@ -84,7 +87,8 @@ impl SparseLu {
 /// A square sparse matrix with a fixed pattern, refactorised in place (see the module docs).
 ///
 /// Cost: [`FixedPatternLu::new`] and [`FixedPatternLu::grow`] O(nnz log nnz) plus the
-/// symbolic analysis; [`FixedPatternLu::add`] O(log column length);
+/// symbolic analysis; [`FixedPatternLu::add`] O(1) when replayed, O(log column length)
+/// otherwise;
 /// [`FixedPatternLu::factor`] the numeric LU only (Gilbert–Peierls with partial pivoting:
 /// its L and U storage is reused and grows only when pivoting produces more fill than any
 /// earlier factorisation); [`FixedPatternLu::solve_in_place`] two triangular solves.
