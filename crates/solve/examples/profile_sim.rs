@@ -1,46 +1,77 @@
 //! Times the phases of a simulation of a generated chain: `cargo run --release --example
-//! profile_sim -- N`.
+//! profile_sim -- N [parallelogram|pendulum|swinging] [interval]` (parallelogram chain, 0.05 s
+//! by default; `swinging`: the pendulum chain with gravity across it).
 use linkage_solve::applied::NoForces;
 use linkage_solve::drivers::ExpressionDrivers;
+use linkage_solve::dynamics::{simulate, IntegratorSettings, Problem};
 use linkage_solve::tolerances::Tolerances;
 use std::sync::Arc;
 use std::time::Instant;
 
+/// CPU time of this thread in seconds (Linux `/proc/thread-self/schedstat`), less sensitive
+/// to other processes than the wall clock; `None` elsewhere.
+fn cpu_time() -> Option<f64> {
+    let text = std::fs::read_to_string("/proc/thread-self/schedstat").ok()?;
+    let ns: f64 = text.split_whitespace().next()?.parse().ok()?;
+    Some(ns * 1e-9)
+}
+
 fn main() {
-    let n: usize = std::env::args()
-        .nth(1)
-        .and_then(|a| a.parse().ok())
-        .unwrap_or(100);
-    let text = if std::env::args().nth(2).as_deref() == Some("pendulum") {
-        linkage_solve::generate::pendulum_chain(n)
-    } else {
-        linkage_solve::generate::parallelogram_chain(n, 60.0)
+    let args: Vec<String> = std::env::args().collect();
+    let n: usize = args.get(1).and_then(|a| a.parse().ok()).unwrap_or(100);
+    let text = match args.get(2).map(String::as_str) {
+        Some("pendulum") => linkage_solve::generate::pendulum_chain(n),
+        // Gravity across the hanging chain: it swings.
+        Some("swinging") => linkage_solve::generate::pendulum_chain(n)
+            .replace("JGRAV = -9.80665", "IGRAV = -9.80665"),
+        _ => linkage_solve::generate::parallelogram_chain(n, 60.0),
     };
+    let interval: f64 = args.get(3).and_then(|a| a.parse().ok()).unwrap_or(0.05);
     let ds = linkage_adm::parse_dataset(Arc::from("g.adm"), &text).expect("parses");
     let m = linkage_model::build_model(&ds).expect("builds").model;
     let d = ExpressionDrivers::new(&m).expect("functions");
     let t = Instant::now();
-    let v = linkage_solve::verify::verify(&m, &d, &Tolerances::default());
-    println!("verify {:?} dof {}", t.elapsed(), v.dof);
-    let t = Instant::now();
     let ic = linkage_solve::ic::initial_conditions(&m, &d, &NoForces, &Tolerances::default());
-    println!("ic {:?} converged {}", t.elapsed(), ic.assembly.converged);
+    println!(
+        "verify + ic {:?} converged {} dof {}",
+        t.elapsed(),
+        ic.assembly.converged,
+        ic.analysis.dof
+    );
+    let sys = linkage_solve::system::System::new(&m);
+    let rows = linkage_solve::ic::admitted_rows(&ic.analysis);
+    let redundant: Vec<usize> = ic.analysis.redundant.iter().map(|r| r.row).collect();
+    let problem = Problem {
+        model: &m,
+        sys: &sys,
+        rows: &rows,
+        redundant: &redundant,
+        drivers: &d,
+        forces: &NoForces,
+        damping: None,
+        frozen_time: None,
+    };
+    let v0 = ic
+        .velocity
+        .as_ref()
+        .map(|v| v.velocities.clone())
+        .unwrap_or_default();
+    let times: Vec<f64> = (0..=5).map(|k| interval * k as f64 / 5.0).collect();
     let t = Instant::now();
-    let times: Vec<f64> = (0..=5).map(|k| 0.01 * k as f64).collect();
-    let r = linkage_solve::dynamics::run(
-        &m,
-        &d,
-        &NoForces,
-        &Tolerances::default(),
+    let cpu = cpu_time();
+    let sim = simulate(
+        &problem,
+        &ic.assembly.state,
+        &v0,
         &times,
-        &Default::default(),
-        false,
+        &IntegratorSettings::default(),
         |_| {},
     );
-    let sim = r.simulation.expect("ran");
+    let el = t.elapsed();
+    let cpu = cpu_time().zip(cpu).map_or(f64::NAN, |(b, a)| b - a);
     println!(
-        "run (incl. ic) {:?} steps {} rejected {} failure {:?}",
-        t.elapsed(),
+        "simulate {el:?}, cpu {cpu:.4} s ({:.3} s per simulated second) steps {} rejected {} failure {:?}",
+        cpu / interval,
         sim.steps,
         sim.rejected,
         sim.failure

@@ -17,9 +17,7 @@
 //! extrapolation `q + v Δt + a Δt²/2` of the previous output. Removed rows are checked at every
 //! output like in the dynamic run.
 
-use crate::dynamics::{
-    apply, consistent_output, flat, redundant_failure, Failure, Problem, Simulation,
-};
+use crate::dynamics::{flat, redundant_violation, Failure, OutputSolver, Problem, Simulation};
 use crate::linear::SparseLu;
 use crate::rows::RowGradient;
 use crate::state::State;
@@ -50,6 +48,16 @@ pub(crate) fn run(
         rejected: 0,
         kinematic: true,
     };
+    let mut solver = match OutputSolver::new(p, start, v0) {
+        Ok(s) => s,
+        Err(message) => {
+            sim.failure = Some(Failure {
+                time: start.time,
+                message,
+            });
+            return sim;
+        }
+    };
     let mut v = flat(v0);
     let mut previous: Option<(State, Vec<f64>, Vec<f64>)> = None;
     for &t in times {
@@ -71,26 +79,26 @@ pub(crate) fn run(
                 return sim;
             }
         };
-        if let Some(f) = redundant_failure(p, &s) {
+        if let Some(f) = redundant_violation(p, &s, p.model.characteristic_length) {
             sim.failure = Some(f);
             return sim;
         }
-        let consistent = match consistent_output(p, &s, &v) {
-            Ok(c) => c,
+        let output = match solver.output(p, &s, &v) {
+            Ok(o) => o,
             Err(message) => {
                 sim.failure = Some(Failure { time: t, message });
                 return sim;
             }
         };
-        v = flat(&consistent.output.velocities);
-        let a = flat(&consistent.output.accelerations);
+        v = flat(&output.velocities);
+        let a = flat(&output.accelerations);
         // Accelerations reported as NaN (unknown second derivatives) do not extrapolate.
         let a: Vec<f64> = a
             .into_iter()
             .map(|x| if x.is_finite() { x } else { 0.0 })
             .collect();
         previous = Some((s, v.clone(), a));
-        sim.outputs.push(consistent.output);
+        sim.outputs.push(output);
         sim.steps += 1;
         progress(t);
     }
@@ -110,7 +118,8 @@ fn positions(p: &Problem, mut s: State) -> Result<State, String> {
     let n = p.model.parts.len();
     let m = p.rows.len();
     let length = p.model.characteristic_length;
-    let drives = p.drives(s.time)?;
+    let mut drives = vec![0.0; m];
+    p.drives_into(s.time, &mut drives)?;
     let mut g = RowGradient::default();
     let mut worst = (0usize, 0.0f64);
     for _ in 0..MAX_ITERATIONS {
@@ -192,6 +201,20 @@ fn positions(p: &Problem, mut s: State) -> Result<State, String> {
         row.label,
         p.model.constraints[row.element].origin.name
     ))
+}
+
+/// `s` with every part moved by the tangent increment `d` (6 per part: translation, rotation
+/// vector in ground axes).
+fn apply(s: &State, d: &[f64]) -> State {
+    let mut t = s.clone();
+    for (k, c) in d.chunks_exact(6).enumerate() {
+        t.increment(
+            k,
+            DVec3::new(c[0], c[1], c[2]),
+            DVec3::new(c[3], c[4], c[5]),
+        );
+    }
+    t
 }
 
 #[cfg(test)]

@@ -33,3 +33,25 @@ impl Default for Tolerances {
         }
     }
 }
+
+/// The dynamics corrector holds the position constraints to `CORRECTOR_CONSTRAINT × L`
+/// (lengths) or `CORRECTOR_CONSTRAINT` (dot products, angles).
+pub const CORRECTOR_CONSTRAINT: f64 = 1e-9;
+/// The corrector has converged when its correction of the accelerations is below this,
+/// relative to the accelerations (translations over L, rotations in radians) …
+pub const CORRECTOR_RELATIVE: f64 = 1e-8;
+/// … or moves the positions (`βh²·|Δa|`, same scaling) by less than this (rounding level of
+/// coordinates of order L) …
+pub const CORRECTOR_ROUNDING: f64 = 1e-14;
+/// … or no longer contracts (at least halving) and moves the positions by less than this,
+/// a tenth of `CORRECTOR_CONSTRAINT`: rounding noise of coordinates far from the origin
+/// (ε·|x| with |x| ≫ L), which the scaled iteration matrix amplifies by 1/(βh²) in the
+/// accelerations.
+pub const CORRECTOR_NOISE: f64 = 1e-10;
+
+/// The dynamics corrector also accepts a correction whose effect on positions and velocities
+/// (`max(β, γ)·h²·|Δa|`, translations over the characteristic length) is below this fraction of
+/// the INTEGRATOR ERROR: further iterations could not change the accepted step by more than a
+/// rounding of the error estimate (parts with tiny inertia about some axis otherwise leave
+/// corrections at noise level, and the run gave up at the minimum step).
+pub const CORRECTOR_ERROR_FRACTION: f64 = 1e-3;

@@ -373,3 +373,89 @@ fn zero_dof_fourbar_runs_kinematically_and_the_motion_supplies_the_power() {
         );
     }
 }
+
+#[test]
+fn double_pendulum_far_from_the_origin_swings_like_at_the_origin() {
+    // Coordinates of 1e4 m resolve positions to ~2e-12 m only: the corrector must accept
+    // rounding-level corrections (it used to stagnate and halve the step down to HMIN).
+    let text =
+        linkage_solve::generate::pendulum_chain(2).replace("JGRAV = -9.80665", "IGRAV = -9.80665");
+    let far = text
+        .replace("MARKER/1, PART = 1", "MARKER/1, PART = 1, QP = 10000, 0, 0")
+        .replace("QP = 0,", "QP = 10000,");
+    let (_, near) = simulate("near.adm", &text, 2.0, 20, 1e-6);
+    let (_, far) = simulate("far.adm", &far, 2.0, 20, 1e-6);
+    let (near, far) = (
+        near.simulation.as_ref().unwrap(),
+        far.simulation.as_ref().unwrap(),
+    );
+    assert!(near.failure.is_none(), "{:?}", near.failure);
+    assert!(far.failure.is_none(), "{:?}", far.failure);
+    assert_eq!(near.outputs.len(), 21);
+    assert_eq!(far.outputs.len(), 21);
+    let shift = glam::DVec3::new(1e4, 0.0, 0.0);
+    for (a, b) in near.outputs.iter().zip(&far.outputs) {
+        for k in 0..2 {
+            let dp = (b.state.poses[k].p - shift - a.state.poses[k].p).length();
+            let dw = (b.velocities[k].1 - a.velocities[k].1).length();
+            // Same motion; the runs differ by rounding, amplified by the chaotic double
+            // pendulum (≈ 2e-8 m and 1e-6 rad/s after 2 s).
+            assert!(
+                dp < 1e-6 && dw < 1e-5,
+                "t = {}: dp {dp:e} dw {dw:e}",
+                a.time
+            );
+        }
+    }
+    // The chain did swing (≈ 1 m at the tip), so the comparison means something.
+    let tip = near.outputs.last().unwrap().state.poses[1].p;
+    assert!(
+        (tip - glam::DVec3::new(0.0, -1.5, 0.0)).length() > 0.5,
+        "{tip:?}"
+    );
+}
+
+#[test]
+fn missing_initial_velocities_start_the_pendulum_at_rest() {
+    use linkage_solve::dynamics::{simulate as integrate, Problem};
+    let ds = linkage_adm::parse_dataset(Arc::from("p.adm"), &mechanism_text("pendulum_offset.adm"))
+        .unwrap();
+    let m = linkage_model::build_model(&ds).unwrap().model;
+    let d = ExpressionDrivers::new(&m).unwrap();
+    let ic = linkage_solve::ic::initial_conditions(&m, &d, &NoForces, &Tolerances::default());
+    let sys = linkage_solve::system::System::new(&m);
+    let rows = linkage_solve::ic::admitted_rows(&ic.analysis);
+    let p = Problem {
+        model: &m,
+        sys: &sys,
+        rows: &rows,
+        redundant: &[],
+        drivers: &d,
+        forces: &NoForces,
+        damping: None,
+        frozen_time: None,
+    };
+    // No velocities given (an initial-conditions result without a velocity stage): the
+    // same run as with zero velocities.
+    let run = |v0: &[(glam::DVec3, glam::DVec3)]| {
+        integrate(
+            &p,
+            &ic.assembly.state,
+            v0,
+            &[0.0, 0.1],
+            &IntegratorSettings::default(),
+            |_| {},
+        )
+    };
+    let (missing, zero) = (run(&[]), run(&[(glam::DVec3::ZERO, glam::DVec3::ZERO)]));
+    assert!(missing.failure.is_none(), "{:?}", missing.failure);
+    assert_eq!(missing.outputs.len(), 2);
+    let (v, w) = missing.outputs[0].velocities[0];
+    assert_eq!((v.length(), w.length()), (0.0, 0.0));
+    for (a, b) in missing.outputs.iter().zip(&zero.outputs) {
+        assert_eq!(a.state, b.state);
+        assert_eq!(a.velocities, b.velocities);
+    }
+    // Released from rest, it has started to swing.
+    assert!(missing.outputs[1].velocities[0].1.length() > 0.1);
+}
