@@ -223,10 +223,11 @@ pub fn to_text(j: &LinearJson) -> String {
         };
         let _ = writeln!(
             s,
-            "  Computed {} of the {} eigenvalues ({} modes): {which} (sparse shift-invert).",
+            "  Computed {} of the {} eigenvalues ({} mode{}): {which} (sparse shift-invert).",
             j.computed_eigenvalues,
             j.states,
             j.modes.len(),
+            if j.modes.len() == 1 { "" } else { "s" },
         );
     }
     let _ = writeln!(s);
