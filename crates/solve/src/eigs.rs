@@ -713,6 +713,9 @@ pub fn largest_ritz_pairs(
     loop {
         // Grow the basis by one vector.
         let mut spanned = basis.len() >= n;
+        if basis.f.is_empty() {
+            sweep = 0;
+        }
         if !spanned {
             if sweep == 0 && (basis.f.is_empty() || fresh) {
                 // A fresh direction: T applied to a random vector orthogonal to the basis and
