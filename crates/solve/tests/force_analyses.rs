@@ -240,3 +240,55 @@ fn damped_chain_shift_invert_matches_the_dense_eigenvalues() {
         }
     }
 }
+
+#[test]
+fn damped_chain_modes_around_a_frequency_match_dense_modes() {
+    // Complex shift σ = −ε + iω₅ (operator Re (A − σB)⁻¹B): 3 modes, each one of the dense
+    // solution (λ within 1e-8 |λ|), the 5th among them.
+    let (m, d, f) = load(&damped_chain(8, 0.3, 0.5));
+    let solve = |method| {
+        linkage_solve::linearize::run(
+            &m,
+            &d,
+            &f,
+            &Tolerances::default(),
+            true,
+            LinearOptions {
+                damping: true,
+                vectors: true,
+                method,
+            },
+        )
+        .result
+        .unwrap()
+    };
+    let dense = solve(EigenMethod::Dense);
+    let w5 = dense.modes[4].frequency * TAU;
+    let near = solve(EigenMethod::ShiftInvert {
+        modes: 3,
+        shift: Some(w5),
+    });
+    assert_eq!(near.modes.len(), 3, "{:?}", near.modes);
+    for s in &near.modes {
+        let e = dense
+            .modes
+            .iter()
+            .min_by(|a, b| {
+                let da = (a.real - s.real).hypot(a.imag - s.imag);
+                let db = (b.real - s.real).hypot(b.imag - s.imag);
+                da.total_cmp(&db)
+            })
+            .unwrap();
+        let mag = e.frequency * TAU;
+        assert!(
+            (s.real - e.real).abs() < 1e-8 * mag && (s.imag - e.imag).abs() < 1e-8 * mag,
+            "{s:?} vs {e:?}"
+        );
+        assert!((s.damping_ratio - e.damping_ratio).abs() < 1e-8);
+    }
+    let f5 = dense.modes[4].frequency;
+    assert!(near
+        .modes
+        .iter()
+        .any(|s| (s.frequency - f5).abs() < 1e-8 * f5));
+}
