@@ -1,7 +1,7 @@
 //! `linkage linear`: eigenvalues and modes about an operating point.
 
 use crate::common::{applied_forces, input_error, load, print_json, Format};
-use linkage_solve::linearize::{run, LinearOptions};
+use linkage_solve::linearize::{run, EigenMethod, LinearOptions, DEFAULT_MODES};
 use linkage_solve::tolerances::Tolerances;
 use std::path::Path;
 use std::process::ExitCode;
@@ -13,6 +13,10 @@ pub struct LinearArgs<'a> {
     pub static_first: bool,
     pub damping: bool,
     pub vectors: bool,
+    /// `--modes K`: the K modes nearest the shift, by shift-invert.
+    pub modes: Option<usize>,
+    /// `--shift F` in cycles per time unit.
+    pub shift: Option<f64>,
 }
 
 pub fn run_linear(args: &LinearArgs) -> ExitCode {
@@ -24,9 +28,21 @@ pub fn run_linear(args: &LinearArgs) -> ExitCode {
         Ok(f) => f,
         Err(d) => return input_error(&d, args.format),
     };
+    if args.shift.is_some_and(|f| !f.is_finite()) {
+        eprintln!("error: --shift must be a finite frequency");
+        return ExitCode::from(2);
+    }
+    let method = match (args.modes, args.shift) {
+        (None, None) => EigenMethod::Auto,
+        (modes, shift) => EigenMethod::ShiftInvert {
+            modes: modes.unwrap_or(DEFAULT_MODES),
+            shift: shift.map(|f| f * std::f64::consts::TAU),
+        },
+    };
     let opts = LinearOptions {
         damping: args.damping,
         vectors: args.vectors,
+        method,
     };
     let result = run(
         &loaded.model,

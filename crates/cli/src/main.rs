@@ -99,6 +99,14 @@ enum Command {
         /// Skip mode shapes (Adams NOVECTOR).
         #[arg(long)]
         no_vectors: bool,
+        /// Compute only the K modes nearest the shift (lowest first) by sparse shift-invert
+        /// Arnoldi, instead of every mode (large models do this by default).
+        #[arg(long, value_name = "K", value_parser = clap::value_parser!(u64).range(1..))]
+        modes: Option<u64>,
+        /// Shift in cycles per time unit: compute the modes nearest this frequency (sparse
+        /// shift-invert; default just below zero, i.e. the lowest modes).
+        #[arg(long, value_name = "F", allow_negative_numbers = true)]
+        shift: Option<f64>,
     },
     /// Dynamic simulation to --end with output every --dtout or in --steps intervals.
     Simulate {
@@ -151,12 +159,16 @@ fn main() -> ExitCode {
             static_first,
             no_damping,
             no_vectors,
+            modes,
+            shift,
         } => linear_cmd::run_linear(&linear_cmd::LinearArgs {
             model: &model,
             format,
             static_first,
             damping: !no_damping,
             vectors: !no_vectors,
+            modes: modes.map(|k| usize::try_from(k).unwrap_or(usize::MAX)),
+            shift,
         }),
         Command::Simulate {
             model,

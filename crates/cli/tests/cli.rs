@@ -617,3 +617,66 @@ fn controls_plant_2_has_no_static_equilibrium() {
         "descent {descent} vs model height {height}"
     );
 }
+
+#[test]
+fn linear_modes_computes_the_lowest_modes_by_shift_invert() {
+    // A chain of 10 pendulum links (DOF 10): `--modes 3` gives the 3 lowest modes of the
+    // dense solution (relative 1e-8), and says how many of the 20 eigenvalues it computed.
+    let f = std::env::temp_dir().join(format!("linkage-modes-{}.adm", std::process::id()));
+    std::fs::write(&f, linkage_solve::generate::pendulum_chain(10)).unwrap();
+    let path = f.to_str().unwrap();
+    let (code, dense) = json(&["linear", path, "--format", "json"]);
+    assert_eq!(code, 0, "{dense}");
+    assert_eq!(dense["method"], "dense");
+    assert_eq!(dense["computed_eigenvalues"], 20);
+    let (code, v) = json(&["linear", path, "--modes", "3", "--format", "json"]);
+    assert_eq!(code, 0, "{v}");
+    assert_eq!(v["method"], "shift-invert");
+    assert_eq!(v["states"], 20);
+    assert_eq!(v["computed_eigenvalues"], 6);
+    assert_eq!(v["shift"], 0.0);
+    let modes = v["modes"].as_array().unwrap();
+    assert_eq!(modes.len(), 3);
+    assert_eq!(v["eigenvalues"].as_array().unwrap().len(), 3);
+    for (k, m) in modes.iter().enumerate() {
+        let got = m["frequency"].as_f64().unwrap();
+        let want = dense["modes"][k]["frequency"].as_f64().unwrap();
+        assert!(
+            (got - want).abs() < 1e-8 * want,
+            "mode {k}: {got} vs {want}"
+        );
+        assert!(m["shape"].is_array());
+    }
+    let (code, out, _) = run(&["linear", path, "--modes", "3"]);
+    assert_eq!(code, 0, "{out}");
+    assert!(
+        out.contains("Computed 6 of the 20 eigenvalues (3 modes): the lowest"),
+        "{out}"
+    );
+    // Around the 5th frequency: 2 modes, the 5th among them.
+    let f5 = dense["modes"][4]["frequency"].as_f64().unwrap();
+    let (code, v) = json(&[
+        "linear",
+        path,
+        "--shift",
+        &f5.to_string(),
+        "--modes",
+        "2",
+        "--format",
+        "json",
+    ]);
+    assert_eq!(code, 0, "{v}");
+    assert!((v["shift"].as_f64().unwrap() - f5).abs() < 1e-12 * f5);
+    let near: Vec<f64> = v["modes"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|m| m["frequency"].as_f64().unwrap())
+        .collect();
+    assert_eq!(near.len(), 2, "{near:?}");
+    assert!(near.iter().any(|x| (x - f5).abs() < 1e-8 * f5), "{near:?}");
+    // K must be positive.
+    let (code, _, err) = run(&["linear", path, "--modes", "0"]);
+    assert_eq!(code, 2, "{err}");
+    let _ = std::fs::remove_file(&f);
+}

@@ -3,7 +3,7 @@
 
 use linkage_adm::Diagnostic;
 use linkage_model::Model;
-use linkage_solve::linearize::{LinearRun, Linearization};
+use linkage_solve::linearize::{LinearRun, Linearization, Solution};
 use serde::Serialize;
 use std::f64::consts::TAU;
 use std::fmt::Write;
@@ -51,6 +51,14 @@ pub struct LinearJson {
     pub operating_point: &'static str,
     pub dof: usize,
     pub states: usize,
+    /// `"dense"` (every eigenvalue) or `"shift-invert"` (those nearest `shift`).
+    pub method: &'static str,
+    /// Frequency the shift-invert solution looked around (cycles per time unit; 0: the lowest
+    /// modes).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub shift: Option<f64>,
+    /// Eigenvalues computed (a complex pair counts 2) out of `states`.
+    pub computed_eigenvalues: usize,
     pub eigenvalues: Vec<EigenvalueJson>,
     pub modes: Vec<ModeJson>,
     pub zero_eigenvalues: usize,
@@ -105,15 +113,29 @@ pub fn to_json(
 ) -> LinearJson {
     let mut warnings: Vec<String> = warnings.iter().map(|w| w.to_string()).collect();
     let mut errors = Vec::new();
+    let (mut method, mut shift, mut computed) = ("dense", None, 0);
     let (dof, modes, zeros, expected) = match &run.result {
         Ok(l) => {
+            computed = l.computed_eigenvalues;
+            let zeros_complete = match l.solution {
+                Solution::Dense => true,
+                Solution::ShiftInvert {
+                    shift: s,
+                    zeros_complete,
+                    ..
+                } => {
+                    method = "shift-invert";
+                    shift = Some(s / TAU);
+                    zeros_complete
+                }
+            };
             if l.massless_parts > 0 {
                 warnings.push(format!(
                     "There are {} zero-mass parts in the model; 1e-8 times the smallest nonzero mass is used for them during linearization.",
                     l.massless_parts
                 ));
             }
-            if l.zero_eigenvalues != l.expected_zero_eigenvalues {
+            if zeros_complete && l.zero_eigenvalues != l.expected_zero_eigenvalues {
                 warnings.push(format!(
                     "{} zero eigenvalues found, but the free motions without stiffness account for {}: check for missing stiffness or a near-singular pose",
                     l.zero_eigenvalues, l.expected_zero_eigenvalues
@@ -141,6 +163,9 @@ pub fn to_json(
         },
         dof,
         states: 2 * dof,
+        method,
+        shift,
+        computed_eigenvalues: computed,
         eigenvalues: modes
             .iter()
             .map(|m| EigenvalueJson {
@@ -190,6 +215,21 @@ pub fn to_text(j: &LinearJson) -> String {
         "  This model has {} kinematic states (displacements and velocities).",
         j.states
     );
+    if let Some(shift) = j.shift {
+        let which = if shift == 0.0 {
+            "the lowest".to_string()
+        } else {
+            format!("those nearest {} cycles/second", fortran_e(shift, 5))
+        };
+        let _ = writeln!(
+            s,
+            "  Computed {} of the {} eigenvalues ({} mode{}): {which} (sparse shift-invert).",
+            j.computed_eigenvalues,
+            j.states,
+            j.modes.len(),
+            if j.modes.len() == 1 { "" } else { "s" },
+        );
+    }
     let _ = writeln!(s);
     let _ = writeln!(
         s,
@@ -241,7 +281,12 @@ pub fn to_text(j: &LinearJson) -> String {
         }
     }
     let _ = writeln!(s);
-    let _ = writeln!(s, "{} zero eigenvalues (rigid-body motions); {} expected from the free motions without stiffness.", j.zero_eigenvalues, j.expected_zero_eigenvalues);
+    let among = if j.shift.is_some() {
+        " among the computed ones"
+    } else {
+        ""
+    };
+    let _ = writeln!(s, "{} zero eigenvalues{among} (rigid-body motions); {} expected from the free motions without stiffness.", j.zero_eigenvalues, j.expected_zero_eigenvalues);
     for w in &j.warnings {
         let _ = writeln!(s, "warning: {w}");
     }

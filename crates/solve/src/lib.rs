@@ -10,6 +10,7 @@ pub mod applied;
 pub mod assemble;
 pub mod drivers;
 pub mod dynamics;
+pub mod eigs;
 pub mod explain;
 pub mod forces;
 pub mod generate;

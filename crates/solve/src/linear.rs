@@ -64,6 +64,11 @@ impl SparseLu {
         Ok(SparseLu { lu, n })
     }
 
+    /// Order of the matrix.
+    pub fn dim(&self) -> usize {
+        self.n
+    }
+
     /// Solves `A x = b` in place (`b` becomes `x`).
     pub fn solve(&self, b: &mut [f64]) -> Result<(), LinearError> {
         if b.len() != self.n {

@@ -3,7 +3,7 @@
 use linkage_model::Model;
 use linkage_solve::drivers::ExpressionDrivers;
 use linkage_solve::forces::ForceSet;
-use linkage_solve::linearize::LinearOptions;
+use linkage_solve::linearize::{EigenMethod, LinearOptions};
 use linkage_solve::tolerances::Tolerances;
 use std::f64::consts::TAU;
 use std::sync::Arc;
@@ -59,6 +59,7 @@ fn mass_spring_damper_frequency_and_damping_ratio() {
         LinearOptions {
             damping: true,
             vectors: false,
+            method: EigenMethod::Auto,
         },
     );
     let l = run.result.unwrap();
@@ -79,6 +80,7 @@ fn mass_spring_damper_frequency_and_damping_ratio() {
         LinearOptions {
             damping: false,
             vectors: false,
+            method: EigenMethod::Auto,
         },
     );
     let mode = &run.result.unwrap().modes[0];
@@ -131,4 +133,162 @@ fn pendulum_with_a_torsion_spring_settles_where_the_torques_balance() {
         got.to_degrees(),
         theta.to_degrees()
     );
+}
+
+#[test]
+fn damped_mass_spring_through_the_sparse_path() {
+    // m = 2, k = 300, c = 3: ω_n = √(k/m), ζ = c/(2√(km)), λ = −ζω_n ± iω_n√(1 − ζ²).
+    let (mass, k, c) = (2.0, 300.0, 3.0);
+    let (m, d, f) = load(&spring_on_guide(mass, k, c));
+    let run = linkage_solve::linearize::run(
+        &m,
+        &d,
+        &f,
+        &Tolerances::default(),
+        true,
+        LinearOptions {
+            damping: true,
+            vectors: true,
+            method: EigenMethod::ShiftInvert {
+                modes: 1,
+                shift: None,
+            },
+        },
+    );
+    let l = run.result.unwrap();
+    assert!(matches!(
+        l.solution,
+        linkage_solve::linearize::Solution::ShiftInvert { .. }
+    ));
+    assert_eq!((l.dof, l.computed_eigenvalues, l.modes.len()), (1, 2, 1));
+    let wn = (k / mass).sqrt();
+    let zeta = c / (2.0 * (k * mass).sqrt());
+    let mode = &l.modes[0];
+    assert!((mode.frequency * TAU - wn).abs() < 1e-9 * wn, "{mode:?}");
+    assert!((mode.damping_ratio - zeta).abs() < 1e-9, "{mode:?}");
+    assert!((mode.real + zeta * wn).abs() < 1e-9 * wn, "{mode:?}");
+    assert!(
+        (mode.imag - wn * (1.0 - zeta * zeta).sqrt()).abs() < 1e-9 * wn,
+        "{mode:?}"
+    );
+    // The block moves along the guide (global y) only.
+    let shape = &mode.shape.as_ref().unwrap()[0];
+    assert!(
+        (shape.translation[1].magnitude - 1.0).abs() < 1e-12,
+        "{shape:?}"
+    );
+    assert!(shape.translation[0].magnitude < 1e-9 && shape.rotation[2].magnitude < 1e-9);
+    assert_eq!((l.zero_eigenvalues, l.expected_zero_eigenvalues), (0, 0));
+}
+
+/// A chain of `n` pendulum links with a rotational damper (and a weak torsion spring) at each
+/// joint: non-proportional damping, complex mode shapes.
+fn damped_chain(n: usize, ct: f64, kt: f64) -> String {
+    let text = linkage_solve::generate::pendulum_chain(n);
+    let mut extra = String::new();
+    for k in 0..n {
+        let m = 100 + 10 * k;
+        let j = if k == 0 { 1 } else { 100 + 10 * (k - 1) + 1 };
+        extra.push_str(&format!(
+            "SPRINGDAMPER/{}, ROTATIONAL, I = {m}, J = {j}, KT = {kt}, CT = {ct}\n",
+            1 + k
+        ));
+    }
+    text.replace("END\n", &format!("{extra}END\n"))
+}
+
+#[test]
+fn damped_chain_shift_invert_matches_the_dense_eigenvalues() {
+    // First-order shift-invert path (C ≠ 0) against the dense solution: every mode, and then
+    // the 4 lowest, λ within 1e-8 |λ| and ζ within 1e-8.
+    let (m, d, f) = load(&damped_chain(8, 0.3, 0.5));
+    let solve = |method| {
+        linkage_solve::linearize::run(
+            &m,
+            &d,
+            &f,
+            &Tolerances::default(),
+            true,
+            LinearOptions {
+                damping: true,
+                vectors: false,
+                method,
+            },
+        )
+        .result
+        .unwrap()
+    };
+    let dense = solve(EigenMethod::Dense);
+    assert_eq!(dense.dof, 8);
+    assert!(dense
+        .modes
+        .iter()
+        .all(|m| m.damping_ratio > 0.0 && m.damping_ratio < 1.0));
+    for k in [16, 4] {
+        let sparse = solve(EigenMethod::ShiftInvert {
+            modes: k,
+            shift: None,
+        });
+        assert_eq!(sparse.modes.len(), k.min(dense.modes.len()), "{sparse:?}");
+        for (s, e) in sparse.modes.iter().zip(&dense.modes) {
+            let mag = e.frequency * TAU;
+            assert!(
+                (s.real - e.real).abs() < 1e-8 * mag && (s.imag - e.imag).abs() < 1e-8 * mag,
+                "K = {k}: {s:?} vs {e:?}"
+            );
+            assert!((s.damping_ratio - e.damping_ratio).abs() < 1e-8);
+        }
+    }
+}
+
+#[test]
+fn damped_chain_modes_around_a_frequency_match_dense_modes() {
+    // Complex shift σ = −ε + iω₅ (operator Re (A − σB)⁻¹B): 3 modes, each one of the dense
+    // solution (λ within 1e-8 |λ|), the 5th among them.
+    let (m, d, f) = load(&damped_chain(8, 0.3, 0.5));
+    let solve = |method| {
+        linkage_solve::linearize::run(
+            &m,
+            &d,
+            &f,
+            &Tolerances::default(),
+            true,
+            LinearOptions {
+                damping: true,
+                vectors: true,
+                method,
+            },
+        )
+        .result
+        .unwrap()
+    };
+    let dense = solve(EigenMethod::Dense);
+    let w5 = dense.modes[4].frequency * TAU;
+    let near = solve(EigenMethod::ShiftInvert {
+        modes: 3,
+        shift: Some(w5),
+    });
+    assert_eq!(near.modes.len(), 3, "{:?}", near.modes);
+    for s in &near.modes {
+        let e = dense
+            .modes
+            .iter()
+            .min_by(|a, b| {
+                let da = (a.real - s.real).hypot(a.imag - s.imag);
+                let db = (b.real - s.real).hypot(b.imag - s.imag);
+                da.total_cmp(&db)
+            })
+            .unwrap();
+        let mag = e.frequency * TAU;
+        assert!(
+            (s.real - e.real).abs() < 1e-8 * mag && (s.imag - e.imag).abs() < 1e-8 * mag,
+            "{s:?} vs {e:?}"
+        );
+        assert!((s.damping_ratio - e.damping_ratio).abs() < 1e-8);
+    }
+    let f5 = dense.modes[4].frequency;
+    assert!(near
+        .modes
+        .iter()
+        .any(|s| (s.frequency - f5).abs() < 1e-8 * f5));
 }
