@@ -66,8 +66,7 @@ fn bench_integration(bencher: divan::Bencher, m: &Model) {
     let ic = linkage_solve::ic::initial_conditions(m, &d, &NoForces, &Tolerances::default());
     assert!(ic.assembly.converged);
     let sys = linkage_solve::system::System::new(m);
-    let rows = linkage_solve::ic::admitted_rows(&ic.analysis);
-    let redundant: Vec<usize> = ic.analysis.redundant.iter().map(|r| r.row).collect();
+    let (rows, redundant) = ic.kept_and_removed_rows();
     let problem = Problem {
         model: m,
         sys: &sys,

@@ -39,8 +39,7 @@ fn main() {
         ic.analysis.dof
     );
     let sys = linkage_solve::system::System::new(&m);
-    let rows = linkage_solve::ic::admitted_rows(&ic.analysis);
-    let redundant: Vec<usize> = ic.analysis.redundant.iter().map(|r| r.row).collect();
+    let (rows, redundant) = ic.kept_and_removed_rows();
     let problem = Problem {
         model: &m,
         sys: &sys,

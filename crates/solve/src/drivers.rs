@@ -248,21 +248,8 @@ impl Drivers for ExpressionDrivers {
     /// Displacement motions: the function's Taylor series in time. Velocity motions:
     /// `[q(t), f(t), ḟ(t)]`; acceleration motions: `[q(t), ICVEL + ∫f, f(t)]`.
     fn rates(&self, element: usize, t: f64) -> Option<[f64; 3]> {
-        let (e, level, _) = self.functions.get(element)?.as_ref()?;
-        let series = evaluate_time_series(e, &TimeEnv { time: t, mode: 0 }).ok()?;
-        match level {
-            MotionLevel::Displacement => Some(series),
-            MotionLevel::Velocity => Some([self.value(element, t)?, series[0], series[1]]),
-            MotionLevel::Acceleration => {
-                let f = |x: f64| {
-                    evaluate_time_series(e, &TimeEnv { time: x, mode: 0 })
-                        .map(|s| s[0])
-                        .ok()
-                };
-                let vel = self.icvel(element).unwrap_or(0.0) + integrate(&f, 0.0, t)?;
-                Some([self.value(element, t)?, vel, series[0]])
-            }
-        }
+        let (vel, acc) = self.motion_rates(element, t)?.ok()?;
+        Some([self.value(element, t)?, vel, acc])
     }
 
     /// The cause of an unknown value: the USER subroutine, the missing ICDISP, or the

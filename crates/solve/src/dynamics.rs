@@ -1206,8 +1206,7 @@ pub fn run(
             error: Some(why.into()),
         };
     };
-    let rows = crate::ic::admitted_rows(&ic.analysis);
-    let redundant: Vec<usize> = ic.analysis.redundant.iter().map(|r| r.row).collect();
+    let (rows, redundant) = ic.kept_and_removed_rows();
     let drivers = &drivers.anchored(&sys, &rows, &ic.assembly.state);
     let problem = Problem {
         model,

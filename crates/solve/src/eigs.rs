@@ -142,8 +142,9 @@ impl SparseMatrix {
         let mut last = None;
         for k in order {
             let (r, c, v) = entries[k];
-            if last == Some((r, c)) {
-                *values.last_mut().expect("an entry was pushed") += v;
+            // `last` names the entry `values` ends with: a duplicate adds to it.
+            if let (true, Some(x)) = (last == Some((r, c)), values.last_mut()) {
+                *x += v;
             } else {
                 cols.push(c);
                 values.push(0.0 + v);
@@ -375,10 +376,10 @@ impl Basis {
             .collect();
         self.f = f_new;
         self.b = b_new;
+        let mut z = vec![0.0; n];
+        op.apply(&w, &mut z)?;
         self.w.push(w);
         self.g.push(g_row);
-        let mut z = vec![0.0; n];
-        op.apply(self.w.last().expect("just pushed"), &mut z)?;
         if z.iter().any(|x| !x.is_finite()) {
             return Err(EigenError::Shift(LinearError::Singular));
         }

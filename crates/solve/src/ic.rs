@@ -88,6 +88,15 @@ pub struct InitialConditions {
 }
 
 impl InitialConditions {
+    /// The constraint rows every later analysis enforces (the independent ones at the
+    /// assembled pose) and the removed (redundant) rows it monitors.
+    pub fn kept_and_removed_rows(&self) -> (Vec<usize>, Vec<usize>) {
+        (
+            admitted_rows(&self.analysis),
+            self.analysis.redundant.iter().map(|r| r.row).collect(),
+        )
+    }
+
     /// Whether some redundant equation cannot be satisfied (the model cannot be assembled as
     /// built).
     pub fn inconsistent(&self) -> bool {

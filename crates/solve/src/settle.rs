@@ -64,8 +64,7 @@ pub fn settle(
         };
     }
     let sys = System::new(model);
-    let rows = crate::ic::admitted_rows(&ic.analysis);
-    let redundant: Vec<usize> = ic.analysis.redundant.iter().map(|r| r.row).collect();
+    let (rows, redundant) = ic.kept_and_removed_rows();
     let drivers = &drivers.anchored(&sys, &rows, &ic.assembly.state);
     let t0 = ic.assembly.state.time;
     let problem = Problem {
