@@ -501,7 +501,6 @@ fn solve_dense(eq: &LinearEquations, vectors: bool) -> Result<Linearization, Str
         if im < -1e-12 * lmax.max(1.0) {
             continue;
         }
-        let mag = cplx_abs(re, im);
         let shape = vectors.then(|| {
             // Positions: top half of the eigenvector, mapped back to part coordinates.
             let mut coords = vec![(0.0f64, 0.0f64); dim];
@@ -516,13 +515,7 @@ fn solve_dense(eq: &LinearEquations, vectors: bool) -> Result<Linearization, Str
             }
             part_shapes(&coords)
         });
-        modes.push(Mode {
-            real: re,
-            imag: im.max(0.0),
-            frequency: mag / std::f64::consts::TAU,
-            damping_ratio: if mag > 0.0 { -re / mag } else { 0.0 },
-            shape,
-        });
+        modes.push(mode(re, im, shape));
     }
     sort_modes(&mut modes);
     Ok(Linearization {
@@ -551,7 +544,8 @@ fn mode(re: f64, im: f64, shape: Option<Vec<PartShape>>) -> Mode {
         real: re,
         imag: im.max(0.0),
         frequency: mag / std::f64::consts::TAU,
-        damping_ratio: if mag > 0.0 { -re / mag } else { 0.0 },
+        // `+ 0.0` turns the −0 of an undamped mode into 0.
+        damping_ratio: if mag > 0.0 { -re / mag + 0.0 } else { 0.0 },
         shape,
     }
 }
