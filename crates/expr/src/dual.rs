@@ -1,5 +1,11 @@
 //! [`Dual`]: a value with a sparse gradient (forward-mode automatic differentiation).
+//!
+//! Gradients live in vectors that are recycled: a dropped [`Dual`] returns its vector to a
+//! per-thread pool and new ones take theirs from it, so that once an evaluation has run, the
+//! same evaluation again (the integrator's force Jacobians at every matrix refresh) takes no
+//! memory from the allocator.
 
+use std::cell::RefCell;
 use std::ops::{Add, Div, Mul, Neg, Sub};
 
 /// A value together with its partial derivatives with respect to environment-defined
@@ -9,10 +15,74 @@ use std::ops::{Add, Div, Mul, Neg, Sub};
 /// index with no duplicates. Variables absent from the list have derivative zero. What the
 /// indices mean is up to the [`crate::Env`] implementation (for example the 6 position and 6
 /// velocity coordinates of every part).
-#[derive(Debug, Clone, PartialEq, Default)]
+#[derive(Debug, PartialEq, Default)]
 pub struct Dual {
     value: f64,
     grad: Vec<(u32, f64)>,
+}
+
+/// Capacity of a fresh gradient vector: the 24 coordinates (6 position and 6 velocity of
+/// each part) a two-body force element depends on fit without growing.
+const FRESH_CAPACITY: usize = 24;
+
+/// Most gradient vectors a thread keeps for reuse; more are freed.
+const POOL_LIMIT: usize = 1024;
+
+thread_local! {
+    /// Empty gradient vectors left by dropped [`Dual`]s.
+    static POOL: RefCell<Vec<Vec<(u32, f64)>>> = const { RefCell::new(Vec::new()) };
+}
+
+/// An empty gradient vector with room for at least `capacity` entries, recycled if possible.
+fn gradient_vec(capacity: usize) -> Vec<(u32, f64)> {
+    let recycled = POOL
+        .try_with(|p| p.try_borrow_mut().ok().and_then(|mut p| p.pop()))
+        .ok()
+        .flatten();
+    match recycled {
+        Some(mut v) => {
+            v.reserve(capacity);
+            v
+        }
+        None => Vec::with_capacity(capacity.max(FRESH_CAPACITY)),
+    }
+}
+
+impl Drop for Dual {
+    fn drop(&mut self) {
+        if self.grad.capacity() == 0 {
+            return;
+        }
+        let mut v = std::mem::take(&mut self.grad);
+        v.clear();
+        // A full pool, a busy one or a thread shutting down frees the vector instead.
+        let _ = POOL.try_with(|p| {
+            if let Ok(mut p) = p.try_borrow_mut() {
+                if p.len() < POOL_LIMIT {
+                    p.push(v);
+                }
+            }
+        });
+    }
+}
+
+impl Clone for Dual {
+    fn clone(&self) -> Self {
+        Dual {
+            value: self.value,
+            grad: copy_of(&self.grad),
+        }
+    }
+}
+
+/// A (recycled) copy of a gradient; an empty one stays unallocated.
+fn copy_of(g: &[(u32, f64)]) -> Vec<(u32, f64)> {
+    if g.is_empty() {
+        return Vec::new();
+    }
+    let mut v = gradient_vec(g.len());
+    v.extend_from_slice(g);
+    v
 }
 
 /// `c · d`, treating a zero factor as exact (so that `0 · ∞ = 0`).
@@ -27,7 +97,10 @@ fn mul0(c: f64, d: f64) -> f64 {
 
 /// Sparse linear combination `a·x + b·y` of two sorted gradients.
 fn lincomb(a: f64, x: &[(u32, f64)], b: f64, y: &[(u32, f64)]) -> Vec<(u32, f64)> {
-    let mut out = Vec::with_capacity(x.len() + y.len());
+    if x.is_empty() && y.is_empty() {
+        return Vec::new();
+    }
+    let mut out = gradient_vec(x.len() + y.len());
     let (mut xi, mut yi) = (x.iter().peekable(), y.iter().peekable());
     loop {
         match (xi.peek(), yi.peek()) {
@@ -57,6 +130,16 @@ fn lincomb(a: f64, x: &[(u32, f64)], b: f64, y: &[(u32, f64)]) -> Vec<(u32, f64)
     }
 }
 
+/// `c · x` of a sorted gradient.
+fn scaled(c: f64, x: &[(u32, f64)]) -> Vec<(u32, f64)> {
+    if x.is_empty() {
+        return Vec::new();
+    }
+    let mut out = gradient_vec(x.len());
+    out.extend(x.iter().map(|&(i, d)| (i, mul0(c, d))));
+    out
+}
+
 impl Dual {
     /// A constant (empty gradient).
     pub fn constant(value: f64) -> Self {
@@ -68,16 +151,16 @@ impl Dual {
 
     /// The variable number `index` itself, at `value` (gradient `[(index, 1)]`).
     pub fn variable(value: f64, index: u32) -> Self {
-        Dual {
-            value,
-            grad: vec![(index, 1.0)],
-        }
+        let mut grad = gradient_vec(1);
+        grad.push((index, 1.0));
+        Dual { value, grad }
     }
 
     /// A value with the given partial derivatives. The entries may come in any order;
     /// duplicates are summed.
     pub fn new(value: f64, gradient: impl IntoIterator<Item = (u32, f64)>) -> Self {
-        let mut grad: Vec<(u32, f64)> = gradient.into_iter().collect();
+        let mut grad = gradient_vec(0);
+        grad.extend(gradient);
         grad.sort_by_key(|&(i, _)| i);
         grad.dedup_by(|later, earlier| {
             if later.0 == earlier.0 {
@@ -101,8 +184,8 @@ impl Dual {
     }
 
     /// Consumes `self`, returning the gradient.
-    pub fn into_gradient(self) -> Vec<(u32, f64)> {
-        self.grad
+    pub fn into_gradient(mut self) -> Vec<(u32, f64)> {
+        std::mem::take(&mut self.grad)
     }
 
     /// ∂value/∂(variable `index`) (zero if absent).
@@ -123,7 +206,7 @@ impl Dual {
     pub fn map(&self, g0: f64, g1: f64) -> Dual {
         Dual {
             value: g0,
-            grad: self.grad.iter().map(|&(i, d)| (i, mul0(g1, d))).collect(),
+            grad: scaled(g1, &self.grad),
         }
     }
 
@@ -161,9 +244,9 @@ impl Dual {
 
     pub(crate) fn add_ref(&self, o: &Dual) -> Dual {
         let grad = if o.grad.is_empty() {
-            self.grad.clone()
+            copy_of(&self.grad)
         } else if self.grad.is_empty() {
-            o.grad.clone()
+            copy_of(&o.grad)
         } else {
             lincomb(1.0, &self.grad, 1.0, &o.grad)
         };
@@ -175,7 +258,7 @@ impl Dual {
 
     pub(crate) fn sub_ref(&self, o: &Dual) -> Dual {
         let grad = if o.grad.is_empty() {
-            self.grad.clone()
+            copy_of(&self.grad)
         } else {
             lincomb(1.0, &self.grad, -1.0, &o.grad)
         };
@@ -203,7 +286,7 @@ impl Dual {
     pub(crate) fn neg_ref(&self) -> Dual {
         Dual {
             value: -self.value,
-            grad: self.grad.iter().map(|&(i, d)| (i, -d)).collect(),
+            grad: scaled(-1.0, &self.grad),
         }
     }
 }
@@ -299,6 +382,22 @@ mod tests {
         assert_eq!(d.derivative(2), 0.0);
         assert!(!d.is_constant());
         assert!(Dual::constant(4.0).is_constant());
+    }
+
+    #[test]
+    fn recycled_gradients_start_empty() {
+        let long = Dual::new(1.0, (0..40).map(|i| (i, 1.0)));
+        let copy = long.clone();
+        assert_eq!(copy.gradient().len(), 40);
+        drop(long);
+        drop(copy);
+        // These take the vectors just dropped.
+        let x = Dual::variable(2.0, 7);
+        assert_eq!(x.gradient(), &[(7, 1.0)]);
+        let y = x.scale(3.0) + Dual::variable(1.0, 2);
+        assert_eq!(y.gradient(), &[(2, 1.0), (7, 3.0)]);
+        assert_eq!(y.into_gradient(), vec![(2, 1.0), (7, 3.0)]);
+        assert!(Dual::constant(1.0).gradient().is_empty());
     }
 
     #[test]

@@ -73,10 +73,10 @@ pub fn evaluate_path_series<E: Env + ?Sized>(expr: &Expr, env: &E) -> Result<[f6
     Ok(t.derivatives())
 }
 
-/// A value during evaluation: scalar or 3-vector.
+/// A value during evaluation: scalar or 3-vector (inline: evaluation does not allocate).
 enum Val<N> {
     S(N),
-    V(Box<[N; 3]>),
+    V([N; 3]),
 }
 
 struct Evaluator<'a, E: ?Sized> {
@@ -121,7 +121,7 @@ impl<E: Env + ?Sized> Evaluator<'_, E> {
             }),
             Expr::Neg(x) => match self.eval::<N>(x)? {
                 Val::S(n) => Val::S(n.negate()),
-                Val::V(v) => Val::V(Box::new(v.map(|c| c.negate()))),
+                Val::V(v) => Val::V(v.map(|c| c.negate())),
             },
             Expr::Binary { op, lhs, rhs } => {
                 let l = self.eval::<N>(lhs)?;
@@ -130,11 +130,7 @@ impl<E: Env + ?Sized> Evaluator<'_, E> {
             }
             Expr::Vector(items) => {
                 let [x, y, z] = items.as_ref();
-                Val::V(Box::new([
-                    self.scalar(x)?,
-                    self.scalar(y)?,
-                    self.scalar(z)?,
-                ]))
+                Val::V([self.scalar(x)?, self.scalar(y)?, self.scalar(z)?])
             }
             Expr::If { test, lt, eq, gt } => {
                 let t = self.scalar::<N>(test)?.val();
@@ -381,9 +377,9 @@ fn binary<N: Num>(op: BinOp, l: Val<N>, r: Val<N>) -> Result<Val<N>, EvalError> 
         (BinOp::Mul, S(a), S(b)) => S(a.times(&b)),
         (BinOp::Div, S(a), S(b)) => S(functions::divide(&a, &b)?),
         (BinOp::Pow, S(a), S(b)) => S(functions::pow(&a, &b)?),
-        (BinOp::Add, V(a), V(b)) => V(Box::new([0, 1, 2].map(|i| a[i].plus(&b[i])))),
-        (BinOp::Sub, V(a), V(b)) => V(Box::new([0, 1, 2].map(|i| a[i].minus(&b[i])))),
-        (BinOp::Mul, S(s), V(v)) | (BinOp::Mul, V(v), S(s)) => V(Box::new(v.map(|c| c.times(&s)))),
+        (BinOp::Add, V(a), V(b)) => V([0, 1, 2].map(|i| a[i].plus(&b[i]))),
+        (BinOp::Sub, V(a), V(b)) => V([0, 1, 2].map(|i| a[i].minus(&b[i]))),
+        (BinOp::Mul, S(s), V(v)) | (BinOp::Mul, V(v), S(s)) => V(v.map(|c| c.times(&s))),
         (BinOp::Mul, V(a), V(b)) => S(a[0]
             .times(&b[0])
             .plus(&a[1].times(&b[1]))
@@ -392,13 +388,13 @@ fn binary<N: Num>(op: BinOp, l: Val<N>, r: Val<N>) -> Result<Val<N>, EvalError> 
             if s.val() == 0.0 {
                 return Err(EvalError::domain("division of a vector by zero"));
             }
-            V(Box::new(v.map(|c| c.over(&s))))
+            V(v.map(|c| c.over(&s)))
         }
-        (BinOp::Cross, V(a), V(b)) => V(Box::new([
+        (BinOp::Cross, V(a), V(b)) => V([
             a[1].times(&b[2]).minus(&a[2].times(&b[1])),
             a[2].times(&b[0]).minus(&a[0].times(&b[2])),
             a[0].times(&b[1]).minus(&a[1].times(&b[0])),
-        ])),
+        ]),
         _ => return Err(mismatch(&format!("operator '{sym}'"))),
     };
     match out {

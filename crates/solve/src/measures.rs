@@ -77,6 +77,28 @@ pub struct PositionEnv<'a> {
     pub state: &'a State,
 }
 
+thread_local! {
+    /// The row gradient position measures build their gradients in, reused so that
+    /// evaluating them does not allocate.
+    static MEASURE_GRADIENT: RefCell<RowGradient> = RefCell::new(RowGradient::default());
+    /// VARIABLE memories of dropped [`StateEnv`]s, cleared, for the next ones.
+    static MEMOS: RefCell<Vec<VariableMemo>> = const { RefCell::new(Vec::new()) };
+}
+
+/// `q` at `state` (value `value`) with its gradient.
+fn quantity_dual(q: &Quantity, value: f64, state: &State) -> Dual {
+    let build = |g: &mut RowGradient| {
+        g.clear();
+        q.gradient(state, 1.0, g);
+        dual(value, g)
+    };
+    MEASURE_GRADIENT
+        .try_with(|g| g.try_borrow_mut().ok().map(|mut g| build(&mut g)))
+        .ok()
+        .flatten()
+        .unwrap_or_else(|| build(&mut RowGradient::default()))
+}
+
 fn dual(value: f64, g: &RowGradient) -> Dual {
     Dual::new(
         value,
@@ -170,14 +192,11 @@ impl PositionEnv<'_> {
     /// `R[r][c]`), with gradients if asked.
     fn rotation_entries(&self, i: u32, j: u32, gradient: bool) -> Result<[Dual; 9], EvalError> {
         let (fi, fj) = (self.frames.get(i)?, self.frames.get(j)?);
-        let mut g = RowGradient::default();
         Ok(std::array::from_fn(|e| {
             let q = cosine(fi, fj, e % 3, e / 3);
             let value = q.value(self.state);
             if gradient {
-                g.clear();
-                q.gradient(self.state, 1.0, &mut g);
-                dual(value, &g)
+                quantity_dual(&q, value, self.state)
             } else {
                 Dual::constant(value)
             }
@@ -210,13 +229,11 @@ impl Env for PositionEnv<'_> {
         if !gradient {
             return Ok(Dual::constant(value));
         }
-        let mut g = RowGradient::default();
         if kind == MeasureKind::Dm && value == 0.0 {
             // |d| has no derivative at d = 0.
             return Ok(Dual::constant(0.0));
         }
-        q.gradient(self.state, 1.0, &mut g);
-        Ok(dual(value, &g))
+        Ok(quantity_dual(&q, value, self.state))
     }
 }
 
@@ -266,10 +283,42 @@ pub fn add_dual_gradient(d: &Dual, c: f64, g: &mut RowGradient) {
 
 /// Memory of one [`StateEnv`]: VARIABLEs being evaluated (cycle detection) and values already
 /// computed (keyed by id and whether the gradient was requested).
+///
+/// Memories are recycled (cleared, with their storage kept) from one environment to the
+/// next on the same thread, so that evaluating VARIABLEs does not allocate once warm.
 #[derive(Default)]
 struct VariableMemo {
     active: Vec<u32>,
     values: HashMap<(u32, bool), Dual>,
+}
+
+impl VariableMemo {
+    /// A cleared memory, recycled if one is free.
+    fn take() -> VariableMemo {
+        MEMOS
+            .try_with(|m| m.try_borrow_mut().ok().and_then(|mut m| m.pop()))
+            .ok()
+            .flatten()
+            .unwrap_or_default()
+    }
+
+    /// Clears this memory and keeps it for the next environment.
+    fn recycle(mut self) {
+        if self.active.capacity() == 0 && self.values.capacity() == 0 {
+            return; // nothing worth keeping
+        }
+        self.active.clear();
+        self.values.clear();
+        // At most a few environments are alive at once; a busy or full pool frees it.
+        const KEPT: usize = 8;
+        let _ = MEMOS.try_with(|m| {
+            if let Ok(mut m) = m.try_borrow_mut() {
+                if m.len() < KEPT {
+                    m.push(self);
+                }
+            }
+        });
+    }
 }
 
 /// A position- and velocity-level environment: what force expressions see.
@@ -314,7 +363,7 @@ impl<'a> StateEnv<'a> {
             velocities,
             data,
             mode: 0,
-            memo: RefCell::new(VariableMemo::default()),
+            memo: RefCell::new(VariableMemo::take()),
         }
     }
 
@@ -542,6 +591,12 @@ impl Env for StateEnv<'_> {
 
     fn spline(&self, id: u32) -> Option<&SplineData> {
         self.data.splines.get(&id)
+    }
+}
+
+impl Drop for StateEnv<'_> {
+    fn drop(&mut self) {
+        std::mem::take(self.memo.get_mut()).recycle();
     }
 }
 

@@ -4,7 +4,7 @@
 //! allocation. A counting global allocator (this test binary's own) checks it.
 
 use linkage_model::Model;
-use linkage_solve::applied::NoForces;
+use linkage_solve::applied::{AppliedForces, NoForces};
 use linkage_solve::drivers::ExpressionDrivers;
 use linkage_solve::dynamics::{Integrator, IntegratorSettings, Problem};
 use linkage_solve::tolerances::Tolerances;
@@ -68,9 +68,14 @@ struct Counted {
 /// Starts an integrator and runs `warm` steps, then counts the allocations of `counted`
 /// more; the step size alternates between two values more than a factor 2 apart, so that
 /// every step refactorises the iteration matrix.
-fn allocations_in_steady_steps(m: &Model, warm: usize, counted: usize) -> Counted {
+fn allocations_in_steady_steps(
+    m: &Model,
+    forces: &dyn AppliedForces,
+    warm: usize,
+    counted: usize,
+) -> Counted {
     let d = ExpressionDrivers::new(m).expect("no functions");
-    let ic = linkage_solve::ic::initial_conditions(m, &d, &NoForces, &Tolerances::default());
+    let ic = linkage_solve::ic::initial_conditions(m, &d, forces, &Tolerances::default());
     assert!(ic.assembly.converged);
     let sys = linkage_solve::system::System::new(m);
     let (rows, redundant) = ic.kept_and_removed_rows();
@@ -80,7 +85,7 @@ fn allocations_in_steady_steps(m: &Model, warm: usize, counted: usize) -> Counte
         rows: &rows,
         redundant: &redundant,
         drivers: &d,
-        forces: &NoForces,
+        forces,
         damping: None,
         frozen_time: None,
     };
@@ -116,7 +121,7 @@ fn swinging_pendulum_chain_steps_without_allocating() {
     // Gravity along x: the hanging chain swings, so every value of the matrix changes.
     let text =
         linkage_solve::generate::pendulum_chain(20).replace("JGRAV = -9.80665", "IGRAV = -9.80665");
-    let c = allocations_in_steady_steps(&model(&text), 40, 40);
+    let c = allocations_in_steady_steps(&model(&text), &NoForces, 40, 40);
     // The counter counts: setting up the workspaces allocates.
     assert!(c.start > 100, "{}", c.start);
     assert_eq!(c.steady, 0, "allocations in 40 steady steps");
@@ -131,7 +136,7 @@ fn swinging_pendulum_chain_steps_without_allocating() {
 #[test]
 fn parallelogram_chain_with_removed_rows_steps_without_allocating() {
     let text = linkage_solve::generate::parallelogram_chain(10, 60.0);
-    let c = allocations_in_steady_steps(&model(&text), 40, 40);
+    let c = allocations_in_steady_steps(&model(&text), &NoForces, 40, 40);
     assert!(c.start > 100, "{}", c.start);
     assert_eq!(c.steady, 0, "allocations in 40 steady steps");
     assert!(
@@ -143,10 +148,8 @@ fn parallelogram_chain_with_removed_rows_steps_without_allocating() {
 
 #[test]
 fn spring_damper_and_bushing_forces_evaluate_without_allocating() {
-    use linkage_solve::applied::AppliedForces;
     // Force elements without expressions: their generalised forces (every corrector
-    // iteration) allocate nothing. Their Jacobians (matrix refreshes only) are evaluated with
-    // dual numbers, whose gradients are heap vectors.
+    // iteration) allocate nothing.
     let text = linkage_solve::generate::pendulum_chain(3).replace(
         "END",
         "SPRINGDAMPER/1, I = 102, J = 1, TRANSLATIONAL, K = 100, C = 3, LENGTH = 0.5\n\
@@ -168,8 +171,90 @@ fn spring_damper_and_bushing_forces_evaluate_without_allocating() {
         forces.add_forces(&s, &v, &mut q).expect("forces evaluate");
     }
     assert_eq!(allocations() - before, 0);
+    // Their Jacobians (matrix refreshes) reuse the dual numbers' gradient vectors once warm.
+    let (mut dq, mut dv) = (Vec::with_capacity(1000), Vec::with_capacity(1000));
+    let mut jacobians = || {
+        dq.clear();
+        dv.clear();
+        forces
+            .add_jacobians(&s, &v, &mut dq, Some(&mut dv))
+            .expect("Jacobians evaluate");
+    };
+    jacobians();
+    let before = allocations();
+    for _ in 0..10 {
+        jacobians();
+    }
+    assert_eq!(allocations() - before, 0);
     // The elements do act: the bushing holds the last link's tip (y = −3, velocity
     // (0.2, 0.2, 0) + ẑ × (0, −0.5, 0) = (0.7, 0.2, 0)) towards ground's origin:
     // F_y = −K_y·(−3) − C_y·0.2 = 60 − 0.4 N.
     assert!((q[13] - 59.6).abs() < 1e-9, "{q:?}");
+}
+
+/// A pendulum chain of 3 with force elements whose laws are expressions: a VARIABLE (through
+/// VARVAL), distance, radial velocity, angle and angular velocity measures, STEP of TIME.
+fn chain_with_expression_forces() -> String {
+    linkage_solve::generate::pendulum_chain(3).replace(
+        "END",
+        "VARIABLE/1, FUNCTION = -100*(DM(102,1) - 0.4) - 3*VR(102,1)\n\
+         SFORCE/1, I = 102, J = 1, TRANSLATION, FUNCTION = VARVAL(1)\n\
+         SFORCE/2, I = 112, J = 101, ROTATION\n\
+         , FUNCTION = -30*(AZ(112,101) - 10D) - 2*WZ(112,101,101)*STEP(TIME, 0, 1, 1, 2)\n\
+         END",
+    )
+}
+
+#[test]
+fn expression_forces_evaluate_without_allocating() {
+    let m = model(&chain_with_expression_forces());
+    let forces = linkage_solve::forces::ForceSet::new(&m).expect("force elements build");
+    let s = linkage_solve::state::State::input(&m);
+    let v = vec![(glam::DVec3::ZERO, glam::DVec3::ZERO); 3];
+    let mut q = vec![0.0; 18];
+    let (mut dq, mut dv) = (Vec::with_capacity(1000), Vec::with_capacity(1000));
+    let mut evaluate = |q: &mut Vec<f64>| {
+        q.fill(0.0);
+        forces.add_forces(&s, &v, q).expect("forces evaluate");
+        dq.clear();
+        dv.clear();
+        forces
+            .add_jacobians(&s, &v, &mut dq, Some(&mut dv))
+            .expect("Jacobians evaluate");
+    };
+    evaluate(&mut q);
+    let before = allocations();
+    for _ in 0..10 {
+        evaluate(&mut q);
+    }
+    assert_eq!(allocations() - before, 0);
+    // At rest in the input pose: link 0's centre of mass is 0.5 from ground's origin, the
+    // spring's free length 0.4, so SFORCE/1 = −100·0.1 = −10 N pulls it up the line towards
+    // the origin: +10 N along y. SFORCE/2 = −30·(0 − 10°) = 5.236 N·m about z on link 1,
+    // its reaction on link 0 (applied at link 0's centre of mass: no moment from SFORCE/1).
+    let torque = 30.0 * 10f64.to_radians();
+    assert!((q[1] - 10.0).abs() < 1e-9, "{q:?}");
+    assert!((q[11] - torque).abs() < 1e-9, "{q:?}");
+    assert!((q[5] + torque).abs() < 1e-9, "{q:?}");
+    // ∂Q_y/∂y of part 0 = −100 (the spring's stiffness along its line).
+    let kyy: f64 = dq
+        .iter()
+        .filter(|&&(i, j, _)| i == 1 && j == 1)
+        .map(|t| t.2)
+        .sum();
+    assert!((kyy + 100.0).abs() < 1e-9, "{kyy}");
+}
+
+#[test]
+fn chain_with_expression_forces_steps_without_allocating() {
+    let m = model(&chain_with_expression_forces());
+    let forces = linkage_solve::forces::ForceSet::new(&m).expect("force elements build");
+    let c = allocations_in_steady_steps(&m, &forces, 40, 40);
+    assert!(c.start > 100, "{}", c.start);
+    assert_eq!(c.steady, 0, "allocations in 40 steady steps");
+    assert!(
+        c.travelled > 1e-3,
+        "the chain did not move: {}",
+        c.travelled
+    );
 }
