@@ -4,6 +4,8 @@
 //! `pendulum_chain(N)`: N links hanging in a chain (a tree, DOF N; at rest under gravity).
 //! `swinging_chain(N)`: the same chain with gravity across it, so that it swings.
 //! `parallelogram_chain(N)`: N parallelogram loops sharing cranks (DOF 1, 3N redundant rows).
+//! `sprung_chain(N)`: the swinging chain with a torsion spring-damper at every joint, each an
+//! SFORCE whose law is an expression of AZ and WZ (expression forces and their Jacobians).
 //!
 //! `*_run`: the whole dynamic analysis the CLI runs (initial conditions, then the
 //! integration) over `SHORT` = 0.05 s of model time, where start-up costs weigh (the figures
@@ -11,7 +13,7 @@
 //! `LONG` = 1 s, closer to the steady cost per simulated second.
 
 use linkage_model::Model;
-use linkage_solve::applied::NoForces;
+use linkage_solve::applied::{AppliedForces, NoForces};
 use linkage_solve::drivers::ExpressionDrivers;
 use linkage_solve::dynamics::{run, simulate, IntegratorSettings, Problem};
 use linkage_solve::generate::{parallelogram_chain, pendulum_chain};
@@ -32,6 +34,19 @@ fn model(text: &str) -> Model {
 
 fn swinging_chain(n: usize) -> String {
     pendulum_chain(n).replace("JGRAV = -9.80665", "IGRAV = -9.80665")
+}
+
+fn sprung_chain(n: usize) -> String {
+    let mut springs = String::new();
+    for k in 0..n {
+        let i = 100 + 10 * k;
+        let j = if k == 0 { 1 } else { i - 9 };
+        springs.push_str(&format!(
+            "SFORCE/{}, I = {i}, J = {j}, ROTATION\n, FUNCTION = -20*AZ({i},{j}) - 0.5*WZ({i},{j},{j})\n",
+            1 + k
+        ));
+    }
+    swinging_chain(n).replace("END", &(springs + "END"))
 }
 
 /// Simulated intervals (seconds of model time).
@@ -61,9 +76,9 @@ fn run_analysis(m: &Model) -> usize {
 }
 
 /// Times the integration alone: initial conditions are computed once, outside the timing.
-fn bench_integration(bencher: divan::Bencher, m: &Model) {
+fn bench_integration(bencher: divan::Bencher, m: &Model, forces: &dyn AppliedForces) {
     let d = ExpressionDrivers::new(m).expect("functions parse");
-    let ic = linkage_solve::ic::initial_conditions(m, &d, &NoForces, &Tolerances::default());
+    let ic = linkage_solve::ic::initial_conditions(m, &d, forces, &Tolerances::default());
     assert!(ic.assembly.converged);
     let sys = linkage_solve::system::System::new(m);
     let (rows, redundant) = ic.kept_and_removed_rows();
@@ -73,7 +88,7 @@ fn bench_integration(bencher: divan::Bencher, m: &Model) {
         rows: &rows,
         redundant: &redundant,
         drivers: &d,
-        forces: &NoForces,
+        forces,
         damping: None,
         frozen_time: None,
     };
@@ -111,15 +126,22 @@ fn parallelogram_chain_run(bencher: divan::Bencher, n: usize) {
 
 #[divan::bench(args = [10, 100, 1000], sample_count = 3)]
 fn pendulum_chain_integrate(bencher: divan::Bencher, n: usize) {
-    bench_integration(bencher, &model(&pendulum_chain(n)));
+    bench_integration(bencher, &model(&pendulum_chain(n)), &NoForces);
 }
 
 #[divan::bench(args = [10, 100, 1000], sample_count = 3)]
 fn swinging_chain_integrate(bencher: divan::Bencher, n: usize) {
-    bench_integration(bencher, &model(&swinging_chain(n)));
+    bench_integration(bencher, &model(&swinging_chain(n)), &NoForces);
 }
 
 #[divan::bench(args = [10, 100, 1000], sample_count = 3)]
 fn parallelogram_chain_integrate(bencher: divan::Bencher, n: usize) {
-    bench_integration(bencher, &model(&parallelogram_chain(n, 60.0)));
+    bench_integration(bencher, &model(&parallelogram_chain(n, 60.0)), &NoForces);
+}
+
+#[divan::bench(args = [10, 100, 1000], sample_count = 3)]
+fn sprung_chain_integrate(bencher: divan::Bencher, n: usize) {
+    let m = model(&sprung_chain(n));
+    let forces = linkage_solve::forces::ForceSet::new(&m).expect("the springs build");
+    bench_integration(bencher, &m, &forces);
 }
