@@ -12,6 +12,7 @@ mod verify_cmd;
 
 use clap::{Parser, Subcommand};
 use common::Format;
+use linkage_solve::dynamics::Start;
 use std::path::PathBuf;
 use std::process::ExitCode;
 
@@ -127,9 +128,15 @@ enum Command {
         /// Write the time histories as CSV.
         #[arg(long, value_name = "FILE.csv")]
         out: Option<PathBuf>,
-        /// Find static equilibrium first and start from it.
+        /// Find static equilibrium first and start from it at rest: by Newton statics, or by
+        /// damped dynamics when the dataset says EQUILIBRIUM/DYNAMIC.
         #[arg(long)]
         start_at_equilibrium: bool,
+        /// With --start-at-equilibrium: find it by damped dynamics (settling with the
+        /// EQUILIBRIUM statement's GLOBAL_DAMPING, SETTLING_TIME and limits, then the Newton
+        /// polish), whatever the dataset says.
+        #[arg(long, requires = "start_at_equilibrium")]
+        settle: bool,
     },
 }
 
@@ -178,6 +185,7 @@ fn main() -> ExitCode {
             dtout,
             out,
             start_at_equilibrium,
+            settle,
         } => simulate_cmd::run_simulate(&simulate_cmd::SimulateArgs {
             model: &model,
             format,
@@ -185,7 +193,11 @@ fn main() -> ExitCode {
             steps,
             dtout,
             out: out.as_deref(),
-            start_at_equilibrium,
+            start: match (start_at_equilibrium, settle) {
+                (false, _) => Start::InitialConditions,
+                (true, false) => Start::Equilibrium,
+                (true, true) => Start::SettledEquilibrium,
+            },
         }),
         Command::Static {
             model,

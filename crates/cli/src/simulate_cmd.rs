@@ -4,7 +4,7 @@
 use crate::common::{applied_forces, input_error, load, print_json, Format};
 use linkage_model::settings::integrator_statement;
 use linkage_report::simulate::ExtraColumns;
-use linkage_solve::dynamics::{run, DynamicRun, IntegratorSettings};
+use linkage_solve::dynamics::{run, DynamicRun, IntegratorSettings, Start};
 use linkage_solve::requests::RequestSet;
 use linkage_solve::tolerances::Tolerances;
 use std::io::IsTerminal;
@@ -19,7 +19,7 @@ pub struct SimulateArgs<'a> {
     pub steps: Option<usize>,
     pub dtout: Option<f64>,
     pub out: Option<&'a Path>,
-    pub start_at_equilibrium: bool,
+    pub start: Start,
 }
 
 /// The output times: `steps` intervals, or every `dtout`, from 0 to `end`.
@@ -134,7 +134,7 @@ pub fn run_simulate(args: &SimulateArgs) -> ExitCode {
         &Tolerances::default(),
         &times,
         &settings,
-        args.start_at_equilibrium,
+        args.start,
         |t| {
             if let Some(b) = &bar {
                 b.set_position(((t / end).clamp(0.0, 1.0) * 1000.0) as u64);

@@ -56,10 +56,9 @@ pub fn run_static(args: &StaticArgs) -> ExitCode {
             &loaded.model.equilibrium,
         );
         let eq_state = st
-            .equilibrium
+            .outcome
             .as_ref()
-            .and_then(|e| e.as_ref().ok())
-            .filter(|e| e.converged)
+            .and_then(|o| o.settled_equilibrium())
             .map(|e| e.state.clone());
         let mut report =
             linkage_report::statics::settling_json(&loaded.model, st, &loaded.warnings);

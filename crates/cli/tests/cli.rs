@@ -384,7 +384,37 @@ fn static_settle_reports_the_stopping_criterion() {
     ]);
     assert_eq!(code, 0, "{v}");
     assert_eq!(v["settling"]["criterion"], "settled");
+    assert_eq!(v["settling"]["polish_converged"], true);
+    assert!(v["settling"]["kinetic_energy"].as_f64().unwrap() <= 1e-2);
+    assert!(v["settling"]["acceleration"].as_f64().unwrap() <= 1e-2);
     assert!((v["parts"][0]["position"][1].as_f64().unwrap() - 0.7).abs() < 1e-6);
+    let (code, text, _) = run(&["static", f.to_str().unwrap(), "--settle"]);
+    assert_eq!(code, 0, "{text}");
+    assert!(
+        text.contains(
+            "Dynamic settling (GLOBAL_DAMPING 4, time frozen at the start) settled after"
+        ),
+        "{text}"
+    );
+    assert!(text.contains("(KINETIC_ENERGY_ERROR 1.000e-2)"), "{text}");
+    assert!(text.contains("Newton polish converged in"), "{text}");
+    // Undamped, the pendulum swings until SETTLING_TIME runs out: the report says so and
+    // that the polish (which finds the hanging pose) is not what failed.
+    let undamped = std::fs::read_to_string(&f).unwrap().replace(
+        "GLOBAL_DAMPING = 4, SETTLING_TIME = 20",
+        "SETTLING_TIME = 2",
+    );
+    std::fs::write(&f, undamped).unwrap();
+    let (code, text, err) = run(&["static", f.to_str().unwrap(), "--settle"]);
+    assert_eq!(code, 1, "{text}");
+    assert!(
+        text.contains("did NOT settle: SETTLING_TIME 2 ran out with kinetic energy"),
+        "{text}"
+    );
+    assert!(
+        err.contains("the model did not settle within SETTLING_TIME = 2"),
+        "{err}"
+    );
 }
 
 #[test]
@@ -679,4 +709,36 @@ fn linear_modes_computes_the_lowest_modes_by_shift_invert() {
     let (code, _, err) = run(&["linear", path, "--modes", "0"]);
     assert_eq!(code, 2, "{err}");
     let _ = std::fs::remove_file(&f);
+}
+
+/// FAST's ADAMS preprocessor gives the nacelle and the generator a tiny transverse inertia
+/// (9.999e-4 kg·m²) beside a large axial one, which no rigid body has (I1 + I2 < I3). Adams
+/// runs these certification models; linkage warns, naming the part and its principal moments,
+/// and goes on. A negative principal moment stays an input error.
+#[test]
+fn fast_inertias_that_violate_the_triangle_inequality_are_warnings() {
+    let Some(dir) = corpus() else { return };
+    let src = dir.join("old-NWTC__FAST__CertTest__Old_Adams_files__Test02_ADAMS.adm");
+    let (code, out, err) = run(&["verify", src.to_str().unwrap()]);
+    assert_eq!(code, 0, "{out}\n{err}");
+    let all = format!("{out}{err}");
+    for part in ["Nacelle_P", "Generator_P"] {
+        assert!(
+            all.contains(&format!(
+                "warning: {part}: non-physical inertia about the centre of mass: principal moments 9.999000e-4, 9.999000e-4"
+            )),
+            "{part}: {all}"
+        );
+    }
+    let text = std::fs::read_to_string(root().join("mechanisms/pendulum.adm"))
+        .unwrap()
+        .replace(
+            "IP = 0.16666666666666666, 0.0001",
+            "IP = -0.16666666666666666, 0.0001",
+        );
+    let f = std::env::temp_dir().join(format!("linkage-neg-ip-{}.adm", std::process::id()));
+    std::fs::write(&f, text).unwrap();
+    let (code, _, err) = run(&["verify", f.to_str().unwrap()]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("negative principal moment"), "{err}");
 }

@@ -4,7 +4,9 @@
 //! position of the offending argument or statement.
 
 use crate::frames::{euler313_to_matrix, frame_from_points};
-use crate::inertia::{check_physical, rotate_tensor, tensor_from_ip, to_centre_of_mass};
+use crate::inertia::{
+    check_physical, rotate_tensor, tensor_from_ip, to_centre_of_mass, InertiaDefect,
+};
 use crate::model::*;
 use crate::units::{self, Units};
 use glam::{DMat3, DVec3};
@@ -308,11 +310,20 @@ pub fn build_model(ds: &Dataset) -> Result<Built, Diagnostics> {
             let (p_im, r_im) = im.map_or((DVec3::ZERO, DMat3::IDENTITY), |m| (raw[m].1, raw[m].2));
             let about_im = rotate_tensor(&t, &r_im);
             inertia = to_centre_of_mass(&about_im, mass, p_im - c);
-            if let Err(why) = check_physical(&inertia, INERTIA_RELATIVE_TOLERANCE) {
-                cx.error(
+            match check_physical(&inertia, INERTIA_RELATIVE_TOLERANCE) {
+                Ok(()) => {}
+                Err(InertiaDefect::Negative(why)) => cx.error(
                     ip.span,
                     format!("{name}: non-physical inertia about the centre of mass: {why}"),
-                );
+                ),
+                Err(InertiaDefect::Triangle(why)) => cx.warn(
+                    ip.span,
+                    format!(
+                        "{name}: non-physical inertia about the centre of mass: {why}; no \
+                         rigid body has it, but no principal moment is negative, so the \
+                         analyses use it as given (as Adams does)"
+                    ),
+                ),
             }
         }
         if mass > 0.0 && p.ip.is_none() {

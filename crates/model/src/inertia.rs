@@ -49,18 +49,32 @@ pub fn symmetric_eigenvalues(a: &DMat3) -> [f64; 3] {
     e
 }
 
-/// Why an inertia tensor is not physical, if it is not: a negative principal moment, or the
-/// triangle inequality `I1 + I2 ≥ I3` violated (beyond a relative tolerance `rel_tol`).
-pub fn check_physical(i_cm: &DMat3, rel_tol: f64) -> Result<(), String> {
+/// How an inertia tensor departs from a rigid body's.
+#[derive(Debug, Clone, PartialEq)]
+pub enum InertiaDefect {
+    /// A negative principal moment: the kinetic energy could be negative, so no analysis
+    /// can use it.
+    Negative(String),
+    /// The triangle inequality `I1 + I2 ≥ I3` fails: no rigid body has this inertia, but the
+    /// tensor is positive (semi-)definite and the equations of motion stay well posed (Adams
+    /// runs such models, e.g. the tiny transverse inertias of FAST's nacelle and generator).
+    Triangle(String),
+}
+
+/// Whether an inertia tensor is a rigid body's: no negative principal moment and the
+/// triangle inequality `I1 + I2 ≥ I3`, each beyond a relative tolerance `rel_tol`.
+pub fn check_physical(i_cm: &DMat3, rel_tol: f64) -> Result<(), InertiaDefect> {
     let [a, b, c] = symmetric_eigenvalues(i_cm);
     let scale = c.abs().max(1e-300);
     if a < -rel_tol * scale {
-        return Err(format!("negative principal moment of inertia {a:.6e} (principal moments {a:.6e}, {b:.6e}, {c:.6e})"));
+        return Err(InertiaDefect::Negative(format!(
+            "negative principal moment of inertia {a:.6e} (principal moments {a:.6e}, {b:.6e}, {c:.6e})"
+        )));
     }
     if a + b < c - rel_tol * scale {
-        return Err(format!(
+        return Err(InertiaDefect::Triangle(format!(
             "principal moments {a:.6e}, {b:.6e}, {c:.6e} violate the triangle inequality (I1 + I2 < I3)"
-        ));
+        )));
     }
     Ok(())
 }
@@ -101,7 +115,13 @@ mod tests {
     #[test]
     fn rejects_non_physical_tensors() {
         assert!(check_physical(&DMat3::from_diagonal(DVec3::new(1.0, 1.0, 1.5)), 1e-9).is_ok());
-        assert!(check_physical(&DMat3::from_diagonal(DVec3::new(1.0, 1.0, 3.0)), 1e-9).is_err());
-        assert!(check_physical(&DMat3::from_diagonal(DVec3::new(-1.0, 1.0, 1.0)), 1e-9).is_err());
+        assert!(matches!(
+            check_physical(&DMat3::from_diagonal(DVec3::new(1.0, 1.0, 3.0)), 1e-9),
+            Err(InertiaDefect::Triangle(_))
+        ));
+        assert!(matches!(
+            check_physical(&DMat3::from_diagonal(DVec3::new(-1.0, 1.0, 1.0)), 1e-9),
+            Err(InertiaDefect::Negative(_))
+        ));
     }
 }

@@ -210,6 +210,16 @@ pub fn to_text(j: &LinearJson) -> String {
     let _ = writeln!(s, "LINEARIZATION: {}", j.title);
     let _ = writeln!(s, "  file: {}", j.file);
     let _ = writeln!(s, "  operating point: {}", j.operating_point);
+    if j.modes.is_empty() && !j.errors.is_empty() {
+        // No operating point: no eigenvalue table to show.
+        for w in &j.warnings {
+            let _ = writeln!(s, "warning: {w}");
+        }
+        for e in &j.errors {
+            let _ = writeln!(s, "error: {e}");
+        }
+        return s;
+    }
     let _ = writeln!(
         s,
         "  This model has {} kinematic states (displacements and velocities).",

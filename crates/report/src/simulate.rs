@@ -1,9 +1,11 @@
 //! Simulation output: CSV time histories and a JSON/text summary.
 
+use crate::statics::{settling_line, settling_summary, SettlingJson};
+use crate::verify::{equation_ref, EquationRef};
 use linkage_adm::Diagnostic;
 use linkage_model::frames::matrix_to_euler313;
 use linkage_model::Model;
-use linkage_solve::dynamics::{DynamicRun, Output};
+use linkage_solve::dynamics::{DynamicRun, Output, StartingEquilibrium};
 use serde::Serialize;
 use std::fmt::Write;
 
@@ -83,6 +85,42 @@ pub fn to_csv(model: &Model, run: &DynamicRun, extra: Option<&ExtraColumns>) -> 
     s
 }
 
+/// How the run started.
+#[derive(Clone, Debug, Serialize, PartialEq)]
+pub struct StartJson {
+    /// `initial_conditions` (the assembled configuration and its velocities),
+    /// `static_equilibrium` (Newton statics, then from rest) or `settled_equilibrium` (damped
+    /// dynamics and the Newton polish, then from rest).
+    pub from: &'static str,
+    /// Whether the starting configuration was found (an equilibrium that did not converge or
+    /// did not settle stops the run before it starts).
+    pub found: bool,
+    /// Newton iterations of the starting equilibrium (the polish after settling).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub iterations: Option<usize>,
+    /// Force/torque imbalance left at the starting equilibrium.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub imbalance: Option<f64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub stable: Option<bool>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub settling: Option<SettlingJson>,
+}
+
+/// A part's state at the last output.
+#[derive(Clone, Debug, Serialize, PartialEq)]
+pub struct PartStateJson {
+    pub name: String,
+    /// Centre of mass in ground.
+    pub position: [f64; 3],
+    /// Body 3-1-3 angles of the BCS, degrees.
+    pub reuler: [f64; 3],
+    /// CM velocity, ground axes.
+    pub velocity: [f64; 3],
+    /// Angular velocity, ground axes.
+    pub angular_velocity: [f64; 3],
+}
+
 /// Summary of `linkage simulate --format json`.
 #[derive(Clone, Debug, Serialize, PartialEq)]
 pub struct SimulateJson {
@@ -94,9 +132,69 @@ pub struct SimulateJson {
     pub steps: usize,
     pub rejected_steps: usize,
     pub kinematic: bool,
+    pub start: StartJson,
+    /// The redundant equations left out of the run, as in verify: their reactions are zero
+    /// (the kept equations carry the load) and their residuals were checked every step.
+    pub removed_equations: Vec<EquationRef>,
+    /// Every part at the last output.
+    pub final_state: Vec<PartStateJson>,
     pub notes: Vec<String>,
     pub warnings: Vec<String>,
     pub errors: Vec<String>,
+}
+
+fn a3(v: glam::DVec3) -> [f64; 3] {
+    [v.x, v.y, v.z]
+}
+
+/// How the run started, from the run and the dataset's EQUILIBRIUM settings.
+fn start_json(model: &Model, run: &DynamicRun) -> StartJson {
+    let Some(found) = &run.equilibrium else {
+        return StartJson {
+            from: "initial_conditions",
+            found: run.simulation.is_some(),
+            iterations: None,
+            imbalance: None,
+            stable: None,
+            settling: None,
+        };
+    };
+    let (from, eq, settling) = match found {
+        StartingEquilibrium::Newton(e) => ("static_equilibrium", e.as_ref().ok(), None),
+        StartingEquilibrium::Settled(o) => (
+            "settled_equilibrium",
+            o.equilibrium.as_ref().and_then(|e| e.as_ref().ok()),
+            Some(settling_summary(Some(o), &model.equilibrium)),
+        ),
+    };
+    StartJson {
+        from,
+        found: found.equilibrium().is_some(),
+        iterations: eq.map(|e| e.iterations),
+        imbalance: eq.map(|e| e.imbalance),
+        stable: eq.and_then(|e| e.stability.map(|s| s.0)),
+        settling,
+    }
+}
+
+/// Every part's state at `o`.
+fn part_states(model: &Model, o: &Output) -> Vec<PartStateJson> {
+    model
+        .parts
+        .iter()
+        .enumerate()
+        .map(|(k, p)| {
+            let pose = &o.state.poses[k];
+            let (v, w) = o.velocities[k];
+            PartStateJson {
+                name: p.origin.name.clone(),
+                position: a3(pose.p),
+                reuler: matrix_to_euler313(&pose.r).map(f64::to_degrees),
+                velocity: a3(v),
+                angular_velocity: a3(w),
+            }
+        })
+        .collect()
 }
 
 /// Builds the summary.
@@ -133,6 +231,19 @@ pub fn summary(
         }
         None => (false, 0.0, 0, 0, 0, false),
     };
+    let removed_equations = run
+        .ic
+        .analysis
+        .redundant
+        .iter()
+        .map(|r| equation_ref(model, &run.ic.analysis, r.row))
+        .collect();
+    let final_state = run
+        .simulation
+        .as_ref()
+        .and_then(|s| s.outputs.last())
+        .map(|o| part_states(model, o))
+        .unwrap_or_default();
     SimulateJson {
         file: model.file.to_string(),
         title: model.title.clone(),
@@ -142,26 +253,133 @@ pub fn summary(
         steps,
         rejected_steps: rejected,
         kinematic,
+        start: start_json(model, run),
+        removed_equations,
+        final_state,
         notes,
         warnings,
         errors,
     }
 }
 
+/// Largest number of removed equations and parts the text summary lists one by one.
+const TEXT_LIST_LIMIT: usize = 20;
+
 /// Human summary.
 pub fn to_text(j: &SimulateJson) -> String {
     let mut s = String::new();
     let _ = writeln!(s, "DYNAMIC SIMULATION: {}", j.title);
     let _ = writeln!(s, "  file: {}", j.file);
-    let _ = writeln!(
-        s,
-        "Simulation {} at time {}: {} outputs, {} steps ({} rejected)",
-        if j.completed { "finished" } else { "STOPPED" },
-        j.end_time,
-        j.outputs,
-        j.steps,
-        j.rejected_steps
-    );
+    let _ = writeln!(s);
+    match j.start.from {
+        "initial_conditions" if j.start.found => {
+            let _ = writeln!(
+                s,
+                "Started from the initial conditions (assembled configuration)."
+            );
+        }
+        "initial_conditions" => {
+            let _ = writeln!(
+                s,
+                "The initial conditions give no configuration to start from (see the error below)."
+            );
+        }
+        from => {
+            if let Some(st) = &j.start.settling {
+                let _ = writeln!(s, "{}", settling_line(st));
+            }
+            let (how, method) = if from == "settled_equilibrium" {
+                (
+                    "the settled equilibrium (Newton polish",
+                    "by damped settling",
+                )
+            } else {
+                ("static equilibrium (Newton statics", "by Newton statics")
+            };
+            match (j.start.found, j.start.iterations, j.start.imbalance) {
+                (true, Some(it), Some(imb)) => {
+                    let _ = writeln!(
+                        s,
+                        "Started at rest from {how}: {it} iterations, residual imbalance {imb:.5e}){}.",
+                        match j.start.stable {
+                            Some(true) => "; the equilibrium is stable",
+                            Some(false) => "; the equilibrium is UNSTABLE",
+                            None => "",
+                        }
+                    );
+                }
+                _ => {
+                    let _ = writeln!(
+                        s,
+                        "No equilibrium to start from was found {method} (see the error below)."
+                    );
+                }
+            }
+        }
+    }
+    if !j.removed_equations.is_empty() {
+        let _ = writeln!(
+            s,
+            "{} redundant constraint equation(s) left out, as in verify (their reactions are zero; checked every step):",
+            j.removed_equations.len()
+        );
+        for e in j.removed_equations.iter().take(TEXT_LIST_LIMIT) {
+            let _ = writeln!(s, "   {:<24} {} ({})", e.name, e.equation, e.short);
+        }
+        if j.removed_equations.len() > TEXT_LIST_LIMIT {
+            let _ = writeln!(
+                s,
+                "   … and {} more (--format json lists them all)",
+                j.removed_equations.len() - TEXT_LIST_LIMIT
+            );
+        }
+    }
+    if j.start.found {
+        let _ = writeln!(
+            s,
+            "Simulation {} at time {}: {} outputs, {} steps ({} rejected)",
+            if j.completed { "finished" } else { "STOPPED" },
+            j.end_time,
+            j.outputs,
+            j.steps,
+            j.rejected_steps
+        );
+    } else {
+        let _ = writeln!(s, "No simulation was run.");
+    }
+    if !j.final_state.is_empty() {
+        let _ = writeln!(
+            s,
+            "\nParts at time {} (CM in ground, 3-1-3 degrees, velocity, angular velocity):",
+            j.end_time
+        );
+        for p in j.final_state.iter().take(TEXT_LIST_LIMIT) {
+            let _ = writeln!(
+                s,
+                "   {:<24} ({:.6}, {:.6}, {:.6})  ({:.4}, {:.4}, {:.4})  v ({:.6e}, {:.6e}, {:.6e})  w ({:.6e}, {:.6e}, {:.6e})",
+                p.name,
+                p.position[0],
+                p.position[1],
+                p.position[2],
+                p.reuler[0],
+                p.reuler[1],
+                p.reuler[2],
+                p.velocity[0],
+                p.velocity[1],
+                p.velocity[2],
+                p.angular_velocity[0],
+                p.angular_velocity[1],
+                p.angular_velocity[2]
+            );
+        }
+        if j.final_state.len() > TEXT_LIST_LIMIT {
+            let _ = writeln!(
+                s,
+                "   … and {} more parts (--out writes every part's history)",
+                j.final_state.len() - TEXT_LIST_LIMIT
+            );
+        }
+    }
     for n in &j.notes {
         let _ = writeln!(s, "note: {n}");
     }

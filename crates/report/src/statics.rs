@@ -3,8 +3,10 @@
 use crate::ic::ReactionJson;
 use linkage_adm::Diagnostic;
 use linkage_model::frames::matrix_to_euler313;
+use linkage_model::settings::EquilibriumSettings;
 use linkage_model::Model;
 use linkage_solve::reactions::Reaction;
+use linkage_solve::settle::{SettleOutcome, SettleStop};
 use linkage_solve::state::State;
 use linkage_solve::statics::{Equilibrium, Imbalance, StaticRun};
 use serde::Serialize;
@@ -63,16 +65,100 @@ pub struct StaticJson {
     pub errors: Vec<String>,
 }
 
-/// How dynamic settling ended.
+/// How dynamic settling ended, with the limits it was judged against (EQUILIBRIUM/DYNAMIC).
 #[derive(Clone, Debug, Serialize, PartialEq)]
 pub struct SettlingJson {
     /// `settled` (kinetic energy and acceleration below their limits), `settling_time` (ran out:
     /// not settled) or `failed`.
     pub criterion: &'static str,
     pub settling_time_used: f64,
+    /// Kinetic energy when the settling stopped (model force × length).
     pub kinetic_energy: Option<f64>,
+    /// Largest CM or angular acceleration of a part when the settling stopped.
     pub acceleration: Option<f64>,
+    pub kinetic_energy_limit: f64,
+    pub acceleration_limit: f64,
+    pub settling_time_limit: f64,
+    pub global_damping: f64,
+    /// Whether the Newton polish from the settled configuration converged (`null`: not run).
+    pub polish_converged: Option<bool>,
     pub message: Option<String>,
+}
+
+/// The settling summary of an outcome (`None`: the model could not be assembled, nothing
+/// was integrated).
+pub fn settling_summary(outcome: Option<&SettleOutcome>, eq: &EquilibriumSettings) -> SettlingJson {
+    let (criterion, ke, acc, message) = match outcome.map(|o| &o.stop) {
+        Some(SettleStop::Settled {
+            kinetic_energy,
+            acceleration,
+        }) => ("settled", Some(*kinetic_energy), Some(*acceleration), None),
+        Some(SettleStop::SettlingTime {
+            kinetic_energy,
+            acceleration,
+        }) => (
+            "settling_time",
+            Some(*kinetic_energy),
+            Some(*acceleration),
+            None,
+        ),
+        Some(SettleStop::Failed(m)) => ("failed", None, None, Some(m.clone())),
+        None => (
+            "failed",
+            None,
+            None,
+            Some("the model could not be assembled".to_string()),
+        ),
+    };
+    let time_used = outcome.map_or(0.0, |o| o.time_used);
+    let polish_converged = outcome
+        .and_then(|o| o.equilibrium.as_ref())
+        .map(|e| e.as_ref().is_ok_and(|e| e.converged));
+    SettlingJson {
+        criterion,
+        settling_time_used: time_used,
+        kinetic_energy: ke,
+        acceleration: acc,
+        kinetic_energy_limit: eq.kinetic_energy_error,
+        acceleration_limit: eq.acceleration_error,
+        settling_time_limit: eq.settling_time,
+        global_damping: eq.global_damping,
+        polish_converged,
+        message,
+    }
+}
+
+/// One line saying how the settling ended, against its limits.
+pub fn settling_line(st: &SettlingJson) -> String {
+    let values = |ke: Option<f64>, acc: Option<f64>| match (ke, acc) {
+        (Some(ke), Some(acc)) => format!(
+            "kinetic energy {ke:.3e} (KINETIC_ENERGY_ERROR {:.3e}), largest acceleration \
+             {acc:.3e} (ACCELERATION_ERROR {:.3e})",
+            st.kinetic_energy_limit, st.acceleration_limit
+        ),
+        _ => String::new(),
+    };
+    let body = match st.criterion {
+        "settled" => format!(
+            "settled after {:.6} time units: {}",
+            st.settling_time_used,
+            values(st.kinetic_energy, st.acceleration)
+        ),
+        "settling_time" => format!(
+            "did NOT settle: SETTLING_TIME {} ran out with {}",
+            st.settling_time_limit,
+            values(st.kinetic_energy, st.acceleration)
+        ),
+        _ => format!(
+            "FAILED after {:.6} time units: {}",
+            st.settling_time_used,
+            st.message.clone().unwrap_or_default()
+        ),
+    };
+    format!(
+        "Dynamic settling (GLOBAL_DAMPING {}, time frozen at the start) {body}",
+        st.global_damping
+    )
 }
 
 fn a3(v: glam::DVec3) -> [f64; 3] {
@@ -173,13 +259,8 @@ pub fn to_json(model: &Model, run: &StaticRun, warnings: &[Diagnostic]) -> Stati
         .collect();
     let mut errors = Vec::new();
     let mut warnings: Vec<String> = warnings.iter().map(|w| w.to_string()).collect();
-    if !run.ic.assembly.converged {
-        errors.push(format!(
-            "the initial conditions did not converge (largest residual {:.3e})",
-            run.ic.assembly.max_residual
-        ));
-    } else if run.ic.inconsistent() {
-        errors.push("the model cannot be assembled: a redundant constraint equation is inconsistent (run `linkage ic`)".into());
+    if let Some(why) = run.ic.failure(model) {
+        errors.push(why);
     }
     for s in &steps {
         if let Some(e) = &s.error {
@@ -281,18 +362,35 @@ pub fn to_text(j: &StaticJson) -> String {
     let _ = writeln!(s, "  file: {}", j.file);
     let _ = writeln!(s);
     let series: Vec<&StepJson> = j.steps.iter().collect();
+    if let Some(st) = &j.settling {
+        let _ = writeln!(s, "{}", settling_line(st));
+    }
     if series.is_empty() {
-        let _ = writeln!(
-            s,
-            "Static solution {} in {} iterations; residual imbalance {:.5e}",
-            if j.converged {
-                "converged"
-            } else {
-                "DID NOT CONVERGE"
-            },
-            j.iterations,
-            j.imbalance
-        );
+        // After settling, the Newton iteration is the polish: its own convergence is stated;
+        // the settling verdict is on the line above.
+        let converged = match &j.settling {
+            Some(st) => st.polish_converged,
+            None => Some(j.converged),
+        };
+        match converged {
+            Some(c) => {
+                let _ = writeln!(
+                    s,
+                    "{} {} in {} iterations; residual imbalance {:.5e}",
+                    if j.settling.is_some() {
+                        "Newton polish"
+                    } else {
+                        "Static solution"
+                    },
+                    if c { "converged" } else { "DID NOT CONVERGE" },
+                    j.iterations,
+                    j.imbalance
+                );
+            }
+            None => {
+                let _ = writeln!(s, "No Newton polish was run.");
+            }
+        }
         match j.stable {
             Some(true) => {
                 let _ = writeln!(s, "The equilibrium is stable.");
@@ -364,21 +462,6 @@ pub fn to_text(j: &StaticJson) -> String {
             );
         }
     }
-    if let Some(st) = &j.settling {
-        let why = match st.criterion {
-            "settled" => "kinetic energy and acceleration fell below their limits".to_string(),
-            "settling_time" => "SETTLING_TIME ran out: the model did NOT settle".to_string(),
-            _ => format!(
-                "the settling failed: {}",
-                st.message.clone().unwrap_or_default()
-            ),
-        };
-        let _ = writeln!(
-            s,
-            "Dynamic settling ({:.6} time units): {why}; then polished with Newton statics.",
-            st.settling_time_used
-        );
-    }
     for w in &j.warnings {
         let _ = writeln!(s, "warning: {w}");
     }
@@ -394,52 +477,23 @@ pub fn settling_json(
     st: linkage_solve::settle::Settling,
     warnings: &[Diagnostic],
 ) -> StaticJson {
-    use linkage_solve::settle::SettleStop;
-    let settling = match &st.stop {
-        Some(SettleStop::Settled {
-            kinetic_energy,
-            acceleration,
-        }) => SettlingJson {
-            criterion: "settled",
-            settling_time_used: st.time_used,
-            kinetic_energy: Some(*kinetic_energy),
-            acceleration: Some(*acceleration),
-            message: None,
-        },
-        Some(SettleStop::SettlingTime {
-            kinetic_energy,
-            acceleration,
-        }) => SettlingJson {
-            criterion: "settling_time",
-            settling_time_used: st.time_used,
-            kinetic_energy: Some(*kinetic_energy),
-            acceleration: Some(*acceleration),
-            message: None,
-        },
-        Some(SettleStop::Failed(m)) => SettlingJson {
-            criterion: "failed",
-            settling_time_used: st.time_used,
-            kinetic_energy: None,
-            acceleration: None,
-            message: Some(m.clone()),
-        },
-        None => SettlingJson {
-            criterion: "failed",
-            settling_time_used: 0.0,
-            kinetic_energy: None,
-            acceleration: None,
-            message: Some("the model could not be assembled".into()),
-        },
-    };
+    let settling = settling_summary(st.outcome.as_ref(), &model.equilibrium);
     let run = StaticRun {
         ic: st.ic,
-        steps: st.equilibrium.map(|e| vec![(0.0, e)]).unwrap_or_default(),
+        steps: st
+            .outcome
+            .and_then(|o| o.equilibrium)
+            .map(|e| vec![(0.0, e)])
+            .unwrap_or_default(),
     };
     let mut j = to_json(model, &run, warnings);
     if settling.criterion != "settled" {
         j.converged = false;
         j.errors.push(match settling.criterion {
-            "settling_time" => "the model did not settle within SETTLING_TIME".to_string(),
+            "settling_time" => format!(
+                "the model did not settle within SETTLING_TIME = {}",
+                settling.settling_time_limit
+            ),
             _ => format!(
                 "dynamic settling failed: {}",
                 settling.message.clone().unwrap_or_default()

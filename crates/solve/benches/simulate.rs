@@ -15,7 +15,7 @@
 use linkage_model::Model;
 use linkage_solve::applied::{AppliedForces, NoForces};
 use linkage_solve::drivers::ExpressionDrivers;
-use linkage_solve::dynamics::{run, simulate, IntegratorSettings, Problem};
+use linkage_solve::dynamics::{run, simulate, IntegratorSettings, Problem, Start};
 use linkage_solve::generate::{parallelogram_chain, pendulum_chain};
 use linkage_solve::tolerances::Tolerances;
 use std::sync::Arc;
@@ -67,7 +67,7 @@ fn run_analysis(m: &Model) -> usize {
         &Tolerances::default(),
         &output_times(SHORT),
         &IntegratorSettings::default(),
-        false,
+        Start::InitialConditions,
         |_| {},
     );
     let sim = r.simulation.expect("simulation ran");

@@ -1144,19 +1144,69 @@ fn drive_series(p: &Problem, element: usize, t: f64) -> Option<[f64; 3]> {
     p.drivers.rates(element, t)
 }
 
+/// Where a dynamic run starts.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Start {
+    /// The initial conditions: the assembled configuration with its velocities (Adams'
+    /// default).
+    InitialConditions,
+    /// Static equilibrium found as the dataset's EQUILIBRIUM statement says: by damped
+    /// dynamics with `DYNAMIC`, otherwise by Newton statics; the run starts from it at rest.
+    Equilibrium,
+    /// Static equilibrium found by damped dynamics (settling, then the Newton polish), whatever
+    /// the dataset says; the run starts from it at rest.
+    SettledEquilibrium,
+}
+
+/// How the starting equilibrium of a [`Start::Equilibrium`] or [`Start::SettledEquilibrium`]
+/// run was found.
+#[derive(Clone, Debug)]
+pub enum StartingEquilibrium {
+    /// Newton statics at the start time.
+    Newton(Result<crate::statics::Equilibrium, String>),
+    /// Damped dynamics with frozen time, then the Newton polish.
+    Settled(crate::settle::SettleOutcome),
+}
+
+impl StartingEquilibrium {
+    /// The equilibrium the run starts from, if one was found.
+    pub fn equilibrium(&self) -> Option<&crate::statics::Equilibrium> {
+        match self {
+            StartingEquilibrium::Newton(Ok(e)) if e.converged => Some(e),
+            StartingEquilibrium::Newton(_) => None,
+            StartingEquilibrium::Settled(o) => o.settled_equilibrium(),
+        }
+    }
+
+    /// Why no equilibrium was found (`None` when one was).
+    pub fn failure(&self, eq: &linkage_model::settings::EquilibriumSettings) -> Option<String> {
+        match self {
+            StartingEquilibrium::Newton(Ok(e)) if e.converged => None,
+            StartingEquilibrium::Newton(Ok(e)) => Some(format!(
+                "static equilibrium did not converge in {} iterations (imbalance {:.3e})",
+                e.iterations, e.imbalance
+            )),
+            StartingEquilibrium::Newton(Err(m)) => Some(format!("static equilibrium failed: {m}")),
+            StartingEquilibrium::Settled(o) => o.failure(eq),
+        }
+    }
+}
+
 /// A dynamic analysis from the dataset: initial conditions (or static equilibrium first), then
 /// the simulation.
 #[derive(Clone, Debug)]
 pub struct DynamicRun {
     pub ic: crate::ic::InitialConditions,
-    pub equilibrium: Option<Result<crate::statics::Equilibrium, String>>,
+    /// The equilibrium the run was asked to start from, and how it was found.
+    pub equilibrium: Option<StartingEquilibrium>,
     pub simulation: Option<Simulation>,
     /// Why no simulation was run.
     pub error: Option<String>,
 }
 
-/// Runs initial conditions (and static equilibrium with `start_at_equilibrium`), then
-/// integrates to the last of `times`.
+/// Runs initial conditions (and finds static equilibrium first when `start` asks for it), then
+/// integrates to the last of `times`. Every stage uses the rows the initial conditions kept;
+/// the starting equilibrium is at rest and at the start time.
 #[allow(clippy::too_many_arguments)]
 pub fn run(
     model: &Model,
@@ -1165,46 +1215,70 @@ pub fn run(
     tol: &crate::tolerances::Tolerances,
     times: &[f64],
     settings: &IntegratorSettings,
-    start_at_equilibrium: bool,
+    start: Start,
     progress: impl FnMut(f64),
 ) -> DynamicRun {
     let sys = System::new(model);
-    let (ic, equilibrium, start, v0) = if start_at_equilibrium {
-        let st = crate::statics::run(model, drivers, forces, tol, &[0.0]);
-        let eq = st.steps.into_iter().next().map(|(_, e)| e);
-        let start = match &eq {
-            Some(Ok(e)) if e.converged => Some(e.state.clone()),
-            _ => None,
-        };
-        (
-            st.ic,
-            eq,
-            start,
-            vec![(DVec3::ZERO, DVec3::ZERO); model.parts.len()],
-        )
-    } else {
-        let ic = crate::ic::initial_conditions(model, drivers, forces, tol);
-        let ok = ic.assembly.converged && !ic.inconsistent();
-        let v0 = ic
-            .velocity
-            .as_ref()
-            .map(|v| v.velocities.clone())
-            .unwrap_or_default();
-        let start = ok.then(|| ic.assembly.state.clone());
-        (ic, None, start, v0)
+    let ic = crate::ic::initial_conditions(model, drivers, forces, tol);
+    let fail = |ic, equilibrium, why: String| DynamicRun {
+        ic,
+        equilibrium,
+        simulation: None,
+        error: Some(why),
     };
-    let Some(start) = start else {
-        let why = if start_at_equilibrium {
-            "no static equilibrium was found"
-        } else {
-            "the model could not be assembled"
-        };
-        return DynamicRun {
-            ic,
-            equilibrium,
-            simulation: None,
-            error: Some(why.into()),
-        };
+    if let Some(why) = ic.failure(model) {
+        return fail(ic, None, why);
+    }
+    let settle = match start {
+        Start::InitialConditions => None,
+        Start::Equilibrium => Some(model.equilibrium.dynamic),
+        Start::SettledEquilibrium => Some(true),
+    };
+    let (equilibrium, state, v0) = match settle {
+        None => {
+            let v0 = ic
+                .velocity
+                .as_ref()
+                .map(|v| v.velocities.clone())
+                .unwrap_or_default();
+            (None, ic.assembly.state.clone(), v0)
+        }
+        Some(settle) => {
+            let found = if settle {
+                StartingEquilibrium::Settled(crate::settle::settle_assembled(
+                    model,
+                    drivers,
+                    forces,
+                    &ic,
+                    &model.equilibrium,
+                ))
+            } else {
+                let (rows, _) = ic.kept_and_removed_rows();
+                let anchored = drivers.anchored(&sys, &rows, &ic.assembly.state);
+                StartingEquilibrium::Newton(crate::statics::equilibrium(
+                    model,
+                    &sys,
+                    &rows,
+                    &anchored,
+                    forces,
+                    &ic.assembly.state,
+                    &model.equilibrium,
+                ))
+            };
+            let Some(e) = found.equilibrium() else {
+                let why = found
+                    .failure(&model.equilibrium)
+                    .unwrap_or_else(|| "no static equilibrium was found".into());
+                return fail(
+                    ic,
+                    Some(found),
+                    format!("no static equilibrium to start from: {why}"),
+                );
+            };
+            let state = e.state.clone();
+            let rest = vec![(DVec3::ZERO, DVec3::ZERO); model.parts.len()];
+            (Some(found), state, rest)
+        }
     };
     let (rows, redundant) = ic.kept_and_removed_rows();
     let drivers = &drivers.anchored(&sys, &rows, &ic.assembly.state);
@@ -1218,7 +1292,7 @@ pub fn run(
         damping: None,
         frozen_time: None,
     };
-    let sim = simulate(&problem, &start, &v0, times, settings, progress);
+    let sim = simulate(&problem, &state, &v0, times, settings, progress);
     DynamicRun {
         ic,
         equilibrium,

@@ -97,6 +97,57 @@ impl InitialConditions {
         )
     }
 
+    /// Why no analysis can start from these initial conditions, naming the equation: the
+    /// assembly did not converge (largest remaining residual), or a redundant equation is
+    /// inconsistent (its residual). `None` when the model is assembled.
+    pub fn failure(&self, model: &Model) -> Option<String> {
+        let name = |row: usize| {
+            let r = &self.analysis.system.rows[row];
+            (
+                model.constraints[r.element].origin.name.clone(),
+                r.label,
+                r.unit,
+            )
+        };
+        let unit = |u: crate::system::RowUnit| {
+            if matches!(
+                u,
+                crate::system::RowUnit::Direction | crate::system::RowUnit::Angle
+            ) {
+                " deg"
+            } else {
+                ""
+            }
+        };
+        if !self.assembly.converged {
+            return Some(format!(
+                "the model could not be assembled: the initial conditions did not converge \
+                 (largest residual {:.3e}); run `linkage ic` for the equations left unsatisfied",
+                self.assembly.max_residual
+            ));
+        }
+        let bad: Vec<String> = self
+            .analysis
+            .redundant
+            .iter()
+            .filter(|r| r.consistent == Some(false))
+            .map(|r| {
+                let (element, label, u) = name(r.row);
+                match r.residual {
+                    Some(x) => format!("{label} of {element} (residual {x:.4e}{})", unit(u)),
+                    None => format!("{label} of {element}"),
+                }
+            })
+            .collect();
+        (!bad.is_empty()).then(|| {
+            format!(
+                "the model cannot be assembled: redundant equation(s) inconsistent with the \
+                 others: {}",
+                bad.join(", ")
+            )
+        })
+    }
+
     /// Whether some redundant equation cannot be satisfied (the model cannot be assembled as
     /// built).
     pub fn inconsistent(&self) -> bool {

@@ -251,7 +251,7 @@ mod tests {
             &tol,
             &times,
             &IntegratorSettings::default(),
-            false,
+            crate::dynamics::Start::InitialConditions,
             |_| {},
         );
         let sim = run.simulation.expect("runs");

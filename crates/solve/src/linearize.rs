@@ -862,7 +862,11 @@ pub fn run(
             }
             Some(Ok(_)) => Err("static equilibrium did not converge; no operating point".into()),
             Some(Err(e)) => Err(e.clone()),
-            None => Err("the model could not be assembled; no operating point".into()),
+            None => Err(format!(
+                "{}; no operating point",
+                ic.failure(model)
+                    .unwrap_or_else(|| "the model could not be assembled".into())
+            )),
         };
         return LinearRun {
             ic,
@@ -873,6 +877,10 @@ pub fn run(
     let ic = crate::ic::initial_conditions(model, drivers, forces, tol);
     let rows = crate::ic::admitted_rows(&ic.analysis);
     let result = match (&ic.velocity, &ic.acceleration) {
+        _ if ic.failure(model).is_some() => Err(format!(
+            "{}; no operating point",
+            ic.failure(model).unwrap_or_default()
+        )),
         (Some(v), Some(Ok(a))) => linearize(
             model,
             &sys,
@@ -884,7 +892,11 @@ pub fn run(
             opts,
         ),
         (_, Some(Err(e))) => Err(e.clone()),
-        _ => Err("the model could not be assembled; no operating point".into()),
+        _ => Err(format!(
+            "{}; no operating point",
+            ic.failure(model)
+                .unwrap_or_else(|| "the model could not be assembled".into())
+        )),
     };
     LinearRun {
         ic,

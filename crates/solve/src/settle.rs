@@ -39,11 +39,60 @@ pub enum SettleStop {
 #[derive(Clone, Debug)]
 pub struct Settling {
     pub ic: crate::ic::InitialConditions,
-    pub stop: Option<SettleStop>,
-    /// Pseudo-time integrated.
+    /// `None` when the model could not be assembled (nothing was integrated).
+    pub outcome: Option<SettleOutcome>,
+}
+
+/// How the settling of an assembled model went: what stopped it, the pseudo-time integrated,
+/// and the Newton polish from where it stopped.
+#[derive(Clone, Debug)]
+pub struct SettleOutcome {
+    pub stop: SettleStop,
     pub time_used: f64,
-    /// The static Newton polish from the settled configuration (time reset to the start).
+    /// The static Newton polish from the settled configuration (time reset to the start);
+    /// `None` when the integration failed.
     pub equilibrium: Option<Result<Equilibrium, String>>,
+}
+
+impl SettleOutcome {
+    /// The equilibrium, when the model settled and the polish converged.
+    pub fn settled_equilibrium(&self) -> Option<&Equilibrium> {
+        match (&self.stop, &self.equilibrium) {
+            (SettleStop::Settled { .. }, Some(Ok(e))) if e.converged => Some(e),
+            _ => None,
+        }
+    }
+
+    /// Why no equilibrium came out of the settling, in a sentence (`None` when one did).
+    pub fn failure(&self, eq: &EquilibriumSettings) -> Option<String> {
+        match (&self.stop, &self.equilibrium) {
+            (SettleStop::Failed(m), _) => Some(format!("dynamic settling failed: {m}")),
+            (
+                SettleStop::SettlingTime {
+                    kinetic_energy,
+                    acceleration,
+                },
+                _,
+            ) => Some(format!(
+                "the model did not settle within SETTLING_TIME = {}: kinetic energy {:.3e} \
+                 (limit {:.3e}), largest acceleration {:.3e} (limit {:.3e})",
+                eq.settling_time,
+                kinetic_energy,
+                eq.kinetic_energy_error,
+                acceleration,
+                eq.acceleration_error
+            )),
+            (SettleStop::Settled { .. }, Some(Ok(e))) if !e.converged => Some(format!(
+                "the model settled, but the static Newton polish did not converge in {} \
+                 iterations (imbalance {:.3e})",
+                e.iterations, e.imbalance
+            )),
+            (SettleStop::Settled { .. }, Some(Err(m))) => Some(format!(
+                "the model settled, but the static Newton polish failed: {m}"
+            )),
+            _ => None,
+        }
+    }
 }
 
 /// Settles the model by damped dynamics, then polishes with Newton statics.
@@ -56,13 +105,25 @@ pub fn settle(
 ) -> Settling {
     let ic = crate::ic::initial_conditions(model, drivers, forces, tol);
     if !ic.assembly.converged || ic.inconsistent() {
-        return Settling {
-            ic,
-            stop: None,
-            time_used: 0.0,
-            equilibrium: None,
-        };
+        return Settling { ic, outcome: None };
     }
+    let outcome = settle_assembled(model, drivers, forces, &ic, eq);
+    Settling {
+        ic,
+        outcome: Some(outcome),
+    }
+}
+
+/// Settles a model from its initial conditions `ic` (which must have assembled, with no
+/// inconsistent redundancy): damped dynamics with time frozen at the start, then the Newton
+/// polish at the start time.
+pub fn settle_assembled(
+    model: &Model,
+    drivers: &ExpressionDrivers,
+    forces: &dyn AppliedForces,
+    ic: &crate::ic::InitialConditions,
+    eq: &EquilibriumSettings,
+) -> SettleOutcome {
     let sys = System::new(model);
     let (rows, redundant) = ic.kept_and_removed_rows();
     let drivers = &drivers.anchored(&sys, &rows, &ic.assembly.state);
@@ -90,9 +151,10 @@ pub fn settle(
         hmax: Some(dt),
         ..Default::default()
     };
+    let ucf = model.ucf();
     let mut stop = None;
     let mut tau = t0;
-    for _ in 0..windows {
+    for window in 1..=windows {
         let sim = simulate(&problem, &state, &vel, &[tau, tau + dt], &settings, |_| {});
         if let Some(f) = sim.failure {
             stop = Some(SettleStop::Failed(format!(
@@ -111,6 +173,7 @@ pub fn settle(
         state = out.state.clone();
         vel = out.velocities.clone();
         tau = out.time;
+        // Kinetic energy in the model's force × length (m v² / UCF).
         let ke: f64 = model
             .parts
             .iter()
@@ -119,7 +182,8 @@ pub fn settle(
                 let ig = state.poses[k].r * p.inertia * state.poses[k].r.transpose();
                 0.5 * p.mass * vel[k].0.length_squared() + 0.5 * vel[k].1.dot(ig * vel[k].1)
             })
-            .sum();
+            .sum::<f64>()
+            / ucf;
         let acc = out
             .accelerations
             .iter()
@@ -132,7 +196,7 @@ pub fn settle(
             });
             break;
         }
-        if tau - t0 >= eq.settling_time * (1.0 - 1e-12) {
+        if window == windows {
             stop = Some(SettleStop::SettlingTime {
                 kinetic_energy: ke,
                 acceleration: acc,
@@ -142,12 +206,17 @@ pub fn settle(
     }
     let time_used = tau - t0;
     state.time = t0;
+    let stop = stop.unwrap_or_else(|| {
+        SettleStop::Failed(format!(
+            "SETTLING_TIME = {} leaves no time to integrate",
+            eq.settling_time
+        ))
+    });
     let equilibrium = match &stop {
-        Some(SettleStop::Failed(_)) | None => None,
+        SettleStop::Failed(_) => None,
         _ => Some(equilibrium(model, &sys, &rows, drivers, forces, &state, eq)),
     };
-    Settling {
-        ic,
+    SettleOutcome {
         stop,
         time_used,
         equilibrium,

@@ -76,7 +76,7 @@ use linkage_adm::{parse_commands, read_dataset, Dataset, Value};
 use linkage_model::frames::euler313_to_matrix;
 use linkage_solve::applied::{AppliedForces, NoForces};
 use linkage_solve::drivers::ExpressionDrivers;
-use linkage_solve::dynamics::{run, IntegratorSettings, Output};
+use linkage_solve::dynamics::{run, IntegratorSettings, Output, Start};
 use linkage_solve::forces::ForceSet;
 use linkage_solve::requests::RequestSet;
 use linkage_solve::tolerances::Tolerances;
@@ -392,7 +392,7 @@ impl Case {
             &Tolerances::default(),
             &self.times,
             &settings,
-            false,
+            Start::InitialConditions,
             |_| {},
         );
         let case = &self.name;

@@ -3,7 +3,7 @@
 use linkage_model::Model;
 use linkage_solve::applied::NoForces;
 use linkage_solve::drivers::ExpressionDrivers;
-use linkage_solve::dynamics::{run, DynamicRun, IntegratorSettings};
+use linkage_solve::dynamics::{run, DynamicRun, IntegratorSettings, Start};
 use linkage_solve::tolerances::Tolerances;
 use std::path::Path;
 use std::sync::Arc;
@@ -36,7 +36,7 @@ fn simulate(name: &str, text: &str, end: f64, steps: usize, error: f64) -> (Mode
         &Tolerances::default(),
         &times,
         &settings,
-        false,
+        Start::InitialConditions,
         |_| {},
     );
     (m, r)
@@ -188,13 +188,13 @@ fn settling_finds_the_newton_equilibrium_and_says_why_it_stopped() {
         linkage_solve::settle::settle(&m, &d, &NoForces, &Tolerances::default(), &m.equilibrium);
     assert!(
         matches!(
-            s.stop,
+            s.outcome.as_ref().map(|o| &o.stop),
             Some(linkage_solve::settle::SettleStop::Settled { .. })
         ),
         "{:?}",
-        s.stop
+        s.outcome
     );
-    let eq = s.equilibrium.unwrap().unwrap();
+    let eq = s.outcome.unwrap().equilibrium.unwrap().unwrap();
     assert!(eq.converged);
     let newton = linkage_solve::statics::run(&m, &d, &NoForces, &Tolerances::default(), &[0.0]);
     let n_eq = newton.steps[0].1.as_ref().unwrap();
@@ -209,11 +209,11 @@ fn settling_finds_the_newton_equilibrium_and_says_why_it_stopped() {
         linkage_solve::settle::settle(&m, &d, &NoForces, &Tolerances::default(), &m.equilibrium);
     assert!(
         matches!(
-            s.stop,
+            s.outcome.as_ref().map(|o| &o.stop),
             Some(linkage_solve::settle::SettleStop::SettlingTime { .. })
         ),
         "{:?}",
-        s.stop
+        s.outcome
     );
 }
 
@@ -320,7 +320,7 @@ fn zero_dof_fourbar_runs_kinematically_and_the_motion_supplies_the_power() {
         &Tolerances::default(),
         &times,
         &IntegratorSettings::default(),
-        false,
+        Start::InitialConditions,
         |_| {},
     );
     let sim = r.simulation.expect("runs");
@@ -458,4 +458,139 @@ fn missing_initial_velocities_start_the_pendulum_at_rest() {
     }
     // Released from rest, it has started to swing.
     assert!(missing.outputs[1].velocities[0].1.length() > 0.1);
+}
+
+/// `pendulum_offset` (rod L = 1 m, m = 2 kg, pivot (0.3, 1.2, 0), released at 30°) with its
+/// tip tied by a zero-length spring of stiffness `k` to the ground point one metre right of and
+/// one metre below the pivot, and EQUILIBRIUM settings `equilibrium`.
+///
+/// With θ the rod's angle from hanging (towards +x), the spring's moment about the pivot is
+/// `k L (cos θ − sin θ)` (the tip-to-anchor vector is `(1 − L sin θ, −1 + L cos θ)`) and
+/// gravity's `−m g (L/2) sin θ`: equilibrium at `tan θ = k / (k + m g / 2)` for L = 1.
+fn tied_pendulum(k: f64, equilibrium: &str) -> String {
+    mechanism_text("pendulum_offset.adm").replace(
+        "END",
+        &format!(
+            "MARKER/104, PART = 1, QP = 1.3, 0.2, 0\n\
+             SPRINGDAMPER/1, TRANSLATIONAL, I = 203, J = 104, K = {k}, C = 0, LENGTH = 0\n\
+             {equilibrium}\nEND"
+        ),
+    )
+}
+
+fn run_from(text: &str, start: Start, end: f64) -> (Model, DynamicRun) {
+    let ds = linkage_adm::parse_dataset(Arc::from("tied.adm"), text).unwrap();
+    let m = linkage_model::build_model(&ds).unwrap().model;
+    let d = ExpressionDrivers::new(&m).unwrap();
+    let forces = linkage_solve::forces::ForceSet::new(&m).unwrap();
+    let times: Vec<f64> = (0..=10).map(|k| end * k as f64 / 10.0).collect();
+    let settings = IntegratorSettings {
+        error: 1e-6,
+        ..Default::default()
+    };
+    let r = run(
+        &m,
+        &d,
+        &forces,
+        &Tolerances::default(),
+        &times,
+        &settings,
+        start,
+        |_| {},
+    );
+    (m, r)
+}
+
+/// The rod's angle from hanging (towards +x), from its centre of mass.
+fn rod_angle(p: glam::DVec3) -> f64 {
+    (p.x - 0.3).atan2(1.2 - p.y)
+}
+
+#[test]
+fn a_run_started_at_the_settled_equilibrium_stays_there() {
+    let k = 200.0;
+    let theta = (k / (k + 2.0 * G / 2.0)).atan(); // 43.63°: 13.6° from the released pose
+    let settings = "EQUILIBRIUM/, DYNAMIC, GLOBAL_DAMPING = 5, SETTLING_TIME = 20";
+    // EQUILIBRIUM/DYNAMIC: --start-at-equilibrium settles (damped dynamics, then the polish).
+    let (_, r) = run_from(&tied_pendulum(k, settings), Start::Equilibrium, 2.0);
+    let found = r.equilibrium.as_ref().expect("an equilibrium was sought");
+    let linkage_solve::dynamics::StartingEquilibrium::Settled(outcome) = found else {
+        panic!("EQUILIBRIUM/DYNAMIC must settle: {found:?}")
+    };
+    assert!(
+        matches!(
+            outcome.stop,
+            linkage_solve::settle::SettleStop::Settled { .. }
+        ),
+        "{:?}",
+        outcome.stop
+    );
+    let eq = found.equilibrium().expect("settled and polished");
+    assert!(
+        (rod_angle(eq.state.poses[0].p) - theta).abs() < 1e-9,
+        "{} vs {}",
+        rod_angle(eq.state.poses[0].p).to_degrees(),
+        theta.to_degrees()
+    );
+    // From rest at the equilibrium the rod stays put for the whole run: it neither swings
+    // back towards its released pose nor drifts (at ERROR 1e-6).
+    let sim = r.simulation.as_ref().expect("the run started");
+    assert!(sim.failure.is_none(), "{:?}", sim.failure);
+    assert_eq!(sim.outputs.len(), 11);
+    for o in &sim.outputs {
+        assert!(
+            (rod_angle(o.state.poses[0].p) - theta).abs() < 1e-8,
+            "t = {}",
+            o.time
+        );
+        assert!(o.velocities[0].1.length() < 1e-8, "t = {}", o.time);
+    }
+    // The same equilibrium by Newton (no DYNAMIC), and the same again when settling is
+    // asked for explicitly.
+    let newton_text = tied_pendulum(k, "");
+    let (_, newton) = run_from(&newton_text, Start::Equilibrium, 0.5);
+    let n_found = newton.equilibrium.as_ref().unwrap();
+    assert!(matches!(
+        n_found,
+        linkage_solve::dynamics::StartingEquilibrium::Newton(_)
+    ));
+    let n_eq = n_found.equilibrium().expect("Newton converges from 30°");
+    assert!((rod_angle(n_eq.state.poses[0].p) - theta).abs() < 1e-9);
+    let (_, forced) = run_from(
+        &tied_pendulum(k, "EQUILIBRIUM/, GLOBAL_DAMPING = 5, SETTLING_TIME = 20"),
+        Start::SettledEquilibrium,
+        0.5,
+    );
+    assert!(matches!(
+        forced.equilibrium,
+        Some(linkage_solve::dynamics::StartingEquilibrium::Settled(_))
+    ));
+    assert!(forced.simulation.is_some());
+    // Started from the initial conditions instead, the released rod swings through the
+    // equilibrium angle: the start matters.
+    let (_, released) = run_from(&newton_text, Start::InitialConditions, 0.5);
+    let swing = released.simulation.unwrap();
+    let max_angle = swing
+        .outputs
+        .iter()
+        .map(|o| rod_angle(o.state.poses[0].p))
+        .fold(f64::MIN, f64::max);
+    assert!(max_angle > theta + 0.1, "{}", max_angle.to_degrees());
+}
+
+#[test]
+fn a_model_that_does_not_settle_is_not_run_and_says_why() {
+    // No damping and a short settling time: the tied rod is still swinging when time runs out.
+    let (_, r) = run_from(
+        &tied_pendulum(200.0, "EQUILIBRIUM/, DYNAMIC, SETTLING_TIME = 1"),
+        Start::Equilibrium,
+        1.0,
+    );
+    assert!(r.simulation.is_none());
+    let why = r.error.expect("the run must say why it did not start");
+    assert!(
+        why.contains("did not settle within SETTLING_TIME = 1"),
+        "{why}"
+    );
+    assert!(why.contains("kinetic energy"), "{why}");
 }

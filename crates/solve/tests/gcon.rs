@@ -272,7 +272,7 @@ fn simulate(text: &str, end: f64, steps: usize) -> DynamicRun {
         &Tolerances::default(),
         &times,
         &settings,
-        false,
+        linkage_solve::dynamics::Start::InitialConditions,
         |_| {},
     )
 }

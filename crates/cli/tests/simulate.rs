@@ -1,0 +1,207 @@
+//! `linkage simulate` end to end: where a run starts (initial conditions, Newton or settled
+//! equilibrium), what the summary says about removed equations and the final state, and how
+//! a run that cannot start fails.
+
+mod common;
+use common::{json, root, run};
+use std::path::PathBuf;
+
+const G: f64 = 9.80665;
+
+/// `pendulum_offset` with its tip tied by a zero-length spring (K = 200) to the ground point
+/// (1.3, 0.2, 0), and the given EQUILIBRIUM statement. Equilibrium angle from hanging:
+/// `tan θ = k / (k + m g / 2)` (moment balance about the pivot; see the solver's dynamics
+/// tests), 43.63°.
+fn tied_pendulum(tag: &str, equilibrium: &str) -> PathBuf {
+    let text = std::fs::read_to_string(root().join("mechanisms/pendulum_offset.adm"))
+        .unwrap()
+        .replace(
+            "END",
+            &format!(
+                "MARKER/104, PART = 1, QP = 1.3, 0.2, 0\n\
+                 SPRINGDAMPER/1, TRANSLATIONAL, I = 203, J = 104, K = 200, C = 0, LENGTH = 0\n\
+                 {equilibrium}\nEND"
+            ),
+        );
+    let f = std::env::temp_dir().join(format!("linkage-tied-{tag}-{}.adm", std::process::id()));
+    std::fs::write(&f, text).unwrap();
+    f
+}
+
+fn equilibrium_angle() -> f64 {
+    (200.0 / (200.0 + 2.0 * G / 2.0)).atan()
+}
+
+fn angle_of(v: &serde_json::Value) -> f64 {
+    let x = v[0].as_f64().unwrap();
+    let y = v[1].as_f64().unwrap();
+    (x - 0.3).atan2(1.2 - y)
+}
+
+#[test]
+fn start_at_equilibrium_by_settling_starts_at_rest_at_the_equilibrium() {
+    let f = tied_pendulum(
+        "settle",
+        "EQUILIBRIUM/, GLOBAL_DAMPING = 5, SETTLING_TIME = 20",
+    );
+    let (code, v) = json(&[
+        "simulate",
+        f.to_str().unwrap(),
+        "--end",
+        "0.5",
+        "--steps",
+        "5",
+        "--start-at-equilibrium",
+        "--settle",
+        "--format",
+        "json",
+    ]);
+    assert_eq!(code, 0, "{v}");
+    assert_eq!(v["start"]["from"], "settled_equilibrium");
+    assert_eq!(v["start"]["found"], true);
+    let st = &v["start"]["settling"];
+    assert_eq!(st["criterion"], "settled");
+    assert!(st["kinetic_energy"].as_f64().unwrap() <= st["kinetic_energy_limit"].as_f64().unwrap());
+    assert!(st["acceleration"].as_f64().unwrap() <= st["acceleration_limit"].as_f64().unwrap());
+    assert_eq!(st["polish_converged"], true);
+    assert_eq!(v["completed"], true);
+    // After 0.5 s the rod is still at the equilibrium angle, at rest.
+    let rod = &v["final_state"][0];
+    assert_eq!(rod["name"], "rod");
+    assert!(
+        (angle_of(&rod["position"]) - equilibrium_angle()).abs() < 1e-8,
+        "{rod}"
+    );
+    for k in 0..3 {
+        assert!(
+            rod["angular_velocity"][k].as_f64().unwrap().abs() < 1e-8,
+            "{rod}"
+        );
+    }
+    // --settle needs --start-at-equilibrium.
+    let (code, _, err) = run(&["simulate", f.to_str().unwrap(), "--end", "0.5", "--settle"]);
+    assert_eq!(code, 2, "{err}");
+}
+
+#[test]
+fn equilibrium_dynamic_in_the_dataset_makes_the_start_settle() {
+    let f = tied_pendulum(
+        "dynamic",
+        "EQUILIBRIUM/, DYNAMIC, GLOBAL_DAMPING = 5, SETTLING_TIME = 20",
+    );
+    let (code, text, _) = run(&[
+        "simulate",
+        f.to_str().unwrap(),
+        "--end",
+        "0.5",
+        "--steps",
+        "5",
+        "--start-at-equilibrium",
+    ]);
+    assert_eq!(code, 0, "{text}");
+    assert!(
+        text.contains("Dynamic settling (GLOBAL_DAMPING 5"),
+        "{text}"
+    );
+    assert!(text.contains("settled after"), "{text}");
+    assert!(
+        text.contains("Started at rest from the settled equilibrium"),
+        "{text}"
+    );
+    // Without DYNAMIC the same option uses Newton statics.
+    let f = tied_pendulum("newton", "");
+    let (code, v) = json(&[
+        "simulate",
+        f.to_str().unwrap(),
+        "--end",
+        "0.5",
+        "--steps",
+        "5",
+        "--start-at-equilibrium",
+        "--format",
+        "json",
+    ]);
+    assert_eq!(code, 0, "{v}");
+    assert_eq!(v["start"]["from"], "static_equilibrium");
+    assert!(v["start"].get("settling").is_none());
+    assert!((angle_of(&v["final_state"][0]["position"]) - equilibrium_angle()).abs() < 1e-8);
+}
+
+#[test]
+fn a_start_that_does_not_settle_exits_1_naming_the_limits() {
+    let f = tied_pendulum("swinging", "EQUILIBRIUM/, DYNAMIC, SETTLING_TIME = 1");
+    let (code, text, err) = run(&[
+        "simulate",
+        f.to_str().unwrap(),
+        "--end",
+        "0.5",
+        "--start-at-equilibrium",
+    ]);
+    assert_eq!(code, 1, "{text}");
+    assert!(
+        text.contains("did NOT settle: SETTLING_TIME 1 ran out"),
+        "{text}"
+    );
+    assert!(text.contains("No simulation was run."), "{text}");
+    assert!(
+        err.contains("no static equilibrium to start from: the model did not settle within SETTLING_TIME = 1"),
+        "{err}"
+    );
+}
+
+#[test]
+fn summary_lists_the_removed_equations_and_the_final_state() {
+    let src = root().join("mechanisms/door_two_hinges.adm");
+    let (code, v) = json(&[
+        "simulate",
+        src.to_str().unwrap(),
+        "--end",
+        "0.2",
+        "--steps",
+        "2",
+        "--format",
+        "json",
+    ]);
+    assert_eq!(code, 0, "{v}");
+    assert_eq!(v["start"]["from"], "initial_conditions");
+    let removed = v["removed_equations"].as_array().unwrap();
+    assert_eq!(removed.len(), 5, "{v}");
+    assert!(removed
+        .iter()
+        .any(|e| e["name"] == "hinge_top" && e["short"] == "Yg"));
+    // The door hangs in neutral equilibrium (gravity along the hinge axis): it stays at its
+    // input pose, CM (0.4, 1.0, 0).
+    let door = &v["final_state"][0];
+    for (k, want) in [0.4, 1.0, 0.0].iter().enumerate() {
+        assert!(
+            (door["position"][k].as_f64().unwrap() - want).abs() < 1e-9,
+            "{door}"
+        );
+    }
+    let (_, text, _) = run(&["simulate", src.to_str().unwrap(), "--end", "0.2"]);
+    assert!(
+        text.contains("5 redundant constraint equation(s) left out, as in verify"),
+        "{text}"
+    );
+    assert!(text.contains("hinge_top                Translation of I Marker Along Yg (Yg)"));
+}
+
+#[test]
+fn a_model_with_an_inconsistent_redundancy_is_not_run_and_the_equation_is_named() {
+    let src = root().join("mechanisms/door_tilted_hinge.adm");
+    let (code, v) = json(&[
+        "simulate",
+        src.to_str().unwrap(),
+        "--end",
+        "0.2",
+        "--format",
+        "json",
+    ]);
+    assert_eq!(code, 1, "{v}");
+    assert_eq!(v["start"]["found"], false);
+    let e = v["errors"][0].as_str().unwrap();
+    assert!(
+        e.contains("Rotation Between Zi & Yj of hinge_top (residual 2.0000e0 deg)"),
+        "{e}"
+    );
+}
