@@ -187,3 +187,59 @@ fn request_evaluation_errors_leave_nan_and_exit_1() {
     let _ = std::fs::remove_file(&src);
     let _ = std::fs::remove_file(&out);
 }
+
+/// Adams Solver refuses a force component of a rotational SFORCE at input: the corpus holds
+/// its message for Chrono's RotSpring_Case01 ("Illegal function expression on REQUEST/5 …
+/// SFORCE(1,0,2,101) … Wrong component: 2. No force in corresponding object."). linkage
+/// refuses the same request, located; the torque components of the same element are fine.
+#[test]
+fn a_force_component_of_a_rotational_sforce_is_an_illegal_request() {
+    let spring = "SFORCE/1, ROTATIONAL, I = 202, J = 102, FUNCTION = -2*AZ(202, 102)";
+    let bad = pendulum_with(
+        "rot-force",
+        &format!("{spring}\nREQUEST/5, F2 = SFORCE(1, 0, 6, 0)\\F3 = SFORCE(1, 0, 2, 0)"),
+    );
+    let out = std::env::temp_dir().join(format!("linkage-rot-{}.csv", std::process::id()));
+    let (code, _, err) = run(&[
+        "simulate",
+        bad.to_str().unwrap(),
+        "--end",
+        "0.1",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 2, "{err}");
+    assert!(
+        err.contains(":84:41: error: REQUEST_5 (REQUEST/5, line 84): ") && err.contains("illegal function expression F3 = SFORCE(1, 0, 2, 0): wrong component 2: SFORCE/1 is rotational and applies no force"),
+        "{err}"
+    );
+    assert!(
+        !err.contains("F2 ="),
+        "the torque component is legal: {err}"
+    );
+    let good = pendulum_with(
+        "rot-torque",
+        &format!("{spring}\nREQUEST/5, F2 = SFORCE(1, 0, 8, 0)"),
+    );
+    let (code, _, err) = run(&[
+        "simulate",
+        good.to_str().unwrap(),
+        "--end",
+        "0.1",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let Some(dir) = corpus() else { return };
+    let src = dir.join("projectchrono__chrono__data__adams__test_RotSpring_Case01.adm");
+    let (code, _, err) = run(&[
+        "simulate",
+        src.to_str().unwrap(),
+        "--end",
+        "0.1",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains(":193:16: error: REQUEST_5 (REQUEST/5, line 193): illegal function expression F2 = SFORCE(1,0,2,101)"), "{err}");
+}

@@ -162,7 +162,19 @@ impl RequestSet {
                         let Some(f) = f else { continue };
                         let key = format!("F{}", k + 1);
                         match parse_function(file, f, &origin, &key) {
-                            Ok(e) => list.push((k + 1, e, f.value.expr.text.clone())),
+                            Ok(e) => {
+                                if let Some(why) = wrong_force_component(model, &e) {
+                                    errors.push(Diagnostic::error(
+                                        file.clone(),
+                                        Some(f.span),
+                                        format!(
+                                            "{label}: illegal function expression {key} = {}: {why}",
+                                            f.value.expr.text.trim()
+                                        ),
+                                    ));
+                                }
+                                list.push((k + 1, e, f.value.expr.text.clone()))
+                            }
                             Err(d) => errors.push(d),
                         }
                     }
@@ -270,6 +282,55 @@ fn force_markers(model: &Model, kind: &ForceKind) -> (usize, Option<usize>, Body
         ForceKind::Beam(b) => pair(b.i, b.j),
         ForceKind::Vector(v) => (v.i, None, v.reaction),
     }
+}
+
+/// A force component (1 FM, 2–4 FX–FZ) asked of a rotational SFORCE or SPRINGDAMPER, which
+/// applies a torque only: Adams Solver refuses such a request at input ("Illegal function
+/// expression on REQUEST/5 … SFORCE(1,0,2,101) … Wrong component: 2. No force in
+/// corresponding object.", Adams Solver C++ 2012 on Chrono's RotSpring_Case01, whose `.msg` is
+/// in the corpus). The element and component must be literal numbers to be checked here.
+fn wrong_force_component(model: &Model, e: &Expr) -> Option<String> {
+    let literal = |x: &Expr| match x {
+        Expr::Number(v) if v.fract() == 0.0 => Some(*v as u64),
+        _ => None,
+    };
+    let mut found = None;
+    e.walk(&mut |node| {
+        let Expr::Call {
+            func: linkage_expr::Function::ElementForce(kind),
+            args,
+        } = node
+        else {
+            return;
+        };
+        let statement = match kind {
+            ElementForce::Sforce => "SFORCE",
+            ElementForce::Spdp => "SPRINGDAMPER",
+            _ => return,
+        };
+        let (Some(id), Some(comp)) = (
+            args.first().and_then(literal),
+            args.get(2).and_then(literal),
+        ) else {
+            return;
+        };
+        let rotational = model.forces.iter().any(|f| {
+            f.origin.statement == statement
+                && f.origin.id == id
+                && match &f.kind {
+                    ForceKind::Sforce(s) => s.dof == linkage_adm::ForceDof::Rotational,
+                    ForceKind::SpringDamper(s) => s.dof == linkage_adm::ForceDof::Rotational,
+                    _ => false,
+                }
+        });
+        if rotational && (1..=4).contains(&comp) && found.is_none() {
+            found = Some(format!(
+                "wrong component {comp}: {statement}/{id} is rotational and applies no force \
+                 (its torque is components 5 to 8)"
+            ));
+        }
+    });
+    found
 }
 
 /// The statement of an element force function (`SPDP` is SPRINGDAMPER, `BUSH` BUSHING).
