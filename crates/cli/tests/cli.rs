@@ -742,3 +742,44 @@ fn fast_inertias_that_violate_the_triangle_inequality_are_warnings() {
     assert_eq!(code, 2, "{err}");
     assert!(err.contains("negative principal moment"), "{err}");
 }
+
+/// A 7-link robot arm of the corpus (LWR_6DOF_GRABER) is in equilibrium as built: its forces
+/// balance to 4e-11 N against 88 N of weight. Its gripper fingers turn about hinges along
+/// gravity, with no stiffness and inertias of 1.6e-7 kg·m², so the Newton correction of that
+/// rounding (STABILITY × inertia is 1.6e-12) drifted them by 6e-4 rad per iteration and the
+/// statics never met ERROR. Forces balanced to rounding now end the iteration without a move.
+#[test]
+fn a_model_balanced_to_rounding_is_in_equilibrium_without_drifting() {
+    let Some(dir) = corpus() else { return };
+    let src = dir.join("MarcinPiotrowski__MultiBodySystemDynamics__test__LWR_6DOF_GRABER.adm");
+    let (code, st) = json(&["static", src.to_str().unwrap(), "--format", "json"]);
+    assert_eq!(code, 0, "{st}");
+    assert_eq!(st["converged"], true);
+    assert_eq!(st["iterations"], 0);
+    assert!(st["imbalance"].as_f64().unwrap() < 1e-9, "{st}");
+    let (code, ic) = json(&["ic", src.to_str().unwrap(), "--format", "json"]);
+    assert_eq!(code, 0, "{ic}");
+    let parts = st["parts"].as_array().unwrap();
+    assert_eq!(parts.len(), 7);
+    for (a, b) in parts.iter().zip(ic["parts"].as_array().unwrap()) {
+        for k in 0..3 {
+            let (x, y) = (
+                a["position"][k].as_f64().unwrap(),
+                b["position"][k].as_f64().unwrap(),
+            );
+            assert!((x - y).abs() < 1e-12, "{}: {x} vs {y}", a["name"]);
+        }
+    }
+    // And a run can start there.
+    let (code, sim) = json(&[
+        "simulate",
+        src.to_str().unwrap(),
+        "--end",
+        "0.1",
+        "--start-at-equilibrium",
+        "--format",
+        "json",
+    ]);
+    assert_eq!(code, 0, "{sim}");
+    assert_eq!(sim["start"]["from"], "static_equilibrium");
+}

@@ -25,6 +25,7 @@ use crate::rows::{RowGradient, Velocities};
 use crate::state::State;
 use crate::system::{RowUnit, System};
 use crate::tolerances::Tolerances;
+use crate::tolerances::STATIC_ROUNDING_IMBALANCE;
 use crate::verify::Drivers;
 use glam::DVec3;
 use linkage_model::settings::EquilibriumSettings;
@@ -141,12 +142,14 @@ pub fn equilibrium(
     // ERROR, so that positions are as accurate as the initial conditions.
     let phi_length = model.ic.error.max(1e-13 * length);
     let phi_angle = model.ic.error.max(1e-13);
+    let mut projected = false;
     loop {
         // Residuals.
         for (k, (r, _)) in used.iter().enumerate() {
             sys.gradient(*r, &s, &mut grads[k]);
         }
         let mut f = applied(model, forces, &s, &vel)?;
+        let load = f.iter().map(|x| x.abs()).fold(0.0, f64::max);
         for (k, g) in grads.iter().enumerate() {
             for (body, b) in &g.blocks {
                 for c in 0..6 {
@@ -166,9 +169,28 @@ pub fn equilibrium(
         last_imbalance = imbalance;
         last_f = f.clone();
         last_phi = phi.clone();
+        // Balanced to rounding: no Newton correction can improve the forces, and along a
+        // free motion without stiffness (a part spinning about a vertical hinge) the
+        // correction is that rounding divided by STABILITY × inertia, a drift of the pose
+        // that never falls below ERROR. Only the constraints are settled (least change).
+        let balanced =
+            imbalance <= settings.imbalance && imbalance <= STATIC_ROUNDING_IMBALANCE * load;
+        if balanced && phi_ok {
+            converged = true;
+            break;
+        }
         if iterations >= settings.maxit {
             break;
         }
+        // Settle the constraints alone, once; should rounding keep them above their tolerance,
+        // the next iteration takes a Newton step as usual.
+        if balanced && !projected {
+            project_onto_constraints(model, sys, &used, &mut s, phi_length.min(phi_angle));
+            projected = true;
+            iterations += 1;
+            continue;
+        }
+        projected = false;
         // Newton matrix.
         let refresh = lu.is_none()
             || settings
@@ -258,7 +280,13 @@ pub fn equilibrium(
             // A step cut by TLIMIT/ALIMIT leaves the second-order constraint error of a large
             // move: bring the configuration back onto the constraints (least change) so the
             // next Newton step starts from an assembled pose.
-            project_onto_constraints(model, sys, &used, &mut s);
+            project_onto_constraints(
+                model,
+                sys,
+                &used,
+                &mut s,
+                1e-12 * model.characteristic_length.max(1.0),
+            );
         }
         if done {
             // The last (small) correction is applied: the result is one Newton step better
@@ -318,17 +346,20 @@ pub fn equilibrium(
 
 /// A few minimum-change Gauss–Newton corrections of the positions onto `Φ = 0`:
 /// `[W Jᵀ; J 0][δ; μ] = [0; −Φ]`, `W = diag(1/L², 1)` per part.
-fn project_onto_constraints(model: &Model, sys: &System, used: &[(usize, f64)], s: &mut State) {
+fn project_onto_constraints(
+    model: &Model,
+    sys: &System,
+    used: &[(usize, f64)],
+    s: &mut State,
+    tolerance: f64,
+) {
     let n = model.parts.len();
     let m = used.len();
     let l2 = model.characteristic_length.powi(2);
     let mut g = RowGradient::default();
     for _ in 0..4 {
         let phi: Vec<f64> = used.iter().map(|(r, d)| sys.residual(*r, s, *d)).collect();
-        if phi
-            .iter()
-            .all(|v| v.abs() <= 1e-12 * model.characteristic_length.max(1.0))
-        {
+        if phi.iter().all(|v| v.abs() <= tolerance) {
             return;
         }
         let mut e = Vec::new();

@@ -55,3 +55,12 @@ pub const CORRECTOR_NOISE: f64 = 1e-10;
 /// rounding of the error estimate (parts with tiny inertia about some axis otherwise leave
 /// corrections at noise level, and the run gave up at the minimum step).
 pub const CORRECTOR_ERROR_FRACTION: f64 = 1e-3;
+
+/// Static equilibrium has converged, whatever the Newton correction, when the largest force
+/// or torque imbalance is below this fraction of the largest applied load component (and below
+/// IMBALANCE, with the constraints satisfied): the forces balance to rounding, so a correction
+/// can only be rounding divided by a stiffness that vanishes (a free motion without
+/// stiffness, regularised by STABILITY × a tiny inertia gives drifts of 1e-3 rad per
+/// iteration: seen on a 7-link corpus robot arm whose gripper fingers spin about vertical
+/// hinges).
+pub const STATIC_ROUNDING_IMBALANCE: f64 = 1e-10;
