@@ -164,7 +164,7 @@ fn start_json(model: &Model, run: &DynamicRun) -> StartJson {
         StartingEquilibrium::Settled(o) => (
             "settled_equilibrium",
             o.equilibrium.as_ref().and_then(|e| e.as_ref().ok()),
-            Some(settling_summary(Some(o), &model.equilibrium)),
+            Some(settling_summary(model, Some(o), &model.equilibrium)),
         ),
     };
     StartJson {

@@ -8,7 +8,7 @@ use linkage_model::Model;
 use linkage_solve::reactions::Reaction;
 use linkage_solve::settle::{SettleOutcome, SettleStop};
 use linkage_solve::state::State;
-use linkage_solve::statics::{Equilibrium, Imbalance, StaticRun};
+use linkage_solve::statics::{Equilibrium, StaticRun, UNBOUNDED_NOTE};
 use serde::Serialize;
 use std::fmt::Write;
 
@@ -40,6 +40,9 @@ pub struct StepJson {
     pub parts: Vec<PartPoseJson>,
     pub reactions: Vec<ReactionJson>,
     pub largest_imbalance: Vec<ImbalanceJson>,
+    /// The Newton correction was unbounded: the largest imbalances act along free motions
+    /// nothing resists (no equilibrium near).
+    pub unbounded: bool,
     pub error: Option<String>,
 }
 
@@ -82,12 +85,18 @@ pub struct SettlingJson {
     pub global_damping: f64,
     /// Whether the Newton polish from the settled configuration converged (`null`: not run).
     pub polish_converged: Option<bool>,
+    /// Every part where the damped integration stopped, before the polish.
+    pub settled_parts: Vec<PartPoseJson>,
     pub message: Option<String>,
 }
 
 /// The settling summary of an outcome (`None`: the model could not be assembled, nothing
 /// was integrated).
-pub fn settling_summary(outcome: Option<&SettleOutcome>, eq: &EquilibriumSettings) -> SettlingJson {
+pub fn settling_summary(
+    model: &Model,
+    outcome: Option<&SettleOutcome>,
+    eq: &EquilibriumSettings,
+) -> SettlingJson {
     let (criterion, ke, acc, message) = match outcome.map(|o| &o.stop) {
         Some(SettleStop::Settled {
             kinetic_energy,
@@ -124,6 +133,7 @@ pub fn settling_summary(outcome: Option<&SettleOutcome>, eq: &EquilibriumSetting
         settling_time_limit: eq.settling_time,
         global_damping: eq.global_damping,
         polish_converged,
+        settled_parts: outcome.map_or_else(Vec::new, |o| part_poses(model, &o.state)),
         message,
     }
 }
@@ -196,10 +206,6 @@ pub fn reactions_json(model: &Model, reactions: &[Reaction]) -> Vec<ReactionJson
         .collect()
 }
 
-const COMPONENTS: [&str; 6] = [
-    "force X", "force Y", "force Z", "torque X", "torque Y", "torque Z",
-];
-
 fn step_json(model: &Model, run: &StaticRun, t: f64, e: &Result<Equilibrium, String>) -> StepJson {
     match e {
         Ok(eq) => StepJson {
@@ -216,23 +222,17 @@ fn step_json(model: &Model, run: &StaticRun, t: f64, e: &Result<Equilibrium, Str
             } else {
                 eq.worst
                     .iter()
-                    .map(|(w, v)| match w {
-                        Imbalance::Part { part, component } => ImbalanceJson {
-                            name: model.parts[*part].origin.name.clone(),
-                            equation: format!("{} balance", COMPONENTS[*component]),
+                    .map(|(w, v)| {
+                        let (name, equation) = w.describe(model, &run.ic.analysis.system);
+                        ImbalanceJson {
+                            name,
+                            equation,
                             value: *v,
-                        },
-                        Imbalance::Row(r) => {
-                            let row = &run.ic.analysis.system.rows[*r];
-                            ImbalanceJson {
-                                name: model.constraints[row.element].origin.name.clone(),
-                                equation: row.label.to_string(),
-                                value: *v,
-                            }
                         }
                     })
                     .collect()
             },
+            unbounded: eq.unbounded,
             error: None,
         },
         Err(msg) => StepJson {
@@ -245,6 +245,7 @@ fn step_json(model: &Model, run: &StaticRun, t: f64, e: &Result<Equilibrium, Str
             parts: Vec::new(),
             reactions: Vec::new(),
             largest_imbalance: Vec::new(),
+            unbounded: false,
             error: Some(msg.clone()),
         },
     }
@@ -272,9 +273,10 @@ pub fn to_json(model: &Model, run: &StaticRun, warnings: &[Diagnostic]) -> Stati
                 .map(|w| format!("{} {} ({:.3e})", w.name, w.equation, w.value))
                 .collect();
             errors.push(format!(
-                "time {}: static equilibrium did not converge; largest imbalance in {}",
+                "time {}: static equilibrium did not converge; largest imbalance in {}{}",
                 s.time,
-                worst.join(", ")
+                worst.join(", "),
+                if s.unbounded { UNBOUNDED_NOTE } else { "" }
             ));
         }
     }
@@ -477,7 +479,7 @@ pub fn settling_json(
     st: linkage_solve::settle::Settling,
     warnings: &[Diagnostic],
 ) -> StaticJson {
-    let settling = settling_summary(st.outcome.as_ref(), &model.equilibrium);
+    let settling = settling_summary(model, st.outcome.as_ref(), &model.equilibrium);
     let run = StaticRun {
         ic: st.ic,
         steps: st

@@ -1179,15 +1179,11 @@ impl StartingEquilibrium {
     }
 
     /// Why no equilibrium was found (`None` when one was).
-    pub fn failure(&self, eq: &linkage_model::settings::EquilibriumSettings) -> Option<String> {
+    pub fn failure(&self, model: &Model, sys: &System) -> Option<String> {
         match self {
-            StartingEquilibrium::Newton(Ok(e)) if e.converged => None,
-            StartingEquilibrium::Newton(Ok(e)) => Some(format!(
-                "static equilibrium did not converge in {} iterations (imbalance {:.3e})",
-                e.iterations, e.imbalance
-            )),
+            StartingEquilibrium::Newton(Ok(e)) => e.failure(model, sys),
             StartingEquilibrium::Newton(Err(m)) => Some(format!("static equilibrium failed: {m}")),
-            StartingEquilibrium::Settled(o) => o.failure(eq),
+            StartingEquilibrium::Settled(o) => o.failure(model, sys),
         }
     }
 }
@@ -1267,7 +1263,7 @@ pub fn run(
             };
             let Some(e) = found.equilibrium() else {
                 let why = found
-                    .failure(&model.equilibrium)
+                    .failure(model, &sys)
                     .unwrap_or_else(|| "no static equilibrium was found".into());
                 return fail(
                     ic,

@@ -49,6 +49,8 @@ pub struct Settling {
 pub struct SettleOutcome {
     pub stop: SettleStop,
     pub time_used: f64,
+    /// Where the integration stopped (time reset to the start), before the polish.
+    pub state: State,
     /// The static Newton polish from the settled configuration (time reset to the start);
     /// `None` when the integration failed.
     pub equilibrium: Option<Result<Equilibrium, String>>,
@@ -64,7 +66,8 @@ impl SettleOutcome {
     }
 
     /// Why no equilibrium came out of the settling, in a sentence (`None` when one did).
-    pub fn failure(&self, eq: &EquilibriumSettings) -> Option<String> {
+    pub fn failure(&self, model: &Model, sys: &System) -> Option<String> {
+        let eq = &model.equilibrium;
         match (&self.stop, &self.equilibrium) {
             (SettleStop::Failed(m), _) => Some(format!("dynamic settling failed: {m}")),
             (
@@ -83,9 +86,8 @@ impl SettleOutcome {
                 eq.acceleration_error
             )),
             (SettleStop::Settled { .. }, Some(Ok(e))) if !e.converged => Some(format!(
-                "the model settled, but the static Newton polish did not converge in {} \
-                 iterations (imbalance {:.3e})",
-                e.iterations, e.imbalance
+                "the model settled, but its Newton polish failed: {}",
+                e.failure(model, sys).unwrap_or_default()
             )),
             (SettleStop::Settled { .. }, Some(Err(m))) => Some(format!(
                 "the model settled, but the static Newton polish failed: {m}"
@@ -219,6 +221,7 @@ pub fn settle_assembled(
     SettleOutcome {
         stop,
         time_used,
+        state,
         equilibrium,
     }
 }

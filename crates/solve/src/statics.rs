@@ -40,6 +40,47 @@ pub enum Imbalance {
     Row(usize),
 }
 
+/// Names of the six balance equations of a part.
+const BALANCE: [&str; 6] = [
+    "force X", "force Y", "force Z", "torque X", "torque Y", "torque Z",
+];
+
+impl Imbalance {
+    /// `(element or part name, equation)`: `("PART_2", "force Y balance")`,
+    /// `("JOINT_5", "Translation of I Marker Along Zg")`.
+    pub fn describe(&self, model: &Model, sys: &System) -> (String, String) {
+        match self {
+            Imbalance::Part { part, component } => (
+                model.parts[*part].origin.name.clone(),
+                format!("{} balance", BALANCE[*component]),
+            ),
+            Imbalance::Row(r) => {
+                let row = &sys.rows[*r];
+                (
+                    model.constraints[row.element].origin.name.clone(),
+                    row.label.to_string(),
+                )
+            }
+        }
+    }
+}
+
+/// A part whose Newton correction exceeds this (translation over the characteristic length,
+/// or rotation in radians: a hundred model sizes, or sixteen turns) is moving along a free
+/// motion that nothing resists: the correction is a load divided by STABILITY × the part's
+/// inertia, not a step towards an equilibrium. Such a part is cut to TLIMIT/ALIMIT on its own
+/// instead of scaling (and stalling) every other part's step with it.
+pub const RUNAWAY_CORRECTION: f64 = 1e2;
+
+/// How a part takes its share of a Newton step (TLIMIT/ALIMIT).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum PartMove {
+    /// With the step scale common to all such parts.
+    Scaled,
+    /// Cut to the limits on its own: a runaway correction.
+    Cut,
+}
+
 /// Result of a static equilibrium solve.
 #[derive(Clone, Debug)]
 pub struct Equilibrium {
@@ -59,11 +100,49 @@ pub struct Equilibrium {
     pub worst: Vec<(Imbalance, f64)>,
     /// The model has no degrees of freedom: positions come from the constraints alone.
     pub kinematic: bool,
+    /// The iteration stalled with a runaway correction ([`RUNAWAY_CORRECTION`]): the largest
+    /// imbalances act along free motions that nothing resists, and three iterations of
+    /// TLIMIT/ALIMIT moves did not reduce them (no equilibrium near).
+    pub unbounded: bool,
     /// Rows whose second derivatives could not be evaluated (a general constraint's
     /// expression failing along a path at the pose): the Newton matrix misses their geometric
     /// stiffness. Every geometric row and every evaluable expression has exact ones.
     pub approximate_rows: usize,
 }
+
+impl Equilibrium {
+    /// Why this solve did not converge, in a sentence naming the largest imbalances (`None`
+    /// when it converged).
+    pub fn failure(&self, model: &Model, sys: &System) -> Option<String> {
+        if self.converged {
+            return None;
+        }
+        let worst: Vec<String> = self
+            .worst
+            .iter()
+            .take(3)
+            .map(|(w, v)| {
+                let (name, equation) = w.describe(model, sys);
+                format!("{name} {equation} ({v:.3e})")
+            })
+            .collect();
+        let mut why = format!(
+            "static equilibrium did not converge in {} iterations; largest imbalance in {}",
+            self.iterations,
+            worst.join(", ")
+        );
+        if self.unbounded {
+            why.push_str(UNBOUNDED_NOTE);
+        }
+        Some(why)
+    }
+}
+
+/// What an unbounded Newton correction means, appended to a non-convergence message.
+pub const UNBOUNDED_NOTE: &str = ": these loads act along free motions that nothing \
+    resists (the Newton correction is unbounded, each iteration only moved the parts by \
+    TLIMIT/ALIMIT), so the model has no static equilibrium near this configuration; support or \
+    drive that motion, or add a restoring force";
 
 /// Largest dense reduced problem for which stability is evaluated.
 const MAX_DENSE_DOF_COLUMNS: usize = 1800;
@@ -143,6 +222,8 @@ pub fn equilibrium(
     let phi_length = model.ic.error.max(1e-13 * length);
     let phi_angle = model.ic.error.max(1e-13);
     let mut projected = false;
+    let mut unbounded = false;
+    let mut history: Vec<f64> = Vec::new();
     loop {
         // Residuals.
         for (k, (r, _)) in used.iter().enumerate() {
@@ -158,6 +239,12 @@ pub fn equilibrium(
             }
         }
         let phi: Vec<f64> = used.iter().map(|(r, d)| sys.residual(*r, &s, *d)).collect();
+        if f.iter().chain(&phi).any(|x| !x.is_finite()) {
+            return Err(format!(
+                "the static iteration diverged at iteration {iterations}: the forces or \
+                 constraint residuals are no longer finite"
+            ));
+        }
         let imbalance = f.iter().map(|x| x.abs()).fold(0.0, f64::max);
         let phi_ok = used
             .iter()
@@ -253,30 +340,71 @@ pub fn equilibrium(
         if factor.solve(&mut rhs).is_err() {
             return Err("the static Newton matrix is singular: the model has free motions with no stiffness (consider STABILITY, or check forces)".into());
         }
-        // Step limits.
-        let mut scale: f64 = 1.0;
-        let mut correction: f64 = 0.0;
-        for k in 0..n {
-            let dx = DVec3::new(rhs[6 * k], rhs[6 * k + 1], rhs[6 * k + 2]);
-            let dth = DVec3::new(rhs[6 * k + 3], rhs[6 * k + 4], rhs[6 * k + 5]);
+        // Step limits: the whole step is scaled so that no part moves by more than TLIMIT or
+        // turns by more than ALIMIT, except parts whose correction is unbounded (beyond
+        // `UNBOUNDED_CORRECTION` times the limits: a free motion without stiffness, where the
+        // Newton correction is a load divided by STABILITY × a tiny inertia). Those are cut to
+        // the limits on their own, so that they do not stall everything else.
+        let part_step = |k: usize| {
+            (
+                DVec3::new(rhs[6 * k], rhs[6 * k + 1], rhs[6 * k + 2]),
+                DVec3::new(rhs[6 * k + 3], rhs[6 * k + 4], rhs[6 * k + 5]),
+            )
+        };
+        let part_scale = |dx: DVec3, dth: DVec3| -> f64 {
+            let mut sk: f64 = 1.0;
             if dx.length() > settings.tlimit {
-                scale = scale.min(settings.tlimit / dx.length());
+                sk = sk.min(settings.tlimit / dx.length());
             }
             if dth.length() > settings.alimit {
-                scale = scale.min(settings.alimit / dth.length());
+                sk = sk.min(settings.alimit / dth.length());
             }
-            correction = correction.max(dx.length() / length).max(dth.length());
+            sk
+        };
+        // How each part moves: with the common scale, or cut to the limits on its own (a
+        // runaway correction).
+        let mode = |k: usize| -> PartMove {
+            let (dx, dth) = part_step(k);
+            if dx.length() > RUNAWAY_CORRECTION * length || dth.length() > RUNAWAY_CORRECTION {
+                PartMove::Cut
+            } else {
+                PartMove::Scaled
+            }
+        };
+        let mut scale: f64 = 1.0;
+        let mut correction: f64 = 0.0;
+        let mut cut = false;
+        for k in 0..n {
+            let (dx, dth) = part_step(k);
+            match mode(k) {
+                PartMove::Scaled => {
+                    scale = scale.min(part_scale(dx, dth));
+                    // Only these corrections judge convergence: the others say nothing about
+                    // how far the equilibrium is (the forces, IMBALANCE, judge those parts).
+                    correction = correction.max(dx.length() / length).max(dth.length());
+                }
+                PartMove::Cut => cut = true,
+            }
         }
         let done = imbalance <= settings.imbalance && phi_ok && correction <= settings.error;
+        history.push(imbalance);
+        unbounded = (0..n).any(|k| mode(k) == PartMove::Cut)
+            && history.len() > 3
+            && imbalance >= 0.99 * history[history.len() - 4];
         for k in 0..n {
-            let dx = DVec3::new(rhs[6 * k], rhs[6 * k + 1], rhs[6 * k + 2]) * scale;
-            let dth = DVec3::new(rhs[6 * k + 3], rhs[6 * k + 4], rhs[6 * k + 5]) * scale;
-            s.increment(k, dx, dth);
+            let (dx, dth) = part_step(k);
+            let f = match (mode(k), done) {
+                (PartMove::Scaled, _) => scale,
+                (PartMove::Cut, false) => part_scale(dx, dth),
+                // Converged: a runaway part stays where the forces balance.
+                (PartMove::Cut, true) => 0.0,
+            };
+            s.increment(k, dx * f, dth * f);
         }
         for (k, l) in lambda.iter_mut().enumerate() {
             *l += rhs[6 * n + k] * scale;
         }
-        if scale < 1.0 {
+        if scale < 1.0 || cut {
             // A step cut by TLIMIT/ALIMIT leaves the second-order constraint error of a large
             // move: bring the configuration back onto the constraints (least change) so the
             // next Newton step starts from an assembled pose.
@@ -287,6 +415,11 @@ pub fn equilibrium(
                 &mut s,
                 1e-12 * model.characteristic_length.max(1.0),
             );
+        }
+        if cut {
+            // The multipliers' Newton update shares the runaway direction: start them afresh
+            // (least squares) at the new configuration.
+            lambda = initial_multipliers(model, sys, &used, forces, &s, &vel)?;
         }
         if done {
             // The last (small) correction is applied: the result is one Newton step better
@@ -316,6 +449,10 @@ pub fn equilibrium(
         )
         .collect();
     worst.sort_by(|a, b| b.1.abs().total_cmp(&a.1.abs()));
+    // The five largest, leaving out those negligible beside the largest (a free body's other
+    // five balance equations hold exactly).
+    let largest = worst.first().map_or(0.0, |w| w.1.abs());
+    worst.retain(|w| w.1.abs() > 1e-9 * largest);
     worst.truncate(5);
     let rows_grads: Vec<(usize, &RowGradient)> =
         used.iter().zip(&grads).map(|((r, _), g)| (*r, g)).collect();
@@ -340,6 +477,7 @@ pub fn equilibrium(
         stability,
         worst,
         kinematic,
+        unbounded: unbounded && !converged,
         approximate_rows: approximate.iter().filter(|a| **a).count(),
     })
 }

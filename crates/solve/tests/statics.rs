@@ -198,3 +198,36 @@ fn zero_dof_model_is_solved_kinematically() {
     assert!(eq.kinematic && eq.converged);
     assert!(eq.stability.is_none());
 }
+
+/// A body with no joint and no force but its weight has no static equilibrium: every Newton
+/// correction is unbounded and only the limits move it. The solve says so instead of just
+/// not converging, and names the one equation that cannot balance.
+#[test]
+fn a_free_body_under_gravity_has_no_equilibrium_and_says_why() {
+    let text =
+        "free body\nUNITS/, FORCE = NEWTON, MASS = KILOGRAM, LENGTH = METER, TIME = SECOND\n\
+                PART/1, GROUND\nMARKER/1, PART = 1\nMARKER/2, PART = 1, QP = 1, 1, 1\n\
+                PART/2, MASS = 3, CM = 20, IP = 1, 1, 1\nMARKER/20, PART = 2\n\
+                ACCGRAV/, JGRAV = -9.80665\nEND\n";
+    let (m, r) = solve("free.adm", text, &[0.0]);
+    let eq = r.steps[0].1.as_ref().unwrap();
+    assert!(!eq.converged);
+    assert!(eq.unbounded);
+    assert_eq!(eq.worst.len(), 1, "{:?}", eq.worst);
+    let sys = linkage_solve::system::System::new(&m);
+    let why = eq.failure(&m, &sys).unwrap();
+    assert!(
+        why.contains("largest imbalance in PART_2 force Y balance (-2.942e1)"),
+        "{why}"
+    );
+    assert!(why.contains("free motions that nothing resists"), "{why}");
+    // A pendulum that merely needs many ALIMIT-limited iterations is not called unbounded.
+    let (_, r) = solve(
+        "pendulum_maxit.adm",
+        &mechanism_text("pendulum_offset.adm")
+            .replace("END", "EQUILIBRIUM/, MAXIT = 1, ALIMIT = 1D\nEND"),
+        &[0.0],
+    );
+    let eq = r.steps[0].1.as_ref().unwrap();
+    assert!(!eq.converged && !eq.unbounded);
+}
