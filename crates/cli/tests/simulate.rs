@@ -28,6 +28,22 @@ fn tied_pendulum(tag: &str, equilibrium: &str) -> PathBuf {
     f
 }
 
+/// `linkage simulate FILE --end 0.5 --steps 5 [extra…] --format json`.
+fn simulate_json(f: &std::path::Path, extra: &[&str]) -> (i32, serde_json::Value) {
+    let mut args = vec![
+        "simulate",
+        f.to_str().unwrap(),
+        "--end",
+        "0.5",
+        "--steps",
+        "5",
+        "--format",
+        "json",
+    ];
+    args.extend_from_slice(extra);
+    json(&args)
+}
+
 fn equilibrium_angle() -> f64 {
     (200.0 / (200.0 + 2.0 * G / 2.0)).atan()
 }
@@ -44,18 +60,7 @@ fn start_at_equilibrium_by_settling_starts_at_rest_at_the_equilibrium() {
         "settle",
         "EQUILIBRIUM/, GLOBAL_DAMPING = 5, SETTLING_TIME = 20",
     );
-    let (code, v) = json(&[
-        "simulate",
-        f.to_str().unwrap(),
-        "--end",
-        "0.5",
-        "--steps",
-        "5",
-        "--start-at-equilibrium",
-        "--settle",
-        "--format",
-        "json",
-    ]);
+    let (code, v) = simulate_json(&f, &["--start-at-equilibrium", "--settle"]);
     assert_eq!(code, 0, "{v}");
     assert_eq!(v["start"]["from"], "settled_equilibrium");
     assert_eq!(v["start"]["found"], true);
@@ -110,17 +115,7 @@ fn equilibrium_dynamic_in_the_dataset_makes_the_start_settle() {
     );
     // Without DYNAMIC the same option uses Newton statics.
     let f = tied_pendulum("newton", "");
-    let (code, v) = json(&[
-        "simulate",
-        f.to_str().unwrap(),
-        "--end",
-        "0.5",
-        "--steps",
-        "5",
-        "--start-at-equilibrium",
-        "--format",
-        "json",
-    ]);
+    let (code, v) = simulate_json(&f, &["--start-at-equilibrium"]);
     assert_eq!(code, 0, "{v}");
     assert_eq!(v["start"]["from"], "static_equilibrium");
     assert!(v["start"].get("settling").is_none());
@@ -152,16 +147,7 @@ fn a_start_that_does_not_settle_exits_1_naming_the_limits() {
 #[test]
 fn summary_lists_the_removed_equations_and_the_final_state() {
     let src = root().join("mechanisms/door_two_hinges.adm");
-    let (code, v) = json(&[
-        "simulate",
-        src.to_str().unwrap(),
-        "--end",
-        "0.2",
-        "--steps",
-        "2",
-        "--format",
-        "json",
-    ]);
+    let (code, v) = simulate_json(&src, &[]);
     assert_eq!(code, 0, "{v}");
     assert_eq!(v["start"]["from"], "initial_conditions");
     let removed = v["removed_equations"].as_array().unwrap();
@@ -177,6 +163,10 @@ fn summary_lists_the_removed_equations_and_the_final_state() {
             (door["position"][k].as_f64().unwrap() - want).abs() < 1e-9,
             "{door}"
         );
+        assert!(
+            door["acceleration"][k].as_f64().unwrap().abs() < 1e-9,
+            "{door}"
+        );
     }
     let (_, text, _) = run(&["simulate", src.to_str().unwrap(), "--end", "0.2"]);
     assert!(
@@ -189,14 +179,7 @@ fn summary_lists_the_removed_equations_and_the_final_state() {
 #[test]
 fn a_model_with_an_inconsistent_redundancy_is_not_run_and_the_equation_is_named() {
     let src = root().join("mechanisms/door_tilted_hinge.adm");
-    let (code, v) = json(&[
-        "simulate",
-        src.to_str().unwrap(),
-        "--end",
-        "0.2",
-        "--format",
-        "json",
-    ]);
+    let (code, v) = simulate_json(&src, &[]);
     assert_eq!(code, 1, "{v}");
     assert_eq!(v["start"]["found"], false);
     let e = v["errors"][0].as_str().unwrap();

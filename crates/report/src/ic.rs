@@ -47,14 +47,39 @@ pub struct ResidualJson {
 #[derive(Clone, Debug, Serialize, PartialEq)]
 pub struct PartStateJson {
     pub name: String,
-    /// Centre of mass in ground at the assembled configuration.
+    /// Centre of mass in ground.
     pub position: [f64; 3],
     /// 3-1-3 body angles of the part's axes in degrees.
     pub reuler: [f64; 3],
+    /// CM velocity and angular velocity, ground axes.
     pub velocity: [f64; 3],
     pub angular_velocity: [f64; 3],
+    /// CM acceleration and angular acceleration, ground axes (`null` when not computed).
     pub acceleration: Option<[f64; 3]>,
     pub angular_acceleration: Option<[f64; 3]>,
+}
+
+/// Every part's state: pose at `state`, `velocities` and (when known) `accelerations`, each a
+/// `(CM, angular)` pair per part in ground axes.
+pub fn part_states(
+    model: &Model,
+    state: &linkage_solve::state::State,
+    velocities: &[(glam::DVec3, glam::DVec3)],
+    accelerations: Option<&[(glam::DVec3, glam::DVec3)]>,
+) -> Vec<PartStateJson> {
+    crate::statics::part_poses(model, state)
+        .into_iter()
+        .enumerate()
+        .map(|(k, pose)| PartStateJson {
+            name: pose.name,
+            position: pose.position,
+            reuler: pose.reuler,
+            velocity: a3(velocities[k].0),
+            angular_velocity: a3(velocities[k].1),
+            acceleration: accelerations.map(|a| a3(a[k].0)),
+            angular_acceleration: accelerations.map(|a| a3(a[k].1)),
+        })
+        .collect()
 }
 
 /// The JSON document of `linkage ic --format json`.
@@ -144,22 +169,13 @@ pub fn to_json(model: &Model, ic: &InitialConditions, warnings: &[Diagnostic]) -
         }
         None => None,
     };
-    let poses = crate::statics::part_poses(model, &ic.assembly.state);
     let parts = match &ic.velocity {
-        Some(vel) => model
-            .parts
-            .iter()
-            .enumerate()
-            .map(|(k, p)| PartStateJson {
-                name: p.origin.name.clone(),
-                position: poses[k].position,
-                reuler: poses[k].reuler,
-                velocity: a3(vel.velocities[k].0),
-                angular_velocity: a3(vel.velocities[k].1),
-                acceleration: acc.map(|a| a3(a.accelerations[k].0)),
-                angular_acceleration: acc.map(|a| a3(a.accelerations[k].1)),
-            })
-            .collect(),
+        Some(vel) => part_states(
+            model,
+            &ic.assembly.state,
+            &vel.velocities,
+            acc.map(|a| a.accelerations.as_slice()),
+        ),
         None => Vec::new(),
     };
     let vj = verify_json(model, v, &[]);

@@ -1,5 +1,6 @@
 //! Simulation output: CSV time histories and a JSON/text summary.
 
+use crate::ic::{part_states, PartStateJson};
 use crate::statics::{settling_line, settling_summary, SettlingJson};
 use crate::verify::{equation_ref, EquationRef};
 use linkage_adm::Diagnostic;
@@ -107,20 +108,6 @@ pub struct StartJson {
     pub settling: Option<SettlingJson>,
 }
 
-/// A part's state at the last output.
-#[derive(Clone, Debug, Serialize, PartialEq)]
-pub struct PartStateJson {
-    pub name: String,
-    /// Centre of mass in ground.
-    pub position: [f64; 3],
-    /// Body 3-1-3 angles of the BCS, degrees.
-    pub reuler: [f64; 3],
-    /// CM velocity, ground axes.
-    pub velocity: [f64; 3],
-    /// Angular velocity, ground axes.
-    pub angular_velocity: [f64; 3],
-}
-
 /// Summary of `linkage simulate --format json`.
 #[derive(Clone, Debug, Serialize, PartialEq)]
 pub struct SimulateJson {
@@ -141,10 +128,6 @@ pub struct SimulateJson {
     pub notes: Vec<String>,
     pub warnings: Vec<String>,
     pub errors: Vec<String>,
-}
-
-fn a3(v: glam::DVec3) -> [f64; 3] {
-    [v.x, v.y, v.z]
 }
 
 /// How the run started, from the run and the dataset's EQUILIBRIUM settings.
@@ -175,26 +158,6 @@ fn start_json(model: &Model, run: &DynamicRun) -> StartJson {
         stable: eq.and_then(|e| e.stability.map(|s| s.0)),
         settling,
     }
-}
-
-/// Every part's state at `o`.
-fn part_states(model: &Model, o: &Output) -> Vec<PartStateJson> {
-    model
-        .parts
-        .iter()
-        .enumerate()
-        .map(|(k, p)| {
-            let pose = &o.state.poses[k];
-            let (v, w) = o.velocities[k];
-            PartStateJson {
-                name: p.origin.name.clone(),
-                position: a3(pose.p),
-                reuler: matrix_to_euler313(&pose.r).map(f64::to_degrees),
-                velocity: a3(v),
-                angular_velocity: a3(w),
-            }
-        })
-        .collect()
 }
 
 /// Builds the summary.
@@ -242,7 +205,7 @@ pub fn summary(
         .simulation
         .as_ref()
         .and_then(|s| s.outputs.last())
-        .map(|o| part_states(model, o))
+        .map(|o| part_states(model, &o.state, &o.velocities, Some(&o.accelerations)))
         .unwrap_or_default();
     SimulateJson {
         file: model.file.to_string(),
