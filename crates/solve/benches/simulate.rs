@@ -7,6 +7,8 @@
 //! `sprung_chain(N)`: the swinging chain with a torsion spring-damper at every joint, each an
 //! SFORCE whose law is an expression of AZ and WZ (expression forces and their Jacobians).
 //!
+//! `parallelogram_chain_settle`: equilibrium by damped dynamics (settling and the polish).
+//!
 //! `*_run`: the whole dynamic analysis the CLI runs (initial conditions, then the
 //! integration) over `SHORT` = 0.05 s of model time, where start-up costs weigh (the figures
 //! of the issue); `*_integrate`: the integration alone, from the assembled start, over
@@ -144,4 +146,33 @@ fn sprung_chain_integrate(bencher: divan::Bencher, n: usize) {
     let m = model(&sprung_chain(n));
     let forces = linkage_solve::forces::ForceSet::new(&m).expect("the springs build");
     bench_integration(bencher, &m, &forces);
+}
+
+/// Dynamic settling (EQUILIBRIUM/DYNAMIC): the parallelogram chain released at 60° with
+/// GLOBAL_DAMPING 2 settles after about 8 time units (frozen time, one integration watched at
+/// 400 outputs), then the Newton polish; initial conditions included.
+#[divan::bench(args = [10, 100, 1000], sample_count = 3)]
+fn parallelogram_chain_settle(bencher: divan::Bencher, n: usize) {
+    let text = parallelogram_chain(n, 60.0).replace(
+        "END",
+        "EQUILIBRIUM/, DYNAMIC, GLOBAL_DAMPING = 2, SETTLING_TIME = 50\nEND",
+    );
+    let m = model(&text);
+    let d = ExpressionDrivers::new(&m).expect("functions parse");
+    bencher.bench_local(|| {
+        let s = linkage_solve::settle::settle(
+            &m,
+            &d,
+            &NoForces,
+            &Tolerances::default(),
+            &m.equilibrium,
+        );
+        let outcome = s.outcome.expect("assembled");
+        assert!(
+            outcome.settled_equilibrium().is_some(),
+            "{:?}",
+            outcome.stop
+        );
+        outcome.time_used
+    });
 }

@@ -847,7 +847,36 @@ pub fn simulate(
     v0: &[(DVec3, DVec3)],
     times: &[f64],
     settings: &IntegratorSettings,
+    progress: impl FnMut(f64),
+) -> Simulation {
+    let mut outputs = Vec::with_capacity(times.len());
+    let mut sim = simulate_with(p, start, v0, times, settings, progress, |o| {
+        outputs.push(o);
+        AfterOutput::Continue
+    });
+    sim.outputs = outputs;
+    sim
+}
+
+/// What the caller of [`simulate_with`] wants after an output.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum AfterOutput {
+    Continue,
+    /// End the run at this output (dynamic settling met its limits).
+    Stop,
+}
+
+/// [`simulate`], handing each output to `on_output` instead of keeping it (the returned
+/// simulation's `outputs` is empty): one integrator, one symbolic analysis and no stored
+/// history for a run that only watches its outputs (dynamic settling).
+pub fn simulate_with(
+    p: &Problem,
+    start: &State,
+    v0: &[(DVec3, DVec3)],
+    times: &[f64],
+    settings: &IntegratorSettings,
     mut progress: impl FnMut(f64),
+    mut on_output: impl FnMut(Output) -> AfterOutput,
 ) -> Simulation {
     let n = p.n();
     let m = p.rows.len();
@@ -859,7 +888,13 @@ pub fn simulate(
         kinematic: m >= 6 * n && n > 0,
     };
     if sim.kinematic {
-        return crate::kinematics::run(p, start, v0, times, progress);
+        let mut run = crate::kinematics::run(p, start, v0, times, progress);
+        for o in std::mem::take(&mut run.outputs) {
+            if on_output(o) == AfterOutput::Stop {
+                break;
+            }
+        }
+        return run;
     }
     let length = p.model.characteristic_length;
     let t_end = times.last().copied().unwrap_or(start.time);
@@ -879,7 +914,9 @@ pub fn simulate(
         .first()
         .is_some_and(|t| (*t - start.time).abs() <= 1e-12 * t_end.abs().max(1.0))
     {
-        sim.outputs.push(first);
+        if on_output(first) == AfterOutput::Stop {
+            return sim;
+        }
         next_output = 1;
     }
     let span = (t_end - start.time).max(1e-300);
@@ -937,7 +974,11 @@ pub fn simulate(
                     .max(settings.hmin);
                 if hit {
                     match integ.output() {
-                        Ok(o) => sim.outputs.push(o),
+                        Ok(o) => {
+                            if on_output(o) == AfterOutput::Stop {
+                                return sim;
+                            }
+                        }
                         Err(e) => {
                             sim.failure = Some(Failure {
                                 time: now,

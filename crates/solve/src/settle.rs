@@ -9,7 +9,7 @@
 
 use crate::applied::AppliedForces;
 use crate::drivers::ExpressionDrivers;
-use crate::dynamics::{simulate, ExtraDamping, IntegratorSettings, Problem};
+use crate::dynamics::{simulate_with, AfterOutput, ExtraDamping, IntegratorSettings, Problem};
 use crate::state::State;
 use crate::statics::{equilibrium, Equilibrium};
 use crate::system::System;
@@ -17,6 +17,9 @@ use crate::tolerances::Tolerances;
 use glam::DVec3;
 use linkage_model::settings::EquilibriumSettings;
 use linkage_model::Model;
+
+/// Outputs at which the settling checks its limits, evenly spaced over SETTLING_TIME.
+const WINDOWS: usize = 400;
 
 /// What ended the settling.
 #[derive(Clone, Debug, PartialEq)]
@@ -140,14 +143,15 @@ pub fn settle_assembled(
         damping: Some(ExtraDamping(eq.global_damping)),
         frozen_time: Some(t0),
     };
-    let mut state: State = ic.assembly.state.clone();
-    let mut vel: Vec<(DVec3, DVec3)> = ic
+    let v0: Vec<(DVec3, DVec3)> = ic
         .velocity
         .as_ref()
         .map(|v| v.velocities.clone())
         .unwrap_or_else(|| vec![(DVec3::ZERO, DVec3::ZERO); model.parts.len()]);
-    let windows = 400usize;
-    let dt = eq.settling_time / windows as f64;
+    // One integration over SETTLING_TIME, watched at `WINDOWS` evenly spaced outputs (and the
+    // start): it ends at the first output where both limits hold.
+    let dt = eq.settling_time / WINDOWS as f64;
+    let times: Vec<f64> = (0..=WINDOWS).map(|k| t0 + dt * k as f64).collect();
     let settings = IntegratorSettings {
         error: 1e-4,
         hmax: Some(dt),
@@ -155,64 +159,65 @@ pub fn settle_assembled(
     };
     let ucf = model.ucf();
     let mut stop = None;
-    let mut tau = t0;
-    for window in 1..=windows {
-        let sim = simulate(&problem, &state, &vel, &[tau, tau + dt], &settings, |_| {});
-        if let Some(f) = sim.failure {
-            stop = Some(SettleStop::Failed(format!(
-                "at settling time {}: {}",
-                f.time - t0,
-                f.message
-            )));
-            break;
-        }
-        let Some(out) = sim.outputs.last() else {
-            stop = Some(SettleStop::Failed(
-                "the settling integration produced no output".into(),
-            ));
-            break;
-        };
-        state = out.state.clone();
-        vel = out.velocities.clone();
-        tau = out.time;
-        // Kinetic energy in the model's force × length (m v² / UCF).
-        let ke: f64 = model
-            .parts
-            .iter()
-            .enumerate()
-            .map(|(k, p)| {
-                let ig = state.poses[k].r * p.inertia * state.poses[k].r.transpose();
-                0.5 * p.mass * vel[k].0.length_squared() + 0.5 * vel[k].1.dot(ig * vel[k].1)
-            })
-            .sum::<f64>()
-            / ucf;
-        let acc = out
-            .accelerations
-            .iter()
-            .map(|(a, al)| a.length().max(al.length()))
-            .fold(0.0, f64::max);
-        if ke <= eq.kinetic_energy_error && acc <= eq.acceleration_error {
-            stop = Some(SettleStop::Settled {
-                kinetic_energy: ke,
-                acceleration: acc,
+    let mut last: Option<(State, f64)> = None;
+    let sim = simulate_with(
+        &problem,
+        &ic.assembly.state,
+        &v0,
+        &times,
+        &settings,
+        |_| {},
+        |out| {
+            // Kinetic energy in the model's force × length (m v² / UCF).
+            let ke: f64 = model
+                .parts
+                .iter()
+                .enumerate()
+                .map(|(k, p)| {
+                    let r = out.state.poses[k].r;
+                    let ig = r * p.inertia * r.transpose();
+                    let (v, w) = out.velocities[k];
+                    0.5 * p.mass * v.length_squared() + 0.5 * w.dot(ig * w)
+                })
+                .sum::<f64>()
+                / ucf;
+            let acc = out
+                .accelerations
+                .iter()
+                .map(|(a, al)| a.length().max(al.length()))
+                .fold(0.0, f64::max);
+            let settled = ke <= eq.kinetic_energy_error && acc <= eq.acceleration_error;
+            stop = Some(if settled {
+                SettleStop::Settled {
+                    kinetic_energy: ke,
+                    acceleration: acc,
+                }
+            } else {
+                SettleStop::SettlingTime {
+                    kinetic_energy: ke,
+                    acceleration: acc,
+                }
             });
-            break;
-        }
-        if window == windows {
-            stop = Some(SettleStop::SettlingTime {
-                kinetic_energy: ke,
-                acceleration: acc,
-            });
-            break;
-        }
+            last = Some((out.state, out.time));
+            if settled {
+                AfterOutput::Stop
+            } else {
+                AfterOutput::Continue
+            }
+        },
+    );
+    if let Some(f) = sim.failure {
+        stop = Some(SettleStop::Failed(format!(
+            "at settling time {}: {}",
+            f.time - t0,
+            f.message
+        )));
     }
+    let (mut state, tau) = last.unwrap_or_else(|| (ic.assembly.state.clone(), t0));
     let time_used = tau - t0;
     state.time = t0;
     let stop = stop.unwrap_or_else(|| {
-        SettleStop::Failed(format!(
-            "SETTLING_TIME = {} leaves no time to integrate",
-            eq.settling_time
-        ))
+        SettleStop::Failed("the settling integration produced no output".into())
     });
     let equilibrium = match &stop {
         SettleStop::Failed(_) => None,
