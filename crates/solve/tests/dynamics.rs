@@ -4,6 +4,7 @@ use linkage_model::Model;
 use linkage_solve::applied::NoForces;
 use linkage_solve::drivers::ExpressionDrivers;
 use linkage_solve::dynamics::{run, DynamicRun, IntegratorSettings, Start};
+use linkage_solve::statics::StaticRun;
 use linkage_solve::tolerances::Tolerances;
 use std::path::Path;
 use std::sync::Arc;
@@ -593,4 +594,65 @@ fn a_model_that_does_not_settle_is_not_run_and_says_why() {
         "{why}"
     );
     assert!(why.contains("kinetic energy"), "{why}");
+}
+
+fn settled_chain(crank_deg: f64) -> (Model, linkage_solve::settle::Settling, StaticRun) {
+    let text = linkage_solve::generate::parallelogram_chain(3, crank_deg).replace(
+        "END",
+        "EQUILIBRIUM/, DYNAMIC, GLOBAL_DAMPING = 2, SETTLING_TIME = 50\nEND",
+    );
+    let ds = linkage_adm::parse_dataset(Arc::from("chain3.adm"), &text).unwrap();
+    let m = linkage_model::build_model(&ds).unwrap().model;
+    let d = ExpressionDrivers::new(&m).unwrap();
+    let s =
+        linkage_solve::settle::settle(&m, &d, &NoForces, &Tolerances::default(), &m.equilibrium);
+    let newton = linkage_solve::statics::run(&m, &d, &NoForces, &Tolerances::default(), &[0.0]);
+    (m, s, newton)
+}
+
+/// Centres of mass of the four cranks (length 1, pivots at (k, 0)) pointing `up` or down.
+fn cranks_point(m: &Model, state: &linkage_solve::state::State, up: bool) -> bool {
+    (0..=3).all(|k| {
+        let want = glam::DVec3::new(k as f64, if up { 0.5 } else { -0.5 }, 0.0);
+        m.parts[k].origin.name == format!("crank_{k}") && (state.poses[k].p - want).length() < 1e-6
+    })
+}
+
+/// A closed-loop model with redundant rows (three parallelogram four-bars sharing cranks,
+/// nine redundant equations). Released with its cranks at −60°, settling (damped, frozen time)
+/// and Newton statics both find the cranks hanging straight down. Released at +60°, Newton
+/// converges to the nearest equilibrium, cranks straight up, and says it is unstable; damped
+/// dynamics cannot rest there and settles hanging down: the reason to settle.
+#[test]
+fn settling_and_newton_agree_on_a_closed_loop_chain_unless_newton_finds_an_unstable_pose() {
+    let (m, s, newton) = settled_chain(-60.0);
+    assert_eq!(s.ic.analysis.redundant.len(), 9);
+    let outcome = s.outcome.unwrap();
+    let settled = outcome
+        .settled_equilibrium()
+        .unwrap_or_else(|| panic!("{:?}", outcome.stop));
+    let n_eq = newton.steps[0].1.as_ref().unwrap();
+    assert!(n_eq.converged);
+    for k in 0..m.parts.len() {
+        let (a, b) = (settled.state.poses[k].p, n_eq.state.poses[k].p);
+        assert!(
+            (a - b).length() < 1e-6,
+            "{}: {a} vs {b}",
+            m.parts[k].origin.name
+        );
+    }
+    assert!(cranks_point(&m, &settled.state, false));
+    assert_eq!(settled.stability.map(|s| s.0), Some(true));
+
+    let (m, s, newton) = settled_chain(60.0);
+    let n_eq = newton.steps[0].1.as_ref().unwrap();
+    assert!(n_eq.converged);
+    assert!(cranks_point(&m, &n_eq.state, true));
+    assert_eq!(n_eq.stability.map(|s| s.0), Some(false));
+    let outcome = s.outcome.unwrap();
+    let settled = outcome
+        .settled_equilibrium()
+        .unwrap_or_else(|| panic!("{:?}", outcome.stop));
+    assert!(cranks_point(&m, &settled.state, false));
+    assert_eq!(settled.stability.map(|s| s.0), Some(true));
 }
