@@ -56,6 +56,9 @@ pub struct StaticJson {
     pub iterations: usize,
     pub imbalance: f64,
     pub stable: Option<bool>,
+    /// Lowest eigenvalue of the reduced stiffness (force × length per unit free motion, with
+    /// translations over the characteristic length): negative means unstable.
+    pub lowest_stiffness: Option<f64>,
     /// The model has no degrees of freedom: solved kinematically.
     pub kinematic: bool,
     pub parts: Vec<PartPoseJson>,
@@ -302,6 +305,7 @@ pub fn to_json(model: &Model, run: &StaticRun, warnings: &[Diagnostic]) -> Stati
         iterations: first.map_or(0, |s| s.iterations),
         imbalance: first.map_or(f64::NAN, |s| s.imbalance),
         stable: first.and_then(|s| s.stable),
+        lowest_stiffness: first.and_then(|s| s.lowest_stiffness),
         kinematic,
         parts: first.map(|s| s.parts.clone()).unwrap_or_default(),
         reactions: first.map(|s| s.reactions.clone()).unwrap_or_default(),
@@ -400,7 +404,8 @@ pub fn to_text(j: &StaticJson) -> String {
             Some(false) => {
                 let _ = writeln!(
                     s,
-                    "The equilibrium is UNSTABLE (negative stiffness along a free motion)."
+                    "The equilibrium is UNSTABLE (negative stiffness {:.3e} along a free motion).",
+                    j.lowest_stiffness.unwrap_or(f64::NAN)
                 );
             }
             None => {}
