@@ -95,3 +95,45 @@ pub fn applied_forces(
     let forces = linkage_solve::forces::ForceSet::new(&loaded.model)?;
     Ok(Box::new(forces))
 }
+
+/// The most output times a run may ask for: every output keeps each part's state, so a
+/// mistyped count (`--dtout 1e-9` over `--end 1e9`) is refused rather than exhausting memory.
+pub const MAX_OUTPUT_TIMES: usize = 1_000_000;
+
+/// Output times from 0 to `end`: `steps` equal intervals, or every `dtout` (the last one
+/// shortened to land on `end`); 100 intervals when neither is given. An input error (for
+/// exit code 2) when `end` or `dtout` is not a positive finite time, `steps` is 0, or the run
+/// would have more than [`MAX_OUTPUT_TIMES`] outputs.
+pub fn output_times(
+    end: f64,
+    steps: Option<usize>,
+    dtout: Option<f64>,
+) -> Result<Vec<f64>, String> {
+    if !(end > 0.0 && end.is_finite()) {
+        return Err(format!("--end must be a positive time, not {end}"));
+    }
+    let intervals = match (steps, dtout) {
+        (_, Some(dt)) => {
+            if !(dt > 0.0 && dt.is_finite()) {
+                return Err(format!("--dtout must be a positive time, not {dt}"));
+            }
+            let n = (end / dt - 1e-9).ceil().max(1.0);
+            if n > MAX_OUTPUT_TIMES as f64 {
+                return Err(format!(
+                    "--dtout {dt} over --end {end} asks for {n:.3e} outputs; at most \
+                     {MAX_OUTPUT_TIMES} are allowed"
+                ));
+            }
+            return Ok((0..=n as usize).map(|k| (k as f64 * dt).min(end)).collect());
+        }
+        (Some(0), None) => return Err("--steps must be at least 1".into()),
+        (Some(n), None) => n,
+        (None, None) => 100,
+    };
+    if intervals > MAX_OUTPUT_TIMES {
+        return Err(format!(
+            "--steps {intervals} asks for more than the {MAX_OUTPUT_TIMES} outputs allowed"
+        ));
+    }
+    Ok(linkage_solve::statics::output_times(end, intervals))
+}

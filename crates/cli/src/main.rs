@@ -70,7 +70,7 @@ enum Command {
         #[arg(long, value_enum, default_value = "text")]
         format: static_cmd::StaticFormat,
         /// End time of a quasi-static series.
-        #[arg(long, requires = "steps")]
+        #[arg(long, requires = "steps", allow_negative_numbers = true)]
         end: Option<f64>,
         /// Number of output steps of the series.
         #[arg(long, requires = "end")]
@@ -117,13 +117,13 @@ enum Command {
         #[arg(long, value_enum, default_value = "text")]
         format: Format,
         /// End time.
-        #[arg(long)]
+        #[arg(long, allow_negative_numbers = true)]
         end: f64,
         /// Number of output intervals.
         #[arg(long, conflicts_with = "dtout")]
         steps: Option<usize>,
         /// Output interval.
-        #[arg(long)]
+        #[arg(long, allow_negative_numbers = true)]
         dtout: Option<f64>,
         /// Write the time histories as CSV.
         #[arg(long, value_name = "FILE.csv")]

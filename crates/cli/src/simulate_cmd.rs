@@ -1,7 +1,7 @@
 //! `linkage simulate`: dynamic simulation with output at requested times; the CSV gets the
 //! dataset's REQUEST outputs as extra columns.
 
-use crate::common::{applied_forces, input_error, load, print_json, Format};
+use crate::common::{applied_forces, input_error, load, output_times, print_json, Format};
 use linkage_model::settings::integrator_statement;
 use linkage_report::simulate::ExtraColumns;
 use linkage_solve::dynamics::{run, DynamicRun, IntegratorSettings, Start};
@@ -20,18 +20,6 @@ pub struct SimulateArgs<'a> {
     pub dtout: Option<f64>,
     pub out: Option<&'a Path>,
     pub start: Start,
-}
-
-/// The output times: `steps` intervals, or every `dtout`, from 0 to `end`.
-fn output_times(end: f64, steps: Option<usize>, dtout: Option<f64>) -> Vec<f64> {
-    match (steps, dtout) {
-        (_, Some(dt)) if dt > 0.0 => {
-            let n = (end / dt - 1e-9).ceil().max(1.0) as usize;
-            (0..=n).map(|k| (k as f64 * dt).min(end)).collect()
-        }
-        (Some(n), _) => linkage_solve::statics::output_times(end, n),
-        _ => linkage_solve::statics::output_times(end, 100),
-    }
 }
 
 /// REQUEST columns at every output. An output where a request cannot be evaluated gets NaN in
@@ -85,11 +73,13 @@ pub fn run_simulate(args: &SimulateArgs) -> ExitCode {
         },
         None => None,
     };
-    if !(args.end > 0.0 && args.end.is_finite()) {
-        eprintln!("error: --end must be a positive time");
-        return ExitCode::from(2);
-    }
-    let times = output_times(args.end, args.steps, args.dtout);
+    let times = match output_times(args.end, args.steps, args.dtout) {
+        Ok(t) => t,
+        Err(e) => {
+            eprintln!("error: {e}");
+            return ExitCode::from(2);
+        }
+    };
     // INTEGRATOR settings: every Adams integrator name is accepted and mapped to HHT.
     let stmt = integrator_statement(&loaded.dataset);
     let mut notes = Vec::new();

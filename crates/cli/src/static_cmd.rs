@@ -5,7 +5,7 @@ use crate::ic_cmd::save_configuration;
 use clap::ValueEnum;
 use linkage_adm::Diagnostics;
 use linkage_solve::applied::AppliedForces;
-use linkage_solve::statics::{output_times, run};
+use linkage_solve::statics::run;
 use linkage_solve::tolerances::Tolerances;
 use std::path::Path;
 use std::process::ExitCode;
@@ -87,7 +87,13 @@ pub fn run_static(args: &StaticArgs) -> ExitCode {
         };
     }
     let times = match args.series {
-        Some((end, steps)) => output_times(end, steps),
+        Some((end, steps)) => match crate::common::output_times(end, Some(steps), None) {
+            Ok(t) => t,
+            Err(e) => {
+                eprintln!("error: {e}");
+                return ExitCode::from(2);
+            }
+        },
         None => vec![0.0],
     };
     let result = run(

@@ -188,3 +188,41 @@ fn a_model_with_an_inconsistent_redundancy_is_not_run_and_the_equation_is_named(
         "{e}"
     );
 }
+
+/// Output times that make no sense, or that would exhaust memory (a mistyped --dtout), are
+/// input errors: exit 2 with the reason, before any analysis.
+#[test]
+fn output_times_are_validated() {
+    let src = root().join("mechanisms/pendulum.adm");
+    let src = src.to_str().unwrap();
+    for (args, why) in [
+        (
+            &["--end", "1e9", "--dtout", "1e-9"][..],
+            "asks for 1.000e18 outputs; at most 1000000 are allowed",
+        ),
+        (
+            &["--end", "1", "--dtout", "0"][..],
+            "--dtout must be a positive time, not 0",
+        ),
+        (
+            &["--end", "-1"][..],
+            "--end must be a positive time, not -1",
+        ),
+        (
+            &["--end", "1", "--steps", "0"][..],
+            "--steps must be at least 1",
+        ),
+    ] {
+        let mut all = vec!["simulate", src];
+        all.extend_from_slice(args);
+        let (code, _, err) = run(&all);
+        assert_eq!(code, 2, "{args:?}: {err}");
+        assert!(err.contains(why), "{args:?}: {err}");
+    }
+    let (code, _, err) = run(&["static", src, "--end", "1", "--steps", "100000000000"]);
+    assert_eq!(code, 2, "{err}");
+    assert!(
+        err.contains("asks for more than the 1000000 outputs allowed"),
+        "{err}"
+    );
+}
