@@ -22,6 +22,9 @@ pub struct SimulateArgs<'a> {
     pub start: Start,
 }
 
+/// The most integration steps an HMAX may imply (about a day of computing for a small model).
+const MAX_STEPS: f64 = 1e9;
+
 /// REQUEST columns at every output. An output where a request cannot be evaluated gets NaN in
 /// every request column; the first such error is reported (the run then exits with 1).
 fn request_columns(
@@ -97,6 +100,18 @@ pub fn run_simulate(args: &SimulateArgs) -> ExitCode {
             stmt.ignored.join(", ")
         ));
     }
+    // A step size bound that would need more steps than any run can take is a typing error.
+    if let Some(hmax) = stmt.hmax {
+        let steps = args.end / hmax;
+        if steps > MAX_STEPS {
+            eprintln!(
+                "error: INTEGRATOR HMAX = {hmax:e} over --end {} needs at least {steps:.3e} steps \
+                 (at most {MAX_STEPS:.0e} are allowed)",
+                args.end
+            );
+            return ExitCode::from(2);
+        }
+    }
     let settings = IntegratorSettings {
         error: stmt.error.unwrap_or(1e-3),
         hmax: stmt.hmax,
@@ -137,6 +152,7 @@ pub fn run_simulate(args: &SimulateArgs) -> ExitCode {
     }
     let mut report =
         linkage_report::simulate::summary(&loaded.model, &result, notes, &loaded.warnings);
+    report.warnings.extend(stmt.invalid.iter().cloned());
     if let Some(out) = args.out {
         let extra = requests
             .as_ref()

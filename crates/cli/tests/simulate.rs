@@ -226,3 +226,39 @@ fn output_times_are_validated() {
         "{err}"
     );
 }
+
+/// INTEGRATOR values linkage cannot use are warnings in the summary naming what is used
+/// instead; an HMAX that would need more than 1e9 steps is an input error.
+#[test]
+fn unusable_integrator_settings_are_reported() {
+    let with = |tag: &str, integrator: &str| {
+        let text = std::fs::read_to_string(root().join("mechanisms/pendulum_offset.adm"))
+            .unwrap()
+            .replace("END", &format!("INTEGRATOR/{integrator}\nEND"));
+        let f =
+            std::env::temp_dir().join(format!("linkage-integ-{tag}-{}.adm", std::process::id()));
+        std::fs::write(&f, text).unwrap();
+        f
+    };
+    let f = with("bad", "HHT, ALPHA = 0.5, ERROR = 1E-30");
+    let (code, v) = simulate_json(&f, &[]);
+    assert_eq!(code, 0, "{v}");
+    let warnings = v["warnings"].to_string();
+    assert!(
+        warnings.contains("INTEGRATOR ALPHA = 0.5 is outside HHT's range"),
+        "{warnings}"
+    );
+    assert!(
+        warnings.contains(
+            "INTEGRATOR ERROR = 1e-30 is below what double precision can meet; 1e-12 is used"
+        ),
+        "{warnings}"
+    );
+    let f = with("hmax", "HMAX = 1E-12");
+    let (code, _, err) = run(&["simulate", f.to_str().unwrap(), "--end", "1"]);
+    assert_eq!(code, 2, "{err}");
+    assert!(
+        err.contains("HMAX = 1e-12 over --end 1 needs at least 1.000e12 steps"),
+        "{err}"
+    );
+}

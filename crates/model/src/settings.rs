@@ -301,6 +301,37 @@ mod tests {
         assert_eq!(s.tlimit, 0.5);
         assert_eq!(s.pattern, vec![true, false, false]);
     }
+
+    #[test]
+    fn integrator_values_that_cannot_be_used_are_named_and_left_out() {
+        let d = ds("t\nPART/1, GROUND\nINTEGRATOR/HHT, ERROR = -1, HMAX = 0.01, HMIN = 0.5, ALPHA = 0.2, MAXIT = 0, KMAX = 6\nEND\n");
+        let st = integrator_statement(&d);
+        assert_eq!(st.name.as_deref(), Some("HHT"));
+        assert_eq!(
+            (st.error, st.hmax, st.hmin, st.alpha, st.maxit),
+            (None, Some(0.01), None, None, None)
+        );
+        assert_eq!(st.ignored, vec!["KMAX".to_string()]);
+        assert_eq!(
+            st.invalid,
+            vec![
+                "INTEGRATOR ERROR = -1 is not a positive number; it is ignored",
+                "INTEGRATOR ALPHA = 0.2 is outside HHT's range −1/3 … 0; it is ignored",
+                "INTEGRATOR MAXIT = 0 is not a positive count; it is ignored",
+                "INTEGRATOR HMIN = 0.5 exceeds HMAX = 0.01; HMIN is ignored",
+            ]
+        );
+        let d = ds("t\nPART/1, GROUND\nINTEGRATOR/GSTIFF, ERROR = 1E-20, HMIN = 1E-6\nEND\n");
+        let st = integrator_statement(&d);
+        assert_eq!(
+            (st.error, st.hmin),
+            (Some(MIN_INTEGRATOR_ERROR), Some(1e-6))
+        );
+        assert_eq!(
+            st.invalid,
+            vec!["INTEGRATOR ERROR = 1e-20 is below what double precision can meet; 1e-12 is used"]
+        );
+    }
 }
 
 /// `INTEGRATOR/` settings (ADM-REFERENCE §8.5, §9.4). Adams' integrator names are accepted;
@@ -317,7 +348,24 @@ pub struct IntegratorStatement {
     pub maxit: Option<usize>,
     /// Arguments given that linkage does not use (KMAX, CORRECTOR, FORMULATION, …).
     pub ignored: Vec<String>,
+    /// Values that cannot be used, each with what is used instead (for warnings).
+    pub invalid: Vec<String>,
 }
+
+/// A number as a reader wants it in a message: plain, or in exponent form when very small or
+/// large (`1e-12`, not `0.000000000001`).
+fn shown(x: f64) -> String {
+    if x != 0.0 && (x.abs() < 1e-3 || x.abs() >= 1e6) {
+        format!("{x:e}")
+    } else {
+        format!("{x}")
+    }
+}
+
+/// The smallest INTEGRATOR ERROR linkage honours: below it the local error estimate is
+/// rounding (coordinates carry about 1e-16 of their size, and models far from the origin
+/// more), so a smaller tolerance could only pin the step at HMIN.
+pub const MIN_INTEGRATOR_ERROR: f64 = 1e-12;
 
 const INTEGRATOR_NAMES: [&str; 18] = [
     "GSTIFF",
@@ -351,6 +399,7 @@ pub fn integrator_statement(ds: &Dataset) -> IntegratorStatement {
         alpha: None,
         maxit: None,
         ignored: Vec::new(),
+        invalid: Vec::new(),
     };
     for stmt in ds.statements.iter().filter(|st| st.keyword == "INTEGRATOR") {
         let n = |k: &str| number(stmt, k, &INTEGRATOR_NAMES);
@@ -368,15 +417,50 @@ pub fn integrator_statement(ds: &Dataset) -> IntegratorStatement {
                 out.name = Some(name.to_string());
             }
         }
-        out.error = n("ERROR").filter(|x| *x > 0.0).or(out.error);
-        out.hmax = n("HMAX").filter(|x| *x > 0.0).or(out.hmax);
-        out.hinit = n("HINIT").filter(|x| *x > 0.0).or(out.hinit);
-        out.hmin = n("HMIN").filter(|x| *x > 0.0).or(out.hmin);
-        out.alpha = n("ALPHA").or(out.alpha);
-        out.maxit = n("MAXIT")
-            .filter(|x| *x >= 1.0)
-            .map(|x| x as usize)
-            .or(out.maxit);
+        let mut positive = |key: &str, slot: &mut Option<f64>| {
+            if let Some(x) = n(key) {
+                if x > 0.0 && x.is_finite() {
+                    *slot = Some(x);
+                } else {
+                    out.invalid.push(format!(
+                        "INTEGRATOR {key} = {} is not a positive number; it is ignored",
+                        shown(x)
+                    ));
+                }
+            }
+        };
+        let (mut error, mut hmax, mut hinit, mut hmin) = (out.error, out.hmax, out.hinit, out.hmin);
+        positive("ERROR", &mut error);
+        positive("HMAX", &mut hmax);
+        positive("HINIT", &mut hinit);
+        positive("HMIN", &mut hmin);
+        if let Some(e) = error.filter(|e| *e < MIN_INTEGRATOR_ERROR) {
+            out.invalid.push(format!(
+                "INTEGRATOR ERROR = {} is below what double precision can meet; {} is used",
+                shown(e),
+                shown(MIN_INTEGRATOR_ERROR)
+            ));
+            error = Some(MIN_INTEGRATOR_ERROR);
+        }
+        (out.error, out.hmax, out.hinit, out.hmin) = (error, hmax, hinit, hmin);
+        if let Some(a) = n("ALPHA") {
+            if (-1.0 / 3.0..=0.0).contains(&a) {
+                out.alpha = Some(a);
+            } else {
+                out.invalid.push(format!(
+                    "INTEGRATOR ALPHA = {a} is outside HHT's range −1/3 … 0; it is ignored"
+                ));
+            }
+        }
+        if let Some(m) = n("MAXIT") {
+            if m >= 1.0 && m.is_finite() {
+                out.maxit = Some(m as usize);
+            } else {
+                out.invalid.push(format!(
+                    "INTEGRATOR MAXIT = {m} is not a positive count; it is ignored"
+                ));
+            }
+        }
         for a in &stmt.args {
             let used = [
                 "ERROR",
@@ -399,6 +483,16 @@ pub fn integrator_statement(ds: &Dataset) -> IntegratorStatement {
             if !used && !out.ignored.contains(&a.key) {
                 out.ignored.push(a.key.clone());
             }
+        }
+    }
+    if let (Some(lo), Some(hi)) = (out.hmin, out.hmax) {
+        if lo > hi {
+            out.invalid.push(format!(
+                "INTEGRATOR HMIN = {} exceeds HMAX = {}; HMIN is ignored",
+                shown(lo),
+                shown(hi)
+            ));
+            out.hmin = None;
         }
     }
     out
