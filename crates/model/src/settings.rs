@@ -303,6 +303,18 @@ mod tests {
     }
 
     #[test]
+    fn numbers_in_messages_read_as_written() {
+        let all: Vec<String> = [4.0, 2.25, 0.125, 1e12, 1.5e-9, -1.0, 0.0, 2.5e9, 1e-12]
+            .iter()
+            .map(|&x| shown(x))
+            .collect();
+        assert_eq!(
+            all,
+            ["4", "2.25", "0.125", "1e12", "1.5e-9", "-1", "0", "2.5e9", "1e-12"]
+        );
+    }
+
+    #[test]
     fn integrator_values_that_cannot_be_used_are_named_and_left_out() {
         let d = ds("t\nPART/1, GROUND\nINTEGRATOR/HHT, ERROR = -1, HMAX = 0.01, HMIN = 0.5, ALPHA = 0.2, MAXIT = 0, KMAX = 6\nEND\n");
         let st = integrator_statement(&d);
@@ -352,13 +364,18 @@ pub struct IntegratorStatement {
     pub invalid: Vec<String>,
 }
 
-/// A number as a reader wants it in a message: plain, or in exponent form when very small or
-/// large (`1e-12`, not `0.000000000001`).
-fn shown(x: f64) -> String {
+/// A setting or time as a reader wants it in a message: `4`, `2.25`, `1e12`, `1.5e-9`
+/// (exponent form when very small or large, six significant digits at most).
+pub fn shown(x: f64) -> String {
+    let trim = |t: &str| t.trim_end_matches('0').trim_end_matches('.').to_string();
     if x != 0.0 && (x.abs() < 1e-3 || x.abs() >= 1e6) {
-        format!("{x:e}")
+        let t = format!("{x:.5e}");
+        match t.split_once('e') {
+            Some((mantissa, exponent)) => format!("{}e{exponent}", trim(mantissa)),
+            None => t,
+        }
     } else {
-        format!("{x}")
+        trim(&format!("{x:.6}"))
     }
 }
 

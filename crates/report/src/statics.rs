@@ -3,7 +3,7 @@
 use crate::ic::ReactionJson;
 use linkage_adm::Diagnostic;
 use linkage_model::frames::matrix_to_euler313;
-use linkage_model::settings::EquilibriumSettings;
+use linkage_model::settings::{shown, EquilibriumSettings};
 use linkage_model::Model;
 use linkage_solve::reactions::Reaction;
 use linkage_solve::settle::{SettleOutcome, SettleStop};
@@ -153,24 +153,24 @@ pub fn settling_line(st: &SettlingJson) -> String {
     };
     let body = match st.criterion {
         "settled" => format!(
-            "settled after {:.6} time units: {}",
-            st.settling_time_used,
+            "settled after {} time units: {}",
+            shown(st.settling_time_used),
             values(st.kinetic_energy, st.acceleration)
         ),
         "settling_time" => format!(
             "did NOT settle: SETTLING_TIME {} ran out with {}",
-            st.settling_time_limit,
+            shown(st.settling_time_limit),
             values(st.kinetic_energy, st.acceleration)
         ),
         _ => format!(
-            "FAILED after {:.6} time units: {}",
-            st.settling_time_used,
+            "FAILED after {} time units: {}",
+            shown(st.settling_time_used),
             st.message.clone().unwrap_or_default()
         ),
     };
     format!(
         "Dynamic settling (GLOBAL_DAMPING {}, time frozen at the start) {body}",
-        st.global_damping
+        shown(st.global_damping)
     )
 }
 
