@@ -262,3 +262,32 @@ fn unusable_integrator_settings_are_reported() {
         "{err}"
     );
 }
+
+/// Three parallelogram loops released with their cranks at +60°: Newton statics converges to
+/// the nearest equilibrium, cranks straight up, which is unstable; the run warns that it
+/// starts there and points to settling, which starts it hanging (stable, no warning).
+#[test]
+fn a_start_at_an_unstable_equilibrium_is_a_warning() {
+    let text = linkage_solve::generate::parallelogram_chain(3, 60.0).replace(
+        "END",
+        "EQUILIBRIUM/, GLOBAL_DAMPING = 2, SETTLING_TIME = 50\nEND",
+    );
+    let f = std::env::temp_dir().join(format!("linkage-chain3-{}.adm", std::process::id()));
+    std::fs::write(&f, text).unwrap();
+    let (code, v) = simulate_json(&f, &["--start-at-equilibrium"]);
+    assert_eq!(code, 0, "{v}");
+    assert_eq!(v["start"]["stable"], false);
+    assert!(
+        v["warnings"]
+            .to_string()
+            .contains("the run starts at an UNSTABLE equilibrium"),
+        "{v}"
+    );
+    let crank_y = |v: &serde_json::Value| v["final_state"][0]["position"][1].as_f64().unwrap();
+    assert!((crank_y(&v) - 0.5).abs() < 1e-6, "{v}");
+    let (code, v) = simulate_json(&f, &["--start-at-equilibrium", "--settle"]);
+    assert_eq!(code, 0, "{v}");
+    assert_eq!(v["start"]["stable"], true);
+    assert!(!v["warnings"].to_string().contains("UNSTABLE"), "{v}");
+    assert!((crank_y(&v) + 0.5).abs() < 1e-6, "{v}");
+}

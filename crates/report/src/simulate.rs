@@ -172,6 +172,19 @@ pub fn summary(
     if let Some(e) = &run.error {
         errors.push(e.clone());
     }
+    let start = start_json(model, run);
+    if start.found && start.stable == Some(false) {
+        warnings.push(if start.from == "static_equilibrium" {
+            "the run starts at an UNSTABLE equilibrium (Newton converges to the nearest one): \
+             it stays there only as long as rounding allows; `--settle` finds a stable one by \
+             damped dynamics"
+                .to_string()
+        } else {
+            "the run starts at an UNSTABLE equilibrium: it stays there only as long as \
+             rounding allows"
+                .to_string()
+        });
+    }
     let (completed, end_time, outputs, steps, rejected, kinematic) = match &run.simulation {
         Some(sim) => {
             if let Some(f) = &sim.failure {
@@ -216,7 +229,7 @@ pub fn summary(
         steps,
         rejected_steps: rejected,
         kinematic,
-        start: start_json(model, run),
+        start,
         removed_equations,
         final_state,
         notes,
