@@ -499,7 +499,7 @@ pub fn settling_json(
         j.errors.push(match settling.criterion {
             "settling_time" => format!(
                 "the model did not settle within SETTLING_TIME = {}",
-                settling.settling_time_limit
+                shown(settling.settling_time_limit)
             ),
             _ => format!(
                 "dynamic settling failed: {}",

@@ -849,7 +849,7 @@ pub fn simulate(
     settings: &IntegratorSettings,
     progress: impl FnMut(f64),
 ) -> Simulation {
-    let mut outputs = Vec::with_capacity(times.len());
+    let mut outputs = Vec::new();
     let mut sim = simulate_with(p, start, v0, times, settings, progress, |o| {
         outputs.push(o);
         AfterOutput::Continue

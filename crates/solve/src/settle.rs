@@ -2,10 +2,13 @@
 //!
 //! Time is frozen at the start time (motions and forces see that time), every part gets a
 //! damping force `−c m v` and torque `−c I ω` with `c` = GLOBAL_DAMPING (per time unit), and
-//! the model is integrated until both the kinetic energy and the largest acceleration fall
-//! below KINETIC_ENERGY_ERROR and ACCELERATION_ERROR, or until SETTLING_TIME runs out. The
-//! settled configuration is then polished with the static Newton iteration, and time is reset to
-//! the start.
+//! the model is integrated until both the kinetic energy (`Σ ½ m v² + ½ ωᵀ I ω`, divided by
+//! the UCF into force × length) and the largest CM or angular acceleration fall below
+//! KINETIC_ENERGY_ERROR and ACCELERATION_ERROR, or until SETTLING_TIME runs out. The limits are
+//! checked at 400 evenly spaced outputs of one integration (HHT at ERROR 1e-4, steps no longer
+//! than the spacing), which stops at the first output where both hold. The settled
+//! configuration is then polished with the static Newton iteration, and time is reset to the
+//! start.
 
 use crate::applied::AppliedForces;
 use crate::drivers::ExpressionDrivers;
@@ -15,7 +18,7 @@ use crate::statics::{equilibrium, Equilibrium};
 use crate::system::System;
 use crate::tolerances::Tolerances;
 use glam::DVec3;
-use linkage_model::settings::EquilibriumSettings;
+use linkage_model::settings::{shown, EquilibriumSettings};
 use linkage_model::Model;
 
 /// Outputs at which the settling checks its limits, evenly spaced over SETTLING_TIME.
@@ -82,7 +85,7 @@ impl SettleOutcome {
             ) => Some(format!(
                 "the model did not settle within SETTLING_TIME = {}: kinetic energy {:.3e} \
                  (limit {:.3e}), largest acceleration {:.3e} (limit {:.3e})",
-                eq.settling_time,
+                shown(eq.settling_time),
                 kinetic_energy,
                 eq.kinetic_energy_error,
                 acceleration,
