@@ -137,3 +137,48 @@ pub fn output_times(
     }
     Ok(linkage_solve::statics::output_times(end, intervals))
 }
+
+/// A progress bar on standard error when it is a terminal; silent otherwise (pipes, files,
+/// tests).
+pub struct Progress(Option<indicatif::ProgressBar>);
+
+impl Progress {
+    pub fn on_terminal() -> Progress {
+        use std::io::IsTerminal;
+        if !std::io::stderr().is_terminal() {
+            return Progress(None);
+        }
+        let b = indicatif::ProgressBar::new(1000);
+        if let Ok(style) =
+            indicatif::ProgressStyle::with_template("{bar:40} {percent:>3}% {msg} {elapsed}")
+        {
+            b.set_style(style);
+        }
+        Progress(Some(b))
+    }
+
+    /// Shows `fraction` (clamped to 0…1) done, with a message.
+    pub fn show(&self, fraction: f64, message: String) {
+        if let Some(b) = &self.0 {
+            b.set_position((fraction.clamp(0.0, 1.0) * 1000.0) as u64);
+            b.set_message(message);
+        }
+    }
+
+    /// Dynamic settling: `elapsed` pseudo-time out of SETTLING_TIME `limit`.
+    pub fn settling(&self, elapsed: f64, limit: f64) {
+        self.show(
+            elapsed / limit,
+            format!(
+                "settling: {elapsed:.4} of SETTLING_TIME {}",
+                linkage_model::settings::shown(limit)
+            ),
+        );
+    }
+
+    pub fn finish(&self) {
+        if let Some(b) = &self.0 {
+            b.finish_and_clear();
+        }
+    }
+}

@@ -1,13 +1,14 @@
 //! `linkage simulate`: dynamic simulation with output at requested times; the CSV gets the
 //! dataset's REQUEST outputs as extra columns.
 
-use crate::common::{applied_forces, input_error, load, output_times, print_json, Format};
+use crate::common::{
+    applied_forces, input_error, load, output_times, print_json, Format, Progress,
+};
 use linkage_model::settings::integrator_statement;
 use linkage_report::simulate::ExtraColumns;
-use linkage_solve::dynamics::{run, DynamicRun, IntegratorSettings, Start};
+use linkage_solve::dynamics::{run, DynamicRun, IntegratorSettings, RunProgress, Start};
 use linkage_solve::requests::RequestSet;
 use linkage_solve::tolerances::Tolerances;
-use std::io::IsTerminal;
 use std::path::Path;
 use std::process::ExitCode;
 
@@ -120,17 +121,7 @@ pub fn run_simulate(args: &SimulateArgs) -> ExitCode {
         alpha: stmt.alpha.unwrap_or(-0.3),
         maxit: stmt.maxit.unwrap_or(10).max(4),
     };
-    let bar = if std::io::stderr().is_terminal() {
-        let b = indicatif::ProgressBar::new(1000);
-        if let Ok(style) =
-            indicatif::ProgressStyle::with_template("{bar:40} {percent:>3}% t = {msg} {elapsed}")
-        {
-            b.set_style(style);
-        }
-        Some(b)
-    } else {
-        None
-    };
+    let bar = Progress::on_terminal();
     let end = args.end;
     let result = run(
         &loaded.model,
@@ -140,16 +131,12 @@ pub fn run_simulate(args: &SimulateArgs) -> ExitCode {
         &times,
         &settings,
         args.start,
-        |t| {
-            if let Some(b) = &bar {
-                b.set_position(((t / end).clamp(0.0, 1.0) * 1000.0) as u64);
-                b.set_message(format!("{t:.4}"));
-            }
+        |p| match p {
+            RunProgress::Settling { elapsed, limit } => bar.settling(elapsed, limit),
+            RunProgress::Integrating(t) => bar.show(t / end, format!("t = {t:.4}")),
         },
     );
-    if let Some(b) = &bar {
-        b.finish_and_clear();
-    }
+    bar.finish();
     let mut report =
         linkage_report::simulate::summary(&loaded.model, &result, notes, &loaded.warnings);
     report.warnings.extend(stmt.invalid.iter().cloned());

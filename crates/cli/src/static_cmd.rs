@@ -48,13 +48,17 @@ pub fn run_static(args: &StaticArgs) -> ExitCode {
         Err(d) => return input_error(&d, json_errors),
     };
     if args.settle || (loaded.model.equilibrium.dynamic && args.series.is_none()) {
-        let st = linkage_solve::settle::settle(
+        let bar = crate::common::Progress::on_terminal();
+        let limit = loaded.model.equilibrium.settling_time;
+        let st = linkage_solve::settle::settle_watched(
             &loaded.model,
             &loaded.drivers,
             applied.as_ref(),
             &Tolerances::default(),
             &loaded.model.equilibrium,
+            |elapsed| bar.settling(elapsed, limit),
         );
+        bar.finish();
         let eq_state = st
             .outcome
             .as_ref()

@@ -415,6 +415,12 @@ fn static_settle_reports_the_stopping_criterion() {
         err.contains("the model did not settle within SETTLING_TIME = 2"),
         "{err}"
     );
+    // With no damping of its own and GLOBAL_DAMPING 0 it could never settle: the report says
+    // what to set.
+    assert!(
+        text.contains("warning: GLOBAL_DAMPING is 0 (the default)"),
+        "{text}"
+    );
 }
 
 #[test]

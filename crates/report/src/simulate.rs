@@ -173,6 +173,9 @@ pub fn summary(
         errors.push(e.clone());
     }
     let start = start_json(model, run);
+    if start.settling.is_some() && model.equilibrium.global_damping == 0.0 {
+        warnings.push(crate::statics::NO_GLOBAL_DAMPING.to_string());
+    }
     if start.found && start.stable == Some(false) {
         warnings.push(if start.from == "static_equilibrium" {
             "the run starts at an UNSTABLE equilibrium (Newton converges to the nearest one): \

@@ -141,6 +141,13 @@ pub fn settling_summary(
     }
 }
 
+/// The warning for settling without GLOBAL_DAMPING: with `−c m v` on every part a mode of
+/// natural frequency ω gets the damping ratio `c / 2ω`, so `c ≈ 2ω` of the lowest mode is
+/// critical damping.
+pub const NO_GLOBAL_DAMPING: &str = "GLOBAL_DAMPING is 0 (the default): only the model's own \
+    damping can bring it to rest; a GLOBAL_DAMPING of about twice the lowest natural frequency \
+    (in radians per time unit, from `linkage linear`) damps that mode critically";
+
 /// One line saying how the settling ended, against its limits.
 pub fn settling_line(st: &SettlingJson) -> String {
     let values = |ke: Option<f64>, acc: Option<f64>| match (ke, acc) {
@@ -506,6 +513,9 @@ pub fn settling_json(
                 settling.message.clone().unwrap_or_default()
             ),
         });
+    }
+    if model.equilibrium.global_damping == 0.0 {
+        j.warnings.push(NO_GLOBAL_DAMPING.to_string());
     }
     j.settling = Some(settling);
     j

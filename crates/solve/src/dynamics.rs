@@ -1185,6 +1185,15 @@ fn drive_series(p: &Problem, element: usize, t: f64) -> Option<[f64; 3]> {
     p.drivers.rates(element, t)
 }
 
+/// How far a [`run`] has got.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum RunProgress {
+    /// Settling to the starting equilibrium: pseudo-time integrated out of SETTLING_TIME.
+    Settling { elapsed: f64, limit: f64 },
+    /// The simulation itself has reached this time.
+    Integrating(f64),
+}
+
 /// Where a dynamic run starts.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Start {
@@ -1253,7 +1262,7 @@ pub fn run(
     times: &[f64],
     settings: &IntegratorSettings,
     start: Start,
-    progress: impl FnMut(f64),
+    mut progress: impl FnMut(RunProgress),
 ) -> DynamicRun {
     let sys = System::new(model);
     let ic = crate::ic::initial_conditions(model, drivers, forces, tol);
@@ -1282,12 +1291,14 @@ pub fn run(
         }
         Some(settle) => {
             let found = if settle {
+                let limit = model.equilibrium.settling_time;
                 StartingEquilibrium::Settled(crate::settle::settle_assembled(
                     model,
                     drivers,
                     forces,
                     &ic,
                     &model.equilibrium,
+                    |elapsed| progress(RunProgress::Settling { elapsed, limit }),
                 ))
             } else {
                 let (rows, _) = ic.kept_and_removed_rows();
@@ -1329,7 +1340,9 @@ pub fn run(
         damping: None,
         frozen_time: None,
     };
-    let sim = simulate(&problem, &state, &v0, times, settings, progress);
+    let sim = simulate(&problem, &state, &v0, times, settings, |t| {
+        progress(RunProgress::Integrating(t))
+    });
     DynamicRun {
         ic,
         equilibrium,

@@ -111,11 +111,24 @@ pub fn settle(
     tol: &Tolerances,
     eq: &EquilibriumSettings,
 ) -> Settling {
+    settle_watched(model, drivers, forces, tol, eq, |_| {})
+}
+
+/// [`settle`], reporting the pseudo-time integrated so far (from 0 to SETTLING_TIME) to
+/// `progress` after every step.
+pub fn settle_watched(
+    model: &Model,
+    drivers: &ExpressionDrivers,
+    forces: &dyn AppliedForces,
+    tol: &Tolerances,
+    eq: &EquilibriumSettings,
+    progress: impl FnMut(f64),
+) -> Settling {
     let ic = crate::ic::initial_conditions(model, drivers, forces, tol);
     if !ic.assembly.converged || ic.inconsistent() {
         return Settling { ic, outcome: None };
     }
-    let outcome = settle_assembled(model, drivers, forces, &ic, eq);
+    let outcome = settle_assembled(model, drivers, forces, &ic, eq, progress);
     Settling {
         ic,
         outcome: Some(outcome),
@@ -124,13 +137,14 @@ pub fn settle(
 
 /// Settles a model from its initial conditions `ic` (which must have assembled, with no
 /// inconsistent redundancy): damped dynamics with time frozen at the start, then the Newton
-/// polish at the start time.
+/// polish at the start time. `progress` hears the pseudo-time integrated after every step.
 pub fn settle_assembled(
     model: &Model,
     drivers: &ExpressionDrivers,
     forces: &dyn AppliedForces,
     ic: &crate::ic::InitialConditions,
     eq: &EquilibriumSettings,
+    mut progress: impl FnMut(f64),
 ) -> SettleOutcome {
     let sys = System::new(model);
     let (rows, redundant) = ic.kept_and_removed_rows();
@@ -169,7 +183,7 @@ pub fn settle_assembled(
         &v0,
         &times,
         &settings,
-        |_| {},
+        |tau| progress(tau - t0),
         |out| {
             // Kinetic energy in the model's force × length (m v² / UCF).
             let ke: f64 = model
