@@ -88,6 +88,25 @@ pub struct Output {
     pub reactions: Vec<Reaction>,
 }
 
+impl Output {
+    /// Kinetic energy `Σ ½ m v² + ½ ωᵀ I ω` over the moving parts, in the model's force ×
+    /// length (divided by the UCF).
+    pub fn kinetic_energy(&self, model: &Model) -> f64 {
+        model
+            .parts
+            .iter()
+            .enumerate()
+            .map(|(k, p)| {
+                let r = self.state.poses[k].r;
+                let ig = r * p.inertia * r.transpose();
+                let (v, w) = self.velocities[k];
+                0.5 * p.mass * v.length_squared() + 0.5 * w.dot(ig * w)
+            })
+            .sum::<f64>()
+            / model.ucf()
+    }
+}
+
 /// Why a simulation stopped early.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Failure {

@@ -174,7 +174,6 @@ pub fn settle_assembled(
         hmax: Some(dt),
         ..Default::default()
     };
-    let ucf = model.ucf();
     let mut stop = None;
     let mut last: Option<(State, f64)> = None;
     let sim = simulate_with(
@@ -185,19 +184,7 @@ pub fn settle_assembled(
         &settings,
         |tau| progress(tau - t0),
         |out| {
-            // Kinetic energy in the model's force × length (m v² / UCF).
-            let ke: f64 = model
-                .parts
-                .iter()
-                .enumerate()
-                .map(|(k, p)| {
-                    let r = out.state.poses[k].r;
-                    let ig = r * p.inertia * r.transpose();
-                    let (v, w) = out.velocities[k];
-                    0.5 * p.mass * v.length_squared() + 0.5 * w.dot(ig * w)
-                })
-                .sum::<f64>()
-                / ucf;
+            let ke = out.kinetic_energy(model);
             let acc = out
                 .accelerations
                 .iter()
