@@ -55,7 +55,6 @@ pub fn run_static(args: &StaticArgs) -> ExitCode {
             &loaded.drivers,
             applied.as_ref(),
             &Tolerances::default(),
-            &loaded.model.equilibrium,
             |elapsed| bar.settling(elapsed, limit),
         );
         bar.finish();

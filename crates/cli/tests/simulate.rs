@@ -8,24 +8,41 @@ use std::path::PathBuf;
 
 const G: f64 = 9.80665;
 
+/// `mechanisms/pendulum_offset.adm` with `extra` statements before END, written to a temp
+/// file named after `tag`.
+fn pendulum_with(tag: &str, extra: &str) -> PathBuf {
+    let text = std::fs::read_to_string(root().join("mechanisms/pendulum_offset.adm"))
+        .unwrap()
+        .replace("END", &format!("{extra}\nEND"));
+    let f = std::env::temp_dir().join(format!("linkage-sim-{tag}-{}.adm", std::process::id()));
+    std::fs::write(&f, text).unwrap();
+    f
+}
+
 /// `pendulum_offset` with its tip tied by a zero-length spring (K = 200) to the ground point
 /// (1.3, 0.2, 0), and the given EQUILIBRIUM statement. Equilibrium angle from hanging:
 /// `tan θ = k / (k + m g / 2)` (moment balance about the pivot; see the solver's dynamics
 /// tests), 43.63°.
 fn tied_pendulum(tag: &str, equilibrium: &str) -> PathBuf {
-    let text = std::fs::read_to_string(root().join("mechanisms/pendulum_offset.adm"))
-        .unwrap()
-        .replace(
-            "END",
-            &format!(
-                "MARKER/104, PART = 1, QP = 1.3, 0.2, 0\n\
-                 SPRINGDAMPER/1, TRANSLATIONAL, I = 203, J = 104, K = 200, C = 0, LENGTH = 0\n\
-                 {equilibrium}\nEND"
-            ),
-        );
-    let f = std::env::temp_dir().join(format!("linkage-tied-{tag}-{}.adm", std::process::id()));
-    std::fs::write(&f, text).unwrap();
-    f
+    pendulum_with(
+        tag,
+        &format!(
+            "MARKER/104, PART = 1, QP = 1.3, 0.2, 0\n\
+             SPRINGDAMPER/1, TRANSLATIONAL, I = 203, J = 104, K = 200, C = 0, LENGTH = 0\n\
+             {equilibrium}"
+        ),
+    )
+}
+
+/// `linkage simulate FILE --end 0.5 --start-at-equilibrium`: exit code, stdout, stderr.
+fn simulate_from_equilibrium(f: &std::path::Path) -> (i32, String, String) {
+    run(&[
+        "simulate",
+        f.to_str().unwrap(),
+        "--end",
+        "0.5",
+        "--start-at-equilibrium",
+    ])
 }
 
 /// `linkage simulate FILE --end 0.5 --steps 5 [extra…] --format json`.
@@ -94,15 +111,7 @@ fn equilibrium_dynamic_in_the_dataset_makes_the_start_settle() {
         "dynamic",
         "EQUILIBRIUM/, DYNAMIC, GLOBAL_DAMPING = 5, SETTLING_TIME = 20",
     );
-    let (code, text, _) = run(&[
-        "simulate",
-        f.to_str().unwrap(),
-        "--end",
-        "0.5",
-        "--steps",
-        "5",
-        "--start-at-equilibrium",
-    ]);
+    let (code, text, _) = simulate_from_equilibrium(&f);
     assert_eq!(code, 0, "{text}");
     assert!(
         text.contains("Dynamic settling (GLOBAL_DAMPING 5"),
@@ -125,13 +134,7 @@ fn equilibrium_dynamic_in_the_dataset_makes_the_start_settle() {
 #[test]
 fn a_start_that_does_not_settle_exits_1_naming_the_limits() {
     let f = tied_pendulum("swinging", "EQUILIBRIUM/, DYNAMIC, SETTLING_TIME = 1");
-    let (code, text, err) = run(&[
-        "simulate",
-        f.to_str().unwrap(),
-        "--end",
-        "0.5",
-        "--start-at-equilibrium",
-    ]);
+    let (code, text, err) = simulate_from_equilibrium(&f);
     assert_eq!(code, 1, "{text}");
     assert!(
         text.contains("did NOT settle: SETTLING_TIME 1 ran out"),
@@ -232,13 +235,7 @@ fn output_times_are_validated() {
 #[test]
 fn unusable_integrator_settings_are_reported() {
     let with = |tag: &str, integrator: &str| {
-        let text = std::fs::read_to_string(root().join("mechanisms/pendulum_offset.adm"))
-            .unwrap()
-            .replace("END", &format!("INTEGRATOR/{integrator}\nEND"));
-        let f =
-            std::env::temp_dir().join(format!("linkage-integ-{tag}-{}.adm", std::process::id()));
-        std::fs::write(&f, text).unwrap();
-        f
+        pendulum_with(&format!("integ-{tag}"), &format!("INTEGRATOR/{integrator}"))
     };
     let f = with("bad", "HHT, ALPHA = 0.5, ERROR = 1E-30");
     let (code, v) = simulate_json(&f, &[]);

@@ -434,32 +434,27 @@ pub fn integrator_statement(ds: &Dataset) -> IntegratorStatement {
                 out.name = Some(name.to_string());
             }
         }
-        let mut positive = |key: &str, slot: &mut Option<f64>| {
-            if let Some(x) = n(key) {
-                if x > 0.0 && x.is_finite() {
-                    *slot = Some(x);
-                } else {
-                    out.invalid.push(format!(
-                        "INTEGRATOR {key} = {} is not a positive number; it is ignored",
-                        shown(x)
-                    ));
-                }
-            }
+        // A positive time or tolerance, or a warning and the value left out.
+        let positive = |key: &str, slot: &mut Option<f64>, invalid: &mut Vec<String>| match n(key) {
+            Some(x) if x > 0.0 && x.is_finite() => *slot = Some(x),
+            Some(x) => invalid.push(format!(
+                "INTEGRATOR {key} = {} is not a positive number; it is ignored",
+                shown(x)
+            )),
+            None => {}
         };
-        let (mut error, mut hmax, mut hinit, mut hmin) = (out.error, out.hmax, out.hinit, out.hmin);
-        positive("ERROR", &mut error);
-        positive("HMAX", &mut hmax);
-        positive("HINIT", &mut hinit);
-        positive("HMIN", &mut hmin);
-        if let Some(e) = error.filter(|e| *e < MIN_INTEGRATOR_ERROR) {
+        positive("ERROR", &mut out.error, &mut out.invalid);
+        positive("HMAX", &mut out.hmax, &mut out.invalid);
+        positive("HINIT", &mut out.hinit, &mut out.invalid);
+        positive("HMIN", &mut out.hmin, &mut out.invalid);
+        if let Some(e) = out.error.filter(|e| *e < MIN_INTEGRATOR_ERROR) {
             out.invalid.push(format!(
                 "INTEGRATOR ERROR = {} is below what double precision can meet; {} is used",
                 shown(e),
                 shown(MIN_INTEGRATOR_ERROR)
             ));
-            error = Some(MIN_INTEGRATOR_ERROR);
+            out.error = Some(MIN_INTEGRATOR_ERROR);
         }
-        (out.error, out.hmax, out.hinit, out.hmin) = (error, hmax, hinit, hmin);
         if let Some(a) = n("ALPHA") {
             if (-1.0 / 3.0..=0.0).contains(&a) {
                 out.alpha = Some(a);

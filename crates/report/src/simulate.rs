@@ -1,7 +1,7 @@
 //! Simulation output: CSV time histories and a JSON/text summary.
 
 use crate::ic::{part_states, PartStateJson};
-use crate::statics::{settling_line, settling_summary, SettlingJson};
+use crate::statics::{pose_line, settling_line, settling_summary, SettlingJson};
 use crate::verify::{equation_ref, EquationRef};
 use linkage_adm::Diagnostic;
 use linkage_model::frames::matrix_to_euler313;
@@ -147,7 +147,7 @@ fn start_json(model: &Model, run: &DynamicRun) -> StartJson {
         StartingEquilibrium::Settled(o) => (
             "settled_equilibrium",
             o.equilibrium.as_ref().and_then(|e| e.as_ref().ok()),
-            Some(settling_summary(model, Some(o), &model.equilibrium)),
+            Some(settling_summary(model, Some(o))),
         ),
     };
     StartJson {
@@ -333,22 +333,17 @@ pub fn to_text(j: &SimulateJson) -> String {
             j.end_time
         );
         for p in j.final_state.iter().take(TEXT_LIST_LIMIT) {
+            let (v, w) = (p.velocity, p.angular_velocity);
             let _ = writeln!(
                 s,
-                "   {:<24} ({:.6}, {:.6}, {:.6})  ({:.4}, {:.4}, {:.4})  v ({:.6e}, {:.6e}, {:.6e})  w ({:.6e}, {:.6e}, {:.6e})",
-                p.name,
-                p.position[0],
-                p.position[1],
-                p.position[2],
-                p.reuler[0],
-                p.reuler[1],
-                p.reuler[2],
-                p.velocity[0],
-                p.velocity[1],
-                p.velocity[2],
-                p.angular_velocity[0],
-                p.angular_velocity[1],
-                p.angular_velocity[2]
+                "{}  v ({:.6e}, {:.6e}, {:.6e})  w ({:.6e}, {:.6e}, {:.6e})",
+                pose_line(&p.name, p.position, p.reuler),
+                v[0],
+                v[1],
+                v[2],
+                w[0],
+                w[1],
+                w[2]
             );
         }
         if j.final_state.len() > TEXT_LIST_LIMIT {

@@ -3,12 +3,12 @@
 use crate::ic::ReactionJson;
 use linkage_adm::Diagnostic;
 use linkage_model::frames::matrix_to_euler313;
-use linkage_model::settings::{shown, EquilibriumSettings};
+use linkage_model::settings::shown;
 use linkage_model::Model;
 use linkage_solve::reactions::Reaction;
 use linkage_solve::settle::{SettleOutcome, SettleStop};
 use linkage_solve::state::State;
-use linkage_solve::statics::{Equilibrium, StaticRun, UNBOUNDED_NOTE};
+use linkage_solve::statics::{Equilibrium, StaticRun};
 use serde::Serialize;
 use std::fmt::Write;
 
@@ -95,11 +95,8 @@ pub struct SettlingJson {
 
 /// The settling summary of an outcome (`None`: the model could not be assembled, nothing
 /// was integrated).
-pub fn settling_summary(
-    model: &Model,
-    outcome: Option<&SettleOutcome>,
-    eq: &EquilibriumSettings,
-) -> SettlingJson {
+pub fn settling_summary(model: &Model, outcome: Option<&SettleOutcome>) -> SettlingJson {
+    let eq = &model.equilibrium;
     let (criterion, ke, acc, message) = match outcome.map(|o| &o.stop) {
         Some(SettleStop::Settled {
             kinetic_energy,
@@ -273,21 +270,13 @@ pub fn to_json(model: &Model, run: &StaticRun, warnings: &[Diagnostic]) -> Stati
     if let Some(why) = run.ic.failure(model) {
         errors.push(why);
     }
-    for s in &steps {
-        if let Some(e) = &s.error {
-            errors.push(format!("time {}: {e}", s.time));
-        } else if !s.converged {
-            let worst: Vec<String> = s
-                .largest_imbalance
-                .iter()
-                .map(|w| format!("{} {} ({:.3e})", w.name, w.equation, w.value))
-                .collect();
-            errors.push(format!(
-                "time {}: static equilibrium did not converge; largest imbalance in {}{}",
-                s.time,
-                worst.join(", "),
-                if s.unbounded { UNBOUNDED_NOTE } else { "" }
-            ));
+    for (t, e) in &run.steps {
+        let why = match e {
+            Err(e) => Some(e.clone()),
+            Ok(eq) => eq.failure(model, &run.ic.analysis.system),
+        };
+        if let Some(why) = why {
+            errors.push(format!("time {t}: {why}"));
         }
     }
     let kinematic = run
@@ -368,6 +357,15 @@ pub fn to_csv(model: &Model, run: &StaticRun) -> String {
     s
 }
 
+/// `   name   (x, y, z)   (ψ, θ, φ)`: a part's centre of mass and 3-1-3 angles (degrees) in
+/// the text reports.
+pub fn pose_line(name: &str, position: [f64; 3], reuler: [f64; 3]) -> String {
+    format!(
+        "   {:<24} ({:.6}, {:.6}, {:.6})   ({:.4}, {:.4}, {:.4})",
+        name, position[0], position[1], position[2], reuler[0], reuler[1], reuler[2]
+    )
+}
+
 /// Human report.
 pub fn to_text(j: &StaticJson) -> String {
     let mut s = String::new();
@@ -423,17 +421,7 @@ pub fn to_text(j: &StaticJson) -> String {
             "Parts (centre of mass in ground, body 3-1-3 angles in degrees):"
         );
         for p in &j.parts {
-            let _ = writeln!(
-                s,
-                "   {:<24} ({:.6}, {:.6}, {:.6})   ({:.4}, {:.4}, {:.4})",
-                p.name,
-                p.position[0],
-                p.position[1],
-                p.position[2],
-                p.reuler[0],
-                p.reuler[1],
-                p.reuler[2]
-            );
+            let _ = writeln!(s, "{}", pose_line(&p.name, p.position, p.reuler));
         }
         if !j.reactions.is_empty() {
             let _ = writeln!(s);
@@ -491,7 +479,7 @@ pub fn settling_json(
     st: linkage_solve::settle::Settling,
     warnings: &[Diagnostic],
 ) -> StaticJson {
-    let settling = settling_summary(model, st.outcome.as_ref(), &model.equilibrium);
+    let settling = settling_summary(model, st.outcome.as_ref());
     let run = StaticRun {
         ic: st.ic,
         steps: st

@@ -160,13 +160,7 @@ fn parallelogram_chain_settle(bencher: divan::Bencher, n: usize) {
     let m = model(&text);
     let d = ExpressionDrivers::new(&m).expect("functions parse");
     bencher.bench_local(|| {
-        let s = linkage_solve::settle::settle(
-            &m,
-            &d,
-            &NoForces,
-            &Tolerances::default(),
-            &m.equilibrium,
-        );
+        let s = linkage_solve::settle::settle(&m, &d, &NoForces, &Tolerances::default());
         let outcome = s.outcome.expect("assembled");
         assert!(
             outcome.settled_equilibrium().is_some(),

@@ -45,7 +45,7 @@ use crate::tolerances::{
     CORRECTOR_CONSTRAINT, CORRECTOR_ERROR_FRACTION, CORRECTOR_NOISE, CORRECTOR_RELATIVE,
     CORRECTOR_ROUNDING,
 };
-use crate::verify::{report_residual, within_tolerance, Drivers};
+use crate::verify::{report_residual, report_unit_suffix, within_tolerance, Drivers};
 use glam::DVec3;
 use linkage_model::Model;
 
@@ -1052,7 +1052,7 @@ pub(crate) fn redundant_violation(p: &Problem, s: &State, length: f64) -> Option
                     row.label,
                     c.origin.name,
                     report_residual(row.unit, val),
-                    if matches!(row.unit, RowUnit::Direction | RowUnit::Angle) { " deg" } else { "" }
+                    report_unit_suffix(row.unit)
                 ),
             });
         }
@@ -1294,6 +1294,9 @@ pub fn run(
     if let Some(why) = ic.failure(model) {
         return fail(ic, None, why);
     }
+    // The rows every stage keeps, and motions anchored at the assembled configuration.
+    let (rows, redundant) = ic.kept_and_removed_rows();
+    let anchored = drivers.anchored(&sys, &rows, &ic.assembly.state);
     let settle = match start {
         Start::InitialConditions => None,
         Start::Equilibrium => Some(model.equilibrium.dynamic),
@@ -1316,12 +1319,9 @@ pub fn run(
                     drivers,
                     forces,
                     &ic,
-                    &model.equilibrium,
                     |elapsed| progress(RunProgress::Settling { elapsed, limit }),
                 ))
             } else {
-                let (rows, _) = ic.kept_and_removed_rows();
-                let anchored = drivers.anchored(&sys, &rows, &ic.assembly.state);
                 StartingEquilibrium::Newton(crate::statics::equilibrium(
                     model,
                     &sys,
@@ -1347,14 +1347,12 @@ pub fn run(
             (Some(found), state, rest)
         }
     };
-    let (rows, redundant) = ic.kept_and_removed_rows();
-    let drivers = &drivers.anchored(&sys, &rows, &ic.assembly.state);
     let problem = Problem {
         model,
         sys: &sys,
         rows: &rows,
         redundant: &redundant,
-        drivers,
+        drivers: &anchored,
         forces,
         damping: None,
         frozen_time: None,

@@ -106,18 +106,8 @@ impl InitialConditions {
             (
                 model.constraints[r.element].origin.name.clone(),
                 r.label,
-                r.unit,
+                crate::verify::report_unit_suffix(r.unit),
             )
-        };
-        let unit = |u: crate::system::RowUnit| {
-            if matches!(
-                u,
-                crate::system::RowUnit::Direction | crate::system::RowUnit::Angle
-            ) {
-                " deg"
-            } else {
-                ""
-            }
         };
         if !self.assembly.converged {
             return Some(format!(
@@ -134,7 +124,7 @@ impl InitialConditions {
             .map(|r| {
                 let (element, label, u) = name(r.row);
                 match r.residual {
-                    Some(x) => format!("{label} of {element} (residual {x:.4e}{})", unit(u)),
+                    Some(x) => format!("{label} of {element} (residual {x:.4e}{u})"),
                     None => format!("{label} of {element}"),
                 }
             })

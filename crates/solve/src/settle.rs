@@ -18,7 +18,7 @@ use crate::statics::{equilibrium, Equilibrium};
 use crate::system::System;
 use crate::tolerances::Tolerances;
 use glam::DVec3;
-use linkage_model::settings::{shown, EquilibriumSettings};
+use linkage_model::settings::shown;
 use linkage_model::Model;
 
 /// Outputs at which the settling checks its limits, evenly spaced over SETTLING_TIME.
@@ -103,15 +103,15 @@ impl SettleOutcome {
     }
 }
 
-/// Settles the model by damped dynamics, then polishes with Newton statics.
+/// Settles the model by damped dynamics, then polishes with Newton statics, with the
+/// dataset's EQUILIBRIUM settings (`model.equilibrium`).
 pub fn settle(
     model: &Model,
     drivers: &ExpressionDrivers,
     forces: &dyn AppliedForces,
     tol: &Tolerances,
-    eq: &EquilibriumSettings,
 ) -> Settling {
-    settle_watched(model, drivers, forces, tol, eq, |_| {})
+    settle_watched(model, drivers, forces, tol, |_| {})
 }
 
 /// [`settle`], reporting the pseudo-time integrated so far (from 0 to SETTLING_TIME) to
@@ -121,14 +121,13 @@ pub fn settle_watched(
     drivers: &ExpressionDrivers,
     forces: &dyn AppliedForces,
     tol: &Tolerances,
-    eq: &EquilibriumSettings,
     progress: impl FnMut(f64),
 ) -> Settling {
     let ic = crate::ic::initial_conditions(model, drivers, forces, tol);
-    if !ic.assembly.converged || ic.inconsistent() {
+    if ic.failure(model).is_some() {
         return Settling { ic, outcome: None };
     }
-    let outcome = settle_assembled(model, drivers, forces, &ic, eq, progress);
+    let outcome = settle_assembled(model, drivers, forces, &ic, progress);
     Settling {
         ic,
         outcome: Some(outcome),
@@ -143,9 +142,9 @@ pub fn settle_assembled(
     drivers: &ExpressionDrivers,
     forces: &dyn AppliedForces,
     ic: &crate::ic::InitialConditions,
-    eq: &EquilibriumSettings,
     mut progress: impl FnMut(f64),
 ) -> SettleOutcome {
+    let eq = &model.equilibrium;
     let sys = System::new(model);
     let (rows, redundant) = ic.kept_and_removed_rows();
     let drivers = &drivers.anchored(&sys, &rows, &ic.assembly.state);

@@ -72,15 +72,6 @@ impl Imbalance {
 /// instead of scaling (and stalling) every other part's step with it.
 pub const RUNAWAY_CORRECTION: f64 = 1e2;
 
-/// How a part takes its share of a Newton step (TLIMIT/ALIMIT).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-enum PartMove {
-    /// With the step scale common to all such parts.
-    Scaled,
-    /// Cut to the limits on its own: a runaway correction.
-    Cut,
-}
-
 /// Result of a static equilibrium solve.
 #[derive(Clone, Debug)]
 pub struct Equilibrium {
@@ -120,7 +111,6 @@ impl Equilibrium {
         let worst: Vec<String> = self
             .worst
             .iter()
-            .take(3)
             .map(|(w, v)| {
                 let (name, equation) = w.describe(model, sys);
                 format!("{name} {equation} ({v:.3e})")
@@ -139,7 +129,7 @@ impl Equilibrium {
 }
 
 /// What an unbounded Newton correction means, appended to a non-convergence message.
-pub const UNBOUNDED_NOTE: &str = ": these loads act along free motions that nothing \
+const UNBOUNDED_NOTE: &str = ": these loads act along free motions that nothing \
     resists (the Newton correction is unbounded, each iteration only moved the parts by \
     TLIMIT/ALIMIT), so the model has no static equilibrium near this configuration; support or \
     drive that motion, or add a restoring force";
@@ -341,49 +331,37 @@ pub fn equilibrium(
             return Err("the static Newton matrix is singular: the model has free motions with no stiffness (consider STABILITY, or check forces)".into());
         }
         // Step limits: the whole step is scaled so that no part moves by more than TLIMIT or
-        // turns by more than ALIMIT, except parts whose correction is unbounded (beyond
-        // `UNBOUNDED_CORRECTION` times the limits: a free motion without stiffness, where the
-        // Newton correction is a load divided by STABILITY × a tiny inertia). Those are cut to
-        // the limits on their own, so that they do not stall everything else.
-        let part_step = |k: usize| {
-            (
-                DVec3::new(rhs[6 * k], rhs[6 * k + 1], rhs[6 * k + 2]),
-                DVec3::new(rhs[6 * k + 3], rhs[6 * k + 4], rhs[6 * k + 5]),
-            )
+        // turns by more than ALIMIT, except parts whose correction runs away (beyond
+        // `RUNAWAY_CORRECTION`: a free motion without stiffness, where the correction is a
+        // load divided by STABILITY × a tiny inertia). Those are cut to the limits on their
+        // own, so that they do not stall everything else, and say nothing about convergence
+        // (the forces, IMBALANCE, judge those parts).
+        let steps: Vec<(DVec3, DVec3)> = (0..n)
+            .map(|k| {
+                (
+                    DVec3::new(rhs[6 * k], rhs[6 * k + 1], rhs[6 * k + 2]),
+                    DVec3::new(rhs[6 * k + 3], rhs[6 * k + 4], rhs[6 * k + 5]),
+                )
+            })
+            .collect();
+        let limit_scale = |(dx, dth): (DVec3, DVec3)| -> f64 {
+            (settings.tlimit / dx.length())
+                .min(settings.alimit / dth.length())
+                .min(1.0)
         };
-        let part_scale = |dx: DVec3, dth: DVec3| -> f64 {
-            let mut sk: f64 = 1.0;
-            if dx.length() > settings.tlimit {
-                sk = sk.min(settings.tlimit / dx.length());
-            }
-            if dth.length() > settings.alimit {
-                sk = sk.min(settings.alimit / dth.length());
-            }
-            sk
-        };
-        // How each part moves: with the common scale, or cut to the limits on its own (a
-        // runaway correction).
-        let mode = |k: usize| -> PartMove {
-            let (dx, dth) = part_step(k);
-            if dx.length() > RUNAWAY_CORRECTION * length || dth.length() > RUNAWAY_CORRECTION {
-                PartMove::Cut
-            } else {
-                PartMove::Scaled
-            }
-        };
+        let runaway: Vec<bool> = steps
+            .iter()
+            .map(|(dx, dth)| {
+                dx.length() > RUNAWAY_CORRECTION * length || dth.length() > RUNAWAY_CORRECTION
+            })
+            .collect();
+        let cut = runaway.contains(&true);
         let mut scale: f64 = 1.0;
         let mut correction: f64 = 0.0;
-        let mut cut = false;
-        for k in 0..n {
-            let (dx, dth) = part_step(k);
-            match mode(k) {
-                PartMove::Scaled => {
-                    scale = scale.min(part_scale(dx, dth));
-                    // Only these corrections judge convergence: the others say nothing about
-                    // how far the equilibrium is (the forces, IMBALANCE, judge those parts).
-                    correction = correction.max(dx.length() / length).max(dth.length());
-                }
-                PartMove::Cut => cut = true,
+        for (&(dx, dth), &away) in steps.iter().zip(&runaway) {
+            if !away {
+                scale = scale.min(limit_scale((dx, dth)));
+                correction = correction.max(dx.length() / length).max(dth.length());
             }
         }
         // A correction beyond TLIMIT/ALIMIT while the forces are already within IMBALANCE,
@@ -397,22 +375,19 @@ pub fn equilibrium(
         let done =
             imbalance <= settings.imbalance && phi_ok && (correction <= settings.error || soft);
         history.push(imbalance);
-        unbounded = (0..n).any(|k| mode(k) == PartMove::Cut)
-            && history.len() > 3
-            && imbalance >= 0.99 * history[history.len() - 4];
+        unbounded = cut && history.len() > 3 && imbalance >= 0.99 * history[history.len() - 4];
         if done && correction > settings.error {
             // Converged by the soft-direction test: the step would only walk parts along
             // motions that change no force; the configuration stays as it is.
             converged = true;
             break;
         }
-        for k in 0..n {
-            let (dx, dth) = part_step(k);
-            let f = match (mode(k), done) {
-                (PartMove::Scaled, _) => scale,
-                (PartMove::Cut, false) => part_scale(dx, dth),
+        for (k, (&(dx, dth), &away)) in steps.iter().zip(&runaway).enumerate() {
+            let f = match (away, done) {
+                (false, _) => scale,
+                (true, false) => limit_scale((dx, dth)),
                 // Converged: a runaway part stays where the forces balance.
-                (PartMove::Cut, true) => 0.0,
+                (true, true) => 0.0,
             };
             s.increment(k, dx * f, dth * f);
         }

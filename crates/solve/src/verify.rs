@@ -132,6 +132,15 @@ pub fn report_residual(unit: RowUnit, value: f64) -> f64 {
     }
 }
 
+/// The unit [`report_residual`] gives a row's residual in, as a suffix: `" deg"` for
+/// rotational rows, nothing for lengths.
+pub fn report_unit_suffix(unit: RowUnit) -> &'static str {
+    match unit {
+        RowUnit::Direction | RowUnit::Angle => " deg",
+        RowUnit::Length | RowUnit::Mixed => "",
+    }
+}
+
 /// Whether a raw residual is within tolerance.
 pub fn within_tolerance(unit: RowUnit, value: f64, tol: &Tolerances, length: f64) -> bool {
     match unit {

@@ -185,8 +185,7 @@ fn settling_finds_the_newton_equilibrium_and_says_why_it_stopped() {
     let m = linkage_model::build_model(&ds).unwrap().model;
     assert!(m.equilibrium.dynamic);
     let d = ExpressionDrivers::new(&m).unwrap();
-    let s =
-        linkage_solve::settle::settle(&m, &d, &NoForces, &Tolerances::default(), &m.equilibrium);
+    let s = linkage_solve::settle::settle(&m, &d, &NoForces, &Tolerances::default());
     assert!(
         matches!(
             s.outcome.as_ref().map(|o| &o.stop),
@@ -206,8 +205,7 @@ fn settling_finds_the_newton_equilibrium_and_says_why_it_stopped() {
         .replace("END", "EQUILIBRIUM/, DYNAMIC, SETTLING_TIME = 2\nEND");
     let ds = linkage_adm::parse_dataset(Arc::from("nosettle.adm"), &text).unwrap();
     let m = linkage_model::build_model(&ds).unwrap().model;
-    let s =
-        linkage_solve::settle::settle(&m, &d, &NoForces, &Tolerances::default(), &m.equilibrium);
+    let s = linkage_solve::settle::settle(&m, &d, &NoForces, &Tolerances::default());
     assert!(
         matches!(
             s.outcome.as_ref().map(|o| &o.stop),
@@ -604,8 +602,7 @@ fn settled_chain(crank_deg: f64) -> (Model, linkage_solve::settle::Settling, Sta
     let ds = linkage_adm::parse_dataset(Arc::from("chain3.adm"), &text).unwrap();
     let m = linkage_model::build_model(&ds).unwrap().model;
     let d = ExpressionDrivers::new(&m).unwrap();
-    let s =
-        linkage_solve::settle::settle(&m, &d, &NoForces, &Tolerances::default(), &m.equilibrium);
+    let s = linkage_solve::settle::settle(&m, &d, &NoForces, &Tolerances::default());
     let newton = linkage_solve::statics::run(&m, &d, &NoForces, &Tolerances::default(), &[0.0]);
     (m, s, newton)
 }
