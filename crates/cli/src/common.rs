@@ -3,7 +3,7 @@
 use clap::ValueEnum;
 use linkage_adm::{Dataset, Diagnostic, Diagnostics};
 use linkage_model::Model;
-use linkage_solve::drivers::ExpressionDrivers;
+use linkage_solve::constraints::drivers::ExpressionDrivers;
 use std::path::Path;
 use std::process::ExitCode;
 
@@ -70,7 +70,7 @@ pub fn unmodelled_elements(loaded: &Loaded) -> Result<(), Diagnostics> {
         .dataset
         .statements
         .iter()
-        .filter(|st| linkage_solve::forces::UNMODELLED_STATEMENTS.contains(&st.keyword.as_str()))
+        .filter(|st| linkage_solve::physics::forces::UNMODELLED_STATEMENTS.contains(&st.keyword.as_str()))
         .map(|st| {
             let name = st.view_name.clone().unwrap_or_else(|| format!("{}_{}", st.keyword, st.id.unwrap_or(0)));
             Diagnostic::error(
@@ -90,9 +90,9 @@ pub fn unmodelled_elements(loaded: &Loaded) -> Result<(), Diagnostics> {
 /// The applied force elements of a loaded model (gravity is applied by the analyses).
 pub fn applied_forces(
     loaded: &Loaded,
-) -> Result<Box<dyn linkage_solve::applied::AppliedForces>, Diagnostics> {
+) -> Result<Box<dyn linkage_solve::physics::applied::AppliedForces>, Diagnostics> {
     unmodelled_elements(loaded)?;
-    let forces = linkage_solve::forces::ForceSet::new(&loaded.model)?;
+    let forces = linkage_solve::physics::forces::ForceSet::new(&loaded.model)?;
     Ok(Box::new(forces))
 }
 
@@ -135,7 +135,7 @@ pub fn output_times(
             "--steps {intervals} asks for more than the {MAX_OUTPUT_TIMES} outputs allowed"
         ));
     }
-    Ok(linkage_solve::statics::output_times(end, intervals))
+    Ok(linkage_solve::stages::statics::output_times(end, intervals))
 }
 
 /// A progress bar on standard error when it is a terminal; silent otherwise (pipes, files,

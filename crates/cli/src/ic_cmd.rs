@@ -18,7 +18,7 @@ pub fn run(model: &Path, format: Format, save: Option<&Path>) -> ExitCode {
         Ok(f) => f,
         Err(d) => return input_error(&d, format),
     };
-    let ic = linkage_solve::ic::initial_conditions(
+    let ic = linkage_solve::stages::ic::initial_conditions(
         &loaded.model,
         &loaded.drivers,
         forces.as_ref(),

@@ -1,7 +1,7 @@
 //! `linkage linear`: eigenvalues and modes about an operating point.
 
 use crate::common::{applied_forces, input_error, load, print_json, Format};
-use linkage_solve::linearize::{run, EigenMethod, LinearOptions, DEFAULT_MODES};
+use linkage_solve::stages::linearize::{run, EigenMethod, LinearOptions, DEFAULT_MODES};
 use linkage_solve::tolerances::Tolerances;
 use std::path::Path;
 use std::process::ExitCode;

@@ -12,7 +12,7 @@ mod verify_cmd;
 
 use clap::{Parser, Subcommand};
 use common::Format;
-use linkage_solve::dynamics::Start;
+use linkage_solve::stages::dynamics::Start;
 use std::path::PathBuf;
 use std::process::ExitCode;
 

@@ -6,8 +6,8 @@ use crate::common::{
 };
 use linkage_model::settings::integrator_statement;
 use linkage_report::simulate::ExtraColumns;
-use linkage_solve::dynamics::{run, DynamicRun, IntegratorSettings, RunProgress, Start};
-use linkage_solve::requests::RequestSet;
+use linkage_solve::physics::requests::RequestSet;
+use linkage_solve::stages::dynamics::{run, DynamicRun, IntegratorSettings, RunProgress, Start};
 use linkage_solve::tolerances::Tolerances;
 use std::path::Path;
 use std::process::ExitCode;

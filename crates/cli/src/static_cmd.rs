@@ -4,8 +4,8 @@ use crate::common::{input_error, load, print_json, Loaded};
 use crate::ic_cmd::save_configuration;
 use clap::ValueEnum;
 use linkage_adm::Diagnostics;
-use linkage_solve::applied::AppliedForces;
-use linkage_solve::statics::run;
+use linkage_solve::physics::applied::AppliedForces;
+use linkage_solve::stages::statics::run;
 use linkage_solve::tolerances::Tolerances;
 use std::path::Path;
 use std::process::ExitCode;
@@ -50,7 +50,7 @@ pub fn run_static(args: &StaticArgs) -> ExitCode {
     if args.settle || (loaded.model.equilibrium.dynamic && args.series.is_none()) {
         let bar = crate::common::Progress::on_terminal();
         let limit = loaded.model.equilibrium.settling_time;
-        let st = linkage_solve::settle::settle_watched(
+        let st = linkage_solve::stages::settle::settle_watched(
             &loaded.model,
             &loaded.drivers,
             applied.as_ref(),

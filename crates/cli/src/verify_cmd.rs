@@ -2,8 +2,8 @@
 
 use crate::common::{input_error, load, print_json, Format, Loaded};
 use linkage_report::explain::AppliedJson;
-use linkage_solve::explain::repair::realize;
-use linkage_solve::explain::{dense, explain, generic, Mobility, Proposal};
+use linkage_solve::stages::explain::repair::realize;
+use linkage_solve::stages::explain::{dense, explain, generic, Mobility, Proposal};
 use linkage_solve::state::State;
 use linkage_solve::tolerances::Tolerances;
 use std::path::Path;
@@ -27,7 +27,7 @@ pub fn run(args: &VerifyArgs) -> ExitCode {
         Err(d) => return input_error(&d, args.format),
     };
     let tol = Tolerances::default();
-    let v = linkage_solve::verify::verify(&loaded.model, &loaded.drivers, &tol);
+    let v = linkage_solve::stages::verify::verify(&loaded.model, &loaded.drivers, &tol);
     let mut report = linkage_report::verify::to_json(&loaded.model, &v, &loaded.warnings);
     let mut failed = false;
     if args.explain || args.apply.is_some() {
@@ -96,9 +96,9 @@ fn apply(
     let model = linkage_model::build_model(&ds)
         .map_err(|d| format!("internal error: the changed dataset does not build: {d}"))?
         .model;
-    let drivers = linkage_solve::drivers::ExpressionDrivers::new(&model)
+    let drivers = linkage_solve::constraints::drivers::ExpressionDrivers::new(&model)
         .map_err(|d| format!("internal error: {d}"))?;
-    let v = linkage_solve::verify::verify(&model, &drivers, tol);
+    let v = linkage_solve::stages::verify::verify(&model, &drivers, tol);
     let input = State::input(&model);
     let length = model.characteristic_length;
     let base = dense::analyse(&v.system, &input, &v.topology, length, tol);

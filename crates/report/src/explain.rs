@@ -2,8 +2,10 @@
 //! singular configuration, conflicting drivers (text and JSON).
 
 use linkage_model::Model;
-use linkage_solve::explain::{ConflictKind, Direction, ElementReactions, Explanation, Proposal};
-use linkage_solve::system::RowUnit;
+use linkage_solve::constraints::system::RowUnit;
+use linkage_solve::stages::explain::{
+    ConflictKind, Direction, ElementReactions, Explanation, Proposal,
+};
 use serde::Serialize;
 use std::fmt::Write;
 
@@ -115,7 +117,7 @@ fn reaction(model: &Model, r: &ElementReactions, d: &[Direction]) -> ReactionJso
 }
 
 fn suggestion(model: &Model, number: usize, p: &Proposal) -> SuggestionJson {
-    let named = |list: &[linkage_solve::explain::repair::NamedReactions]| {
+    let named = |list: &[linkage_solve::stages::explain::repair::NamedReactions]| {
         list.iter()
             .map(|r| ReactionJson {
                 name: r.name.clone(),
@@ -264,7 +266,7 @@ pub fn to_text(j: &ExplainJson) -> String {
             let _ = writeln!(
                 s,
                 "   Generic DOF not checked: every closed loop has more than {} parts.",
-                linkage_solve::explain::generic::MAX_LOOP_PARTS
+                linkage_solve::stages::explain::generic::MAX_LOOP_PARTS
             );
         }
         _ => {
@@ -285,7 +287,7 @@ pub fn to_text(j: &ExplainJson) -> String {
             } else {
                 "loops"
             },
-            linkage_solve::explain::generic::MAX_LOOP_PARTS,
+            linkage_solve::stages::explain::generic::MAX_LOOP_PARTS,
             if j.generic_unchecked_loops == 1 {
                 "its"
             } else {

@@ -3,9 +3,9 @@
 use crate::verify::{equation_ref, to_json as verify_json, EquationRef, RedundantJson};
 use linkage_adm::Diagnostic;
 use linkage_model::Model;
-use linkage_solve::assemble::Equation;
-use linkage_solve::ic::InitialConditions;
-use linkage_solve::system::RowUnit;
+use linkage_solve::constraints::system::RowUnit;
+use linkage_solve::stages::assemble::Equation;
+use linkage_solve::stages::ic::InitialConditions;
 use serde::Serialize;
 use std::fmt::Write;
 

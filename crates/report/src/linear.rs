@@ -3,7 +3,7 @@
 
 use linkage_adm::Diagnostic;
 use linkage_model::Model;
-use linkage_solve::linearize::{LinearRun, Linearization, Solution};
+use linkage_solve::stages::linearize::{LinearRun, Linearization, Solution};
 use serde::Serialize;
 use std::f64::consts::TAU;
 use std::fmt::Write;

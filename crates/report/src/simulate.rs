@@ -6,7 +6,7 @@ use crate::verify::{equation_ref, EquationRef};
 use linkage_adm::Diagnostic;
 use linkage_model::frames::matrix_to_euler313;
 use linkage_model::Model;
-use linkage_solve::dynamics::{DynamicRun, Output, StartingEquilibrium};
+use linkage_solve::stages::dynamics::{DynamicRun, Output, StartingEquilibrium};
 use serde::Serialize;
 use std::fmt::Write;
 

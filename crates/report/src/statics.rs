@@ -5,10 +5,10 @@ use linkage_adm::Diagnostic;
 use linkage_model::frames::matrix_to_euler313;
 use linkage_model::settings::shown;
 use linkage_model::Model;
-use linkage_solve::reactions::Reaction;
-use linkage_solve::settle::{SettleOutcome, SettleStop};
+use linkage_solve::physics::reactions::Reaction;
+use linkage_solve::stages::settle::{SettleOutcome, SettleStop};
+use linkage_solve::stages::statics::{Equilibrium, StaticRun};
 use linkage_solve::state::State;
-use linkage_solve::statics::{Equilibrium, StaticRun};
 use serde::Serialize;
 use std::fmt::Write;
 
@@ -476,7 +476,7 @@ pub fn to_text(j: &StaticJson) -> String {
 /// The report of a dynamic settling (`linkage static --settle`).
 pub fn settling_json(
     model: &Model,
-    st: linkage_solve::settle::Settling,
+    st: linkage_solve::stages::settle::Settling,
     warnings: &[Diagnostic],
 ) -> StaticJson {
     let settling = settling_summary(model, st.outcome.as_ref());

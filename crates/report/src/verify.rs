@@ -2,8 +2,8 @@
 
 use linkage_adm::Diagnostic;
 use linkage_model::Model;
-use linkage_solve::system::RowUnit;
-use linkage_solve::verify::Verification;
+use linkage_solve::constraints::system::RowUnit;
+use linkage_solve::stages::verify::Verification;
 use serde::Serialize;
 use std::fmt::Write;
 

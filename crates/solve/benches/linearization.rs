@@ -7,12 +7,12 @@
 //! solution (every mode) up to where it is sensible, and shift-invert for the K = 10 lowest.
 //! `parallelogram_chain(N)`: 2N + 1 parts and 3N redundant rows left out of J, DOF 1.
 
-use linkage_solve::applied::NoForces;
-use linkage_solve::drivers::ExpressionDrivers;
+use linkage_solve::constraints::drivers::ExpressionDrivers;
+use linkage_solve::constraints::system::System;
 use linkage_solve::generate::{parallelogram_chain, pendulum_chain};
-use linkage_solve::ic::{admitted_rows, initial_conditions};
-use linkage_solve::linearize::{linearize, EigenMethod, LinearOptions};
-use linkage_solve::system::System;
+use linkage_solve::physics::applied::NoForces;
+use linkage_solve::stages::ic::{admitted_rows, initial_conditions};
+use linkage_solve::stages::linearize::{linearize, EigenMethod, LinearOptions};
 use linkage_solve::tolerances::Tolerances;
 use std::sync::Arc;
 

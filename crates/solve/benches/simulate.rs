@@ -15,10 +15,10 @@
 //! `LONG` = 1 s, closer to the steady cost per simulated second.
 
 use linkage_model::Model;
-use linkage_solve::applied::{AppliedForces, NoForces};
-use linkage_solve::drivers::ExpressionDrivers;
-use linkage_solve::dynamics::{run, simulate, IntegratorSettings, Problem, Start};
+use linkage_solve::constraints::drivers::ExpressionDrivers;
 use linkage_solve::generate::{parallelogram_chain, pendulum_chain};
+use linkage_solve::physics::applied::{AppliedForces, NoForces};
+use linkage_solve::stages::dynamics::{run, simulate, IntegratorSettings, Problem, Start};
 use linkage_solve::tolerances::Tolerances;
 use std::sync::Arc;
 
@@ -80,9 +80,9 @@ fn run_analysis(m: &Model) -> usize {
 /// Times the integration alone: initial conditions are computed once, outside the timing.
 fn bench_integration(bencher: divan::Bencher, m: &Model, forces: &dyn AppliedForces) {
     let d = ExpressionDrivers::new(m).expect("functions parse");
-    let ic = linkage_solve::ic::initial_conditions(m, &d, forces, &Tolerances::default());
+    let ic = linkage_solve::stages::ic::initial_conditions(m, &d, forces, &Tolerances::default());
     assert!(ic.assembly.converged);
-    let sys = linkage_solve::system::System::new(m);
+    let sys = linkage_solve::constraints::system::System::new(m);
     let (rows, redundant) = ic.kept_and_removed_rows();
     let problem = Problem {
         model: m,
@@ -144,7 +144,7 @@ fn parallelogram_chain_integrate(bencher: divan::Bencher, n: usize) {
 #[divan::bench(args = [10, 100, 1000], sample_count = 3)]
 fn sprung_chain_integrate(bencher: divan::Bencher, n: usize) {
     let m = model(&sprung_chain(n));
-    let forces = linkage_solve::forces::ForceSet::new(&m).expect("the springs build");
+    let forces = linkage_solve::physics::forces::ForceSet::new(&m).expect("the springs build");
     bench_integration(bencher, &m, &forces);
 }
 
@@ -160,7 +160,7 @@ fn parallelogram_chain_settle(bencher: divan::Bencher, n: usize) {
     let m = model(&text);
     let d = ExpressionDrivers::new(&m).expect("functions parse");
     bencher.bench_local(|| {
-        let s = linkage_solve::settle::settle(&m, &d, &NoForces, &Tolerances::default());
+        let s = linkage_solve::stages::settle::settle(&m, &d, &NoForces, &Tolerances::default());
         let outcome = s.outcome.expect("assembled");
         assert!(
             outcome.settled_equilibrium().is_some(),

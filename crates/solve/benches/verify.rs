@@ -4,8 +4,8 @@
 //! `pendulum_chain(N)`: a tree (N blocks of one joint each).
 
 use linkage_solve::generate::{parallelogram_chain, pendulum_chain};
+use linkage_solve::stages::verify::{verify, NoDrivers};
 use linkage_solve::tolerances::Tolerances;
-use linkage_solve::verify::{verify, NoDrivers};
 use std::sync::Arc;
 
 fn main() {

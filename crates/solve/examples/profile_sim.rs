@@ -1,9 +1,9 @@
 //! Times the phases of a simulation of a generated chain: `cargo run --release --example
 //! profile_sim -- N [parallelogram|pendulum|swinging] [interval]` (parallelogram chain, 0.05 s
 //! by default; `swinging`: the pendulum chain with gravity across it).
-use linkage_solve::applied::NoForces;
-use linkage_solve::drivers::ExpressionDrivers;
-use linkage_solve::dynamics::{simulate, IntegratorSettings, Problem};
+use linkage_solve::constraints::drivers::ExpressionDrivers;
+use linkage_solve::physics::applied::NoForces;
+use linkage_solve::stages::dynamics::{simulate, IntegratorSettings, Problem};
 use linkage_solve::tolerances::Tolerances;
 use std::sync::Arc;
 use std::time::Instant;
@@ -31,14 +31,15 @@ fn main() {
     let m = linkage_model::build_model(&ds).expect("builds").model;
     let d = ExpressionDrivers::new(&m).expect("functions");
     let t = Instant::now();
-    let ic = linkage_solve::ic::initial_conditions(&m, &d, &NoForces, &Tolerances::default());
+    let ic =
+        linkage_solve::stages::ic::initial_conditions(&m, &d, &NoForces, &Tolerances::default());
     println!(
         "verify + ic {:?} converged {} dof {}",
         t.elapsed(),
         ic.assembly.converged,
         ic.analysis.dof
     );
-    let sys = linkage_solve::system::System::new(&m);
+    let sys = linkage_solve::constraints::system::System::new(&m);
     let (rows, redundant) = ic.kept_and_removed_rows();
     let problem = Problem {
         model: &m,

@@ -1,33 +1,19 @@
 //! # linkage-solve — constraint rows, rank analysis and the analyses
 //!
-//! A [`linkage_model::Model`] is compiled into a [`system::System`] of labelled scalar rows
-//! (DESIGN §3); analyses take the system and a mutable [`state::State`]:
+//! A [`linkage_model::Model`] is compiled into a [`constraints::system::System`] of labelled
+//! scalar rows (DESIGN §3); the analyses are stages that each take the previous stage's result:
 //!
-//! * [`verify`] — Gruebler count, DOF, redundant equations by priority, misaligned joints,
-//!   consistency, unconstrained and massless parts (DESIGN §4).
+//! * [`constraints`] — rows with analytic Jacobians and second derivatives, the compiled system,
+//!   the constraint graph, sparse rank decisions, motion drivers.
+//! * [`physics`] — applied force elements, expression measures, reactions, REQUEST outputs.
+//! * [`linalg`] — sparse LU (one-off and fixed-pattern) and the sparse eigen solver.
+//! * [`stages`] — verify → assemble/ic → statics / settle → linearize / dynamics
+//!   (kinematics for zero-DOF models), and explain.
 
-pub mod applied;
-pub mod assemble;
-pub mod drivers;
-pub mod dynamics;
-pub mod eigs;
-pub mod explain;
-pub mod forces;
+pub mod constraints;
 pub mod generate;
-pub mod graph;
-pub mod hessian;
-pub mod ic;
-pub mod kinematics;
-pub mod linear;
-pub mod linearize;
-pub mod measures;
-pub mod rank;
-pub mod reactions;
-pub mod requests;
-pub mod rows;
-pub mod settle;
+pub mod linalg;
+pub mod physics;
+pub mod stages;
 pub mod state;
-pub mod statics;
-pub mod system;
 pub mod tolerances;
-pub mod verify;

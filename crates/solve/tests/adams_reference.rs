@@ -74,11 +74,11 @@
 use linkage_adm::reqfile::{read_request_file, RequestFile, RequestHistory};
 use linkage_adm::{parse_commands, read_dataset, Dataset, Value};
 use linkage_model::frames::euler313_to_matrix;
-use linkage_solve::applied::{AppliedForces, NoForces};
-use linkage_solve::drivers::ExpressionDrivers;
-use linkage_solve::dynamics::{run, IntegratorSettings, Output, Start};
-use linkage_solve::forces::ForceSet;
-use linkage_solve::requests::RequestSet;
+use linkage_solve::constraints::drivers::ExpressionDrivers;
+use linkage_solve::physics::applied::{AppliedForces, NoForces};
+use linkage_solve::physics::forces::ForceSet;
+use linkage_solve::physics::requests::RequestSet;
+use linkage_solve::stages::dynamics::{run, IntegratorSettings, Output, Start};
 use linkage_solve::tolerances::Tolerances;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
@@ -164,7 +164,9 @@ fn unsupported(ds: &Dataset) -> Option<String> {
     let names: Vec<String> = ds
         .statements
         .iter()
-        .filter(|st| linkage_solve::forces::UNMODELLED_STATEMENTS.contains(&st.keyword.as_str()))
+        .filter(|st| {
+            linkage_solve::physics::forces::UNMODELLED_STATEMENTS.contains(&st.keyword.as_str())
+        })
         .map(|st| format!("{}/{}", st.keyword, st.id.unwrap_or(0)))
         .collect();
     (!names.is_empty()).then(|| format!("linkage does not model {}", names.join(", ")))

@@ -4,9 +4,9 @@
 //! allocation. A counting global allocator (this test binary's own) checks it.
 
 use linkage_model::Model;
-use linkage_solve::applied::{AppliedForces, NoForces};
-use linkage_solve::drivers::ExpressionDrivers;
-use linkage_solve::dynamics::{Integrator, IntegratorSettings, Problem};
+use linkage_solve::constraints::drivers::ExpressionDrivers;
+use linkage_solve::physics::applied::{AppliedForces, NoForces};
+use linkage_solve::stages::dynamics::{Integrator, IntegratorSettings, Problem};
 use linkage_solve::tolerances::Tolerances;
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::cell::Cell;
@@ -75,9 +75,9 @@ fn allocations_in_steady_steps(
     counted: usize,
 ) -> Counted {
     let d = ExpressionDrivers::new(m).expect("no functions");
-    let ic = linkage_solve::ic::initial_conditions(m, &d, forces, &Tolerances::default());
+    let ic = linkage_solve::stages::ic::initial_conditions(m, &d, forces, &Tolerances::default());
     assert!(ic.assembly.converged);
-    let sys = linkage_solve::system::System::new(m);
+    let sys = linkage_solve::constraints::system::System::new(m);
     let (rows, redundant) = ic.kept_and_removed_rows();
     let p = Problem {
         model: m,
@@ -158,7 +158,7 @@ fn spring_damper_and_bushing_forces_evaluate_without_allocating() {
          END",
     );
     let m = model(&text);
-    let forces = linkage_solve::forces::ForceSet::new(&m).expect("force elements build");
+    let forces = linkage_solve::physics::forces::ForceSet::new(&m).expect("force elements build");
     assert_eq!(forces.elements().len(), 3);
     let s = linkage_solve::state::State::input(&m);
     let v: Vec<(glam::DVec3, glam::DVec3)> = (0..3)
@@ -208,7 +208,7 @@ fn chain_with_expression_forces() -> String {
 #[test]
 fn expression_forces_evaluate_without_allocating() {
     let m = model(&chain_with_expression_forces());
-    let forces = linkage_solve::forces::ForceSet::new(&m).expect("force elements build");
+    let forces = linkage_solve::physics::forces::ForceSet::new(&m).expect("force elements build");
     let s = linkage_solve::state::State::input(&m);
     let v = vec![(glam::DVec3::ZERO, glam::DVec3::ZERO); 3];
     let mut q = vec![0.0; 18];
@@ -248,7 +248,7 @@ fn expression_forces_evaluate_without_allocating() {
 #[test]
 fn chain_with_expression_forces_steps_without_allocating() {
     let m = model(&chain_with_expression_forces());
-    let forces = linkage_solve::forces::ForceSet::new(&m).expect("force elements build");
+    let forces = linkage_solve::physics::forces::ForceSet::new(&m).expect("force elements build");
     let c = allocations_in_steady_steps(&m, &forces, 40, 40);
     assert!(c.start > 100, "{}", c.start);
     assert_eq!(c.steady, 0, "allocations in 40 steady steps");

@@ -1,10 +1,10 @@
 //! Dynamic simulation against closed forms and conservation laws.
 
 use linkage_model::Model;
-use linkage_solve::applied::NoForces;
-use linkage_solve::drivers::ExpressionDrivers;
-use linkage_solve::dynamics::{run, DynamicRun, IntegratorSettings, Start};
-use linkage_solve::statics::StaticRun;
+use linkage_solve::constraints::drivers::ExpressionDrivers;
+use linkage_solve::physics::applied::NoForces;
+use linkage_solve::stages::dynamics::{run, DynamicRun, IntegratorSettings, Start};
+use linkage_solve::stages::statics::StaticRun;
 use linkage_solve::tolerances::Tolerances;
 use std::path::Path;
 use std::sync::Arc;
@@ -96,7 +96,7 @@ fn conservative_double_pendulum_keeps_its_energy() {
     let (m, r) = simulate("double.adm", &text, 10.0, 1000, 1e-6);
     let sim = r.simulation.as_ref().unwrap();
     assert!(sim.failure.is_none(), "{:?}", sim.failure);
-    let energy = |o: &linkage_solve::dynamics::Output| {
+    let energy = |o: &linkage_solve::stages::dynamics::Output| {
         m.parts
             .iter()
             .enumerate()
@@ -121,14 +121,15 @@ fn conservative_double_pendulum_keeps_its_energy() {
 
 #[test]
 fn damping_makes_the_energy_decrease_monotonically() {
-    use linkage_solve::dynamics::{simulate as integrate, ExtraDamping, Problem};
+    use linkage_solve::stages::dynamics::{simulate as integrate, ExtraDamping, Problem};
     let text = mechanism_text("pendulum_offset.adm");
     let ds = linkage_adm::parse_dataset(Arc::from("p.adm"), &text).unwrap();
     let m = linkage_model::build_model(&ds).unwrap().model;
     let d = ExpressionDrivers::new(&m).unwrap();
-    let ic = linkage_solve::ic::initial_conditions(&m, &d, &NoForces, &Tolerances::default());
-    let sys = linkage_solve::system::System::new(&m);
-    let rows = linkage_solve::ic::admitted_rows(&ic.analysis);
+    let ic =
+        linkage_solve::stages::ic::initial_conditions(&m, &d, &NoForces, &Tolerances::default());
+    let sys = linkage_solve::constraints::system::System::new(&m);
+    let rows = linkage_solve::stages::ic::admitted_rows(&ic.analysis);
     let p = Problem {
         model: &m,
         sys: &sys,
@@ -185,18 +186,19 @@ fn settling_finds_the_newton_equilibrium_and_says_why_it_stopped() {
     let m = linkage_model::build_model(&ds).unwrap().model;
     assert!(m.equilibrium.dynamic);
     let d = ExpressionDrivers::new(&m).unwrap();
-    let s = linkage_solve::settle::settle(&m, &d, &NoForces, &Tolerances::default());
+    let s = linkage_solve::stages::settle::settle(&m, &d, &NoForces, &Tolerances::default());
     assert!(
         matches!(
             s.outcome.as_ref().map(|o| &o.stop),
-            Some(linkage_solve::settle::SettleStop::Settled { .. })
+            Some(linkage_solve::stages::settle::SettleStop::Settled { .. })
         ),
         "{:?}",
         s.outcome
     );
     let eq = s.outcome.unwrap().equilibrium.unwrap().unwrap();
     assert!(eq.converged);
-    let newton = linkage_solve::statics::run(&m, &d, &NoForces, &Tolerances::default(), &[0.0]);
+    let newton =
+        linkage_solve::stages::statics::run(&m, &d, &NoForces, &Tolerances::default(), &[0.0]);
     let n_eq = newton.steps[0].1.as_ref().unwrap();
     assert!((eq.state.poses[0].p - n_eq.state.poses[0].p).length() < 1e-6);
     assert!((eq.state.poses[0].p - glam::DVec3::new(0.3, 0.7, 0.0)).length() < 1e-6);
@@ -205,11 +207,11 @@ fn settling_finds_the_newton_equilibrium_and_says_why_it_stopped() {
         .replace("END", "EQUILIBRIUM/, DYNAMIC, SETTLING_TIME = 2\nEND");
     let ds = linkage_adm::parse_dataset(Arc::from("nosettle.adm"), &text).unwrap();
     let m = linkage_model::build_model(&ds).unwrap().model;
-    let s = linkage_solve::settle::settle(&m, &d, &NoForces, &Tolerances::default());
+    let s = linkage_solve::stages::settle::settle(&m, &d, &NoForces, &Tolerances::default());
     assert!(
         matches!(
             s.outcome.as_ref().map(|o| &o.stop),
-            Some(linkage_solve::settle::SettleStop::SettlingTime { .. })
+            Some(linkage_solve::stages::settle::SettleStop::SettlingTime { .. })
         ),
         "{:?}",
         s.outcome
@@ -326,7 +328,7 @@ fn zero_dof_fourbar_runs_kinematically_and_the_motion_supplies_the_power() {
     assert!(sim.kinematic);
     assert!(sim.failure.is_none(), "{:?}", sim.failure);
     assert_eq!(sim.outputs.len(), times.len());
-    let energy = |o: &linkage_solve::dynamics::Output| -> f64 {
+    let energy = |o: &linkage_solve::stages::dynamics::Output| -> f64 {
         m.parts
             .iter()
             .enumerate()
@@ -416,14 +418,15 @@ fn double_pendulum_far_from_the_origin_swings_like_at_the_origin() {
 
 #[test]
 fn missing_initial_velocities_start_the_pendulum_at_rest() {
-    use linkage_solve::dynamics::{simulate as integrate, Problem};
+    use linkage_solve::stages::dynamics::{simulate as integrate, Problem};
     let ds = linkage_adm::parse_dataset(Arc::from("p.adm"), &mechanism_text("pendulum_offset.adm"))
         .unwrap();
     let m = linkage_model::build_model(&ds).unwrap().model;
     let d = ExpressionDrivers::new(&m).unwrap();
-    let ic = linkage_solve::ic::initial_conditions(&m, &d, &NoForces, &Tolerances::default());
-    let sys = linkage_solve::system::System::new(&m);
-    let rows = linkage_solve::ic::admitted_rows(&ic.analysis);
+    let ic =
+        linkage_solve::stages::ic::initial_conditions(&m, &d, &NoForces, &Tolerances::default());
+    let sys = linkage_solve::constraints::system::System::new(&m);
+    let rows = linkage_solve::stages::ic::admitted_rows(&ic.analysis);
     let p = Problem {
         model: &m,
         sys: &sys,
@@ -481,7 +484,7 @@ fn run_from(text: &str, start: Start, end: f64) -> (Model, DynamicRun) {
     let ds = linkage_adm::parse_dataset(Arc::from("tied.adm"), text).unwrap();
     let m = linkage_model::build_model(&ds).unwrap().model;
     let d = ExpressionDrivers::new(&m).unwrap();
-    let forces = linkage_solve::forces::ForceSet::new(&m).unwrap();
+    let forces = linkage_solve::physics::forces::ForceSet::new(&m).unwrap();
     let times: Vec<f64> = (0..=10).map(|k| end * k as f64 / 10.0).collect();
     let settings = IntegratorSettings {
         error: 1e-6,
@@ -513,13 +516,13 @@ fn a_run_started_at_the_settled_equilibrium_stays_there() {
     // EQUILIBRIUM/DYNAMIC: --start-at-equilibrium settles (damped dynamics, then the polish).
     let (_, r) = run_from(&tied_pendulum(k, settings), Start::Equilibrium, 2.0);
     let found = r.equilibrium.as_ref().expect("an equilibrium was sought");
-    let linkage_solve::dynamics::StartingEquilibrium::Settled(outcome) = found else {
+    let linkage_solve::stages::dynamics::StartingEquilibrium::Settled(outcome) = found else {
         panic!("EQUILIBRIUM/DYNAMIC must settle: {found:?}")
     };
     assert!(
         matches!(
             outcome.stop,
-            linkage_solve::settle::SettleStop::Settled { .. }
+            linkage_solve::stages::settle::SettleStop::Settled { .. }
         ),
         "{:?}",
         outcome.stop
@@ -551,7 +554,7 @@ fn a_run_started_at_the_settled_equilibrium_stays_there() {
     let n_found = newton.equilibrium.as_ref().unwrap();
     assert!(matches!(
         n_found,
-        linkage_solve::dynamics::StartingEquilibrium::Newton(_)
+        linkage_solve::stages::dynamics::StartingEquilibrium::Newton(_)
     ));
     let n_eq = n_found.equilibrium().expect("Newton converges from 30°");
     assert!((rod_angle(n_eq.state.poses[0].p) - theta).abs() < 1e-9);
@@ -562,7 +565,7 @@ fn a_run_started_at_the_settled_equilibrium_stays_there() {
     );
     assert!(matches!(
         forced.equilibrium,
-        Some(linkage_solve::dynamics::StartingEquilibrium::Settled(_))
+        Some(linkage_solve::stages::dynamics::StartingEquilibrium::Settled(_))
     ));
     assert!(forced.simulation.is_some());
     // Started from the initial conditions instead, the released rod swings through the
@@ -594,7 +597,7 @@ fn a_model_that_does_not_settle_is_not_run_and_says_why() {
     assert!(why.contains("kinetic energy"), "{why}");
 }
 
-fn settled_chain(crank_deg: f64) -> (Model, linkage_solve::settle::Settling, StaticRun) {
+fn settled_chain(crank_deg: f64) -> (Model, linkage_solve::stages::settle::Settling, StaticRun) {
     let text = linkage_solve::generate::parallelogram_chain(3, crank_deg).replace(
         "END",
         "EQUILIBRIUM/, DYNAMIC, GLOBAL_DAMPING = 2, SETTLING_TIME = 50\nEND",
@@ -602,8 +605,9 @@ fn settled_chain(crank_deg: f64) -> (Model, linkage_solve::settle::Settling, Sta
     let ds = linkage_adm::parse_dataset(Arc::from("chain3.adm"), &text).unwrap();
     let m = linkage_model::build_model(&ds).unwrap().model;
     let d = ExpressionDrivers::new(&m).unwrap();
-    let s = linkage_solve::settle::settle(&m, &d, &NoForces, &Tolerances::default());
-    let newton = linkage_solve::statics::run(&m, &d, &NoForces, &Tolerances::default(), &[0.0]);
+    let s = linkage_solve::stages::settle::settle(&m, &d, &NoForces, &Tolerances::default());
+    let newton =
+        linkage_solve::stages::statics::run(&m, &d, &NoForces, &Tolerances::default(), &[0.0]);
     (m, s, newton)
 }
 

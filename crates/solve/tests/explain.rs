@@ -4,13 +4,13 @@
 
 use linkage_adm::{JointType, JprimType};
 use linkage_model::{ConstraintKind, Model};
-use linkage_solve::drivers::ExpressionDrivers;
-use linkage_solve::explain::repair::realize;
-use linkage_solve::explain::{
+use linkage_solve::constraints::drivers::ExpressionDrivers;
+use linkage_solve::stages::explain::repair::realize;
+use linkage_solve::stages::explain::{
     explain, ConflictKind, Direction, ElementType, Explanation, Proposal,
 };
+use linkage_solve::stages::verify::{verify, Verification};
 use linkage_solve::tolerances::Tolerances;
-use linkage_solve::verify::{verify, Verification};
 use std::path::Path;
 
 fn model_from_text(name: &str, text: &str) -> Model {

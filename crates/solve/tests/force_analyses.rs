@@ -1,9 +1,9 @@
 //! Statics, linearization and dynamics with force elements, against closed forms.
 
 use linkage_model::Model;
-use linkage_solve::drivers::ExpressionDrivers;
-use linkage_solve::forces::ForceSet;
-use linkage_solve::linearize::{EigenMethod, LinearOptions};
+use linkage_solve::constraints::drivers::ExpressionDrivers;
+use linkage_solve::physics::forces::ForceSet;
+use linkage_solve::stages::linearize::{EigenMethod, LinearOptions};
 use linkage_solve::tolerances::Tolerances;
 use std::f64::consts::TAU;
 use std::sync::Arc;
@@ -35,7 +35,7 @@ ACCGRAV/, JGRAV = -9.80665\nEND\n"
 #[test]
 fn spring_and_mass_on_a_guide_deflect_by_mg_over_k() {
     let (m, d, f) = load(&spring_on_guide(2.0, 1000.0, 0.0));
-    let r = linkage_solve::statics::run(&m, &d, &f, &Tolerances::default(), &[0.0]);
+    let r = linkage_solve::stages::statics::run(&m, &d, &f, &Tolerances::default(), &[0.0]);
     let eq = r.steps[0].1.as_ref().unwrap();
     assert!(eq.converged, "{:?}", eq.worst);
     // Spring from y = 1 down to the block: length 1 − y; equilibrium k(1 − y − 0.5) = m g.
@@ -50,7 +50,7 @@ fn mass_spring_damper_frequency_and_damping_ratio() {
     // ADM-REFERENCE §12: m = 1, k = 100, c = 2 → λ = −1 ± 9.94987i rad/s, fn = 1.59155 Hz,
     // ζ = 0.1; without damping Imag = 1.59155 Hz.
     let (m, d, f) = load(&spring_on_guide(1.0, 100.0, 2.0));
-    let run = linkage_solve::linearize::run(
+    let run = linkage_solve::stages::linearize::run(
         &m,
         &d,
         &f,
@@ -71,7 +71,7 @@ fn mass_spring_damper_frequency_and_damping_ratio() {
         (mode.real / TAU + 0.159155).abs() < 1e-6 && (mode.imag / TAU - 1.58357).abs() < 1e-5,
         "{mode:?}"
     );
-    let run = linkage_solve::linearize::run(
+    let run = linkage_solve::stages::linearize::run(
         &m,
         &d,
         &f,
@@ -106,7 +106,7 @@ fn pendulum_with_a_torsion_spring_settles_where_the_torques_balance() {
     );
     assert!(text.contains("SPRINGDAMPER"));
     let (m, d, f) = load(&text);
-    let r = linkage_solve::statics::run(&m, &d, &f, &Tolerances::default(), &[0.0]);
+    let r = linkage_solve::stages::statics::run(&m, &d, &f, &Tolerances::default(), &[0.0]);
     let eq = r.steps[0].1.as_ref().unwrap();
     assert!(eq.converged, "{:?}", eq.worst);
     // θ from the torque balance (bisection).
@@ -140,7 +140,7 @@ fn damped_mass_spring_through_the_sparse_path() {
     // m = 2, k = 300, c = 3: ω_n = √(k/m), ζ = c/(2√(km)), λ = −ζω_n ± iω_n√(1 − ζ²).
     let (mass, k, c) = (2.0, 300.0, 3.0);
     let (m, d, f) = load(&spring_on_guide(mass, k, c));
-    let run = linkage_solve::linearize::run(
+    let run = linkage_solve::stages::linearize::run(
         &m,
         &d,
         &f,
@@ -158,7 +158,7 @@ fn damped_mass_spring_through_the_sparse_path() {
     let l = run.result.unwrap();
     assert!(matches!(
         l.solution,
-        linkage_solve::linearize::Solution::ShiftInvert { .. }
+        linkage_solve::stages::linearize::Solution::ShiftInvert { .. }
     ));
     assert_eq!((l.dof, l.computed_eigenvalues, l.modes.len()), (1, 2, 1));
     let wn = (k / mass).sqrt();
@@ -203,7 +203,7 @@ fn damped_chain_shift_invert_matches_the_dense_eigenvalues() {
     // the 4 lowest, λ within 1e-8 |λ| and ζ within 1e-8.
     let (m, d, f) = load(&damped_chain(8, 0.3, 0.5));
     let solve = |method| {
-        linkage_solve::linearize::run(
+        linkage_solve::stages::linearize::run(
             &m,
             &d,
             &f,
@@ -247,7 +247,7 @@ fn damped_chain_modes_around_a_frequency_match_dense_modes() {
     // solution (λ within 1e-8 |λ|), the 5th among them.
     let (m, d, f) = load(&damped_chain(8, 0.3, 0.5));
     let solve = |method| {
-        linkage_solve::linearize::run(
+        linkage_solve::stages::linearize::run(
             &m,
             &d,
             &f,

@@ -4,10 +4,10 @@
 use glam::{DMat3, DVec3};
 use linkage_expr::{evaluate_with_gradient, parse, Env, SplineData, SplineMethod};
 use linkage_model::Model;
-use linkage_solve::applied::AppliedForces;
-use linkage_solve::forces::data::DataElements;
-use linkage_solve::forces::ForceSet;
-use linkage_solve::measures::{MarkerFrames, StateEnv};
+use linkage_solve::physics::applied::AppliedForces;
+use linkage_solve::physics::forces::data::DataElements;
+use linkage_solve::physics::forces::ForceSet;
+use linkage_solve::physics::measures::{MarkerFrames, StateEnv};
 use linkage_solve::state::State;
 use std::sync::Arc;
 

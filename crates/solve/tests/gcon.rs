@@ -5,13 +5,13 @@
 
 use glam::DVec3;
 use linkage_expr::{evaluate, evaluate_path_series, parse};
-use linkage_solve::applied::NoForces;
-use linkage_solve::drivers::ExpressionDrivers;
-use linkage_solve::dynamics::{run, DynamicRun, IntegratorSettings};
-use linkage_solve::measures::{MarkerFrames, PathEnv, PositionEnv};
-use linkage_solve::rows::RowGradient;
+use linkage_solve::constraints::drivers::ExpressionDrivers;
+use linkage_solve::constraints::rows::RowGradient;
+use linkage_solve::constraints::system::System;
+use linkage_solve::physics::applied::NoForces;
+use linkage_solve::physics::measures::{MarkerFrames, PathEnv, PositionEnv};
+use linkage_solve::stages::dynamics::{run, DynamicRun, IntegratorSettings};
 use linkage_solve::state::State;
-use linkage_solve::system::System;
 use linkage_solve::tolerances::Tolerances;
 use std::path::Path;
 use std::sync::Arc;
@@ -272,7 +272,7 @@ fn simulate(text: &str, end: f64, steps: usize) -> DynamicRun {
         &Tolerances::default(),
         &times,
         &settings,
-        linkage_solve::dynamics::Start::InitialConditions,
+        linkage_solve::stages::dynamics::Start::InitialConditions,
         |_| {},
     )
 }
@@ -410,7 +410,13 @@ fn distance_pendulum_statics_see_the_rod_geometric_stiffness() {
             .replace(", VY=0.75, VZ=1.299038105676658", "");
         let model = model_of(&text);
         let d = ExpressionDrivers::new(&model).unwrap_or_else(|e| panic!("{e}"));
-        let r = linkage_solve::statics::run(&model, &d, &NoForces, &Tolerances::default(), &[0.0]);
+        let r = linkage_solve::stages::statics::run(
+            &model,
+            &d,
+            &NoForces,
+            &Tolerances::default(),
+            &[0.0],
+        );
         let eq = r.steps[0].1.clone().unwrap_or_else(|e| panic!("{e}"));
         (model, eq)
     };

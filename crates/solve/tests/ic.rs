@@ -2,8 +2,8 @@
 //! initial conditions, reactions against closed-form statics.
 
 use linkage_model::Model;
-use linkage_solve::drivers::ExpressionDrivers;
-use linkage_solve::ic::{initial_conditions, InitialConditions};
+use linkage_solve::constraints::drivers::ExpressionDrivers;
+use linkage_solve::stages::ic::{initial_conditions, InitialConditions};
 use linkage_solve::tolerances::Tolerances;
 use std::path::Path;
 use std::sync::Arc;
@@ -25,7 +25,7 @@ fn run_text(name: &str, text: &str) -> (Model, InitialConditions) {
     let ic = initial_conditions(
         &m,
         &d,
-        &linkage_solve::applied::NoForces,
+        &linkage_solve::physics::applied::NoForces,
         &Tolerances::default(),
     );
     (m, ic)
@@ -39,7 +39,7 @@ fn reaction<'a>(
     m: &Model,
     ic: &'a InitialConditions,
     name: &str,
-) -> &'a linkage_solve::ic::Reaction {
+) -> &'a linkage_solve::stages::ic::Reaction {
     let acc = ic.acceleration.as_ref().unwrap().as_ref().unwrap();
     acc.reactions
         .iter()

@@ -1,9 +1,9 @@
 //! Every row type's analytic Jacobian against central finite differences on the 6 tangent
 //! coordinates of each part, at a configuration far from assembled (so no term vanishes).
 
-use linkage_solve::rows::RowGradient;
+use linkage_solve::constraints::rows::RowGradient;
+use linkage_solve::constraints::system::System;
 use linkage_solve::state::State;
-use linkage_solve::system::System;
 use std::path::Path;
 
 fn model(name: &str) -> linkage_model::Model {
@@ -97,7 +97,7 @@ fn every_row_type_matches_finite_differences() {
 /// convention `H[a][b] = ∂(∂Φ/∂q_a)/∂q_b` of `hessian.rs`, antisymmetric part included.
 #[test]
 fn row_hessians_match_finite_differences_of_gradients() {
-    use linkage_solve::hessian::HessianBlocks;
+    use linkage_solve::constraints::hessian::HessianBlocks;
     let m = model("every_row.adm");
     let sys = System::new(&m);
     let mut s = State::input(&m);

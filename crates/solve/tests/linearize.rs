@@ -1,9 +1,9 @@
 //! Natural frequencies against closed forms.
 
 use linkage_model::Model;
-use linkage_solve::applied::NoForces;
-use linkage_solve::drivers::ExpressionDrivers;
-use linkage_solve::linearize::{run, EigenMethod, LinearOptions, Linearization};
+use linkage_solve::constraints::drivers::ExpressionDrivers;
+use linkage_solve::physics::applied::NoForces;
+use linkage_solve::stages::linearize::{run, EigenMethod, LinearOptions, Linearization};
 use linkage_solve::tolerances::Tolerances;
 use std::f64::consts::TAU;
 use std::path::Path;
@@ -180,7 +180,7 @@ fn linear_with(name: &str, text: &str, static_first: bool, method: EigenMethod) 
 /// Modes away from zero (|λ| > 1e-6 rad per time unit; the models here have frequencies of
 /// order 1): zero modes are compared by their count, their split into one or two "modes" and
 /// their values are round-off.
-fn nonzero(l: &Linearization) -> Vec<&linkage_solve::linearize::Mode> {
+fn nonzero(l: &Linearization) -> Vec<&linkage_solve::stages::linearize::Mode> {
     l.modes
         .iter()
         .filter(|m| m.frequency * TAU > 1e-6)
@@ -192,8 +192,8 @@ fn nonzero(l: &Linearization) -> Vec<&linkage_solve::linearize::Mode> {
 /// 1e-6 and phases (relative to the largest component) within 1e-4 degrees (not for repeated
 /// eigenvalues, whose shapes are any combination).
 fn assert_same_modes(
-    sparse: &[&linkage_solve::linearize::Mode],
-    dense: &[&linkage_solve::linearize::Mode],
+    sparse: &[&linkage_solve::stages::linearize::Mode],
+    dense: &[&linkage_solve::stages::linearize::Mode],
     what: &str,
 ) {
     assert_eq!(
@@ -204,9 +204,10 @@ fn assert_same_modes(
     // Pair each dense mode with the nearest sparse one (a real pair ±a has one frequency, so
     // the order within it is round-off).
     let mut used = vec![false; sparse.len()];
-    let mut matched: Vec<&linkage_solve::linearize::Mode> = Vec::new();
+    let mut matched: Vec<&linkage_solve::stages::linearize::Mode> = Vec::new();
     for d in dense {
-        let dist = |m: &linkage_solve::linearize::Mode| (m.real - d.real).hypot(m.imag - d.imag);
+        let dist =
+            |m: &linkage_solve::stages::linearize::Mode| (m.real - d.real).hypot(m.imag - d.imag);
         let k = (0..sparse.len())
             .filter(|&k| !used[k])
             .min_by(|&a, &b| dist(sparse[a]).total_cmp(&dist(sparse[b])))
@@ -248,13 +249,13 @@ fn assert_same_modes(
         if repeated {
             continue;
         }
-        let comps = |sh: &[linkage_solve::linearize::PartShape]| {
+        let comps = |sh: &[linkage_solve::stages::linearize::PartShape]| {
             sh.iter()
                 .flat_map(|p| p.translation.iter().chain(&p.rotation).copied())
                 .collect::<Vec<_>>()
         };
         let (cs, cd) = (comps(ss), comps(ds));
-        let big = |c: &[linkage_solve::linearize::Component]| {
+        let big = |c: &[linkage_solve::stages::linearize::Component]| {
             c.iter()
                 .enumerate()
                 .max_by(|a, b| a.1.magnitude.total_cmp(&b.1.magnitude))
@@ -271,9 +272,9 @@ fn assert_same_modes(
             );
             if b.magnitude > 1e-2 {
                 // A complex eigenvector is fixed up to a factor e^{iφ}; a real one up to sign.
-                let rel = |c: &[linkage_solve::linearize::Component], i: usize, r: usize| {
-                    c[i].phase_deg - c[r].phase_deg
-                };
+                let rel = |c: &[linkage_solve::stages::linearize::Component],
+                           i: usize,
+                           r: usize| { c[i].phase_deg - c[r].phase_deg };
                 let diff = (rel(&cs, k, bs) - rel(&cd, k, bd)).rem_euclid(180.0);
                 assert!(
                     diff.min(180.0 - diff) < 1e-4,
@@ -307,7 +308,7 @@ fn compare_paths(
     assert_eq!(sparse.dof, dense.dof, "{name}");
     assert!(matches!(
         sparse.solution,
-        linkage_solve::linearize::Solution::ShiftInvert { .. }
+        linkage_solve::stages::linearize::Solution::ShiftInvert { .. }
     ));
     assert_eq!(
         sparse.zero_eigenvalues, dense.zero_eigenvalues,
@@ -490,11 +491,11 @@ fn a_shift_selects_the_modes_nearest_a_frequency() {
     let text = linkage_solve::generate::pendulum_chain(12);
     let dense = linear_with("chain12.adm", &text, false, EigenMethod::Dense);
     let w6 = dense.modes[5].frequency * TAU;
-    let psi = |m: &linkage_solve::linearize::Mode| {
+    let psi = |m: &linkage_solve::stages::linearize::Mode| {
         let w = m.frequency * TAU;
         w / ((w - w6).abs() * (w + w6)).max(1e-300)
     };
-    let mut ranked: Vec<&linkage_solve::linearize::Mode> = dense.modes.iter().collect();
+    let mut ranked: Vec<&linkage_solve::stages::linearize::Mode> = dense.modes.iter().collect();
     ranked.sort_by(|a, b| psi(b).total_cmp(&psi(a)));
     assert!(psi(ranked[2]) > 1.2 * psi(ranked[3]), "no clear third mode");
     let mut want: Vec<f64> = ranked[..3].iter().map(|m| m.frequency).collect();
@@ -523,7 +524,7 @@ fn a_shift_selects_the_modes_nearest_a_frequency() {
     assert!(l.modes.iter().all(|m| m.damping_ratio.abs() < 1e-8));
     assert!(matches!(
         l.solution,
-        linkage_solve::linearize::Solution::ShiftInvert {
+        linkage_solve::stages::linearize::Solution::ShiftInvert {
             zeros_complete: false,
             ..
         }
@@ -538,12 +539,15 @@ fn large_models_use_the_sparse_path_by_default() {
     assert_eq!(l.dof, 320);
     assert!(matches!(
         l.solution,
-        linkage_solve::linearize::Solution::ShiftInvert { .. }
+        linkage_solve::stages::linearize::Solution::ShiftInvert { .. }
     ));
-    assert_eq!(l.modes.len(), linkage_solve::linearize::DEFAULT_MODES);
+    assert_eq!(
+        l.modes.len(),
+        linkage_solve::stages::linearize::DEFAULT_MODES
+    );
     assert_eq!(
         l.computed_eigenvalues,
-        2 * linkage_solve::linearize::DEFAULT_MODES
+        2 * linkage_solve::stages::linearize::DEFAULT_MODES
     );
     // The lowest mode of a long hanging chain of N unit links tends to the heavy chain's
     // ω₁ = 2.405/2 √(g/L_total) (first zero of J₀); within 1% at N = 320.

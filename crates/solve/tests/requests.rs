@@ -2,9 +2,9 @@
 
 use glam::{DMat3, DVec3};
 use linkage_model::Model;
-use linkage_solve::dynamics::Output;
-use linkage_solve::reactions::Reaction;
-use linkage_solve::requests::RequestSet;
+use linkage_solve::physics::reactions::Reaction;
+use linkage_solve::physics::requests::RequestSet;
+use linkage_solve::stages::dynamics::Output;
 use linkage_solve::state::{Pose, State};
 use std::sync::Arc;
 

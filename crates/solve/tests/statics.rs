@@ -1,9 +1,9 @@
 //! Static equilibrium and quasi-statics against closed-form answers.
 
 use linkage_model::Model;
-use linkage_solve::applied::NoForces;
-use linkage_solve::drivers::ExpressionDrivers;
-use linkage_solve::statics::{output_times, run, StaticRun};
+use linkage_solve::constraints::drivers::ExpressionDrivers;
+use linkage_solve::physics::applied::NoForces;
+use linkage_solve::stages::statics::{output_times, run, StaticRun};
 use linkage_solve::tolerances::Tolerances;
 use std::path::Path;
 use std::sync::Arc;
@@ -214,7 +214,7 @@ fn a_free_body_under_gravity_has_no_equilibrium_and_says_why() {
     assert!(!eq.converged);
     assert!(eq.unbounded);
     assert_eq!(eq.worst.len(), 1, "{:?}", eq.worst);
-    let sys = linkage_solve::system::System::new(&m);
+    let sys = linkage_solve::constraints::system::System::new(&m);
     let why = eq.failure(&m, &sys).unwrap();
     assert!(
         why.contains("largest imbalance in PART_2 force Y balance (-2.942e1)"),

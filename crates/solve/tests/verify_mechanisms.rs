@@ -2,8 +2,8 @@
 //! `mechanisms/check.py`): Gruebler count, DOF, redundancy, consistency, misalignment.
 
 use linkage_model::Model;
+use linkage_solve::stages::verify::{verify, NoDrivers, Verification};
 use linkage_solve::tolerances::Tolerances;
-use linkage_solve::verify::{verify, NoDrivers, Verification};
 use std::path::Path;
 
 fn verify_file(name: &str) -> (Model, Verification) {

@@ -1,0 +1,9 @@
+//! Constraint equations: rows with analytic Jacobians and Hessians, the compiled system, the
+//! constraint graph, sparse rank decisions and the motion drivers.
+
+pub mod drivers;
+pub mod graph;
+pub mod hessian;
+pub mod rank;
+pub mod rows;
+pub mod system;

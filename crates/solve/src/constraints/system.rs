@@ -1,0 +1,782 @@
+//! A model compiled into labelled constraint rows (DESIGN §3).
+//!
+//! One place defines the equations of every element: joints and primitives as unions of
+//! primitive rows (translational rows first, rotational last), one row per motion, coupler,
+//! gear, rack-and-pinion and screw. Every analysis uses these rows.
+
+use crate::constraints::rows::{BodyDir, BodyFrame, EulerSeq, Quantity, RowGradient, Velocities};
+use crate::physics::measures::{add_dual_gradient, MarkerFrames, PathEnv, PositionEnv};
+use crate::state::State;
+use glam::{DMat3, DQuat, DVec3};
+use linkage_adm::{CouplerDof, JointType, JprimType, MotionAxis};
+use linkage_expr::{
+    evaluate, evaluate_path_series, evaluate_with_gradient, parse, EvalError, Expr,
+};
+use linkage_model::{Body, ConstraintKind, Model, MotionCoordinate};
+use std::ops::Range;
+use std::sync::Arc;
+
+/// What a row's residual measures, to report it in length units or degrees.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum RowUnit {
+    /// A length (model units).
+    Length,
+    /// A dot product of unit axes (≈ sine of the misalignment angle).
+    Direction,
+    /// An angle in radians.
+    Angle,
+    /// A combination of joint coordinates (couplers, gears, rack-and-pinion, screw).
+    Mixed,
+}
+
+/// Which group a row belongs to when rows are admitted for the rank analysis (lower first).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
+pub enum Tier {
+    /// Translational rows of joints and primitives.
+    Translation = 0,
+    /// Rotational rows of joints and primitives.
+    Rotation = 1,
+    /// Couplings between joint coordinates: couplers, gears, rack-and-pinion, screw, GCON.
+    Coupling = 2,
+    /// Motions (drivers).
+    Motion = 3,
+}
+
+/// One scalar constraint equation `Φ = Σ c_k Q_k − offset − f(t)`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Row {
+    /// Index of the element in [`Model::constraints`].
+    pub element: usize,
+    /// Adams View label, e.g. `Rotation Between Zi & Xj`.
+    pub label: &'static str,
+    /// Adams Solver (C++) short label, e.g. `Zi.Xj`.
+    pub short: &'static str,
+    pub unit: RowUnit,
+    pub tier: Tier,
+    pub terms: Vec<(f64, Quantity)>,
+    pub offset: f64,
+    /// Whether `f(t)` of a motion is subtracted (the caller supplies it).
+    pub driven: bool,
+    /// Residual wrapped to (−π, π] (rotational motions).
+    pub wrap: bool,
+    /// A general constraint's expression `f(q, t)` (added to the terms).
+    pub function: Option<Arc<Expr>>,
+}
+
+/// The rows of a model.
+#[derive(Clone, Debug)]
+pub struct System {
+    pub nparts: usize,
+    pub rows: Vec<Row>,
+    /// Rows of each constraint element.
+    pub element_rows: Vec<Range<usize>>,
+    /// I and J frames used by each joint, primitive or motion.
+    pub frames: Vec<Option<(BodyFrame, BodyFrame)>>,
+    /// Marker frames by id, for expression measures.
+    pub markers: Arc<MarkerFrames>,
+}
+
+fn marker_frame(model: &Model, m: usize) -> BodyFrame {
+    let mk = &model.markers[m];
+    BodyFrame {
+        body: mk.body,
+        p_b: mk.p_bm,
+        r_b: mk.r_bm,
+    }
+}
+
+fn ground_axis(k: usize) -> BodyDir {
+    BodyDir {
+        body: Body::Ground,
+        v_b: DMat3::IDENTITY.col(k),
+    }
+}
+
+const XG: [&str; 3] = [
+    "Translation of I Marker Along Xg",
+    "Translation of I Marker Along Yg",
+    "Translation of I Marker Along Zg",
+];
+const XG_SHORT: [&str; 3] = ["Xg", "Yg", "Zg"];
+const XJ: [&str; 3] = [
+    "Translation of I Marker Along Xj",
+    "Translation of I Marker Along Yj",
+    "Translation of I Marker Along Zj",
+];
+const XJ_SHORT: [&str; 3] = ["Si.Xj", "Si.Yj", "Si.Zj"];
+
+/// Primitive building blocks of joints (ADM-REFERENCE §4.1).
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Prim {
+    AtPoint,
+    InLine,
+    InPlane,
+    Parallel,
+    Perpendicular,
+    Orientation,
+    Hooke,
+    Convel,
+}
+
+fn primitives(kind: ConstraintKindRef) -> &'static [Prim] {
+    use Prim::*;
+    match kind {
+        ConstraintKindRef::Joint(j) => match j {
+            JointType::Fixed => &[AtPoint, Orientation],
+            JointType::Revolute => &[AtPoint, Parallel],
+            JointType::Spherical => &[AtPoint],
+            JointType::Translational => &[InLine, Orientation],
+            JointType::Cylindrical => &[InLine, Parallel],
+            JointType::Planar => &[InPlane, Parallel],
+            JointType::Universal => &[AtPoint, Perpendicular],
+            JointType::Hooke => &[AtPoint, Hooke],
+            JointType::Convel => &[AtPoint, Convel],
+            JointType::Rackpin | JointType::Screw => &[],
+        },
+        ConstraintKindRef::Jprim(p) => match p {
+            JprimType::Atpoint => &[AtPoint],
+            JprimType::Inline => &[InLine],
+            JprimType::Inplane => &[InPlane],
+            JprimType::Orientation => &[Orientation],
+            JprimType::ParallelAxes => &[Parallel],
+            JprimType::Perpendicular => &[Perpendicular],
+        },
+    }
+}
+
+#[derive(Clone, Copy)]
+enum ConstraintKindRef {
+    Joint(JointType),
+    Jprim(JprimType),
+}
+
+struct Builder {
+    input: State,
+    rows: Vec<Row>,
+}
+
+impl Builder {
+    fn push(
+        &mut self,
+        element: usize,
+        label: &'static str,
+        short: &'static str,
+        unit: RowUnit,
+        tier: Tier,
+        terms: Vec<(f64, Quantity)>,
+    ) {
+        self.rows.push(Row {
+            element,
+            label,
+            short,
+            unit,
+            tier,
+            terms,
+            offset: 0.0,
+            driven: false,
+            wrap: false,
+            function: None,
+        });
+    }
+
+    fn primitive_rows(&mut self, element: usize, prims: &[Prim], fi: BodyFrame, fj: BodyFrame) {
+        let (oi, oj) = (fi.origin(), fj.origin());
+        let proj = |e: BodyDir| vec![(1.0, Quantity::Proj { i: oi, j: oj, e })];
+        let dot = |a: BodyDir, b: BodyDir| vec![(1.0, Quantity::Dot(a, b))];
+        // Translational rows first.
+        for p in prims {
+            match p {
+                Prim::AtPoint => {
+                    for k in 0..3 {
+                        self.push(
+                            element,
+                            XG[k],
+                            XG_SHORT[k],
+                            RowUnit::Length,
+                            Tier::Translation,
+                            proj(ground_axis(k)),
+                        );
+                    }
+                }
+                Prim::InLine => {
+                    for k in 0..2 {
+                        self.push(
+                            element,
+                            XJ[k],
+                            XJ_SHORT[k],
+                            RowUnit::Length,
+                            Tier::Translation,
+                            proj(fj.axis(k)),
+                        );
+                    }
+                }
+                Prim::InPlane => self.push(
+                    element,
+                    XJ[2],
+                    XJ_SHORT[2],
+                    RowUnit::Length,
+                    Tier::Translation,
+                    proj(fj.axis(2)),
+                ),
+                _ => {}
+            }
+        }
+        let (xi, yi, zi) = (fi.axis(0), fi.axis(1), fi.axis(2));
+        let (xj, yj, zj) = (fj.axis(0), fj.axis(1), fj.axis(2));
+        let r = Tier::Rotation;
+        let d = RowUnit::Direction;
+        for p in prims {
+            match p {
+                Prim::Parallel | Prim::Orientation => {
+                    self.push(
+                        element,
+                        "Rotation Between Zi & Xj",
+                        "Zi.Xj",
+                        d,
+                        r,
+                        dot(zi, xj),
+                    );
+                    self.push(
+                        element,
+                        "Rotation Between Zi & Yj",
+                        "Zi.Yj",
+                        d,
+                        r,
+                        dot(zi, yj),
+                    );
+                    if *p == Prim::Orientation {
+                        self.push(
+                            element,
+                            "Rotation Between Xi & Yj",
+                            "Xi.Yj",
+                            d,
+                            r,
+                            dot(xi, yj),
+                        );
+                    }
+                }
+                Prim::Perpendicular => self.push(
+                    element,
+                    "Rotation Between Zi & Zj",
+                    "Zi.Zj",
+                    d,
+                    r,
+                    dot(zi, zj),
+                ),
+                Prim::Hooke => self.push(
+                    element,
+                    "Rotation Between Xi & Yj",
+                    "Xi.Yj",
+                    d,
+                    r,
+                    dot(xi, yj),
+                ),
+                Prim::Convel => self.push(
+                    element,
+                    "Equal Spin About Zi & Zj",
+                    "Xi.Yj+Yi.Xj",
+                    d,
+                    r,
+                    vec![(1.0, Quantity::Dot(xi, yj)), (1.0, Quantity::Dot(yi, xj))],
+                ),
+                _ => {}
+            }
+        }
+    }
+
+    /// Reference axes fixed on frame `fj`'s body that coincide with `fi`'s x and y axes at the
+    /// input configuration (rotation of I relative to J measured from the input).
+    fn input_refs(&self, fi: BodyFrame, fj: BodyFrame) -> (BodyDir, BodyDir) {
+        let (_, ri) = fi.eval(&self.input);
+        let rj_body = self.input.pose(fj.body).r;
+        let to_body = |v: DVec3| BodyDir {
+            body: fj.body,
+            v_b: rj_body.transpose() * v,
+        };
+        (to_body(ri.x_axis), to_body(ri.y_axis))
+    }
+
+    fn offset_at_input(&self, terms: &[(f64, Quantity)]) -> f64 {
+        terms.iter().map(|(c, q)| c * q.value(&self.input)).sum()
+    }
+}
+
+/// Joint coordinate of a revolute/translational/cylindrical joint: rotation of x_i about z_j
+/// from x_j (AZ), or translation of I along z_j (DZ).
+fn joint_coordinate(fi: BodyFrame, fj: BodyFrame, dof: CouplerDof) -> Quantity {
+    match dof {
+        CouplerDof::Rotation => Quantity::Angle {
+            x: fi.axis(0),
+            x_ref: fj.axis(0),
+            y_ref: fj.axis(1),
+        },
+        CouplerDof::Translation => Quantity::Proj {
+            i: fi.origin(),
+            j: fj.origin(),
+            e: fj.axis(2),
+        },
+    }
+}
+
+impl System {
+    /// Compiles the model's constraints at their marker frames.
+    pub fn new(model: &Model) -> System {
+        let frames: Vec<Option<(BodyFrame, BodyFrame)>> = model
+            .constraints
+            .iter()
+            .map(|c| {
+                c.markers()
+                    .map(|(i, j)| (marker_frame(model, i), marker_frame(model, j)))
+            })
+            .collect();
+        Self::compile(model, frames)
+    }
+
+    /// Compiles with the J frames of `elements` replaced by their idealised frames at state `s`
+    /// ([`ideal_j_frame`]): the broken joints are analysed as what they are meant to be.
+    pub fn with_idealized(model: &Model, s: &State, elements: &[usize]) -> System {
+        let base = System::new(model);
+        let mut frames = base.frames.clone();
+        for &e in elements {
+            let kind = match &model.constraints[e].kind {
+                ConstraintKind::Joint { kind, .. } => ConstraintKindRef::Joint(*kind),
+                ConstraintKind::Jprim { kind, .. } => ConstraintKindRef::Jprim(*kind),
+                _ => continue,
+            };
+            if let Some((fi, fj)) = frames[e] {
+                let prims = primitives(kind);
+                let (pi, ri) = fi.eval(s);
+                let (pj, rj) = fj.eval(s);
+                let (pj2, rj2) = ideal_j_frame(prims_mask(prims), (pi, ri), (pj, rj));
+                let pose = s.pose(fj.body);
+                let rt = pose.r.transpose();
+                frames[e] = Some((
+                    fi,
+                    BodyFrame {
+                        body: fj.body,
+                        p_b: rt * (pj2 - pose.p),
+                        r_b: rt * rj2,
+                    },
+                ));
+            }
+        }
+        Self::compile(model, frames)
+    }
+
+    fn compile(model: &Model, frames: Vec<Option<(BodyFrame, BodyFrame)>>) -> System {
+        let mut b = Builder {
+            input: State::input(model),
+            rows: Vec::with_capacity(model.constraints.len() * 5),
+        };
+        let mut element_rows = Vec::with_capacity(model.constraints.len());
+        for (e, con) in model.constraints.iter().enumerate() {
+            let start = b.rows.len();
+            match &con.kind {
+                ConstraintKind::Joint {
+                    kind, pd, pitch, ..
+                } => {
+                    let Some((fi, fj)) = frames[e] else { continue };
+                    b.primitive_rows(e, primitives(ConstraintKindRef::Joint(*kind)), fi, fj);
+                    let coupling = match kind {
+                        JointType::Rackpin => Some((
+                            "Rack Translation = Pinion Rotation × PD/2",
+                            "Rackpin",
+                            pd.unwrap_or(0.0) / 2.0,
+                        )),
+                        JointType::Screw => Some((
+                            "Translation = Rotation × PITCH/2π",
+                            "Screw",
+                            pitch.unwrap_or(0.0) / std::f64::consts::TAU,
+                        )),
+                        _ => None,
+                    };
+                    if let Some((label, short, ratio)) = coupling {
+                        let (x_ref, y_ref) = b.input_refs(fi, fj);
+                        let terms = vec![
+                            (
+                                1.0,
+                                Quantity::Proj {
+                                    i: fi.origin(),
+                                    j: fj.origin(),
+                                    e: fj.axis(2),
+                                },
+                            ),
+                            (
+                                -ratio,
+                                Quantity::Angle {
+                                    x: fi.axis(0),
+                                    x_ref,
+                                    y_ref,
+                                },
+                            ),
+                        ];
+                        let offset = b.offset_at_input(&terms);
+                        b.push(e, label, short, RowUnit::Length, Tier::Coupling, terms);
+                        if let Some(r) = b.rows.last_mut() {
+                            r.offset = offset;
+                        }
+                    }
+                }
+                ConstraintKind::Jprim { kind, .. } => {
+                    let Some((fi, fj)) = frames[e] else { continue };
+                    b.primitive_rows(e, primitives(ConstraintKindRef::Jprim(*kind)), fi, fj);
+                }
+                ConstraintKind::Motion { coordinate, .. } => {
+                    let Some((fi, fj)) = frames[e] else { continue };
+                    let (label, short, unit, q) = match coordinate {
+                        MotionCoordinate::RotationZ => (
+                            "Rotation About Zj",
+                            "AZ",
+                            RowUnit::Angle,
+                            joint_coordinate(fi, fj, CouplerDof::Rotation),
+                        ),
+                        MotionCoordinate::TranslationZ => (
+                            "Translation Along Zj",
+                            "DZ",
+                            RowUnit::Length,
+                            joint_coordinate(fi, fj, CouplerDof::Translation),
+                        ),
+                        MotionCoordinate::Marker(axis) => {
+                            let proj = |k: usize| Quantity::Proj {
+                                i: fi.origin(),
+                                j: fj.origin(),
+                                e: fj.axis(k),
+                            };
+                            let ang = |k: usize| Quantity::Euler {
+                                i: fi,
+                                j: fj,
+                                seq: EulerSeq::Body123,
+                                k,
+                            };
+                            match axis {
+                                MotionAxis::X => {
+                                    ("Translation Along Xj", "DX", RowUnit::Length, proj(0))
+                                }
+                                MotionAxis::Y => {
+                                    ("Translation Along Yj", "DY", RowUnit::Length, proj(1))
+                                }
+                                MotionAxis::Z => {
+                                    ("Translation Along Zj", "DZ", RowUnit::Length, proj(2))
+                                }
+                                MotionAxis::B1 => {
+                                    ("Body 1-2-3 Angle B1", "B1", RowUnit::Angle, ang(0))
+                                }
+                                MotionAxis::B2 => {
+                                    ("Body 1-2-3 Angle B2", "B2", RowUnit::Angle, ang(1))
+                                }
+                                MotionAxis::B3 => {
+                                    ("Body 1-2-3 Angle B3", "B3", RowUnit::Angle, ang(2))
+                                }
+                            }
+                        }
+                    };
+                    b.push(e, label, short, unit, Tier::Motion, vec![(1.0, q)]);
+                    if let Some(r) = b.rows.last_mut() {
+                        r.driven = true;
+                        r.wrap = unit == RowUnit::Angle;
+                    }
+                }
+                ConstraintKind::Coupler { terms, .. } => {
+                    let mut qs = Vec::new();
+                    for (jt, dof, scale) in terms {
+                        if let Some((fi, fj)) = frames[*jt] {
+                            qs.push((*scale, joint_coordinate(fi, fj, *dof)));
+                        }
+                    }
+                    let offset = b.offset_at_input(&qs);
+                    b.push(
+                        e,
+                        "Coupled Joint Displacements",
+                        "Coupler",
+                        RowUnit::Mixed,
+                        Tier::Coupling,
+                        qs,
+                    );
+                    if let Some(r) = b.rows.last_mut() {
+                        r.offset = offset;
+                    }
+                }
+                ConstraintKind::Gear { joints, cv } => {
+                    let (p_cv, r_cv) = model.marker_in_ground(*cv);
+                    let z_cv = r_cv.z_axis;
+                    let mut qs = Vec::new();
+                    for (k, jt) in joints.iter().enumerate() {
+                        let Some((fi, fj)) = frames[*jt] else {
+                            continue;
+                        };
+                        let (pj, rj) = fj.eval(&b.input);
+                        let is_rev = matches!(
+                            model.constraints[*jt].kind,
+                            ConstraintKind::Joint {
+                                kind: JointType::Revolute,
+                                ..
+                            }
+                        );
+                        // Velocity of the gear's material point at CV along z_cv per unit joint rate.
+                        let (coef, dof) = if is_rev {
+                            (rj.z_axis.cross(p_cv - pj).dot(z_cv), CouplerDof::Rotation)
+                        } else {
+                            (rj.z_axis.dot(z_cv), CouplerDof::Translation)
+                        };
+                        qs.push((
+                            if k == 0 { coef } else { -coef },
+                            joint_coordinate(fi, fj, dof),
+                        ));
+                    }
+                    let offset = b.offset_at_input(&qs);
+                    b.push(
+                        e,
+                        "Equal Velocity at Contact Point",
+                        "Gear",
+                        RowUnit::Mixed,
+                        Tier::Coupling,
+                        qs,
+                    );
+                    if let Some(r) = b.rows.last_mut() {
+                        r.offset = offset;
+                    }
+                }
+                ConstraintKind::Gcon { function, .. } => {
+                    // Unparseable or USER functions are input errors reported by
+                    // `drivers::ExpressionDrivers::new`; such a GCON gets no row here.
+                    let parsed = function
+                        .as_ref()
+                        .and_then(|f| parse(&f.value.expr.text).ok());
+                    if let Some(expr) = parsed.filter(|e| !e.contains_user()) {
+                        b.push(
+                            e,
+                            "General Constraint Function",
+                            "GCON",
+                            RowUnit::Mixed,
+                            Tier::Coupling,
+                            Vec::new(),
+                        );
+                        if let Some(r) = b.rows.last_mut() {
+                            r.function = Some(Arc::new(expr));
+                        }
+                    }
+                }
+            }
+            element_rows.push(start..b.rows.len());
+        }
+        System {
+            nparts: model.parts.len(),
+            rows: b.rows,
+            element_rows,
+            frames,
+            markers: Arc::new(MarkerFrames::new(model)),
+        }
+    }
+
+    /// `Φ_r` at state `s`; `drive` is `f(t)` for motion rows (ignored otherwise).
+    pub fn residual(&self, r: usize, s: &State, drive: f64) -> f64 {
+        let row = &self.rows[r];
+        let mut v: f64 = row.terms.iter().map(|(c, q)| c * q.value(s)).sum::<f64>() - row.offset;
+        if let Some(f) = &row.function {
+            v += evaluate(
+                f,
+                &PositionEnv {
+                    frames: &self.markers,
+                    state: s,
+                },
+            )
+            .unwrap_or(f64::NAN);
+        }
+        if row.driven {
+            v -= drive;
+        }
+        if row.wrap {
+            v = wrap_angle(v);
+        }
+        v
+    }
+
+    /// `∂Φ_r/∂q` at state `s`, written into `g` (cleared first).
+    pub fn gradient(&self, r: usize, s: &State, g: &mut RowGradient) {
+        g.clear();
+        for (c, q) in &self.rows[r].terms {
+            q.gradient(s, *c, g);
+        }
+        if let Some(f) = &self.rows[r].function {
+            if let Ok(d) = evaluate_with_gradient(
+                f,
+                &PositionEnv {
+                    frames: &self.markers,
+                    state: s,
+                },
+            ) {
+                add_dual_gradient(&d, 1.0, g);
+            }
+        }
+    }
+}
+
+impl System {
+    /// `∂Φ_r/∂t` at fixed positions, without a motion's drive (the caller adds `ḟ(t)`): the
+    /// explicit time dependence of a general constraint's expression, TIME advancing at
+    /// `time_rate` (0 freezes it); 0 for every other row. The velocity equations are
+    /// `∇Φ_r·v = ḟ(t) − explicit_rate`.
+    pub fn explicit_rate(&self, r: usize, s: &State, time_rate: f64) -> Result<f64, EvalError> {
+        let Some(f) = &self.rows[r].function else {
+            return Ok(0.0);
+        };
+        if time_rate == 0.0 || !f.uses_time() {
+            return Ok(0.0);
+        }
+        let still = vec![(DVec3::ZERO, DVec3::ZERO); self.nparts];
+        let env = PathEnv {
+            frames: &self.markers,
+            state: s,
+            velocities: &still,
+            accelerations: None,
+            time_rate,
+        };
+        Ok(evaluate_path_series(f, &env)?[1])
+    }
+
+    /// The velocity-product term `γ_r` of `Φ̈_r = ∇Φ_r·a + γ_r − f̈(t)` (a motion's `f̈` is the
+    /// caller's): `Σ c_k Q̈_k` of the geometric terms at zero accelerations
+    /// ([`Quantity::rates`]) plus, for a general constraint, the second derivative of its
+    /// expression along the twists `v` with zero accelerations and TIME advancing at
+    /// `time_rate` (`vᵀ∇²f v + 2 ṫ ∇f_t·v + ṫ² f_tt`, [`PathEnv`]). Exact: with it the
+    /// acceleration equations `∇Φ·a = f̈ − γ` hold to rounding.
+    pub fn acceleration_bias(
+        &self,
+        r: usize,
+        s: &State,
+        v: &Velocities,
+        time_rate: f64,
+    ) -> Result<f64, EvalError> {
+        let row = &self.rows[r];
+        let mut bias: f64 = row.terms.iter().map(|(c, q)| c * q.rates(s, v).1).sum();
+        if let Some(f) = &row.function {
+            let env = PathEnv {
+                frames: &self.markers,
+                state: s,
+                velocities: v,
+                accelerations: None,
+                time_rate,
+            };
+            bias += evaluate_path_series(f, &env)?[2];
+        }
+        Ok(bias)
+    }
+}
+
+/// Wraps an angle to (−π, π].
+pub fn wrap_angle(a: f64) -> f64 {
+    let tau = std::f64::consts::TAU;
+    let w = a - tau * (a / tau).round();
+    if w <= -std::f64::consts::PI {
+        w + tau
+    } else {
+        w
+    }
+}
+
+/// Which primitive groups constrain position and orientation.
+#[derive(Clone, Copy, Default)]
+pub struct PrimMask {
+    at_point: bool,
+    in_line: bool,
+    in_plane: bool,
+    parallel: bool,
+    perpendicular: bool,
+    orientation: bool,
+    hooke: bool,
+}
+
+fn prims_mask(prims: &[Prim]) -> PrimMask {
+    let mut m = PrimMask::default();
+    for p in prims {
+        match p {
+            Prim::AtPoint => m.at_point = true,
+            Prim::InLine => m.in_line = true,
+            Prim::InPlane => m.in_plane = true,
+            Prim::Parallel => m.parallel = true,
+            Prim::Perpendicular => m.perpendicular = true,
+            Prim::Orientation => m.orientation = true,
+            Prim::Hooke => m.hooke = true,
+            Prim::Convel => {}
+        }
+    }
+    m
+}
+
+/// The J frame moved as little as possible so that the element's own equations hold relative
+/// to the I frame (both in ground): position — the constrained components of `P_I − P_J`
+/// are removed; orientation — the J axes are turned by the smallest rotation that satisfies
+/// the rotational rows.
+pub fn ideal_j_frame(
+    m: PrimMask,
+    (pi, ri): (DVec3, DMat3),
+    (pj, rj): (DVec3, DMat3),
+) -> (DVec3, DMat3) {
+    let d = pi - pj;
+    let zj = rj.z_axis;
+    let p = if m.at_point {
+        pi
+    } else if m.in_line {
+        pj + (d - zj * d.dot(zj))
+    } else if m.in_plane {
+        pj + zj * d.dot(zj)
+    } else {
+        pj
+    };
+    let turn = |from: DVec3, to: DVec3| {
+        DMat3::from_quat(DQuat::from_rotation_arc(from.normalize(), to.normalize()))
+    };
+    let r = if m.orientation {
+        ri
+    } else if m.parallel {
+        turn(zj, ri.z_axis) * rj
+    } else if m.perpendicular {
+        let zi = ri.z_axis;
+        let target = zj - zi * zj.dot(zi);
+        if target.length() > 1e-12 {
+            turn(zj, target) * rj
+        } else {
+            rj
+        }
+    } else if m.hooke {
+        let xi = ri.x_axis;
+        let yj = rj.y_axis;
+        let target = yj - xi * yj.dot(xi);
+        if target.length() > 1e-12 {
+            turn(yj, target) * rj
+        } else {
+            rj
+        }
+    } else {
+        rj
+    };
+    (p, r)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn wrap_angle_range() {
+        use std::f64::consts::PI;
+        assert!((wrap_angle(3.0 * PI) - PI).abs() < 1e-12);
+        assert!((wrap_angle(-PI) - PI).abs() < 1e-12);
+        assert!((wrap_angle(0.5) - 0.5).abs() < 1e-15);
+        assert!((wrap_angle(2.0 * PI + 0.25) - 0.25).abs() < 1e-12);
+    }
+
+    #[test]
+    fn ideal_frame_satisfies_revolute_rows() {
+        let ri = DMat3::from_rotation_x(0.3);
+        let rj = DMat3::from_rotation_y(0.05) * DMat3::from_rotation_z(1.0);
+        let m = PrimMask {
+            at_point: true,
+            parallel: true,
+            ..Default::default()
+        };
+        let (p, r) = ideal_j_frame(m, (DVec3::new(1.0, 2.0, 3.0), ri), (DVec3::ZERO, rj));
+        assert!((p - DVec3::new(1.0, 2.0, 3.0)).length() < 1e-14);
+        assert!(ri.z_axis.dot(r.x_axis).abs() < 1e-12 && ri.z_axis.dot(r.y_axis).abs() < 1e-12);
+    }
+}

@@ -1,0 +1,46 @@
+//! Applied forces as the analyses see them (gravity is added by the analyses themselves).
+//!
+//! Generalised force of part k: `Q[6k..6k+3]` the force at its centre of mass and
+//! `Q[6k+3..6k+6]` the torque about its centre of mass, both in ground axes, in model force
+//! (and force × length) units. Jacobians are with respect to the tangent coordinates of
+//! [`crate::state::State::increment`] (`δx`, `δθ` in ground) and to the part velocities
+//! (`v` of the CM, `ω`, ground axes), as `(row, column, value)` triplets in `6n × 6n` index
+//! space (duplicates are summed by the consumer).
+
+use crate::constraints::rows::Velocities;
+use crate::state::State;
+
+/// A set of applied force elements.
+pub trait AppliedForces {
+    /// Adds the generalised forces at positions `s`, velocities `v` and time `s.time` to
+    /// `out` (length 6n). An error names the element and the cause (e.g. a domain error in its
+    /// expression).
+    fn add_forces(&self, s: &State, v: &Velocities, out: &mut [f64]) -> Result<(), String>;
+
+    /// Adds `∂Q/∂q` to `dq` and, when given, `∂Q/∂v` to `dv`.
+    fn add_jacobians(
+        &self,
+        s: &State,
+        v: &Velocities,
+        dq: &mut Vec<(usize, usize, f64)>,
+        dv: Option<&mut Vec<(usize, usize, f64)>>,
+    ) -> Result<(), String>;
+}
+
+/// No applied forces (models without force elements).
+pub struct NoForces;
+
+impl AppliedForces for NoForces {
+    fn add_forces(&self, _: &State, _: &Velocities, _: &mut [f64]) -> Result<(), String> {
+        Ok(())
+    }
+    fn add_jacobians(
+        &self,
+        _: &State,
+        _: &Velocities,
+        _: &mut Vec<(usize, usize, f64)>,
+        _: Option<&mut Vec<(usize, usize, f64)>>,
+    ) -> Result<(), String> {
+        Ok(())
+    }
+}

@@ -1,0 +1,613 @@
+//! Applied force elements of a model: [`ForceSet`], the [`AppliedForces`] of linkage.
+//!
+//! One law per element kind, each in its own module with its equation and sign convention:
+//!
+//! | element | module | law |
+//! |---|---|---|
+//! | SFORCE, SPRINGDAMPER | [`scalar`] | scalar along the line J→I (repelling > 0) or torque about z_j |
+//! | BUSHING, FIELD, BEAM | [`six_dof`] (+ [`beam`]) | `F = −K·(q − q₀) − C·q̇ + F₀` in J's axes, at I |
+//! | VFORCE, VTORQUE, GFORCE | [`vector`] | expression components along RM's axes, at I |
+//!
+//! Conventions shared by all elements:
+//! - Every element produces at most two *loads*: a force (at a point) and a torque on a body.
+//!   The generalised force of part k (as [`crate::physics::applied`] defines it) adds, for each load on
+//!   k, `F` at the centre of mass and `(P − c_k) × F + T` about it. Loads on ground are
+//!   dropped.
+//! - Action–reaction elements put the reaction on the other body *at the same point* as the
+//!   action (for BUSHING/FIELD/BEAM/VFORCE/…: at I's origin), so that the pair has zero net
+//!   force and zero net moment about any point: the J-side moment about J's origin is
+//!   `−T − (P_i − P_j) × F`, as Adams documents for BUSHING and FIELD.
+//! - Values are in model units (force, force × length); the units consistency factor is the
+//!   analyses' business.
+//! - Everything is written once, generic over [`algebra::Real`]: evaluated with `f64` for
+//!   [`AppliedForces::add_forces`] and with [`linkage_expr::Dual`] for
+//!   [`AppliedForces::add_jacobians`], so the Jacobians are exact (expression gradients from
+//!   the `Dual` arithmetic, geometric terms from the lifted kinematics of [`algebra`]).
+//! - Expressions see a [`StateEnv`]: position and velocity measures, `TIME`, `MODE`,
+//!   `VARVAL`, `ARYVAL`, `AKISPL`/`CUBSPL`. Acceleration and force measures are unavailable.
+//!
+//! [`ForceSet::new`] parses every expression once. Input errors are diagnostics located in
+//! the dataset: a syntax error at the line and column inside the expression; a `USER(…)`
+//! subroutine (which linkage cannot run) naming the element and its line; a reference from a
+//! force expression to a VARIABLE, ARRAY or SPLINE that does not exist or cannot be
+//! evaluated; a BEAM formulation other than LINEAR.
+
+pub mod algebra;
+pub mod beam;
+pub mod data;
+pub mod scalar;
+pub mod six_dof;
+pub mod vector;
+
+use crate::constraints::rows::{BodyFrame, Velocities};
+use crate::physics::applied::AppliedForces;
+use crate::physics::measures::{MarkerFrames, StateEnv};
+use crate::state::State;
+use algebra::{Kinematics, Real, V3};
+use data::{ArrayData, DataElements, VariableProblem};
+use linkage_adm::{Diagnostic, Diagnostics, Function, Located};
+use linkage_expr::{parse, Dual, Expr, Special, StateKind};
+use linkage_model::forces::{ForceKind, VectorKind};
+use linkage_model::{Body, Model, Origin};
+use std::sync::Arc;
+
+/// Statements whose forces or states linkage does not model: an analysis that needs forces
+/// refuses a dataset holding one (its results would be silently wrong).
+pub const UNMODELLED_STATEMENTS: [&str; 13] = [
+    "CONTACT",
+    "FRICTION",
+    "NFORCE",
+    "MFORCE",
+    "GSE",
+    "LSE",
+    "TFSISO",
+    "DIFF",
+    "PTCV",
+    "CVCV",
+    "FE_LOAD",
+    "UCON",
+    "FLEX_BODY",
+];
+
+/// Two points closer than this (relative to the model's characteristic length) coincide: the
+/// line of action of a translational SFORCE or SPRINGDAMPER between them is undefined.
+pub const COINCIDENT_POINTS: f64 = 1e-12;
+
+/// A force (at a point) and a torque acting on one body, in ground axes.
+#[derive(Clone, Debug)]
+pub struct Load<R> {
+    pub body: Body,
+    /// Point of application of `force` (ground coordinates).
+    pub point: V3<R>,
+    pub force: V3<R>,
+    pub torque: V3<R>,
+}
+
+impl<R: Real> Load<R> {
+    /// A pure torque.
+    pub fn torque(body: Body, torque: V3<R>) -> Self {
+        Load {
+            body,
+            point: V3::zero(),
+            force: V3::zero(),
+            torque,
+        }
+    }
+
+    /// A pure force at a point.
+    pub fn force(body: Body, point: V3<R>, force: V3<R>) -> Self {
+        Load {
+            body,
+            point,
+            force,
+            torque: V3::zero(),
+        }
+    }
+}
+
+/// The loads of one element: the action on I's body and the reaction (if any).
+pub type Loads<R> = [Option<Load<R>>; 2];
+
+/// What a law sees while it is evaluated.
+pub struct Context<'a> {
+    pub kin: Kinematics<'a>,
+    pub env: &'a StateEnv<'a>,
+    /// Lengths at or below this are zero ([`COINCIDENT_POINTS`] × characteristic length).
+    pub tiny_length: f64,
+}
+
+/// The law of one element.
+#[derive(Clone, Debug)]
+pub enum Law {
+    Scalar(Box<scalar::ScalarLaw>),
+    SixDof(Box<six_dof::SixDofLaw>),
+    Vector(Box<vector::VectorLaw>),
+}
+
+impl Law {
+    fn loads<R: Real>(&self, cx: &Context) -> Result<Loads<R>, String> {
+        match self {
+            Law::Scalar(l) => l.loads(cx),
+            Law::SixDof(l) => l.loads(cx),
+            Law::Vector(l) => l.loads(cx),
+        }
+    }
+}
+
+/// A force element ready to evaluate.
+#[derive(Clone, Debug)]
+pub struct Element {
+    /// `SFORCE_3 (SFORCE/3, line 12)`: how messages name the element.
+    pub label: String,
+    pub law: Law,
+}
+
+/// Every applied force element of a model (gravity excluded), parsed and resolved.
+#[derive(Clone, Debug)]
+pub struct ForceSet {
+    nparts: usize,
+    frames: MarkerFrames,
+    data: DataElements,
+    elements: Vec<Element>,
+    mode: i32,
+    tiny_length: f64,
+    warnings: Vec<Diagnostic>,
+}
+
+/// The frame of marker `m` of the model.
+pub(crate) fn marker_frame(model: &Model, m: usize) -> BodyFrame {
+    let mk = &model.markers[m];
+    BodyFrame {
+        body: mk.body,
+        p_b: mk.p_bm,
+        r_b: mk.r_bm,
+    }
+}
+
+/// Parses an expression argument of element `origin` (`what` = `FUNCTION`, `FX`, …): a syntax
+/// error is located inside the expression, `USER(…)` is refused.
+pub(crate) fn parse_function(
+    file: &Arc<str>,
+    f: &Located<Function>,
+    origin: &Origin,
+    what: &str,
+) -> Result<Expr, Diagnostic> {
+    let user = || {
+        Diagnostic::error(
+            file.clone(),
+            Some(f.span),
+            format!(
+                "{} ({}, line {}): {what} calls a USER subroutine, which linkage cannot run",
+                origin.name,
+                origin.element(),
+                origin.span.line
+            ),
+        )
+        .with_hint("replace the USER(…) call by a function expression")
+    };
+    if f.value.user {
+        return Err(user());
+    }
+    match parse(&f.value.expr.text) {
+        Ok(e) if e.contains_user() => Err(user()),
+        Ok(e) => Ok(e),
+        Err(e) => Err(Diagnostic::error(
+            file.clone(),
+            Some(f.value.expr.span_at(e.offset)),
+            format!("{}: syntax error in {what}: {}", origin.name, e.message),
+        )),
+    }
+}
+
+/// The label used in messages: `SFORCE_3 (SFORCE/3, line 12)`.
+fn label(o: &Origin) -> String {
+    o.label()
+}
+
+/// A data element an expression names with a literal id.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum DataRef {
+    Variable(u32),
+    Array(u32),
+    Spline(u32),
+}
+
+fn literal_id(e: Option<&Expr>) -> Option<u32> {
+    match e {
+        Some(Expr::Number(v)) if v.fract() == 0.0 && (0.0..=f64::from(u32::MAX)).contains(v) => {
+            // Exact: an integral value in u32 range.
+            Some(*v as u32)
+        }
+        _ => None,
+    }
+}
+
+/// VARVAL, ARYVAL and spline references with literal ids in `e`.
+fn data_refs(e: &Expr) -> Vec<DataRef> {
+    let mut out = Vec::new();
+    e.walk(&mut |node| {
+        if let Expr::Call { func, args } = node {
+            let r = match func {
+                linkage_expr::Function::State(StateKind::Varval) => {
+                    literal_id(args.first()).map(DataRef::Variable)
+                }
+                linkage_expr::Function::State(StateKind::Aryval) => {
+                    literal_id(args.first()).map(DataRef::Array)
+                }
+                linkage_expr::Function::Special(Special::Akispl | Special::Cubspl) => {
+                    literal_id(args.get(2)).map(DataRef::Spline)
+                }
+                _ => None,
+            };
+            out.extend(r);
+        }
+    });
+    out
+}
+
+/// Why a data element an expression uses cannot be evaluated.
+enum RefProblem {
+    /// Reported at the expression that uses it.
+    Message(String),
+    /// A VARIABLE that does not parse: its own diagnostic, located in its expression.
+    Located(Diagnostic),
+}
+
+/// The VARIABLE ids `e` uses (directly or through other VARIABLEs and ARRAYs), or why one of
+/// the data elements it uses cannot be evaluated.
+fn reachable(data: &DataElements, e: &Expr) -> Result<Vec<u32>, RefProblem> {
+    let mut todo = data_refs(e);
+    let mut seen = Vec::new();
+    let mut variables = Vec::new();
+    while let Some(r) = todo.pop() {
+        if seen.contains(&r) {
+            continue;
+        }
+        seen.push(r);
+        match r {
+            DataRef::Variable(id) => match data.variables.get(&id) {
+                None => {
+                    return Err(RefProblem::Message(format!(
+                        "VARVAL({id}): VARIABLE/{id} does not exist"
+                    )))
+                }
+                Some(v) => {
+                    variables.push(id);
+                    match &v.expr {
+                        Err(VariableProblem::User) => {
+                            return Err(RefProblem::Message(format!(
+                            "VARIABLE/{id} ({}) calls a USER subroutine, which linkage cannot run",
+                            v.name
+                        )))
+                        }
+                        Err(VariableProblem::Syntax(d)) => {
+                            return Err(RefProblem::Located(d.clone()))
+                        }
+                        Ok(x) => todo.extend(data_refs(x)),
+                    }
+                }
+            },
+            DataRef::Array(id) => match data.arrays.get(&id) {
+                None => {
+                    return Err(RefProblem::Message(format!(
+                        "ARYVAL({id}, …): ARRAY/{id} does not exist"
+                    )))
+                }
+                Some(ArrayData::States) => {
+                    return Err(RefProblem::Message(format!(
+                        "ARRAY/{id} holds states of an LSE/GSE/TFSISO, which linkage does not model"
+                    )))
+                }
+                Some(ArrayData::Variables(v)) => {
+                    todo.extend(v.iter().map(|&id| DataRef::Variable(id)))
+                }
+                Some(ArrayData::Numbers(_)) => {}
+            },
+            DataRef::Spline(id) => {
+                if let Some(why) = data.unsupported_splines.get(&id) {
+                    return Err(RefProblem::Message(why.clone()));
+                }
+                if !data.splines.contains_key(&id) {
+                    return Err(RefProblem::Message(format!("SPLINE/{id} does not exist")));
+                }
+            }
+        }
+    }
+    Ok(variables)
+}
+
+/// Collects parse results and diagnostics while the laws are built.
+struct Builder<'m> {
+    model: &'m Model,
+    data: &'m DataElements,
+    errors: Vec<Diagnostic>,
+    /// VARIABLE ids some force expression uses.
+    used: Vec<u32>,
+}
+
+impl Builder<'_> {
+    /// Parses and checks one expression argument; `None` (with diagnostics) when unusable.
+    fn expr(&mut self, f: &Located<Function>, origin: &Origin, what: &str) -> Option<Expr> {
+        match parse_function(&self.model.file, f, origin, what) {
+            Err(d) => {
+                self.errors.push(d);
+                None
+            }
+            Ok(e) => match reachable(self.data, &e) {
+                Ok(vars) => {
+                    self.used.extend(vars);
+                    Some(e)
+                }
+                Err(RefProblem::Message(why)) => {
+                    self.errors.push(Diagnostic::error(
+                        self.model.file.clone(),
+                        Some(f.span),
+                        format!("{}: {what}: {why}", label(origin)),
+                    ));
+                    None
+                }
+                Err(RefProblem::Located(d)) => {
+                    let message = format!("{} (used by {})", d.message, label(origin));
+                    self.errors.push(Diagnostic { message, ..d });
+                    None
+                }
+            },
+        }
+    }
+
+    fn optional(
+        &mut self,
+        f: &Option<Located<Function>>,
+        origin: &Origin,
+        what: &str,
+        ok: &mut bool,
+    ) -> Option<Expr> {
+        let f = f.as_ref()?;
+        let e = self.expr(f, origin, what);
+        *ok &= e.is_some();
+        e
+    }
+
+    fn law(&mut self, kind: &ForceKind, origin: &Origin) -> Option<Law> {
+        let model = self.model;
+        let frame = |m: usize| marker_frame(model, m);
+        Some(match kind {
+            ForceKind::Sforce(s) => {
+                let f = self.expr(&s.function, origin, "FUNCTION")?;
+                Law::Scalar(Box::new(scalar::ScalarLaw::sforce(
+                    frame(s.i),
+                    frame(s.j),
+                    s,
+                    f,
+                )))
+            }
+            ForceKind::SpringDamper(s) => Law::Scalar(Box::new(scalar::ScalarLaw::springdamper(
+                frame(s.i),
+                frame(s.j),
+                s,
+            ))),
+            ForceKind::Bushing(b) => Law::SixDof(Box::new(six_dof::SixDofLaw::bushing(
+                frame(b.i),
+                frame(b.j),
+                b,
+            ))),
+            ForceKind::Field(f) => {
+                if let Some(u) = &f.user {
+                    self.errors
+                        .extend(parse_function(&model.file, u, origin, "FUNCTION").err());
+                    return None;
+                }
+                Law::SixDof(Box::new(six_dof::SixDofLaw::field(
+                    frame(f.i),
+                    frame(f.j),
+                    f,
+                )))
+            }
+            ForceKind::Beam(b) => match beam::law(frame(b.i), frame(b.j), b) {
+                Ok(l) => Law::SixDof(Box::new(l)),
+                Err(why) => {
+                    self.errors.push(Diagnostic::error(
+                        model.file.clone(),
+                        Some(b.formulation_span.unwrap_or(origin.span)),
+                        format!("{}: {why}", label(origin)),
+                    ));
+                    return None;
+                }
+            },
+            ForceKind::Vector(v) => {
+                if let Some(u) = &v.user {
+                    self.errors
+                        .extend(parse_function(&model.file, u, origin, "FUNCTION").err());
+                    return None;
+                }
+                let mut ok = true;
+                let names: [&str; 6] = ["FX", "FY", "FZ", "TX", "TY", "TZ"];
+                let force =
+                    [0, 1, 2].map(|c| self.optional(&v.force[c], origin, names[c], &mut ok));
+                let torque =
+                    [0, 1, 2].map(|c| self.optional(&v.torque[c], origin, names[3 + c], &mut ok));
+                if !ok {
+                    return None;
+                }
+                let has_force = !matches!(v.kind, VectorKind::Vtorque);
+                let has_torque = !matches!(v.kind, VectorKind::Vforce);
+                Law::Vector(Box::new(vector::VectorLaw {
+                    i: frame(v.i),
+                    reaction: v.reaction,
+                    rm: frame(v.rm),
+                    force: if has_force { force } else { [None, None, None] },
+                    torque: if has_torque {
+                        torque
+                    } else {
+                        [None, None, None]
+                    },
+                }))
+            }
+        })
+    }
+}
+
+impl ForceSet {
+    /// Builds the force set of `model`: every expression parsed once, every reference to a
+    /// data element checked. Errors are located in the dataset (see the module docs).
+    pub fn new(model: &Model) -> Result<ForceSet, Diagnostics> {
+        let (data, mut errors) = DataElements::new(model);
+        let mut b = Builder {
+            model,
+            data: &data,
+            errors: Vec::new(),
+            used: Vec::new(),
+        };
+        let mut elements = Vec::with_capacity(model.forces.len());
+        for f in &model.forces {
+            if let Some(law) = b.law(&f.kind, &f.origin) {
+                elements.push(Element {
+                    label: label(&f.origin),
+                    law,
+                });
+            }
+        }
+        errors.append(&mut b.errors);
+        if !errors.is_empty() {
+            errors.sort_by_key(|d| d.span);
+            return Err(Diagnostics(errors));
+        }
+        // VARIABLEs no force uses may hold what linkage cannot parse (INCANG, SENVAL, …).
+        let mut warnings: Vec<Diagnostic> = Vec::new();
+        for (id, v) in &data.variables {
+            if let (Err(VariableProblem::Syntax(d)), false) = (&v.expr, b.used.contains(id)) {
+                let message = format!("{}; no force element uses it, so it is ignored", d.message);
+                warnings.push(Diagnostic {
+                    severity: linkage_adm::Severity::Warning,
+                    message,
+                    ..d.clone()
+                });
+            }
+        }
+        warnings.sort_by_key(|d| d.span);
+        Ok(ForceSet {
+            nparts: model.parts.len(),
+            frames: MarkerFrames::new(model),
+            data,
+            elements,
+            mode: 0,
+            tiny_length: COINCIDENT_POINTS * model.characteristic_length,
+            warnings,
+        })
+    }
+
+    /// Findings that do not prevent evaluation (VARIABLEs no force uses that do not parse).
+    pub fn warnings(&self) -> &[Diagnostic] {
+        &self.warnings
+    }
+
+    /// The value `MODE` returns in expressions (default 0; Adams uses e.g. 5 for statics).
+    pub fn set_mode(&mut self, mode: i32) {
+        self.mode = mode;
+    }
+
+    /// The elements, in model order.
+    pub fn elements(&self) -> &[Element] {
+        &self.elements
+    }
+
+    /// The data elements expressions read.
+    pub fn data(&self) -> &DataElements {
+        &self.data
+    }
+
+    /// The marker frames expressions read.
+    pub fn frames(&self) -> &MarkerFrames {
+        &self.frames
+    }
+
+    /// An expression environment on `(s, v)` with this set's data and mode.
+    pub fn env<'a>(&'a self, s: &'a State, v: &'a Velocities) -> StateEnv<'a> {
+        StateEnv::new(&self.frames, s, v, &self.data).with_mode(self.mode)
+    }
+
+    /// The loads of element `e` at `(s, v)`.
+    pub fn loads<R: Real>(&self, e: usize, s: &State, v: &Velocities) -> Result<Loads<R>, String> {
+        let env = self.env(s, v);
+        self.element_loads(e, &self.context(s, v, &env))
+    }
+
+    fn context<'a>(&self, s: &'a State, v: &'a Velocities, env: &'a StateEnv<'a>) -> Context<'a> {
+        Context {
+            kin: Kinematics {
+                state: s,
+                velocities: v,
+            },
+            env,
+            tiny_length: self.tiny_length,
+        }
+    }
+
+    fn element_loads<R: Real>(&self, e: usize, cx: &Context) -> Result<Loads<R>, String> {
+        let el = &self.elements[e];
+        el.law
+            .loads::<R>(cx)
+            .map_err(|m| format!("{}: {m} (time {})", el.label, cx.kin.state.time))
+    }
+
+    /// Calls `sink(k, Q_k)` with each element's generalised force on each moving part k
+    /// (force at the CM, torque about the CM). One expression environment serves every
+    /// element, so a VARIABLE is evaluated once per call.
+    fn generalised<R: Real>(
+        &self,
+        s: &State,
+        v: &Velocities,
+        mut sink: impl FnMut(usize, [R; 6]),
+    ) -> Result<(), String> {
+        let env = self.env(s, v);
+        let cx = self.context(s, v, &env);
+        let kin = cx.kin;
+        for e in 0..self.elements.len() {
+            for load in self.element_loads::<R>(e, &cx)?.into_iter().flatten() {
+                let Body::Part(k) = load.body else {
+                    continue;
+                };
+                let arm = load.point.sub(&kin.cm::<R>(load.body));
+                let moment = arm.cross(&load.force).add(&load.torque);
+                let V3 { x, y, z } = load.force;
+                sink(k, [x, y, z, moment.x, moment.y, moment.z]);
+            }
+        }
+        Ok(())
+    }
+}
+
+impl AppliedForces for ForceSet {
+    fn add_forces(&self, s: &State, v: &Velocities, out: &mut [f64]) -> Result<(), String> {
+        self.generalised::<f64>(s, v, |k, q| {
+            for (c, x) in q.iter().enumerate() {
+                if let Some(o) = out.get_mut(6 * k + c) {
+                    *o += x;
+                }
+            }
+        })
+    }
+
+    fn add_jacobians(
+        &self,
+        s: &State,
+        v: &Velocities,
+        dq: &mut Vec<(usize, usize, f64)>,
+        mut dv: Option<&mut Vec<(usize, usize, f64)>>,
+    ) -> Result<(), String> {
+        let n6 = 6 * self.nparts;
+        self.generalised::<Dual>(s, v, |k, q| {
+            for (c, x) in q.iter().enumerate() {
+                let row = 6 * k + c;
+                for &(var, d) in x.gradient() {
+                    let col = var as usize;
+                    if col < n6 {
+                        dq.push((row, col, d));
+                    } else if let Some(dv) = dv.as_deref_mut() {
+                        dv.push((row, col - n6, d));
+                    }
+                }
+            }
+        })
+    }
+}

@@ -1,0 +1,8 @@
+//! Forces and measures: applied force elements, expression measures, element reactions and
+//! REQUEST outputs.
+
+pub mod applied;
+pub mod forces;
+pub mod measures;
+pub mod reactions;
+pub mod requests;

@@ -1,0 +1,528 @@
+//! Displacement initial conditions: least-change assembly (DESIGN §5, ADM-REFERENCE §8.1).
+//!
+//! Minimise `½ eᵀ W e` (e: tangent displacement of every part from the input configuration,
+//! `W = diag(1/L², 1/L², 1/L², 1, 1, 1)`) subject to the independent constraint rows, the
+//! motions at the start time, and the hard initial conditions (parts' EXACT coordinates,
+//! joints' IC displacements). Newton on the KKT system
+//!
+//! ```text
+//! [ W   Jᵀ ] [δ]   [ −W e ]
+//! [ J  −μI ] [λ] = [ −Φ   ]
+//! ```
+//!
+//! with the step limited per iteration (TLIMIT, ALIMIT), the Jacobian refreshed by PATTERN,
+//! backtracking when the residual grows, and `μ` (Levenberg–Marquardt) raised when a step fails.
+
+use crate::constraints::rank::{greedy_rank, RankSettings, SparseRows};
+use crate::constraints::rows::{BodyDir, BodyFrame, BodyPoint, EulerSeq, Quantity, RowGradient};
+use crate::constraints::system::{wrap_angle, RowUnit, System};
+use crate::linalg::linear::SparseLu;
+use crate::stages::verify::Drivers;
+use crate::state::State;
+use glam::{DMat3, DVec3};
+use linkage_adm::ExactCoord;
+use linkage_model::{Body, ConstraintKind, JointInitial, Model};
+
+/// A hard equation of the initial conditions: `Q(q) = target`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct HardRow {
+    /// Element the condition belongs to (`PART_2`, `JOINT_1`).
+    pub name: String,
+    /// `EXACT X`, `IC rotation`, …
+    pub label: String,
+    pub quantity: Quantity,
+    pub target: f64,
+    pub unit: RowUnit,
+}
+
+impl HardRow {
+    pub fn residual(&self, s: &State) -> f64 {
+        let v = self.quantity.value(s) - self.target;
+        if self.quantity.is_angle() {
+            wrap_angle(v)
+        } else {
+            v
+        }
+    }
+}
+
+fn joint_frames(model: &Model, c: usize) -> Option<(BodyFrame, BodyFrame)> {
+    let (i, j) = model.constraints[c].markers()?;
+    let f = |m: usize| {
+        let mk = &model.markers[m];
+        BodyFrame {
+            body: mk.body,
+            p_b: mk.p_bm,
+            r_b: mk.r_bm,
+        }
+    };
+    Some((f(i), f(j)))
+}
+
+/// The hard rows of a model: EXACT part coordinates (held at their input values) and joint
+/// initial displacements (IC, ICTRAN, ICROT).
+pub fn hard_rows(model: &Model) -> Vec<HardRow> {
+    let input = State::input(model);
+    let mut out = Vec::new();
+    for (k, p) in model.parts.iter().enumerate() {
+        let all_angles = [ExactCoord::Psi, ExactCoord::Theta, ExactCoord::Phi]
+            .iter()
+            .all(|c| p.exact.contains(c));
+        if all_angles {
+            // Hold the orientation itself (Euler angles are singular at θ = 0): z·x₀, z·y₀, x·y₀.
+            let r0 = p.r_gb;
+            let body = |v: DVec3| BodyDir {
+                body: Body::Part(k),
+                v_b: v,
+            };
+            let fixed = |v: DVec3| BodyDir {
+                body: Body::Ground,
+                v_b: v,
+            };
+            for (label, a, b) in [
+                (
+                    "EXACT orientation (Zb·X0)",
+                    body(DVec3::Z),
+                    fixed(r0.x_axis),
+                ),
+                (
+                    "EXACT orientation (Zb·Y0)",
+                    body(DVec3::Z),
+                    fixed(r0.y_axis),
+                ),
+                (
+                    "EXACT orientation (Xb·Y0)",
+                    body(DVec3::X),
+                    fixed(r0.y_axis),
+                ),
+            ] {
+                out.push(HardRow {
+                    name: p.origin.name.clone(),
+                    label: label.into(),
+                    quantity: Quantity::Dot(a, b),
+                    target: 0.0,
+                    unit: RowUnit::Direction,
+                });
+            }
+        }
+        let bcs = BodyFrame {
+            body: Body::Part(k),
+            p_b: p.p_b_bcs,
+            r_b: DMat3::IDENTITY,
+        };
+        let ground = BodyFrame {
+            body: Body::Ground,
+            p_b: DVec3::ZERO,
+            r_b: DMat3::IDENTITY,
+        };
+        for e in &p.exact {
+            if all_angles && matches!(e, ExactCoord::Psi | ExactCoord::Theta | ExactCoord::Phi) {
+                continue;
+            }
+            let (label, quantity, unit) = match e {
+                ExactCoord::X | ExactCoord::Y | ExactCoord::Z => {
+                    let axis = match e {
+                        ExactCoord::X => 0,
+                        ExactCoord::Y => 1,
+                        _ => 2,
+                    };
+                    let q = Quantity::Proj {
+                        i: BodyPoint {
+                            body: Body::Part(k),
+                            p_b: p.p_b_bcs,
+                        },
+                        j: BodyPoint {
+                            body: Body::Ground,
+                            p_b: DVec3::ZERO,
+                        },
+                        e: BodyDir {
+                            body: Body::Ground,
+                            v_b: DMat3::IDENTITY.col(axis),
+                        },
+                    };
+                    (["EXACT X", "EXACT Y", "EXACT Z"][axis], q, RowUnit::Length)
+                }
+                ExactCoord::Psi | ExactCoord::Theta | ExactCoord::Phi => {
+                    let k3 = match e {
+                        ExactCoord::Psi => 0,
+                        ExactCoord::Theta => 1,
+                        _ => 2,
+                    };
+                    let q = Quantity::Euler {
+                        i: bcs,
+                        j: ground,
+                        seq: EulerSeq::Body313,
+                        k: k3,
+                    };
+                    (
+                        ["EXACT PSI", "EXACT THETA", "EXACT PHI"][k3],
+                        q,
+                        RowUnit::Angle,
+                    )
+                }
+            };
+            let target = quantity.value(&input);
+            out.push(HardRow {
+                name: p.origin.name.clone(),
+                label: label.into(),
+                quantity,
+                target,
+                unit,
+            });
+        }
+    }
+    for (c, con) in model.constraints.iter().enumerate() {
+        let ConstraintKind::Joint { initial, .. } = &con.kind else {
+            continue;
+        };
+        let JointInitial {
+            translation,
+            rotation,
+            ..
+        } = initial;
+        let Some((fi, fj)) = joint_frames(model, c) else {
+            continue;
+        };
+        if let Some(d) = rotation.0 {
+            let q = Quantity::Angle {
+                x: fi.axis(0),
+                x_ref: fj.axis(0),
+                y_ref: fj.axis(1),
+            };
+            out.push(HardRow {
+                name: con.origin.name.clone(),
+                label: "IC rotation".into(),
+                quantity: q,
+                target: d,
+                unit: RowUnit::Angle,
+            });
+        }
+        if let Some(d) = translation.0 {
+            let q = Quantity::Proj {
+                i: fi.origin(),
+                j: fj.origin(),
+                e: fj.axis(2),
+            };
+            out.push(HardRow {
+                name: con.origin.name.clone(),
+                label: "IC translation".into(),
+                quantity: q,
+                target: d,
+                unit: RowUnit::Length,
+            });
+        }
+    }
+    out
+}
+
+/// One equation the assembly enforces.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Equation {
+    /// A constraint row of the system.
+    Row(usize),
+    /// A hard initial condition (index into the hard rows).
+    Hard(usize),
+}
+
+/// Result of the displacement IC.
+#[derive(Clone, Debug)]
+pub struct Assembly {
+    pub state: State,
+    pub converged: bool,
+    pub iterations: usize,
+    /// Largest remaining residual (length units or radians).
+    pub max_residual: f64,
+    /// The enforced equations with their final residuals, largest first.
+    pub residuals: Vec<(Equation, f64)>,
+}
+
+/// Tangent displacement of part k from the reference configuration.
+fn displacement(s: &State, r: &State, k: usize) -> (DVec3, DVec3) {
+    let a = s.poses[k];
+    let b = r.poses[k];
+    (
+        a.p - b.p,
+        linkage_model::frames::log_so3(&(a.r * b.r.transpose())),
+    )
+}
+
+struct Problem<'a> {
+    sys: &'a System,
+    rows: Vec<(usize, f64)>,
+    hard: &'a [HardRow],
+}
+
+impl Problem<'_> {
+    fn m(&self) -> usize {
+        self.rows.len() + self.hard.len()
+    }
+    fn residual(&self, s: &State, out: &mut Vec<f64>) {
+        out.clear();
+        for &(r, drive) in &self.rows {
+            out.push(self.sys.residual(r, s, drive));
+        }
+        for h in self.hard {
+            out.push(h.residual(s));
+        }
+    }
+    fn jacobian(&self, s: &State, g: &mut RowGradient, mut put: impl FnMut(usize, &RowGradient)) {
+        for (k, &(r, _)) in self.rows.iter().enumerate() {
+            self.sys.gradient(r, s, g);
+            put(k, g);
+        }
+        for (k, h) in self.hard.iter().enumerate() {
+            g.clear();
+            h.quantity.gradient(s, 1.0, g);
+            put(self.rows.len() + k, g);
+        }
+    }
+    fn equation(&self, k: usize) -> Equation {
+        if k < self.rows.len() {
+            Equation::Row(self.rows[k].0)
+        } else {
+            Equation::Hard(k - self.rows.len())
+        }
+    }
+}
+
+/// Least-change assembly of the rows `rows` (constraint rows of `sys`; motion rows whose
+/// function cannot be evaluated at the start time are left free) and the hard rows, starting
+/// from `start`, pulling towards `reference`, with the model's IC settings.
+pub fn assemble(
+    model: &Model,
+    sys: &System,
+    rows: &[usize],
+    hard: &[HardRow],
+    drivers: &dyn Drivers,
+    start: &State,
+    reference: &State,
+) -> Assembly {
+    let settings = &model.ic;
+    let n = model.parts.len();
+    let length = model.characteristic_length;
+    let mut used = Vec::with_capacity(rows.len());
+    for &r in rows {
+        let row = &sys.rows[r];
+        if row.driven {
+            if let Some(f) = drivers.value(row.element, start.time) {
+                used.push((r, f));
+            }
+        } else {
+            used.push((r, 0.0));
+        }
+    }
+    let (hard_kept, used) = independent_equations(sys, used, hard, start, length);
+    let hard_owned: Vec<HardRow> = hard_kept.iter().map(|&h| hard[h].clone()).collect();
+    let prob = Problem {
+        sys,
+        rows: used,
+        hard: &hard_owned,
+    };
+    let m = prob.m();
+    let dim = 6 * n + m;
+    let w_t = 1.0 / (length * length);
+    let tol_len = settings.error.max(1e-13 * length);
+    let tol_ang = settings.error.max(1e-13);
+    let is_len = |k: usize| -> bool {
+        match prob.equation(k) {
+            Equation::Row(r) => matches!(sys.rows[r].unit, RowUnit::Length | RowUnit::Mixed),
+            Equation::Hard(h) => hard_owned[h].unit == RowUnit::Length,
+        }
+    };
+    let scaled_max = |phi: &[f64]| -> f64 {
+        phi.iter()
+            .enumerate()
+            .map(|(k, v)| {
+                if is_len(k) {
+                    v.abs() / tol_len
+                } else {
+                    v.abs() / tol_ang
+                }
+            })
+            .fold(0.0, f64::max)
+    };
+
+    let mut s = start.clone();
+    let mut phi = Vec::with_capacity(m);
+    prob.residual(&s, &mut phi);
+    let mut g = RowGradient::default();
+    let mut lu: Option<SparseLu> = None;
+    let mut mu = 0.0;
+    let mut iterations = 0;
+    let mut converged = scaled_max(&phi) <= 1.0;
+    let mut entries: Vec<(usize, usize, f64)> = Vec::new();
+    while !converged && iterations < settings.maxit {
+        let refresh = lu.is_none()
+            || settings
+                .pattern
+                .get(iterations % settings.pattern.len().max(1))
+                .copied()
+                .unwrap_or(true);
+        if refresh {
+            entries.clear();
+            for k in 0..n {
+                for c in 0..6 {
+                    let w = if c < 3 { w_t } else { 1.0 };
+                    entries.push((6 * k + c, 6 * k + c, w));
+                }
+            }
+            prob.jacobian(&s, &mut g, |row, grad| {
+                for (body, v) in &grad.blocks {
+                    for (c, x) in v.iter().enumerate() {
+                        if *x != 0.0 {
+                            entries.push((6 * n + row, 6 * body + c, *x));
+                            entries.push((6 * body + c, 6 * n + row, *x));
+                        }
+                    }
+                }
+            });
+            if mu > 0.0 {
+                for k in 0..m {
+                    entries.push((6 * n + k, 6 * n + k, -mu));
+                }
+            }
+            lu = SparseLu::factor(dim, &entries).ok();
+        }
+        let Some(f) = &lu else { break };
+        let mut rhs = vec![0.0; dim];
+        for k in 0..n {
+            let (dx, dth) = displacement(&s, reference, k);
+            for c in 0..3 {
+                rhs[6 * k + c] = -w_t * dx[c];
+                rhs[6 * k + 3 + c] = -dth[c];
+            }
+        }
+        for (k, v) in phi.iter().enumerate() {
+            rhs[6 * n + k] = -v;
+        }
+        if f.solve(&mut rhs).is_err() {
+            // Singular: regularise and retry with a fresh factorisation.
+            mu = if mu == 0.0 { 1e-8 } else { mu * 100.0 };
+            lu = None;
+            iterations += 1;
+            continue;
+        }
+        // Step limits.
+        let mut scale: f64 = 1.0;
+        for k in 0..n {
+            let dx = DVec3::new(rhs[6 * k], rhs[6 * k + 1], rhs[6 * k + 2]).length();
+            let dth = DVec3::new(rhs[6 * k + 3], rhs[6 * k + 4], rhs[6 * k + 5]).length();
+            if dx > settings.tlimit {
+                scale = scale.min(settings.tlimit / dx);
+            }
+            if dth > settings.alimit {
+                scale = scale.min(settings.alimit / dth);
+            }
+        }
+        // Backtracking on the residual norm.
+        let norm = |p: &[f64]| {
+            p.iter()
+                .enumerate()
+                .map(|(k, v)| {
+                    if is_len(k) {
+                        (v / length).powi(2)
+                    } else {
+                        v * v
+                    }
+                })
+                .sum::<f64>()
+        };
+        let before = norm(&phi);
+        let mut accepted = false;
+        let mut trial_phi = Vec::with_capacity(m);
+        for _ in 0..8 {
+            let mut t = s.clone();
+            for k in 0..n {
+                let dx = DVec3::new(rhs[6 * k], rhs[6 * k + 1], rhs[6 * k + 2]) * scale;
+                let dth = DVec3::new(rhs[6 * k + 3], rhs[6 * k + 4], rhs[6 * k + 5]) * scale;
+                t.increment(k, dx, dth);
+            }
+            prob.residual(&t, &mut trial_phi);
+            if norm(&trial_phi) <= before * (1.0 + 1e-12) || before < 1e-30 || !refresh {
+                s = t;
+                std::mem::swap(&mut phi, &mut trial_phi);
+                accepted = true;
+                break;
+            }
+            scale *= 0.5;
+        }
+        iterations += 1;
+        if !accepted {
+            mu = if mu == 0.0 { 1e-6 } else { mu * 10.0 };
+            lu = None;
+            continue;
+        }
+        converged = scaled_max(&phi) <= 1.0;
+    }
+    let mut residuals: Vec<(Equation, f64)> = phi
+        .iter()
+        .enumerate()
+        .map(|(k, v)| match prob.equation(k) {
+            Equation::Hard(h) => (Equation::Hard(hard_kept[h]), *v),
+            e => (e, *v),
+        })
+        .collect();
+    let max_residual = phi.iter().map(|v| v.abs()).fold(0.0, f64::max);
+    residuals.sort_by(|a, b| b.1.abs().total_cmp(&a.1.abs()));
+    Assembly {
+        state: s,
+        converged,
+        iterations,
+        max_residual,
+        residuals,
+    }
+}
+
+/// The equations the Newton system can hold at once: hard conditions first (they are exact by
+/// definition), then the constraint rows that are independent of them and of each other. A
+/// constraint row left out here is checked after assembly like any redundant equation.
+fn independent_equations(
+    sys: &System,
+    rows: Vec<(usize, f64)>,
+    hard: &[HardRow],
+    s: &State,
+    length: f64,
+) -> (Vec<usize>, Vec<(usize, f64)>) {
+    if hard.is_empty() {
+        return (Vec::new(), rows);
+    }
+    let ncols = 6 * sys.nparts;
+    let mut m = SparseRows::new(ncols);
+    let mut g = RowGradient::default();
+    let push = |g: &RowGradient, m: &mut SparseRows| {
+        let mut e: Vec<(usize, f64)> = Vec::with_capacity(12);
+        for (body, v) in &g.blocks {
+            for (c, x) in v.iter().enumerate() {
+                let x = if c < 3 { x * length } else { *x };
+                if x != 0.0 {
+                    e.push((6 * body + c, x));
+                }
+            }
+        }
+        let norm = e.iter().map(|(_, x)| x * x).sum::<f64>().sqrt();
+        m.push_row(
+            e.into_iter()
+                .map(|(c, x)| (c, if norm > 0.0 { x / norm } else { 0.0 })),
+        );
+    };
+    for h in hard {
+        g.clear();
+        h.quantity.gradient(s, 1.0, &mut g);
+        push(&g, &mut m);
+    }
+    for &(r, _) in &rows {
+        sys.gradient(r, s, &mut g);
+        push(&g, &mut m);
+    }
+    let res = greedy_rank(&m, &RankSettings::default());
+    let nh = hard.len();
+    let admitted = |k: usize| res.decisions.get(k).is_some_and(|d| d.admitted);
+    let kept_hard = (0..nh).filter(|&k| admitted(k)).collect();
+    let kept_rows = rows
+        .into_iter()
+        .enumerate()
+        .filter(|(k, _)| admitted(nh + k))
+        .map(|(_, r)| r)
+        .collect();
+    (kept_hard, kept_rows)
+}

@@ -1,0 +1,563 @@
+//! Initial conditions (Adams "assemble model", ADM-REFERENCE §8.1): displacement, velocity,
+//! acceleration and force, with the redundancy classified at the assembled configuration.
+//!
+//! 1. Displacement: rank analysis at the input (broken joints as intended), least-change
+//!    assembly of the independent rows and hard conditions ([`crate::stages::assemble`]), then the rank
+//!    analysis again at the assembled configuration; if it admits a row the assembly did not
+//!    satisfy, assemble once more with the new set.
+//! 2. Velocity: `min ½(v − v₀)ᵀW(v − v₀)` subject to `J v = ḟ(t) − ∂Φ/∂t` (motions, and
+//!    general constraints that depend on TIME) and the joints' initial velocities.
+//! 3. Acceleration and force: `M a + Jᵀμ = Q` (gravity and gyroscopic terms),
+//!    `J a = f̈ − γ` with the exact velocity-product terms γ of every row, general constraints
+//!    included ([`System::acceleration_bias`]); reactions `−Jᵀμ / UCF` on each element's I
+//!    marker. Redundant rows are not in J, so their reactions are zero, as in Adams.
+
+use crate::constraints::drivers::ExpressionDrivers;
+use crate::constraints::rows::RowGradient;
+use crate::constraints::system::System;
+use crate::linalg::linear::SparseLu;
+use crate::physics::applied::AppliedForces;
+pub use crate::physics::reactions::{element_reactions, Reaction};
+use crate::stages::assemble::{assemble, hard_rows, Assembly, HardRow};
+use crate::stages::verify::{report_residual, residuals, verify, verify_at, Verification};
+use crate::state::State;
+use crate::tolerances::Tolerances;
+use glam::DVec3;
+use linkage_model::{ConstraintKind, Model};
+
+/// A part the assembly moved.
+#[derive(Clone, Debug, PartialEq)]
+pub struct MovedPart {
+    pub part: usize,
+    /// Translation of the centre of mass (ground axes, length units).
+    pub translation: DVec3,
+    /// Rotation angle in degrees.
+    pub rotation_deg: f64,
+}
+
+/// A constraint equation that was violated at the input and its residual after assembly
+/// (length units or degrees).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Repair {
+    pub row: usize,
+    pub before: f64,
+    pub after: f64,
+}
+
+/// Velocity IC result.
+#[derive(Clone, Debug, PartialEq)]
+pub struct VelocityIc {
+    /// CM velocity and angular velocity of every part (ground axes).
+    pub velocities: Vec<(DVec3, DVec3)>,
+    /// Largest violation of the velocity equations.
+    pub max_error: f64,
+    pub converged: bool,
+    /// Motions whose velocity could not be evaluated (element, time and cause); their
+    /// equations are left out.
+    pub motion_errors: Vec<String>,
+}
+
+/// Acceleration and force IC result.
+#[derive(Clone, Debug, PartialEq)]
+pub struct AccelerationIc {
+    /// CM acceleration and angular acceleration of every part (ground axes).
+    pub accelerations: Vec<(DVec3, DVec3)>,
+    pub reactions: Vec<Reaction>,
+    /// Rows in the solve and their multipliers (model force units).
+    pub multipliers: Vec<(usize, f64)>,
+    pub max_error: f64,
+    pub converged: bool,
+}
+
+/// Everything the `ic` analysis finds.
+#[derive(Clone, Debug)]
+pub struct InitialConditions {
+    pub assembly: Assembly,
+    /// Verification at the assembled configuration (redundancy and its consistency).
+    pub analysis: Verification,
+    pub hard: Vec<HardRow>,
+    pub moved: Vec<MovedPart>,
+    pub repaired: Vec<Repair>,
+    pub velocity: Option<VelocityIc>,
+    /// `Err` with the reason when the acceleration/force solve could not be done.
+    pub acceleration: Option<Result<AccelerationIc, String>>,
+    /// Motions whose displacement at the start time cannot be evaluated (left out of the
+    /// assembly): element, time and cause. Velocity and acceleration motions without ICDISP
+    /// are not listed (the assembly decides their start displacement).
+    pub motion_errors: Vec<String>,
+}
+
+impl InitialConditions {
+    /// The constraint rows every later analysis enforces (the independent ones at the
+    /// assembled pose) and the removed (redundant) rows it monitors.
+    pub fn kept_and_removed_rows(&self) -> (Vec<usize>, Vec<usize>) {
+        (
+            admitted_rows(&self.analysis),
+            self.analysis.redundant.iter().map(|r| r.row).collect(),
+        )
+    }
+
+    /// Why no analysis can start from these initial conditions, naming the equation: the
+    /// assembly did not converge (largest remaining residual), or a redundant equation is
+    /// inconsistent (its residual). `None` when the model is assembled.
+    pub fn failure(&self, model: &Model) -> Option<String> {
+        let name = |row: usize| {
+            let r = &self.analysis.system.rows[row];
+            (
+                model.constraints[r.element].origin.name.clone(),
+                r.label,
+                crate::stages::verify::report_unit_suffix(r.unit),
+            )
+        };
+        if !self.assembly.converged {
+            return Some(format!(
+                "the model could not be assembled: the initial conditions did not converge \
+                 (largest residual {:.3e}); run `linkage ic` for the equations left unsatisfied",
+                self.assembly.max_residual
+            ));
+        }
+        let bad: Vec<String> = self
+            .analysis
+            .redundant
+            .iter()
+            .filter(|r| r.consistent == Some(false))
+            .map(|r| {
+                let (element, label, u) = name(r.row);
+                match r.residual {
+                    Some(x) => format!("{label} of {element} (residual {x:.4e}{u})"),
+                    None => format!("{label} of {element}"),
+                }
+            })
+            .collect();
+        (!bad.is_empty()).then(|| {
+            format!(
+                "the model cannot be assembled: redundant equation(s) inconsistent with the \
+                 others: {}",
+                bad.join(", ")
+            )
+        })
+    }
+
+    /// Whether some redundant equation cannot be satisfied (the model cannot be assembled as
+    /// built).
+    pub fn inconsistent(&self) -> bool {
+        self.analysis
+            .redundant
+            .iter()
+            .any(|r| r.consistent == Some(false))
+    }
+}
+
+/// Rows not reported redundant by a verification (the independent set).
+pub fn admitted_rows(v: &Verification) -> Vec<usize> {
+    let mut redundant = vec![false; v.system.rows.len()];
+    for r in &v.redundant {
+        redundant[r.row] = true;
+    }
+    (0..v.system.rows.len())
+        .filter(|&r| !redundant[r])
+        .collect()
+}
+
+/// Runs the displacement, velocity and acceleration/force initial conditions.
+pub fn initial_conditions(
+    model: &Model,
+    drivers: &ExpressionDrivers,
+    forces: &dyn AppliedForces,
+    tol: &Tolerances,
+) -> InitialConditions {
+    let input = State::input(model);
+    let hard = hard_rows(model);
+    let sys = System::new(model);
+    let mut analysis = verify(model, drivers, tol);
+    let before = residuals(&sys, &input, drivers);
+    let mut asm = assemble(
+        model,
+        &sys,
+        &admitted_rows(&analysis),
+        &hard,
+        drivers,
+        &input,
+        &input,
+    );
+    for _ in 0..3 {
+        if !asm.converged {
+            break;
+        }
+        let next = verify_at(model, &asm.state, drivers, tol);
+        let again = !next.assembled;
+        analysis = next;
+        if !again {
+            break;
+        }
+        asm = assemble(
+            model,
+            &sys,
+            &admitted_rows(&analysis),
+            &hard,
+            drivers,
+            &asm.state,
+            &input,
+        );
+    }
+    let motion_errors = admitted_rows(&analysis)
+        .into_iter()
+        .filter(|&r| sys.rows[r].driven)
+        .map(|r| sys.rows[r].element)
+        .filter(|&e| {
+            crate::stages::verify::Drivers::value(drivers, e, input.time).is_none()
+                && !drivers.free_start(e)
+        })
+        .map(|e| crate::stages::verify::motion_error(model, drivers, e, input.time))
+        .collect();
+    let after = residuals(&sys, &asm.state, drivers);
+    let repaired = analysis_repairs(&sys, &before, &after, model, tol);
+    let moved = (0..model.parts.len())
+        .filter_map(|k| {
+            let (a, b) = (asm.state.poses[k], input.poses[k]);
+            let translation = a.p - b.p;
+            let rotation_deg = linkage_model::frames::log_so3(&(a.r * b.r.transpose()))
+                .length()
+                .to_degrees();
+            let moved = translation.length() > tol.length * model.characteristic_length
+                || rotation_deg.to_radians() > tol.angle;
+            moved.then_some(MovedPart {
+                part: k,
+                translation,
+                rotation_deg,
+            })
+        })
+        .collect();
+    let (velocity, acceleration) = if asm.converged {
+        let rows = admitted_rows(&analysis);
+        let vel = velocity_ic(model, &sys, &rows, &hard, drivers, &asm.state);
+        let acc = acceleration_ic(
+            model,
+            &sys,
+            &rows,
+            drivers,
+            forces,
+            &asm.state,
+            &vel.velocities,
+        );
+        (Some(vel), Some(acc))
+    } else {
+        (None, None)
+    };
+    InitialConditions {
+        motion_errors,
+        assembly: asm,
+        analysis,
+        hard,
+        moved,
+        repaired,
+        velocity,
+        acceleration,
+    }
+}
+
+fn analysis_repairs(
+    sys: &System,
+    before: &[Option<f64>],
+    after: &[Option<f64>],
+    model: &Model,
+    tol: &Tolerances,
+) -> Vec<Repair> {
+    let mut out = Vec::new();
+    for r in 0..sys.rows.len() {
+        let (Some(b), Some(a)) = (before[r], after[r]) else {
+            continue;
+        };
+        let unit = sys.rows[r].unit;
+        if !crate::stages::verify::within_tolerance(unit, b, tol, model.characteristic_length) {
+            out.push(Repair {
+                row: r,
+                before: report_residual(unit, b),
+                after: report_residual(unit, a),
+            });
+        }
+    }
+    out
+}
+
+/// `Q̇ = ∇Q·v` for a gradient and part velocities.
+fn rate(g: &RowGradient, v: &[(DVec3, DVec3)]) -> f64 {
+    g.blocks
+        .iter()
+        .map(|(k, b)| {
+            DVec3::new(b[0], b[1], b[2]).dot(v[*k].0) + DVec3::new(b[3], b[4], b[5]).dot(v[*k].1)
+        })
+        .sum()
+}
+
+fn push_gradient(entries: &mut Vec<(usize, usize, f64)>, row: usize, g: &RowGradient) {
+    for (body, v) in &g.blocks {
+        for (c, x) in v.iter().enumerate() {
+            if *x != 0.0 {
+                entries.push((row, 6 * body + c, *x));
+                entries.push((6 * body + c, row, *x));
+            }
+        }
+    }
+}
+
+/// Input velocity targets: PART VX, VY, VZ (ground) and WX, WY, WZ (CM marker axes).
+fn velocity_targets(model: &Model, s: &State) -> Vec<(DVec3, DVec3)> {
+    model
+        .parts
+        .iter()
+        .enumerate()
+        .map(|(k, p)| {
+            let v = |i: usize| p.velocity[i].unwrap_or(0.0);
+            let w_cm = DVec3::new(v(3), v(4), v(5));
+            (DVec3::new(v(0), v(1), v(2)), s.poses[k].r * p.r_b_cm * w_cm)
+        })
+        .collect()
+}
+
+/// Velocity IC: one least-change linear solve.
+pub fn velocity_ic(
+    model: &Model,
+    sys: &System,
+    rows: &[usize],
+    hard: &[HardRow],
+    drivers: &ExpressionDrivers,
+    s: &State,
+) -> VelocityIc {
+    let n = model.parts.len();
+    let l = model.characteristic_length;
+    let w_t = 1.0 / (l * l);
+    let target = velocity_targets(model, s);
+    let mut g = RowGradient::default();
+    let mut eqs: Vec<(RowGradient, f64)> = Vec::new();
+    let mut motion_errors = Vec::new();
+    for &r in rows {
+        let row = &sys.rows[r];
+        let drive = if row.driven {
+            match drivers.motion_rates(row.element, s.time) {
+                Some(Ok((vel, _))) => vel,
+                Some(Err(e)) => {
+                    motion_errors.push(format!(
+                        "{}: the motion's velocity at time {}: {e}",
+                        model.constraints[row.element].origin.label(),
+                        s.time
+                    ));
+                    continue;
+                }
+                None => continue,
+            }
+        } else {
+            0.0
+        };
+        // A general constraint that depends on TIME: ∇Φ·v = −∂Φ/∂t (0 if it cannot be
+        // evaluated here, which the acceleration solve then reports).
+        let rhs = drive - sys.explicit_rate(r, s, 1.0).unwrap_or(0.0);
+        sys.gradient(r, s, &mut g);
+        eqs.push((g.clone(), rhs));
+    }
+    // Joints' initial velocities (IC = disp, vel).
+    for (c, con) in model.constraints.iter().enumerate() {
+        let ConstraintKind::Joint { initial, .. } = &con.kind else {
+            continue;
+        };
+        for (want, label) in [
+            (initial.rotation.1, "IC rotation"),
+            (initial.translation.1, "IC translation"),
+        ] {
+            let Some(vel) = want else { continue };
+            let q = hard
+                .iter()
+                .find(|h| h.name == con.origin.name && h.label == label)
+                .map(|h| h.quantity)
+                .or_else(|| {
+                    let (i, j) = con.markers()?;
+                    let f = |m: usize| crate::constraints::rows::BodyFrame {
+                        body: model.markers[m].body,
+                        p_b: model.markers[m].p_bm,
+                        r_b: model.markers[m].r_bm,
+                    };
+                    let (fi, fj) = (f(i), f(j));
+                    Some(if label == "IC rotation" {
+                        crate::constraints::rows::Quantity::Angle {
+                            x: fi.axis(0),
+                            x_ref: fj.axis(0),
+                            y_ref: fj.axis(1),
+                        }
+                    } else {
+                        crate::constraints::rows::Quantity::Proj {
+                            i: fi.origin(),
+                            j: fj.origin(),
+                            e: fj.axis(2),
+                        }
+                    })
+                });
+            if let Some(q) = q {
+                g.clear();
+                q.gradient(s, 1.0, &mut g);
+                eqs.push((g.clone(), vel));
+            }
+            let _ = c;
+        }
+    }
+    let m = eqs.len();
+    let dim = 6 * n + m;
+    let mut entries = Vec::new();
+    let mut rhs = vec![0.0; dim];
+    // Given velocities are targets; the others are "inexact zeros" the solve may change freely
+    // (a small weight keeps the problem well posed). WX, WY, WZ are in the CM marker's axes.
+    const FREE: f64 = 1e-8;
+    for (k, p) in model.parts.iter().enumerate() {
+        for c in 0..3 {
+            let w = w_t * if p.velocity[c].is_some() { 1.0 } else { FREE };
+            entries.push((6 * k + c, 6 * k + c, w));
+            rhs[6 * k + c] = w * target[k].0[c];
+        }
+        let r_cm = s.poses[k].r * p.r_b_cm;
+        let d = glam::DMat3::from_diagonal(DVec3::from_array([3, 4, 5].map(|i| {
+            if p.velocity[i].is_some() {
+                1.0
+            } else {
+                FREE
+            }
+        })));
+        let w_rot = r_cm * d * r_cm.transpose();
+        let b = w_rot * target[k].1;
+        for c in 0..3 {
+            for e in 0..3 {
+                entries.push((6 * k + 3 + c, 6 * k + 3 + e, w_rot.col(e)[c]));
+            }
+            rhs[6 * k + 3 + c] = b[c];
+        }
+    }
+    for (e, (grad, b)) in eqs.iter().enumerate() {
+        push_gradient(&mut entries, 6 * n + e, grad);
+        rhs[6 * n + e] = *b;
+    }
+    let solved = SparseLu::factor(dim, &entries).and_then(|lu| lu.solve(&mut rhs));
+    let velocities: Vec<(DVec3, DVec3)> = if solved.is_ok() {
+        (0..n)
+            .map(|k| {
+                (
+                    DVec3::new(rhs[6 * k], rhs[6 * k + 1], rhs[6 * k + 2]),
+                    DVec3::new(rhs[6 * k + 3], rhs[6 * k + 4], rhs[6 * k + 5]),
+                )
+            })
+            .collect()
+    } else {
+        vec![(DVec3::ZERO, DVec3::ZERO); n]
+    };
+    let max_error = eqs
+        .iter()
+        .map(|(grad, b)| (rate(grad, &velocities) - b).abs())
+        .fold(0.0, f64::max);
+    VelocityIc {
+        converged: solved.is_ok() && max_error <= model.ic.verror && motion_errors.is_empty(),
+        velocities,
+        max_error,
+        motion_errors,
+    }
+}
+
+/// Acceleration and force IC.
+pub fn acceleration_ic(
+    model: &Model,
+    sys: &System,
+    rows: &[usize],
+    drivers: &ExpressionDrivers,
+    forces: &dyn AppliedForces,
+    s: &State,
+    v: &[(DVec3, DVec3)],
+) -> Result<AccelerationIc, String> {
+    let n = model.parts.len();
+    let mut applied = vec![0.0; 6 * n];
+    forces.add_forces(s, v, &mut applied)?;
+    let mut g = RowGradient::default();
+    let mut eqs: Vec<(usize, RowGradient, f64)> = Vec::new();
+    for &r in rows {
+        let row = &sys.rows[r];
+        let fdd = if row.driven {
+            match drivers.motion_rates(row.element, s.time) {
+                Some(Ok((_, acc))) => acc,
+                Some(Err(e)) => {
+                    return Err(format!(
+                        "{}: the motion's acceleration at time {}: {e}",
+                        model.constraints[row.element].origin.label(),
+                        s.time
+                    ))
+                }
+                None => continue,
+            }
+        } else {
+            0.0
+        };
+        let bias = sys.acceleration_bias(r, s, v, 1.0).map_err(|e| {
+            format!(
+                "{}: the second time derivative of the constraint cannot be evaluated: {e}",
+                model.constraints[row.element].origin.name
+            )
+        })?;
+        sys.gradient(r, s, &mut g);
+        eqs.push((r, g.clone(), fdd - bias));
+    }
+    let m = eqs.len();
+    let dim = 6 * n + m;
+    let mut entries = Vec::new();
+    let mut rhs = vec![0.0; dim];
+    for (k, p) in model.parts.iter().enumerate() {
+        let r = s.poses[k].r;
+        let ig = r * p.inertia * r.transpose();
+        for c in 0..3 {
+            entries.push((6 * k + c, 6 * k + c, p.mass));
+            for d in 0..3 {
+                let x = ig.col(d)[c];
+                if x != 0.0 {
+                    entries.push((6 * k + 3 + c, 6 * k + 3 + d, x));
+                }
+            }
+        }
+        let w = v[k].1;
+        let gyro = -w.cross(ig * w);
+        for c in 0..3 {
+            rhs[6 * k + c] = p.mass * model.gravity[c] + model.ucf() * applied[6 * k + c];
+            rhs[6 * k + 3 + c] = gyro[c] + model.ucf() * applied[6 * k + 3 + c];
+        }
+    }
+    for (e, (_, grad, b)) in eqs.iter().enumerate() {
+        push_gradient(&mut entries, 6 * n + e, grad);
+        rhs[6 * n + e] = *b;
+    }
+    let lu = SparseLu::factor(dim, &entries).map_err(|e| e.to_string())?;
+    lu.solve(&mut rhs).map_err(|_| {
+        "the acceleration equations are singular: a massless part or a part without inertia has motion the constraints leave free".to_string()
+    })?;
+    let acc: Vec<(DVec3, DVec3)> = (0..n)
+        .map(|k| {
+            (
+                DVec3::new(rhs[6 * k], rhs[6 * k + 1], rhs[6 * k + 2]),
+                DVec3::new(rhs[6 * k + 3], rhs[6 * k + 4], rhs[6 * k + 5]),
+            )
+        })
+        .collect();
+    let max_error = eqs
+        .iter()
+        .map(|(_, grad, b)| (rate(grad, &acc) - b).abs())
+        .fold(0.0, f64::max);
+
+    // Multipliers in mass × acceleration units; reactions in force units.
+    let ucf = model.ucf();
+    let rows_grads: Vec<(usize, &RowGradient)> = eqs.iter().map(|(r, g, _)| (*r, g)).collect();
+    let lambda: Vec<f64> = (0..eqs.len()).map(|e| rhs[6 * n + e] / ucf).collect();
+    let reactions = element_reactions(model, sys, &rows_grads, &lambda, s);
+    let multipliers = eqs
+        .iter()
+        .zip(&lambda)
+        .map(|((r, _, _), l)| (*r, *l))
+        .collect();
+    Ok(AccelerationIc {
+        accelerations: acc,
+        reactions,
+        multipliers,
+        max_error,
+        converged: max_error <= model.ic.aerror.max(1e-9),
+    })
+}

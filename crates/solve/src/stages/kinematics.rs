@@ -1,0 +1,282 @@
+//! Kinematic analysis of models without degrees of freedom (Adams: "the data set is
+//! kinematically determinate").
+//!
+//! When the independent constraint rows fix every coordinate (`m = 6n` after the redundant rows
+//! are removed), motion follows from the constraints alone; the equations of motion only give
+//! the reactions. At every output time `t`:
+//!
+//! ```text
+//! positions      Φ(q, t) = 0             Newton: J δ = −Φ (J square and regular)
+//! velocities     J v = ḟ(t)              (motion rates; 0 for joints)
+//! accelerations  J a = f̈(t) − γ(q, v)    γ: velocity-product terms of Φ̈
+//! reactions      M a + UCF·Jᵀλ = UCF·Q   (λ from the same KKT solve)
+//! ```
+//!
+//! Nothing is integrated, so there is no integration error: positions are exact to
+//! [`POSITION_TOLERANCE`] at every output. Each position solve starts from a second-order
+//! extrapolation `q + v Δt + a Δt²/2` of the previous output. Removed rows are checked at every
+//! output like in the dynamic run.
+
+use crate::constraints::rows::RowGradient;
+use crate::constraints::system::RowUnit;
+use crate::linalg::linear::SparseLu;
+use crate::stages::dynamics::{
+    flat, redundant_violation, Failure, OutputSolver, Problem, Simulation,
+};
+use crate::stages::verify::report_residual;
+use crate::state::State;
+use glam::DVec3;
+
+/// Largest constraint residual accepted for positions: lengths relative to the model's
+/// characteristic length, angles and direction cosines absolute.
+pub const POSITION_TOLERANCE: f64 = 1e-10;
+
+/// Newton iterations per output time before the position solve gives up.
+pub const MAX_ITERATIONS: usize = 25;
+
+/// Runs the kinematic analysis at `times` from the assembled `start` with velocities `v0`
+/// (used only as the first velocity guess).
+pub(crate) fn run(
+    p: &Problem,
+    start: &State,
+    v0: &[(DVec3, DVec3)],
+    times: &[f64],
+    mut progress: impl FnMut(f64),
+) -> Simulation {
+    let mut sim = Simulation {
+        outputs: Vec::new(),
+        failure: None,
+        steps: 0,
+        rejected: 0,
+        kinematic: true,
+    };
+    let mut solver = match OutputSolver::new(p, start, v0) {
+        Ok(s) => s,
+        Err(message) => {
+            sim.failure = Some(Failure {
+                time: start.time,
+                message,
+            });
+            return sim;
+        }
+    };
+    let mut v = flat(v0);
+    let mut previous: Option<(State, Vec<f64>, Vec<f64>)> = None;
+    for &t in times {
+        let mut guess = match &previous {
+            None => start.clone(),
+            Some((s, vel, acc)) => {
+                let dt = t - s.time;
+                let d: Vec<f64> = (0..vel.len())
+                    .map(|i| vel[i] * dt + 0.5 * acc[i] * dt * dt)
+                    .collect();
+                apply(s, &d)
+            }
+        };
+        guess.time = t;
+        let s = match positions(p, guess) {
+            Ok(s) => s,
+            Err(message) => {
+                sim.failure = Some(Failure { time: t, message });
+                return sim;
+            }
+        };
+        if let Some(f) = redundant_violation(p, &s, p.model.characteristic_length) {
+            sim.failure = Some(f);
+            return sim;
+        }
+        let output = match solver.output(p, &s, &v) {
+            Ok(o) => o,
+            Err(message) => {
+                sim.failure = Some(Failure { time: t, message });
+                return sim;
+            }
+        };
+        v = flat(&output.velocities);
+        let a = flat(&output.accelerations);
+        // Accelerations reported as NaN (unknown second derivatives) do not extrapolate.
+        let a: Vec<f64> = a
+            .into_iter()
+            .map(|x| if x.is_finite() { x } else { 0.0 })
+            .collect();
+        previous = Some((s, v.clone(), a));
+        sim.outputs.push(output);
+        sim.steps += 1;
+        progress(t);
+    }
+    sim
+}
+
+/// Whether the residual `v` of a row with unit `unit` is within [`POSITION_TOLERANCE`].
+fn holds(unit: RowUnit, v: f64, length: f64) -> bool {
+    match unit {
+        RowUnit::Length | RowUnit::Mixed => v.abs() <= POSITION_TOLERANCE * length,
+        _ => v.abs() <= POSITION_TOLERANCE,
+    }
+}
+
+/// Solves `Φ(q, t) = 0` for the positions by Newton's method from `s` (time `s.time`).
+fn positions(p: &Problem, mut s: State) -> Result<State, String> {
+    let n = p.model.parts.len();
+    let m = p.rows.len();
+    let length = p.model.characteristic_length;
+    let mut drives = vec![0.0; m];
+    p.drives_into(s.time, &mut drives)?;
+    let mut g = RowGradient::default();
+    let mut worst = (0usize, 0.0f64);
+    for _ in 0..MAX_ITERATIONS {
+        let phi: Vec<f64> = p
+            .rows
+            .iter()
+            .zip(&drives)
+            .map(|(&r, &d)| p.sys.residual(r, &s, d))
+            .collect();
+        if let Some(k) = phi.iter().position(|v| !v.is_finite()) {
+            return Err(format!(
+                "the constraint {} of {} cannot be evaluated at time {}",
+                p.sys.rows[p.rows[k]].label,
+                p.model.constraints[p.sys.rows[p.rows[k]].element]
+                    .origin
+                    .name,
+                s.time
+            ));
+        }
+        worst = phi
+            .iter()
+            .enumerate()
+            .map(|(k, v)| {
+                let scale = match p.sys.rows[p.rows[k]].unit {
+                    RowUnit::Length | RowUnit::Mixed => length,
+                    _ => 1.0,
+                };
+                (k, v.abs() / scale)
+            })
+            .fold((0, 0.0), |a, b| if b.1 > a.1 { b } else { a });
+        if p.rows
+            .iter()
+            .zip(&phi)
+            .all(|(&r, &v)| holds(p.sys.rows[r].unit, v, length))
+        {
+            return Ok(s);
+        }
+        let mut entries = Vec::new();
+        for (k, &r) in p.rows.iter().enumerate() {
+            p.sys.gradient(r, &s, &mut g);
+            for (body, b) in &g.blocks {
+                for (c, x) in b.iter().enumerate() {
+                    if *x != 0.0 {
+                        entries.push((k, 6 * body + c, *x));
+                    }
+                }
+            }
+        }
+        let mut rhs: Vec<f64> = phi.iter().map(|v| -v).collect();
+        let solved = (m == 6 * n)
+            .then(|| SparseLu::factor(m, &entries).and_then(|lu| lu.solve(&mut rhs)))
+            .and_then(Result::ok);
+        if solved.is_none() {
+            return Err(format!(
+                "the constraint Jacobian is singular at time {}: the mechanism is at a \
+                 singular (locked or toggle) configuration, or the motions drive it beyond \
+                 its reach",
+                s.time
+            ));
+        }
+        s = State {
+            time: s.time,
+            ..apply(&s, &rhs)
+        };
+    }
+    let row = &p.sys.rows[p.rows[worst.0]];
+    let value = p.sys.residual(p.rows[worst.0], &s, drives[worst.0]);
+    Err(format!(
+        "the positions could not be found from the constraints at time {} in {MAX_ITERATIONS} \
+         iterations: largest residual {:.6e}{} in {} of {} (the motions may drive the \
+         mechanism beyond its reach)",
+        s.time,
+        report_residual(row.unit, value),
+        if matches!(row.unit, RowUnit::Direction | RowUnit::Angle) {
+            " deg"
+        } else {
+            ""
+        },
+        row.label,
+        p.model.constraints[row.element].origin.name
+    ))
+}
+
+/// `s` with every part moved by the tangent increment `d` (6 per part: translation, rotation
+/// vector in ground axes).
+fn apply(s: &State, d: &[f64]) -> State {
+    let mut t = s.clone();
+    for (k, c) in d.chunks_exact(6).enumerate() {
+        t.increment(
+            k,
+            DVec3::new(c[0], c[1], c[2]),
+            DVec3::new(c[3], c[4], c[5]),
+        );
+    }
+    t
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::constraints::drivers::ExpressionDrivers;
+    use crate::stages::dynamics::IntegratorSettings;
+
+    fn load(text: &str) -> linkage_model::Model {
+        let ds =
+            linkage_adm::parse_dataset(std::sync::Arc::from("test.adm"), text).expect("parses");
+        linkage_model::build_model(&ds).expect("builds").model
+    }
+
+    /// A slider driven along x by `x = 0.1 + 0.2 t²` on a translational joint (zero DOF):
+    /// exact positions, velocities, accelerations and the driving force `m ẍ` at every output.
+    #[test]
+    fn a_driven_slider_follows_its_motion_exactly() {
+        let model = load(
+            "slider\nUNITS/, FORCE = NEWTON, MASS = KILOGRAM, LENGTH = METER, TIME = SECOND\n\
+             PART/1, GROUND\nMARKER/1, PART = 1, REULER = 90D, 90D, 0D\n\
+             PART/2, MASS = 3, CM = 2, IP = 1, 1, 1\nMARKER/2, PART = 2\n\
+             MARKER/3, PART = 2, REULER = 90D, 90D, 0D\n\
+             JOINT/1, TRANSLATIONAL, I = 3, J = 1\n\
+             MOTION/1, JOINT = 1, TRANSLATION, FUNCTION = 0.1 + 0.2*TIME**2\nEND\n",
+        );
+        let drivers = ExpressionDrivers::new(&model).unwrap();
+        let forces = crate::physics::applied::NoForces;
+        let tol = crate::tolerances::Tolerances::default();
+        let times = [0.0, 0.5, 1.0, 2.0];
+        let run = crate::stages::dynamics::run(
+            &model,
+            &drivers,
+            &forces,
+            &tol,
+            &times,
+            &IntegratorSettings::default(),
+            crate::stages::dynamics::Start::InitialConditions,
+            |_| {},
+        );
+        let sim = run.simulation.expect("runs");
+        assert!(sim.kinematic);
+        assert!(sim.failure.is_none(), "{:?}", sim.failure);
+        assert_eq!(sim.outputs.len(), 4);
+        for o in &sim.outputs {
+            let t = o.time;
+            let x = o.state.poses[0].p.x;
+            assert!((x - (0.1 + 0.2 * t * t)).abs() < 1e-12, "t {t}: x {x}");
+            assert!((o.velocities[0].0.x - 0.4 * t).abs() < 1e-10);
+            assert!((o.accelerations[0].0.x - 0.4).abs() < 1e-9);
+            // The motion pushes with m ẍ = 1.2 N along x; no gravity.
+            let motion = o
+                .reactions
+                .iter()
+                .find(|r| model.constraints[r.element].origin.name == "MOTION_1")
+                .unwrap();
+            assert!(
+                (motion.force.x.abs() - 1.2).abs() < 1e-9,
+                "{:?}",
+                motion.force
+            );
+        }
+    }
+}

@@ -1,0 +1,906 @@
+//! Linearization about an operating point (DESIGN §7, ADM-REFERENCE §8.6): eigenvalues,
+//! undamped natural frequencies, damping ratios and mode shapes.
+//!
+//! Equations of motion `M q̈ = UCF·(Q(q, v) − Jᵀλ)` with `J δq = 0` are linearised exactly:
+//!
+//! ```text
+//! M δq̈ + C δq̇ + K δq = 0,   K = UCF·(−∂Q/∂q + Σ λ_r ∂²Φ_r/∂q²),   C = −UCF·∂Q/∂v + G(ω)
+//! ```
+//!
+//! (G the gyroscopic term, zero at rest). [`assemble`] writes M, C, K and the Jacobian J of
+//! the kept rows once, as sparse triplets in scaled tangent coordinates (6 per part,
+//! translations in characteristic lengths); both solutions start from it:
+//!
+//! * **dense** ([`EigenMethod::Dense`]): an orthonormal basis N of the null space of J (dense
+//!   QR of Jᵀ), `M_r = NᵀMN`, `C_r`, `K_r`, and every eigenvalue of the first-order system
+//!   `ẋ = A x`, `A = [0 1; −M_r⁻¹K_r −M_r⁻¹C_r]`. Cost `O((6·parts)³)`.
+//! * **shift-invert** ([`EigenMethod::ShiftInvert`]): the `K` modes nearest a shift (the
+//!   lowest, or around a frequency) by Arnoldi on one sparse KKT factorisation
+//!   ([`crate::linalg::eigs`]), without N: without damping on `K x + Jᵀμ = ν M x` (`ν = −λ²`), with
+//!   damping on the first-order form. The free motions without stiffness are counted on the
+//!   same kind of problem with the symmetric part of K. Cost grows with `K` and the sparse
+//!   factor (linear in the length of a chain), not with `n³`.
+//!
+//! [`EigenMethod::Auto`] solves densely up to [`DENSE_MAX_DOF`] free motions and
+//! [`DENSE_MAX_COORDINATES`] coordinates, and otherwise computes the [`DEFAULT_MODES`] lowest
+//! modes by shift-invert. Massless parts get 1e-8 × the smallest non-zero mass, as Adams does.
+
+use crate::constraints::hessian::HessianBlocks;
+use crate::constraints::rows::{RowGradient, Velocities};
+use crate::constraints::system::System;
+use crate::linalg::eigs::{zero_eigenvectors, ConstrainedPencil, EigenError, SparseMatrix, Wanted};
+use crate::physics::applied::AppliedForces;
+use crate::state::State;
+use faer::linalg::solvers::DenseSolveCore;
+use faer::Mat;
+use linkage_model::Model;
+
+/// Largest number of free motions (DOF) [`EigenMethod::Auto`] solves densely. Measured
+/// (`benches/linearization.rs`, pendulum chains): dense 70 ms at 100 DOF, 0.5 s at 200, 1.3 s
+/// at 300; shift-invert for the 10 lowest modes 9 ms at 100, 20 ms at 300, 0.23 s at 3000.
+pub const DENSE_MAX_DOF: usize = 200;
+/// Largest number of coordinates (6 per moving part) [`EigenMethod::Auto`] solves densely: the
+/// dense path's null-space QR and projections cost `O(coordinates³)` even for few DOF.
+pub const DENSE_MAX_COORDINATES: usize = 1200;
+/// Modes the shift-invert path computes when none were asked for.
+pub const DEFAULT_MODES: usize = 20;
+/// The default shift is `σ = −DEFAULT_SHIFT_FRACTION · ω_ref` (just below zero; `ω_ref` the
+/// model's frequency scale), so zero (rigid-body) eigenvalues and the lowest frequencies come
+/// first.
+pub const DEFAULT_SHIFT_FRACTION: f64 = 1e-3;
+
+/// How the eigenvalues are computed.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum EigenMethod {
+    /// Dense for small models, else the [`DEFAULT_MODES`] lowest modes by shift-invert.
+    Auto,
+    /// Every eigenvalue, densely.
+    Dense,
+    /// The `modes` modes (a complex pair is one mode) nearest the frequency `shift` (radians
+    /// per time unit; `None` or 0: the lowest modes, zero-frequency ones first). The shift is
+    /// `σ = −ε + i·shift`, `ε = DEFAULT_SHIFT_FRACTION · ω_ref`.
+    ShiftInvert { modes: usize, shift: Option<f64> },
+}
+
+/// Options of the eigen solution.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LinearOptions {
+    /// Keep damping (Adams NODAMPIN clears it).
+    pub damping: bool,
+    /// Compute mode shapes (Adams NOVECTOR clears it).
+    pub vectors: bool,
+    pub method: EigenMethod,
+}
+
+/// Magnitude and phase (degrees) of one coordinate of a mode shape.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Component {
+    pub magnitude: f64,
+    pub phase_deg: f64,
+}
+
+/// Motion of one part in a mode: translation of its centre of mass and rotation (ground axes),
+/// normalised so that the largest component of the mode is 1.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PartShape {
+    pub part: usize,
+    pub translation: [Component; 3],
+    pub rotation: [Component; 3],
+}
+
+/// One eigenvalue (a complex pair counted once, with positive imaginary part).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Mode {
+    /// Eigenvalue in radians per time unit.
+    pub real: f64,
+    pub imag: f64,
+    /// Undamped natural frequency `|λ|/2π` in cycles per time unit.
+    pub frequency: f64,
+    /// `−Re λ / |λ|` (0 for a zero eigenvalue).
+    pub damping_ratio: f64,
+    pub shape: Option<Vec<PartShape>>,
+}
+
+/// How a linearization's eigenvalues were computed.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Solution {
+    /// All of them, densely.
+    Dense,
+    /// Those nearest the frequency `shift` (radians per time unit; 0: the lowest modes) by
+    /// shift-invert Arnoldi.
+    ShiftInvert {
+        shift: f64,
+        /// Sparse solves (applications of the shift-invert operator).
+        solves: usize,
+        /// Every zero eigenvalue is among the computed ones (default shift), so
+        /// `zero_eigenvalues` can be compared with `expected_zero_eigenvalues`.
+        zeros_complete: bool,
+    },
+}
+
+/// Result of a linearization.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Linearization {
+    /// Independent motions (the DOF) and states (2 × DOF).
+    pub dof: usize,
+    pub modes: Vec<Mode>,
+    /// Eigenvalues computed (a complex pair counts 2), out of `2 · dof`.
+    pub computed_eigenvalues: usize,
+    /// Eigenvalues at zero (rigid-body modes) found.
+    pub zero_eigenvalues: usize,
+    /// Zero eigenvalues expected from the free motions that carry no stiffness.
+    pub expected_zero_eigenvalues: usize,
+    /// Parts given a small artificial mass (zero-mass parts).
+    pub massless_parts: usize,
+    pub solution: Solution,
+}
+
+fn cplx_abs(re: f64, im: f64) -> f64 {
+    re.hypot(im)
+}
+
+/// Orthonormal basis of the null space of `a` (rows × cols), via QR of `aᵀ`.
+fn null_space(a: &Mat<f64>) -> Mat<f64> {
+    let (rows, cols) = (a.nrows(), a.ncols());
+    if rows == 0 {
+        return Mat::<f64>::identity(cols, cols);
+    }
+    let at = a.transpose().to_owned();
+    let qr = at.qr();
+    let q = qr.compute_Q();
+    let r = qr.R();
+    let d = rows.min(cols);
+    let rmax = (0..d).map(|i| r[(i, i)].abs()).fold(0.0, f64::max);
+    let rank = (0..d)
+        .filter(|&i| r[(i, i)].abs() > 1e-9 * rmax.max(1e-300))
+        .count();
+    q.subcols(rank, cols - rank).to_owned()
+}
+
+/// The linearised equations at an operating point, as sparse `(row, col, value)` triplets
+/// (duplicates are summed, in the order given).
+///
+/// Coordinates: 6 per part, `6k + c` is `δx_c / L` for `c < 3` (centre-of-mass translation in
+/// characteristic lengths `L`) and `δθ_{c−3}` (rotation about ground axes) otherwise; with
+/// `s_i` = `L` or 1 accordingly, `M_ij = s_i s_j M̂_ij` (so `M = diag(m L² 1, I_ground)` per
+/// part), likewise `C`, `K`, and `J_rj = s_j Ĵ_rj`. Rows of `J` are the kept rows in the order
+/// given to [`assemble`].
+#[derive(Clone, Debug, PartialEq)]
+pub struct LinearEquations {
+    /// `6 · parts`.
+    pub coordinates: usize,
+    pub mass: Vec<(usize, usize, f64)>,
+    pub damping: Vec<(usize, usize, f64)>,
+    pub stiffness: Vec<(usize, usize, f64)>,
+    pub jacobian: Vec<(usize, usize, f64)>,
+    /// Rows of `J`.
+    pub constraints: usize,
+    pub characteristic_length: f64,
+    /// Parts given a small artificial mass.
+    pub massless_parts: usize,
+}
+
+impl LinearEquations {
+    /// `s_c`: the characteristic length for translations, 1 for rotations.
+    pub fn scale(&self, c: usize) -> f64 {
+        if c % 6 < 3 {
+            self.characteristic_length
+        } else {
+            1.0
+        }
+    }
+
+    fn pencil(&self) -> Result<ConstrainedPencil, EigenError> {
+        let n = self.coordinates;
+        Ok(ConstrainedPencil::new(
+            SparseMatrix::from_triplets(n, n, &self.mass)?,
+            SparseMatrix::from_triplets(n, n, &self.damping)?,
+            SparseMatrix::from_triplets(n, n, &self.stiffness)?,
+            SparseMatrix::from_triplets(self.constraints, n, &self.jacobian)?,
+        ))
+    }
+}
+
+/// Assembles M, C (zero without `damping`), K (with the geometric stiffness `Σλ∇²Φ`) and J at
+/// positions `s`, velocities `v`, with constraint multipliers `lambda` (row, value in model
+/// force units) on the independent rows `rows`. Cost `O(parts + rows)`.
+#[allow(clippy::too_many_arguments)]
+pub fn assemble(
+    model: &Model,
+    sys: &System,
+    rows: &[usize],
+    forces: &dyn AppliedForces,
+    s: &State,
+    v: &Velocities,
+    lambda: &[(usize, f64)],
+    damping: bool,
+) -> Result<LinearEquations, String> {
+    let l = model.characteristic_length;
+    let ucf = model.ucf();
+    let sc = |c: usize| if c % 6 < 3 { l } else { 1.0 };
+
+    // Mass matrix (scaled), with Adams' small mass for massless parts.
+    let min_mass = model
+        .parts
+        .iter()
+        .map(|p| p.mass)
+        .filter(|m| *m > 0.0)
+        .fold(f64::INFINITY, f64::min);
+    let min_inertia = model
+        .parts
+        .iter()
+        .flat_map(|p| linkage_model::inertia::symmetric_eigenvalues(&p.inertia))
+        .filter(|x| *x > 0.0)
+        .fold(f64::INFINITY, f64::min);
+    let small_mass = if min_mass.is_finite() {
+        1e-8 * min_mass
+    } else {
+        1e-8
+    };
+    let small_inertia = if min_inertia.is_finite() {
+        1e-8 * min_inertia
+    } else {
+        small_mass * l * l
+    };
+    let mut massless_parts = 0;
+    let mut m = Vec::with_capacity(12 * model.parts.len());
+    for (k, p) in model.parts.iter().enumerate() {
+        let mass = if p.mass > 0.0 { p.mass } else { small_mass };
+        if p.mass <= 0.0 {
+            massless_parts += 1;
+        }
+        let r = s.poses[k].r;
+        let mut ig = r * p.inertia * r.transpose();
+        if linkage_model::inertia::symmetric_eigenvalues(&ig)[0] <= 0.0 {
+            ig += glam::DMat3::IDENTITY * small_inertia;
+        }
+        for c in 0..3 {
+            m.push((6 * k + c, 6 * k + c, mass * l * l));
+            for d in 0..3 {
+                m.push((6 * k + 3 + c, 6 * k + 3 + d, ig.col(d)[c]));
+            }
+        }
+    }
+    // Stiffness and damping (scaled).
+    let mut kmat = Vec::new();
+    let mut cmat = Vec::new();
+    let mut dq = Vec::new();
+    let mut dv = Vec::new();
+    forces.add_jacobians(s, v, &mut dq, Some(&mut dv))?;
+    for (i, j, x) in dq {
+        kmat.push((i, j, -(ucf * x * sc(i) * sc(j))));
+    }
+    if damping {
+        for (i, j, x) in dv {
+            cmat.push((i, j, -(ucf * x * sc(i) * sc(j))));
+        }
+        // Gyroscopic term of −ω × (I ω): ∂/∂ω = −([ω]× I − [Iω]×).
+        for (k, p) in model.parts.iter().enumerate() {
+            let w = v[k].1;
+            if w == glam::DVec3::ZERO {
+                continue;
+            }
+            let r = s.poses[k].r;
+            let ig = r * p.inertia * r.transpose();
+            let gmat = linkage_model::frames::skew(w) * ig - linkage_model::frames::skew(ig * w);
+            for c in 0..3 {
+                for d in 0..3 {
+                    cmat.push((6 * k + 3 + c, 6 * k + 3 + d, gmat.col(d)[c]));
+                }
+            }
+        }
+    }
+    let mut hb = HessianBlocks::default();
+    let mut trip = Vec::new();
+    for &(r, lam) in lambda {
+        hb.clear();
+        sys.hessian(r, s, 1.0, &mut hb);
+        trip.clear();
+        hb.triplets(lam * ucf, &mut trip);
+        for &(i, j, x) in &trip {
+            kmat.push((i, j, x * sc(i) * sc(j)));
+        }
+    }
+    // Constraint Jacobian (scaled columns).
+    let mut jac = Vec::new();
+    let mut g = RowGradient::default();
+    for (k, &r) in rows.iter().enumerate() {
+        sys.gradient(r, s, &mut g);
+        for (body, b) in &g.blocks {
+            for (c, bc) in b.iter().enumerate() {
+                jac.push((k, 6 * body + c, bc * sc(c)));
+            }
+        }
+    }
+    Ok(LinearEquations {
+        coordinates: 6 * model.parts.len(),
+        mass: m,
+        damping: cmat,
+        stiffness: kmat,
+        jacobian: jac,
+        constraints: rows.len(),
+        characteristic_length: l,
+        massless_parts,
+    })
+}
+
+/// Linearises at positions `s`, velocities `v`, with constraint multipliers `lambda` (row,
+/// value in model force units) on the independent rows `rows`, by the method `opts` chooses.
+#[allow(clippy::too_many_arguments)]
+pub fn linearize(
+    model: &Model,
+    sys: &System,
+    rows: &[usize],
+    forces: &dyn AppliedForces,
+    s: &State,
+    v: &Velocities,
+    lambda: &[(usize, f64)],
+    opts: LinearOptions,
+) -> Result<Linearization, String> {
+    let eq = assemble(model, sys, rows, forces, s, v, lambda, opts.damping)?;
+    let dof = eq.coordinates.saturating_sub(eq.constraints);
+    match opts.method {
+        EigenMethod::Dense => solve_dense(&eq, opts.vectors),
+        EigenMethod::Auto if dof <= DENSE_MAX_DOF && eq.coordinates <= DENSE_MAX_COORDINATES => {
+            solve_dense(&eq, opts.vectors)
+        }
+        EigenMethod::Auto => solve_shift_invert(&eq, DEFAULT_MODES, None, opts.vectors),
+        EigenMethod::ShiftInvert { modes, shift } => {
+            solve_shift_invert(&eq, modes, shift, opts.vectors)
+        }
+    }
+}
+
+/// Sums triplets into a dense matrix, in order.
+fn dense(rows: usize, cols: usize, entries: &[(usize, usize, f64)]) -> Mat<f64> {
+    let mut a = Mat::<f64>::zeros(rows, cols);
+    for &(i, j, x) in entries {
+        a[(i, j)] += x;
+    }
+    a
+}
+
+/// Part shapes from the complex coordinates of a mode (unscaled: translations in length units),
+/// normalised by the largest component.
+fn part_shapes(coords: &[(f64, f64)]) -> Vec<PartShape> {
+    let biggest = coords
+        .iter()
+        .map(|(r, i)| r.hypot(*i))
+        .fold(0.0, f64::max)
+        .max(1e-300);
+    (0..coords.len() / 6)
+        .map(|k| {
+            let comp = |c: usize| {
+                let (r, i) = coords[6 * k + c];
+                Component {
+                    magnitude: r.hypot(i) / biggest,
+                    phase_deg: i.atan2(r).to_degrees(),
+                }
+            };
+            PartShape {
+                part: k,
+                translation: [comp(0), comp(1), comp(2)],
+                rotation: [comp(3), comp(4), comp(5)],
+            }
+        })
+        .collect()
+}
+
+fn sort_modes(modes: &mut [Mode]) {
+    modes.sort_by(|a, b| {
+        a.frequency
+            .total_cmp(&b.frequency)
+            .then(a.real.total_cmp(&b.real))
+    });
+}
+
+/// The model's frequency scale `ω_ref = max(√(‖K‖/‖M‖), ‖C‖/‖M‖)` (max-entry norms): zero
+/// eigenvalues are judged against it (`|λ| ≤ 1e-6 ω_ref`), not against the other eigenvalues (a
+/// one-DOF model has no others).
+fn frequency_scale(kn: f64, cn: f64, mn: f64) -> f64 {
+    let mn = mn.max(1e-300);
+    (kn / mn).sqrt().max(cn / mn).max(1e-300)
+}
+
+/// Zero eigenvalues expected from the free motions without stiffness: two per free motion,
+/// minus one for each independent direction damping acts in (`pc` = the damping matrix
+/// projected on those motions).
+fn expected_zeros(free: usize, pc: &Mat<f64>) -> usize {
+    let p = pc.nrows();
+    let cmax = (0..p)
+        .flat_map(|i| (0..p).map(move |j| (i, j)))
+        .map(|(i, j)| pc[(i, j)].abs())
+        .fold(0.0, f64::max);
+    let damped = if p == 0 || cmax == 0.0 {
+        0
+    } else {
+        p - null_space(pc).ncols()
+    };
+    (2 * free).saturating_sub(damped)
+}
+
+/// The dense solution: every eigenvalue of the problem reduced to the null space of J.
+fn solve_dense(eq: &LinearEquations, vectors: bool) -> Result<Linearization, String> {
+    let dim = eq.coordinates;
+    let m = dense(dim, dim, &eq.mass);
+    let kmat = dense(dim, dim, &eq.stiffness);
+    let cmat = dense(dim, dim, &eq.damping);
+    let jm = dense(eq.constraints, dim, &eq.jacobian);
+    let nb = null_space(&jm);
+    let f = nb.ncols();
+    if f == 0 {
+        return Ok(Linearization {
+            dof: 0,
+            modes: Vec::new(),
+            computed_eigenvalues: 0,
+            zero_eigenvalues: 0,
+            expected_zero_eigenvalues: 0,
+            massless_parts: eq.massless_parts,
+            solution: Solution::Dense,
+        });
+    }
+    let mr = nb.transpose() * &m * &nb;
+    let kr = nb.transpose() * &kmat * &nb;
+    let cr = nb.transpose() * &cmat * &nb;
+    let lu = mr.partial_piv_lu();
+    let minv = lu.inverse();
+    let mk = &minv * &kr;
+    let mc = &minv * &cr;
+    let mut a = Mat::<f64>::zeros(2 * f, 2 * f);
+    for i in 0..f {
+        a[(i, f + i)] = 1.0;
+        for j in 0..f {
+            a[(f + i, j)] = -mk[(i, j)];
+            a[(f + i, f + j)] = -mc[(i, j)];
+        }
+    }
+    if (0..2 * f).any(|i| (0..2 * f).any(|j| !a[(i, j)].is_finite())) {
+        return Err("the reduced mass matrix is singular".into());
+    }
+    let eig = a
+        .eigen()
+        .map_err(|e| format!("the eigen solution failed: {e:?}"))?;
+    let vals = eig.S();
+    let vecs = eig.U();
+    let lmax = (0..2 * f)
+        .map(|i| cplx_abs(vals[i].re, vals[i].im))
+        .fold(0.0, f64::max);
+    let norm_max = |x: &Mat<f64>| {
+        (0..dim)
+            .flat_map(|i| (0..dim).map(move |j| (i, j)))
+            .map(|(i, j)| x[(i, j)].abs())
+            .fold(0.0, f64::max)
+    };
+    let (kn, cn, mn) = (norm_max(&kmat), norm_max(&cmat), norm_max(&m));
+    let zero_tol = 1e-6 * frequency_scale(kn, cn, mn);
+    let zero_eigenvalues = (0..2 * f)
+        .filter(|&i| cplx_abs(vals[i].re, vals[i].im) <= zero_tol)
+        .count();
+    // Free motions without stiffness: the null space of the symmetric part of K_r.
+    let ksym = Mat::<f64>::from_fn(f, f, |i, j| 0.5 * (kr[(i, j)] + kr[(j, i)]));
+    let kmax = (0..f)
+        .flat_map(|i| (0..f).map(move |j| (i, j)))
+        .map(|(i, j)| ksym[(i, j)].abs())
+        .fold(0.0, f64::max);
+    let expected_zero_eigenvalues = match ksym.self_adjoint_eigen(faer::Side::Lower) {
+        Ok(e) => {
+            let s_vals = e.S();
+            let u = e.U();
+            let free: Vec<usize> = (0..f)
+                .filter(|&i| s_vals[i].abs() <= 1e-10 * kmax.max(kn).max(1e-300))
+                .collect();
+            let p = Mat::<f64>::from_fn(f, free.len(), |i, j| u[(i, free[j])]);
+            let pc = p.transpose() * &cr * &p;
+            expected_zeros(free.len(), &pc)
+        }
+        Err(_) => zero_eigenvalues,
+    };
+    let mut modes = Vec::new();
+    for i in 0..2 * f {
+        let (re, im) = (vals[i].re, vals[i].im);
+        if im < -1e-12 * lmax.max(1.0) {
+            continue;
+        }
+        let shape = vectors.then(|| {
+            // Positions: top half of the eigenvector, mapped back to part coordinates.
+            let mut coords = vec![(0.0f64, 0.0f64); dim];
+            for (row, c) in coords.iter_mut().enumerate() {
+                let (mut sr, mut si) = (0.0, 0.0);
+                for j in 0..f {
+                    let z = vecs[(j, i)];
+                    sr += nb[(row, j)] * z.re;
+                    si += nb[(row, j)] * z.im;
+                }
+                *c = (sr * eq.scale(row), si * eq.scale(row));
+            }
+            part_shapes(&coords)
+        });
+        modes.push(mode(re, im, shape));
+    }
+    sort_modes(&mut modes);
+    Ok(Linearization {
+        dof: f,
+        modes,
+        computed_eigenvalues: 2 * f,
+        zero_eigenvalues,
+        expected_zero_eigenvalues,
+        massless_parts: eq.massless_parts,
+        solution: Solution::Dense,
+    })
+}
+
+/// Complex coordinates of a mode shape in model units (translations times `L`), conjugated
+/// with `conj`.
+fn shape_coords(eq: &LinearEquations, x_re: &[f64], x_im: &[f64], conj: bool) -> Vec<(f64, f64)> {
+    let sign = if conj { -1.0 } else { 1.0 };
+    (0..eq.coordinates)
+        .map(|i| (x_re[i] * eq.scale(i), sign * x_im[i] * eq.scale(i)))
+        .collect()
+}
+
+fn mode(re: f64, im: f64, shape: Option<Vec<PartShape>>) -> Mode {
+    let mag = cplx_abs(re, im);
+    Mode {
+        real: re,
+        imag: im.max(0.0),
+        frequency: mag / std::f64::consts::TAU,
+        // `+ 0.0` turns the −0 of an undamped mode into 0.
+        damping_ratio: if mag > 0.0 { -re / mag + 0.0 } else { 0.0 },
+        shape,
+    }
+}
+
+/// Principal square root of a complex number.
+fn csqrt(re: f64, im: f64) -> (f64, f64) {
+    let r = cplx_abs(re, im);
+    let a = (0.5 * (r + re)).max(0.0).sqrt();
+    let b = (0.5 * (r - re)).max(0.0).sqrt();
+    (a, if im < 0.0 { -b } else { b })
+}
+
+/// Modes, eigenvalue counts and solves of one shift-invert solution.
+struct SparseModes {
+    modes: Vec<Mode>,
+    computed: usize,
+    zeros: usize,
+    solves: usize,
+    /// Free motions without stiffness, when the main solution already found them.
+    free: Option<(usize, Vec<Vec<f64>>)>,
+}
+
+/// Without damping (`C = 0`): the constrained problem `K x + Jᵀμ = ν M x` with `ν = −λ²`,
+/// shifted at `τ = −ε²` (lowest modes) or `τ = ω_F²` (around `ω_F`). Each real `ν ≥ 0` is the
+/// mode `λ = ±i√ν`, each `ν < 0` the two real modes `±√(−ν)`, each complex pair `(ν, ν̄)` the
+/// four eigenvalues `±√(−ν)`, `±√(−ν̄)` (two modes with `Im λ ≥ 0`).
+#[allow(clippy::too_many_arguments)]
+fn undamped_modes(
+    eq: &LinearEquations,
+    pencil: &ConstrainedPencil,
+    modes: usize,
+    omega: f64,
+    omega_f: f64,
+    zero_tol: f64,
+    free_tol: f64,
+    vectors: bool,
+) -> Result<SparseModes, String> {
+    let lowest = omega_f == 0.0;
+    let eps = DEFAULT_SHIFT_FRACTION * omega;
+    // Around a frequency, 0.1 % below it: a shift on an eigenvalue makes the KKT matrix
+    // singular, and one near it makes its θ dwarf the others'.
+    let mut tau = if lowest {
+        -eps * eps
+    } else {
+        (omega_f * (1.0 - 1e-3)).powi(2)
+    };
+    // With the lowest modes, every ν in the zero window |ν| ≤ max(zero_tol², free_tol) too.
+    let window = (zero_tol * zero_tol).max(free_tol);
+    let mut tries = 0;
+    let found = loop {
+        let wanted = Wanted {
+            count: modes.max(1),
+            beyond: lowest.then(|| 1.0 / (tau.abs() + window)),
+        };
+        match pencil.nearest_linear(tau, wanted, false) {
+            Ok(r) => break r,
+            // The shift hit an eigenvalue: move it.
+            Err(EigenError::Shift(_)) if tries < 3 => {
+                tau -= 3.7 * tau.abs().max(eps * eps) * 1e-3 * (1 + tries) as f64;
+                tries += 1;
+            }
+            Err(e) => return Err(e.to_string()),
+        }
+    };
+    let mut out = Vec::new();
+    let (mut computed, mut zeros) = (0, 0);
+    for p in &found.pairs {
+        let (nr, ni) = p.nu;
+        let shape =
+            |conj: bool| vectors.then(|| part_shapes(&shape_coords(eq, &p.x_re, &p.x_im, conj)));
+        if p.multiplicity == 1 {
+            computed += 2;
+            if nr.abs().sqrt() <= zero_tol {
+                zeros += 2;
+            }
+            if nr >= 0.0 {
+                out.push(mode(0.0, nr.sqrt(), shape(false)));
+            } else {
+                let a = (-nr).sqrt();
+                out.push(mode(a, 0.0, shape(false)));
+                out.push(mode(-a, 0.0, shape(false)));
+            }
+        } else {
+            computed += 4;
+            let (a, b) = csqrt(-nr, -ni);
+            if cplx_abs(a, b) <= zero_tol {
+                zeros += 4;
+            }
+            // λ = ±(a + ib) with x, ±(a − ib) with x̄: the two with Im λ ≥ 0.
+            let conj = b < 0.0;
+            out.push(mode(a, b.abs(), shape(conj)));
+            out.push(mode(-a, b.abs(), shape(!conj)));
+        }
+    }
+    // K symmetric: the free motions are the ν = 0 vectors found (all of them, with `window`).
+    let n = eq.coordinates;
+    let asym: Vec<(usize, usize, f64)> = pencil
+        .stiffness
+        .entries()
+        .flat_map(|(i, j, v)| [(i, j, v), (j, i, -v)])
+        .collect();
+    let symmetric = SparseMatrix::from_triplets(n, n, &asym)
+        .is_ok_and(|d| d.max_abs() <= 1e-12 * pencil.stiffness.max_abs());
+    let free = (lowest && symmetric).then(|| zero_eigenvectors(&found.pairs, free_tol));
+    Ok(SparseModes {
+        modes: out,
+        computed,
+        zeros,
+        solves: found.applications,
+        free,
+    })
+}
+
+/// With damping: the first-order problem shifted at `σ = −ε + iω_F`, in the balanced state
+/// `(a·x, v)` with `a = ω_F` (around a frequency) or `a = √(ε ω_ref)` (lowest modes: between the
+/// shift, where undamped free motions make Jordan blocks, and the model's frequencies).
+fn damped_modes(
+    eq: &LinearEquations,
+    pencil: &ConstrainedPencil,
+    modes: usize,
+    omega: f64,
+    omega_f: f64,
+    zero_tol: f64,
+    vectors: bool,
+) -> Result<SparseModes, String> {
+    let lowest = omega_f == 0.0;
+    let eps = DEFAULT_SHIFT_FRACTION * omega;
+    let mut sigma_re = -eps;
+    let scale = if lowest {
+        (eps * omega).sqrt()
+    } else {
+        omega_f
+    };
+    let mut tries = 0;
+    let found = loop {
+        let wanted = Wanted {
+            count: modes.max(1),
+            // With the lowest modes, every zero eigenvalue too (|λ − σ| ≤ |σ| + zero_tol).
+            beyond: lowest.then(|| 1.0 / (sigma_re.abs() + zero_tol)),
+        };
+        match pencil.nearest((sigma_re, omega_f), scale, wanted) {
+            Ok(r) => break r,
+            // The shift hit an eigenvalue: move it.
+            Err(EigenError::Shift(_)) if tries < 3 => {
+                sigma_re *= 3.7;
+                tries += 1;
+            }
+            Err(e) => return Err(e.to_string()),
+        }
+    };
+    let lmax = found
+        .pairs
+        .iter()
+        .map(|p| cplx_abs(p.lambda.0, p.lambda.1))
+        .fold(0.0, f64::max);
+    let mut out = Vec::new();
+    let mut zeros = 0;
+    for p in &found.pairs {
+        let (re, im) = p.lambda;
+        let count = if im == 0.0 { 1 } else { 2 };
+        if cplx_abs(re, im) <= zero_tol {
+            zeros += count;
+        }
+        let shape =
+            |conj: bool| vectors.then(|| part_shapes(&shape_coords(eq, &p.x_re, &p.x_im, conj)));
+        // As in the dense path, a pair whose imaginary part is round-off is two real modes.
+        if count == 2 && im <= 1e-12 * lmax.max(1.0) {
+            out.push(mode(re, 0.0, shape(true)));
+        }
+        out.push(mode(re, im, shape(false)));
+    }
+    Ok(SparseModes {
+        modes: out,
+        computed: found.eigenvalues,
+        zeros,
+        solves: found.applications,
+        free: None,
+    })
+}
+
+/// The shift-invert solution: the `modes` modes nearest the frequency `shift` (default: the
+/// lowest, from just below zero, and then every zero eigenvalue as well), without damping on
+/// the `n`-dimensional problem in `ν = −λ²`, with damping on the first-order one; and the
+/// count of free motions without stiffness from the constrained symmetric problem
+/// `K_s x + Jᵀμ = ν M x` near `ν = 0` (unless the undamped solution found them already).
+fn solve_shift_invert(
+    eq: &LinearEquations,
+    modes: usize,
+    shift: Option<f64>,
+    vectors: bool,
+) -> Result<Linearization, String> {
+    let pencil = eq.pencil().map_err(|e| e.to_string())?;
+    let f = pencil.free_motions();
+    let (kn, cn, mn) = (
+        pencil.stiffness.max_abs(),
+        pencil.damping.max_abs(),
+        pencil.mass.max_abs(),
+    );
+    let omega_ref = frequency_scale(kn, cn, mn);
+    // Without stiffness or damping every eigenvalue is zero; any scale will do.
+    let omega = if omega_ref > 1e-300 { omega_ref } else { 1.0 };
+    let zero_tol = 1e-6 * omega;
+    let omega2 = omega * omega;
+    // Free motions: |ν| ≤ 1e-10 ω_ref² (the dense path: 1e-10 ‖K‖ on K_r's eigenvalues).
+    let free_tol = 1e-10 * omega2;
+    let omega_f = shift.map_or(0.0, f64::abs);
+    let lowest = omega_f == 0.0;
+    if f == 0 {
+        return Ok(Linearization {
+            dof: 0,
+            modes: Vec::new(),
+            computed_eigenvalues: 0,
+            zero_eigenvalues: 0,
+            expected_zero_eigenvalues: 0,
+            massless_parts: eq.massless_parts,
+            solution: Solution::ShiftInvert {
+                shift: omega_f,
+                solves: 0,
+                zeros_complete: true,
+            },
+        });
+    }
+    let mut sm = if cn == 0.0 {
+        undamped_modes(
+            eq, &pencil, modes, omega, omega_f, zero_tol, free_tol, vectors,
+        )?
+    } else {
+        damped_modes(eq, &pencil, modes, omega, omega_f, zero_tol, vectors)?
+    };
+    sort_modes(&mut sm.modes);
+    let mut solves = sm.solves;
+    let free = match sm.free.take() {
+        Some(found) => Ok(found),
+        None => pencil
+            .stiffness_null_space(-DEFAULT_SHIFT_FRACTION * omega2, free_tol)
+            .map(|(free, basis, applications)| {
+                solves += applications;
+                (free, basis)
+            }),
+    };
+    let expected_zero_eigenvalues = match free {
+        Ok((free, basis)) => {
+            let cp: Vec<Vec<f64>> = basis
+                .iter()
+                .map(|b| {
+                    let mut y = vec![0.0; b.len()];
+                    pencil.damping.mul_add(1.0, b, &mut y);
+                    y
+                })
+                .collect();
+            let pc = Mat::<f64>::from_fn(basis.len(), basis.len(), |i, j| {
+                basis[i].iter().zip(&cp[j]).map(|(a, b)| a * b).sum()
+            });
+            expected_zeros(free, &pc)
+        }
+        Err(_) => sm.zeros,
+    };
+    Ok(Linearization {
+        dof: f,
+        modes: sm.modes,
+        computed_eigenvalues: sm.computed,
+        zero_eigenvalues: sm.zeros,
+        expected_zero_eigenvalues,
+        massless_parts: eq.massless_parts,
+        solution: Solution::ShiftInvert {
+            shift: omega_f,
+            solves,
+            zeros_complete: lowest,
+        },
+    })
+}
+
+/// A linear analysis: initial conditions, optionally static equilibrium, then the eigen
+/// solution about that operating point.
+#[derive(Clone, Debug)]
+pub struct LinearRun {
+    pub ic: crate::stages::ic::InitialConditions,
+    /// The static equilibrium used as operating point (with `--static-first`).
+    pub equilibrium: Option<Result<crate::stages::statics::Equilibrium, String>>,
+    pub result: Result<Linearization, String>,
+}
+
+/// Runs the initial conditions, then (with `static_first`) static equilibrium, then the
+/// linearization about the resulting operating point. Without static equilibrium the operating
+/// point is the assembled configuration with the IC velocities and the constraint forces of the
+/// acceleration/force IC.
+pub fn run(
+    model: &Model,
+    drivers: &crate::constraints::drivers::ExpressionDrivers,
+    forces: &dyn AppliedForces,
+    tol: &crate::tolerances::Tolerances,
+    static_first: bool,
+    opts: LinearOptions,
+) -> LinearRun {
+    let sys = System::new(model);
+    if static_first {
+        let st = crate::stages::statics::run(model, drivers, forces, tol, &[0.0]);
+        let eq = st.steps.into_iter().next().map(|(_, e)| e);
+        let ic = st.ic;
+        let rows = crate::stages::ic::admitted_rows(&ic.analysis);
+        let result = match &eq {
+            Some(Ok(e)) if e.converged => {
+                let v = vec![(glam::DVec3::ZERO, glam::DVec3::ZERO); model.parts.len()];
+                linearize(
+                    model,
+                    &sys,
+                    &rows,
+                    forces,
+                    &e.state,
+                    &v,
+                    &e.multipliers,
+                    opts,
+                )
+            }
+            Some(Ok(_)) => Err("static equilibrium did not converge; no operating point".into()),
+            Some(Err(e)) => Err(e.clone()),
+            None => Err(format!(
+                "{}; no operating point",
+                ic.failure(model)
+                    .unwrap_or_else(|| "the model could not be assembled".into())
+            )),
+        };
+        return LinearRun {
+            ic,
+            equilibrium: eq,
+            result,
+        };
+    }
+    let ic = crate::stages::ic::initial_conditions(model, drivers, forces, tol);
+    let rows = crate::stages::ic::admitted_rows(&ic.analysis);
+    let result = match (&ic.velocity, &ic.acceleration) {
+        _ if ic.failure(model).is_some() => Err(format!(
+            "{}; no operating point",
+            ic.failure(model).unwrap_or_default()
+        )),
+        (Some(v), Some(Ok(a))) => linearize(
+            model,
+            &sys,
+            &rows,
+            forces,
+            &ic.assembly.state,
+            &v.velocities,
+            &a.multipliers,
+            opts,
+        ),
+        (_, Some(Err(e))) => Err(e.clone()),
+        _ => Err(format!(
+            "{}; no operating point",
+            ic.failure(model)
+                .unwrap_or_else(|| "the model could not be assembled".into())
+        )),
+    };
+    LinearRun {
+        ic,
+        equilibrium: None,
+        result,
+    }
+}

@@ -1,0 +1,237 @@
+//! Static equilibrium by damped dynamics ("dynamic settling", ADM-REFERENCE §8.3).
+//!
+//! Time is frozen at the start time (motions and forces see that time), every part gets a
+//! damping force `−c m v` and torque `−c I ω` with `c` = GLOBAL_DAMPING (per time unit), and
+//! the model is integrated until both the kinetic energy (`Σ ½ m v² + ½ ωᵀ I ω`, divided by
+//! the UCF into force × length) and the largest CM or angular acceleration fall below
+//! KINETIC_ENERGY_ERROR and ACCELERATION_ERROR, or until SETTLING_TIME runs out. The limits are
+//! checked at 400 evenly spaced outputs of one integration (HHT at ERROR 1e-4, steps no longer
+//! than the spacing), which stops at the first output where both hold. The settled
+//! configuration is then polished with the static Newton iteration, and time is reset to the
+//! start.
+
+use crate::constraints::drivers::ExpressionDrivers;
+use crate::constraints::system::System;
+use crate::physics::applied::AppliedForces;
+use crate::stages::dynamics::{
+    simulate_with, AfterOutput, ExtraDamping, IntegratorSettings, Problem,
+};
+use crate::stages::statics::{equilibrium, Equilibrium};
+use crate::state::State;
+use crate::tolerances::Tolerances;
+use glam::DVec3;
+use linkage_model::settings::shown;
+use linkage_model::Model;
+
+/// Outputs at which the settling checks its limits, evenly spaced over SETTLING_TIME.
+const WINDOWS: usize = 400;
+
+/// What ended the settling.
+#[derive(Clone, Debug, PartialEq)]
+pub enum SettleStop {
+    /// Kinetic energy and accelerations both fell below their limits.
+    Settled {
+        kinetic_energy: f64,
+        acceleration: f64,
+    },
+    /// SETTLING_TIME ran out first: the model did not settle.
+    SettlingTime {
+        kinetic_energy: f64,
+        acceleration: f64,
+    },
+    /// The integration failed.
+    Failed(String),
+}
+
+/// Result of dynamic settling.
+#[derive(Clone, Debug)]
+pub struct Settling {
+    pub ic: crate::stages::ic::InitialConditions,
+    /// `None` when the model could not be assembled (nothing was integrated).
+    pub outcome: Option<SettleOutcome>,
+}
+
+/// How the settling of an assembled model went: what stopped it, the pseudo-time integrated,
+/// and the Newton polish from where it stopped.
+#[derive(Clone, Debug)]
+pub struct SettleOutcome {
+    pub stop: SettleStop,
+    pub time_used: f64,
+    /// Where the integration stopped (time reset to the start), before the polish.
+    pub state: State,
+    /// The static Newton polish from the settled configuration (time reset to the start);
+    /// `None` when the integration failed.
+    pub equilibrium: Option<Result<Equilibrium, String>>,
+}
+
+impl SettleOutcome {
+    /// The equilibrium, when the model settled and the polish converged.
+    pub fn settled_equilibrium(&self) -> Option<&Equilibrium> {
+        match (&self.stop, &self.equilibrium) {
+            (SettleStop::Settled { .. }, Some(Ok(e))) if e.converged => Some(e),
+            _ => None,
+        }
+    }
+
+    /// Why no equilibrium came out of the settling, in a sentence (`None` when one did).
+    pub fn failure(&self, model: &Model, sys: &System) -> Option<String> {
+        let eq = &model.equilibrium;
+        match (&self.stop, &self.equilibrium) {
+            (SettleStop::Failed(m), _) => Some(format!("dynamic settling failed: {m}")),
+            (
+                SettleStop::SettlingTime {
+                    kinetic_energy,
+                    acceleration,
+                },
+                _,
+            ) => Some(format!(
+                "the model did not settle within SETTLING_TIME = {}: kinetic energy {:.3e} \
+                 (limit {:.3e}), largest acceleration {:.3e} (limit {:.3e})",
+                shown(eq.settling_time),
+                kinetic_energy,
+                eq.kinetic_energy_error,
+                acceleration,
+                eq.acceleration_error
+            )),
+            (SettleStop::Settled { .. }, Some(Ok(e))) if !e.converged => Some(format!(
+                "the model settled, but its Newton polish failed: {}",
+                e.failure(model, sys).unwrap_or_default()
+            )),
+            (SettleStop::Settled { .. }, Some(Err(m))) => Some(format!(
+                "the model settled, but the static Newton polish failed: {m}"
+            )),
+            _ => None,
+        }
+    }
+}
+
+/// Settles the model by damped dynamics, then polishes with Newton statics, with the
+/// dataset's EQUILIBRIUM settings (`model.equilibrium`).
+pub fn settle(
+    model: &Model,
+    drivers: &ExpressionDrivers,
+    forces: &dyn AppliedForces,
+    tol: &Tolerances,
+) -> Settling {
+    settle_watched(model, drivers, forces, tol, |_| {})
+}
+
+/// [`settle`], reporting the pseudo-time integrated so far (from 0 to SETTLING_TIME) to
+/// `progress` after every step.
+pub fn settle_watched(
+    model: &Model,
+    drivers: &ExpressionDrivers,
+    forces: &dyn AppliedForces,
+    tol: &Tolerances,
+    progress: impl FnMut(f64),
+) -> Settling {
+    let ic = crate::stages::ic::initial_conditions(model, drivers, forces, tol);
+    if ic.failure(model).is_some() {
+        return Settling { ic, outcome: None };
+    }
+    let outcome = settle_assembled(model, drivers, forces, &ic, progress);
+    Settling {
+        ic,
+        outcome: Some(outcome),
+    }
+}
+
+/// Settles a model from its initial conditions `ic` (which must have assembled, with no
+/// inconsistent redundancy): damped dynamics with time frozen at the start, then the Newton
+/// polish at the start time. `progress` hears the pseudo-time integrated after every step.
+pub fn settle_assembled(
+    model: &Model,
+    drivers: &ExpressionDrivers,
+    forces: &dyn AppliedForces,
+    ic: &crate::stages::ic::InitialConditions,
+    mut progress: impl FnMut(f64),
+) -> SettleOutcome {
+    let eq = &model.equilibrium;
+    let sys = System::new(model);
+    let (rows, redundant) = ic.kept_and_removed_rows();
+    let drivers = &drivers.anchored(&sys, &rows, &ic.assembly.state);
+    let t0 = ic.assembly.state.time;
+    let problem = Problem {
+        model,
+        sys: &sys,
+        rows: &rows,
+        redundant: &redundant,
+        drivers,
+        forces,
+        damping: Some(ExtraDamping(eq.global_damping)),
+        frozen_time: Some(t0),
+    };
+    let v0: Vec<(DVec3, DVec3)> = ic
+        .velocity
+        .as_ref()
+        .map(|v| v.velocities.clone())
+        .unwrap_or_else(|| vec![(DVec3::ZERO, DVec3::ZERO); model.parts.len()]);
+    // One integration over SETTLING_TIME, watched at `WINDOWS` evenly spaced outputs (and the
+    // start): it ends at the first output where both limits hold.
+    let dt = eq.settling_time / WINDOWS as f64;
+    let times: Vec<f64> = (0..=WINDOWS).map(|k| t0 + dt * k as f64).collect();
+    let settings = IntegratorSettings {
+        error: 1e-4,
+        hmax: Some(dt),
+        ..Default::default()
+    };
+    let mut stop = None;
+    let mut last: Option<(State, f64)> = None;
+    let sim = simulate_with(
+        &problem,
+        &ic.assembly.state,
+        &v0,
+        &times,
+        &settings,
+        |tau| progress(tau - t0),
+        |out| {
+            let ke = out.kinetic_energy(model);
+            let acc = out
+                .accelerations
+                .iter()
+                .map(|(a, al)| a.length().max(al.length()))
+                .fold(0.0, f64::max);
+            let settled = ke <= eq.kinetic_energy_error && acc <= eq.acceleration_error;
+            stop = Some(if settled {
+                SettleStop::Settled {
+                    kinetic_energy: ke,
+                    acceleration: acc,
+                }
+            } else {
+                SettleStop::SettlingTime {
+                    kinetic_energy: ke,
+                    acceleration: acc,
+                }
+            });
+            last = Some((out.state, out.time));
+            if settled {
+                AfterOutput::Stop
+            } else {
+                AfterOutput::Continue
+            }
+        },
+    );
+    if let Some(f) = sim.failure {
+        stop = Some(SettleStop::Failed(format!(
+            "at settling time {}: {}",
+            f.time - t0,
+            f.message
+        )));
+    }
+    let (mut state, tau) = last.unwrap_or_else(|| (ic.assembly.state.clone(), t0));
+    let time_used = tau - t0;
+    state.time = t0;
+    let stop = stop.unwrap_or_else(|| {
+        SettleStop::Failed("the settling integration produced no output".into())
+    });
+    let equilibrium = match &stop {
+        SettleStop::Failed(_) => None,
+        _ => Some(equilibrium(model, &sys, &rows, drivers, forces, &state, eq)),
+    };
+    SettleOutcome {
+        stop,
+        time_used,
+        state,
+        equilibrium,
+    }
+}

@@ -1,0 +1,733 @@
+//! Static equilibrium (DESIGN §6, ADM-REFERENCE §8.2): modified Newton–Raphson on positions and
+//! multipliers with the dataset's EQUILIBRIUM settings.
+//!
+//! Unknowns: tangent position increments of every part and one multiplier per independent
+//! constraint row. Equations (model force units):
+//!
+//! ```text
+//! F(q, λ) = Q_applied(q) + Q_gravity − Jᵀλ = 0,     Φ(q, t) = 0
+//! [ K_T   Jᵀ ] [δ ]   [  F ]        K_T = −∂Q/∂q + Σ_r λ_r ∂²Φ_r/∂q²   (geometric stiffness)
+//! [ J     0  ] [δλ] = [ −Φ ]
+//! ```
+//!
+//! STABILITY adds a fraction of the mass matrix to `K_T` in the Newton matrix only (the
+//! equations are unchanged, so the equilibrium is too). PATTERN decides when the matrix is
+//! refreshed; TLIMIT and ALIMIT cap each correction. Convergence needs the force imbalance
+//! below IMBALANCE, the relative correction below ERROR and the constraints satisfied.
+//! After convergence, stability is judged from the smallest eigenvalue of the stiffness reduced
+//! to the free motions (`Nᵀ K_T N`, N a basis of the null space of J).
+
+use crate::constraints::hessian::HessianBlocks;
+use crate::constraints::rows::{RowGradient, Velocities};
+use crate::constraints::system::{RowUnit, System};
+use crate::linalg::linear::SparseLu;
+use crate::physics::applied::AppliedForces;
+use crate::physics::reactions::{element_reactions, Reaction};
+use crate::stages::verify::Drivers;
+use crate::state::State;
+use crate::tolerances::Tolerances;
+use crate::tolerances::STATIC_ROUNDING_IMBALANCE;
+use glam::DVec3;
+use linkage_model::settings::EquilibriumSettings;
+use linkage_model::Model;
+
+/// Which equation an imbalance belongs to.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Imbalance {
+    /// Force (component 0..3) or torque (3..6) balance of a part.
+    Part { part: usize, component: usize },
+    /// A constraint row.
+    Row(usize),
+}
+
+/// Names of the six balance equations of a part.
+const BALANCE: [&str; 6] = [
+    "force X", "force Y", "force Z", "torque X", "torque Y", "torque Z",
+];
+
+impl Imbalance {
+    /// `(element or part name, equation)`: `("PART_2", "force Y balance")`,
+    /// `("JOINT_5", "Translation of I Marker Along Zg")`.
+    pub fn describe(&self, model: &Model, sys: &System) -> (String, String) {
+        match self {
+            Imbalance::Part { part, component } => (
+                model.parts[*part].origin.name.clone(),
+                format!("{} balance", BALANCE[*component]),
+            ),
+            Imbalance::Row(r) => {
+                let row = &sys.rows[*r];
+                (
+                    model.constraints[row.element].origin.name.clone(),
+                    row.label.to_string(),
+                )
+            }
+        }
+    }
+}
+
+/// A part whose Newton correction exceeds this (translation over the characteristic length,
+/// or rotation in radians: a hundred model sizes, or sixteen turns) is moving along a free
+/// motion that nothing resists: the correction is a load divided by STABILITY × the part's
+/// inertia, not a step towards an equilibrium. Such a part is cut to TLIMIT/ALIMIT on its own
+/// instead of scaling (and stalling) every other part's step with it.
+pub const RUNAWAY_CORRECTION: f64 = 1e2;
+
+/// Result of a static equilibrium solve.
+#[derive(Clone, Debug)]
+pub struct Equilibrium {
+    pub state: State,
+    pub converged: bool,
+    pub iterations: usize,
+    /// Largest force/torque imbalance at the end (model force units).
+    pub imbalance: f64,
+    /// The constraint rows in the solve and their multipliers (model force units).
+    pub multipliers: Vec<(usize, f64)>,
+    pub reactions: Vec<Reaction>,
+    /// Smallest eigenvalue of the reduced stiffness (scaled to force × length) and whether the
+    /// equilibrium is stable; `None` when not evaluated (zero DOF, or too large for the dense
+    /// eigen solve).
+    pub stability: Option<(bool, f64)>,
+    /// The equations with the largest imbalance (largest first).
+    pub worst: Vec<(Imbalance, f64)>,
+    /// The model has no degrees of freedom: positions come from the constraints alone.
+    pub kinematic: bool,
+    /// The iteration stalled with a runaway correction ([`RUNAWAY_CORRECTION`]): the largest
+    /// imbalances act along free motions that nothing resists, and three iterations of
+    /// TLIMIT/ALIMIT moves did not reduce them (no equilibrium near).
+    pub unbounded: bool,
+    /// Rows whose second derivatives could not be evaluated (a general constraint's
+    /// expression failing along a path at the pose): the Newton matrix misses their geometric
+    /// stiffness. Every geometric row and every evaluable expression has exact ones.
+    pub approximate_rows: usize,
+}
+
+impl Equilibrium {
+    /// Why this solve did not converge, in a sentence naming the largest imbalances (`None`
+    /// when it converged).
+    pub fn failure(&self, model: &Model, sys: &System) -> Option<String> {
+        if self.converged {
+            return None;
+        }
+        let worst: Vec<String> = self
+            .worst
+            .iter()
+            .map(|(w, v)| {
+                let (name, equation) = w.describe(model, sys);
+                format!("{name} {equation} ({v:.3e})")
+            })
+            .collect();
+        let mut why = format!(
+            "static equilibrium did not converge in {} iterations; largest imbalance in {}",
+            self.iterations,
+            worst.join(", ")
+        );
+        if self.unbounded {
+            why.push_str(UNBOUNDED_NOTE);
+        }
+        Some(why)
+    }
+}
+
+/// What an unbounded Newton correction means, appended to a non-convergence message.
+const UNBOUNDED_NOTE: &str = ": these loads act along free motions that nothing \
+    resists (the Newton correction is unbounded, each iteration only moved the parts by \
+    TLIMIT/ALIMIT), so the model has no static equilibrium near this configuration; support or \
+    drive that motion, or add a restoring force";
+
+/// Largest dense reduced problem for which stability is evaluated.
+const MAX_DENSE_DOF_COLUMNS: usize = 1800;
+
+fn zero_velocities(n: usize) -> Vec<(DVec3, DVec3)> {
+    vec![(DVec3::ZERO, DVec3::ZERO); n]
+}
+
+/// Generalised applied forces including gravity (`m g / UCF` at each centre of mass).
+fn applied(
+    model: &Model,
+    forces: &dyn AppliedForces,
+    s: &State,
+    v: &Velocities,
+) -> Result<Vec<f64>, String> {
+    let n = model.parts.len();
+    let mut q = vec![0.0; 6 * n];
+    let ucf = model.ucf();
+    for (k, p) in model.parts.iter().enumerate() {
+        for c in 0..3 {
+            q[6 * k + c] = p.mass * model.gravity[c] / ucf;
+        }
+    }
+    forces.add_forces(s, v, &mut q)?;
+    Ok(q)
+}
+
+/// Solves for static equilibrium at time `start.time` from `start` (assembled), enforcing the
+/// constraint rows `rows` (the independent rows of verify/IC).
+pub fn equilibrium(
+    model: &Model,
+    sys: &System,
+    rows: &[usize],
+    drivers: &dyn Drivers,
+    forces: &dyn AppliedForces,
+    start: &State,
+    settings: &EquilibriumSettings,
+) -> Result<Equilibrium, String> {
+    let n = model.parts.len();
+    let length = model.characteristic_length;
+    let vel = zero_velocities(n);
+    let mut used: Vec<(usize, f64)> = Vec::with_capacity(rows.len());
+    for &r in rows {
+        let row = &sys.rows[r];
+        if row.driven {
+            match drivers.value(row.element, start.time) {
+                Some(f) => used.push((r, f)),
+                None => {
+                    return Err(crate::stages::verify::motion_error(
+                        model,
+                        drivers,
+                        row.element,
+                        start.time,
+                    ))
+                }
+            }
+        } else {
+            used.push((r, 0.0));
+        }
+    }
+    let m = used.len();
+    // Rows whose second derivatives could not be evaluated at the last Newton matrix.
+    let mut approximate = vec![false; m];
+    let kinematic = m >= 6 * n;
+    let mut s = start.clone();
+    let mut lambda = initial_multipliers(model, sys, &used, forces, &s, &vel)?;
+    let mut grads: Vec<RowGradient> = vec![RowGradient::default(); m];
+    let mut hb = HessianBlocks::default();
+    let mut lu: Option<SparseLu> = None;
+    let mut iterations = 0;
+    let mut converged = false;
+    let (mut last_imbalance, mut last_f, mut last_phi);
+    let dim = 6 * n + m;
+    let ucf = model.ucf();
+    // Constraints are held to the assembly accuracy (IC ERROR), not to the looser EQUILIBRIUM
+    // ERROR, so that positions are as accurate as the initial conditions.
+    let phi_length = model.ic.error.max(1e-13 * length);
+    let phi_angle = model.ic.error.max(1e-13);
+    let mut projected = false;
+    let mut unbounded = false;
+    let mut history: Vec<f64> = Vec::new();
+    loop {
+        // Residuals.
+        for (k, (r, _)) in used.iter().enumerate() {
+            sys.gradient(*r, &s, &mut grads[k]);
+        }
+        let mut f = applied(model, forces, &s, &vel)?;
+        let load = f.iter().map(|x| x.abs()).fold(0.0, f64::max);
+        for (k, g) in grads.iter().enumerate() {
+            for (body, b) in &g.blocks {
+                for c in 0..6 {
+                    f[6 * body + c] -= lambda[k] * b[c];
+                }
+            }
+        }
+        let phi: Vec<f64> = used.iter().map(|(r, d)| sys.residual(*r, &s, *d)).collect();
+        if f.iter().chain(&phi).any(|x| !x.is_finite()) {
+            return Err(format!(
+                "the static iteration diverged at iteration {iterations}: the forces or \
+                 constraint residuals are no longer finite"
+            ));
+        }
+        let imbalance = f.iter().map(|x| x.abs()).fold(0.0, f64::max);
+        let phi_ok = used
+            .iter()
+            .zip(&phi)
+            .all(|((r, _), v)| match sys.rows[*r].unit {
+                RowUnit::Length | RowUnit::Mixed => v.abs() <= phi_length,
+                _ => v.abs() <= phi_angle,
+            });
+        last_imbalance = imbalance;
+        last_f = f.clone();
+        last_phi = phi.clone();
+        // Balanced to rounding: no Newton correction can improve the forces, and along a
+        // free motion without stiffness (a part spinning about a vertical hinge) the
+        // correction is that rounding divided by STABILITY × inertia, a drift of the pose
+        // that never falls below ERROR. Only the constraints are settled (least change).
+        let balanced =
+            imbalance <= settings.imbalance && imbalance <= STATIC_ROUNDING_IMBALANCE * load;
+        if balanced && phi_ok {
+            converged = true;
+            break;
+        }
+        if iterations >= settings.maxit {
+            break;
+        }
+        // Settle the constraints alone, once; should rounding keep them above their tolerance,
+        // the next iteration takes a Newton step as usual.
+        if balanced && !projected {
+            project_onto_constraints(model, sys, &used, &mut s, phi_length.min(phi_angle));
+            projected = true;
+            iterations += 1;
+            continue;
+        }
+        projected = false;
+        // Newton matrix.
+        let refresh = lu.is_none()
+            || settings
+                .pattern
+                .get(iterations % settings.pattern.len().max(1))
+                .copied()
+                .unwrap_or(true);
+        if refresh {
+            let mut e: Vec<(usize, usize, f64)> = Vec::new();
+            let mut dq = Vec::new();
+            forces.add_jacobians(&s, &vel, &mut dq, None)?;
+            e.extend(dq.into_iter().map(|(i, j, v)| (i, j, -v)));
+            for (k, (r, _)) in used.iter().enumerate() {
+                if lambda[k] == 0.0 {
+                    continue;
+                }
+                hb.clear();
+                approximate[k] = !sys.hessian(*r, &s, 1.0, &mut hb);
+                hb.triplets(lambda[k], &mut e);
+            }
+            // STABILITY × M (scaled to the stiffness units of each coordinate).
+            for (k, p) in model.parts.iter().enumerate() {
+                let ig = s.poses[k].r * p.inertia * s.poses[k].r.transpose();
+                let mass_scale = settings.stability / ucf;
+                for c in 0..3 {
+                    e.push((
+                        6 * k + c,
+                        6 * k + c,
+                        mass_scale * p.mass + 1e-14 * (1.0 + p.mass),
+                    ));
+                    for d in 0..3 {
+                        let x = ig.col(d)[c] * mass_scale;
+                        if x != 0.0 {
+                            e.push((6 * k + 3 + c, 6 * k + 3 + d, x));
+                        }
+                    }
+                }
+            }
+            for (k, g) in grads.iter().enumerate() {
+                for (body, b) in &g.blocks {
+                    for (c, x) in b.iter().enumerate() {
+                        if *x != 0.0 {
+                            e.push((6 * n + k, 6 * body + c, *x));
+                            e.push((6 * body + c, 6 * n + k, *x));
+                        }
+                    }
+                }
+            }
+            lu =
+                Some(SparseLu::factor(dim, &e).map_err(|err| {
+                    format!("the static Newton matrix cannot be factorised: {err}")
+                })?);
+        }
+        let Some(factor) = &lu else { break };
+        let mut rhs = vec![0.0; dim];
+        rhs[..6 * n].copy_from_slice(&f);
+        for (k, v) in phi.iter().enumerate() {
+            rhs[6 * n + k] = -v;
+        }
+        if factor.solve(&mut rhs).is_err() {
+            return Err("the static Newton matrix is singular: the model has free motions with no stiffness (consider STABILITY, or check forces)".into());
+        }
+        // Step limits: the whole step is scaled so that no part moves by more than TLIMIT or
+        // turns by more than ALIMIT, except parts whose correction runs away (beyond
+        // `RUNAWAY_CORRECTION`: a free motion without stiffness, where the correction is a
+        // load divided by STABILITY × a tiny inertia). Those are cut to the limits on their
+        // own, so that they do not stall everything else, and say nothing about convergence
+        // (the forces, IMBALANCE, judge those parts).
+        let steps: Vec<(DVec3, DVec3)> = (0..n)
+            .map(|k| {
+                (
+                    DVec3::new(rhs[6 * k], rhs[6 * k + 1], rhs[6 * k + 2]),
+                    DVec3::new(rhs[6 * k + 3], rhs[6 * k + 4], rhs[6 * k + 5]),
+                )
+            })
+            .collect();
+        let limit_scale = |(dx, dth): (DVec3, DVec3)| -> f64 {
+            (settings.tlimit / dx.length())
+                .min(settings.alimit / dth.length())
+                .min(1.0)
+        };
+        let runaway: Vec<bool> = steps
+            .iter()
+            .map(|(dx, dth)| {
+                dx.length() > RUNAWAY_CORRECTION * length || dth.length() > RUNAWAY_CORRECTION
+            })
+            .collect();
+        let cut = runaway.contains(&true);
+        let mut scale: f64 = 1.0;
+        let mut correction: f64 = 0.0;
+        for (&(dx, dth), &away) in steps.iter().zip(&runaway) {
+            if !away {
+                scale = scale.min(limit_scale((dx, dth)));
+                correction = correction.max(dx.length() / length).max(dth.length());
+            }
+        }
+        // A correction beyond TLIMIT/ALIMIT while the forces are already within IMBALANCE,
+        // doing negligible work against them (below ERROR × the largest load × the model
+        // size): what is left lies along motions whose stiffness is below IMBALANCE/ALIMIT,
+        // where the position changes no force worth the name (a symmetric link turning about
+        // its own axis: 17 rad of correction for 3e-5 N·m). Such a configuration is an
+        // equilibrium; Newton would only walk the part round by ALIMIT per iteration.
+        let work: f64 = (0..6 * n).map(|i| rhs[i] * last_f[i]).sum::<f64>().abs();
+        let soft = (scale < 1.0 || cut) && work <= settings.error * load * length;
+        let done =
+            imbalance <= settings.imbalance && phi_ok && (correction <= settings.error || soft);
+        history.push(imbalance);
+        unbounded = cut && history.len() > 3 && imbalance >= 0.99 * history[history.len() - 4];
+        if done && correction > settings.error {
+            // Converged by the soft-direction test: the step would only walk parts along
+            // motions that change no force; the configuration stays as it is.
+            converged = true;
+            break;
+        }
+        for (k, (&(dx, dth), &away)) in steps.iter().zip(&runaway).enumerate() {
+            let f = match (away, done) {
+                (false, _) => scale,
+                (true, false) => limit_scale((dx, dth)),
+                // Converged: a runaway part stays where the forces balance.
+                (true, true) => 0.0,
+            };
+            s.increment(k, dx * f, dth * f);
+        }
+        for (k, l) in lambda.iter_mut().enumerate() {
+            *l += rhs[6 * n + k] * scale;
+        }
+        if scale < 1.0 || cut {
+            // A step cut by TLIMIT/ALIMIT leaves the second-order constraint error of a large
+            // move: bring the configuration back onto the constraints (least change) so the
+            // next Newton step starts from an assembled pose.
+            project_onto_constraints(
+                model,
+                sys,
+                &used,
+                &mut s,
+                1e-12 * model.characteristic_length.max(1.0),
+            );
+        }
+        if cut {
+            // The multipliers' Newton update shares the runaway direction: start them afresh
+            // (least squares) at the new configuration.
+            lambda = initial_multipliers(model, sys, &used, forces, &s, &vel)?;
+        }
+        if done {
+            // The last (small) correction is applied: the result is one Newton step better
+            // than the convergence test.
+            converged = true;
+            break;
+        }
+        iterations += 1;
+    }
+    // Largest imbalances.
+    let mut worst: Vec<(Imbalance, f64)> = last_f
+        .iter()
+        .enumerate()
+        .map(|(i, v)| {
+            (
+                Imbalance::Part {
+                    part: i / 6,
+                    component: i % 6,
+                },
+                *v,
+            )
+        })
+        .chain(
+            used.iter()
+                .zip(&last_phi)
+                .map(|((r, _), v)| (Imbalance::Row(*r), *v)),
+        )
+        .collect();
+    worst.sort_by(|a, b| b.1.abs().total_cmp(&a.1.abs()));
+    // The five largest, leaving out those negligible beside the largest (a free body's other
+    // five balance equations hold exactly).
+    let largest = worst.first().map_or(0.0, |w| w.1.abs());
+    worst.retain(|w| w.1.abs() > 1e-9 * largest);
+    worst.truncate(5);
+    let rows_grads: Vec<(usize, &RowGradient)> =
+        used.iter().zip(&grads).map(|((r, _), g)| (*r, g)).collect();
+    let reactions = element_reactions(model, sys, &rows_grads, &lambda, &s);
+    let multipliers = used
+        .iter()
+        .zip(&lambda)
+        .map(|((r, _), l)| (*r, *l))
+        .collect();
+    let stability = if converged && !kinematic {
+        reduced_stability(model, sys, &used, &lambda, forces, &s)
+    } else {
+        None
+    };
+    Ok(Equilibrium {
+        state: s,
+        converged,
+        iterations,
+        imbalance: last_imbalance,
+        multipliers,
+        reactions,
+        stability,
+        worst,
+        kinematic,
+        unbounded: unbounded && !converged,
+        approximate_rows: approximate.iter().filter(|a| **a).count(),
+    })
+}
+
+/// A few minimum-change Gauss–Newton corrections of the positions onto `Φ = 0`:
+/// `[W Jᵀ; J 0][δ; μ] = [0; −Φ]`, `W = diag(1/L², 1)` per part.
+fn project_onto_constraints(
+    model: &Model,
+    sys: &System,
+    used: &[(usize, f64)],
+    s: &mut State,
+    tolerance: f64,
+) {
+    let n = model.parts.len();
+    let m = used.len();
+    let l2 = model.characteristic_length.powi(2);
+    let mut g = RowGradient::default();
+    for _ in 0..4 {
+        let phi: Vec<f64> = used.iter().map(|(r, d)| sys.residual(*r, s, *d)).collect();
+        if phi.iter().all(|v| v.abs() <= tolerance) {
+            return;
+        }
+        let mut e = Vec::new();
+        for k in 0..6 * n {
+            e.push((k, k, if k % 6 < 3 { 1.0 / l2 } else { 1.0 }));
+        }
+        for (k, (r, _)) in used.iter().enumerate() {
+            sys.gradient(*r, s, &mut g);
+            for (body, b) in &g.blocks {
+                for (c, x) in b.iter().enumerate() {
+                    if *x != 0.0 {
+                        e.push((6 * n + k, 6 * body + c, *x));
+                        e.push((6 * body + c, 6 * n + k, *x));
+                    }
+                }
+            }
+        }
+        let mut rhs = vec![0.0; 6 * n + m];
+        for (k, v) in phi.iter().enumerate() {
+            rhs[6 * n + k] = -v;
+        }
+        if SparseLu::factor(6 * n + m, &e)
+            .and_then(|lu| lu.solve(&mut rhs))
+            .is_err()
+        {
+            return;
+        }
+        for k in 0..n {
+            s.increment(
+                k,
+                DVec3::new(rhs[6 * k], rhs[6 * k + 1], rhs[6 * k + 2]),
+                DVec3::new(rhs[6 * k + 3], rhs[6 * k + 4], rhs[6 * k + 5]),
+            );
+        }
+    }
+}
+
+/// Least-squares multipliers at the start, `min |Q − Jᵀλ|_W` (torques weighted by 1/L²), so
+/// that the first Newton matrix already holds the geometric stiffness.
+fn initial_multipliers(
+    model: &Model,
+    sys: &System,
+    used: &[(usize, f64)],
+    forces: &dyn AppliedForces,
+    s: &State,
+    vel: &Velocities,
+) -> Result<Vec<f64>, String> {
+    let n = model.parts.len();
+    let m = used.len();
+    if m == 0 {
+        return Ok(Vec::new());
+    }
+    let l2 = model.characteristic_length.powi(2);
+    let q = applied(model, forces, s, vel)?;
+    let mut e = Vec::new();
+    for k in 0..6 * n {
+        e.push((k, k, if k % 6 < 3 { 1.0 } else { l2 }));
+    }
+    let mut g = RowGradient::default();
+    for (k, (r, _)) in used.iter().enumerate() {
+        sys.gradient(*r, s, &mut g);
+        for (body, b) in &g.blocks {
+            for (c, x) in b.iter().enumerate() {
+                if *x != 0.0 {
+                    e.push((6 * n + k, 6 * body + c, *x));
+                    e.push((6 * body + c, 6 * n + k, *x));
+                }
+            }
+        }
+    }
+    let mut rhs = vec![0.0; 6 * n + m];
+    for k in 0..6 * n {
+        rhs[k] = q[k] * if k % 6 < 3 { 1.0 } else { l2 };
+    }
+    let ok = SparseLu::factor(6 * n + m, &e).and_then(|lu| lu.solve(&mut rhs));
+    Ok(if ok.is_ok() {
+        rhs[6 * n..].to_vec()
+    } else {
+        vec![0.0; m]
+    })
+}
+
+/// Smallest eigenvalue of the stiffness reduced to the free motions, coordinates scaled so
+/// that translations are measured in characteristic lengths (entries in force × length).
+fn reduced_stability(
+    model: &Model,
+    sys: &System,
+    used: &[(usize, f64)],
+    lambda: &[f64],
+    forces: &dyn AppliedForces,
+    s: &State,
+) -> Option<(bool, f64)> {
+    let n = model.parts.len();
+    let dim = 6 * n;
+    if dim > MAX_DENSE_DOF_COLUMNS || dim == 0 {
+        return None;
+    }
+    let l = model.characteristic_length;
+    let scale = |c: usize| if c % 6 < 3 { l } else { 1.0 };
+    // J (scaled columns), dense.
+    let m = used.len();
+    let mut jt = faer::Mat::<f64>::zeros(dim, m.max(1));
+    let mut g = RowGradient::default();
+    for (k, (r, _)) in used.iter().enumerate() {
+        sys.gradient(*r, s, &mut g);
+        for (body, b) in &g.blocks {
+            for c in 0..6 {
+                jt[(6 * body + c, k)] = b[c] * scale(c);
+            }
+        }
+    }
+    // Null space of J: the trailing columns of Q in Jᵀ = Q R (full QR), rank by |R_ii|.
+    let qr = jt.qr();
+    let q = qr.compute_Q();
+    let r = qr.R();
+    let rmax = (0..r.nrows().min(r.ncols()))
+        .map(|i| r[(i, i)].abs())
+        .fold(0.0, f64::max);
+    let rank = (0..r.nrows().min(r.ncols()))
+        .filter(|&i| r[(i, i)].abs() > 1e-9 * rmax.max(1e-300))
+        .count();
+    let rank = if m == 0 { 0 } else { rank };
+    let free = dim - rank;
+    if free == 0 {
+        return None;
+    }
+    // K_T (scaled), dense.
+    let mut kt = faer::Mat::<f64>::zeros(dim, dim);
+    let mut dq = Vec::new();
+    forces
+        .add_jacobians(s, &zero_velocities(n), &mut dq, None)
+        .ok()?;
+    for (i, j, v) in dq {
+        kt[(i, j)] -= v * scale(i) * scale(j);
+    }
+    let mut hb = HessianBlocks::default();
+    let mut trip = Vec::new();
+    for (k, (r, _)) in used.iter().enumerate() {
+        hb.clear();
+        sys.hessian(*r, s, 1.0, &mut hb);
+        trip.clear();
+        hb.triplets(lambda[k], &mut trip);
+        for &(i, j, v) in &trip {
+            kt[(i, j)] += v * scale(i) * scale(j);
+        }
+    }
+    let nb = q.subcols(rank, free);
+    let red = nb.transpose() * &kt * nb;
+    let sym = faer::Mat::<f64>::from_fn(free, free, |i, j| 0.5 * (red[(i, j)] + red[(j, i)]));
+    let eig = sym.self_adjoint_eigenvalues(faer::Side::Lower).ok()?;
+    let min = eig.iter().copied().fold(f64::INFINITY, f64::min);
+    let max = eig.iter().map(|x| x.abs()).fold(0.0, f64::max);
+    Some((min > -1e-9 * max.max(1e-300), min))
+}
+
+/// Distinguishes length rows for reporting.
+pub fn is_length(unit: RowUnit) -> bool {
+    matches!(unit, RowUnit::Length | RowUnit::Mixed)
+}
+
+/// A static analysis: initial conditions, then one equilibrium at the start time or a
+/// quasi-static series.
+#[derive(Clone, Debug)]
+pub struct StaticRun {
+    pub ic: crate::stages::ic::InitialConditions,
+    /// `(time, equilibrium)` at every output time; stops at the first failure.
+    pub steps: Vec<(f64, Result<Equilibrium, String>)>,
+}
+
+impl StaticRun {
+    /// Whether every requested equilibrium converged.
+    pub fn converged(&self) -> bool {
+        self.ic.assembly.converged
+            && !self.steps.is_empty()
+            && self
+                .steps
+                .iter()
+                .all(|(_, e)| e.as_ref().is_ok_and(|e| e.converged))
+    }
+}
+
+/// Output times of a quasi-static series: `steps` equal intervals from 0 to `end`.
+pub fn output_times(end: f64, steps: usize) -> Vec<f64> {
+    let steps = steps.max(1);
+    (0..=steps).map(|k| end * k as f64 / steps as f64).collect()
+}
+
+/// Runs the initial conditions, then static equilibrium at each of `times` (one time for a
+/// single equilibrium), each started from a linear extrapolation of the previous two.
+pub fn run(
+    model: &Model,
+    drivers: &crate::constraints::drivers::ExpressionDrivers,
+    forces: &dyn AppliedForces,
+    tol: &Tolerances,
+    times: &[f64],
+) -> StaticRun {
+    let ic = crate::stages::ic::initial_conditions(model, drivers, forces, tol);
+    let mut steps = Vec::new();
+    if !ic.assembly.converged || ic.inconsistent() {
+        return StaticRun { ic, steps };
+    }
+    let sys = System::new(model);
+    let rows = crate::stages::ic::admitted_rows(&ic.analysis);
+    let drivers = &drivers.anchored(&sys, &rows, &ic.assembly.state);
+    let mut history: Vec<State> = Vec::new();
+    for &t in times {
+        let mut start = match history.as_slice() {
+            [] => ic.assembly.state.clone(),
+            [only] => only.clone(),
+            [.., a, b] => extrapolate(a, b),
+        };
+        start.time = t;
+        let result = equilibrium(
+            model,
+            &sys,
+            &rows,
+            drivers,
+            forces,
+            &start,
+            &model.equilibrium,
+        );
+        let ok = result.as_ref().is_ok_and(|e| e.converged);
+        if let Ok(e) = &result {
+            history.push(e.state.clone());
+        }
+        steps.push((t, result));
+        if !ok {
+            break;
+        }
+    }
+    StaticRun { ic, steps }
+}
+
+/// `b + (b − a)` on the configuration manifold.
+fn extrapolate(a: &State, b: &State) -> State {
+    let mut s = b.clone();
+    for k in 0..s.poses.len() {
+        let dx = b.poses[k].p - a.poses[k].p;
+        let dth = linkage_model::frames::log_so3(&(b.poses[k].r * a.poses[k].r.transpose()));
+        s.increment(k, dx, dth);
+    }
+    s
+}
