@@ -346,6 +346,34 @@ mod tests {
     }
 }
 
+/// Integrator settings (INTEGRATOR statement; Adams names are accepted by the caller and mapped
+/// to HHT).
+#[derive(Clone, Debug, PartialEq)]
+pub struct IntegratorSettings {
+    /// Local error tolerance (relative to the characteristic length for translations).
+    pub error: f64,
+    pub hmax: Option<f64>,
+    pub hinit: Option<f64>,
+    pub hmin: f64,
+    /// HHT α in [−1/3, 0].
+    pub alpha: f64,
+    /// Newton iterations per step before the step is retried smaller.
+    pub maxit: usize,
+}
+
+impl Default for IntegratorSettings {
+    fn default() -> Self {
+        IntegratorSettings {
+            error: 1e-3,
+            hmax: None,
+            hinit: None,
+            hmin: 1e-10,
+            alpha: -0.3,
+            maxit: 10,
+        }
+    }
+}
+
 /// `INTEGRATOR/` settings (ADM-REFERENCE §8.5, §9.4). Adams' integrator names are accepted;
 /// linkage always integrates with HHT (index 3) and says which settings had no effect.
 #[derive(Clone, Debug, PartialEq)]

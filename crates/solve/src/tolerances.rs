@@ -64,3 +64,13 @@ pub const CORRECTOR_ERROR_FRACTION: f64 = 1e-3;
 /// iteration: seen on a 7-link corpus robot arm whose gripper fingers spin about vertical
 /// hinges).
 pub const STATIC_ROUNDING_IMBALANCE: f64 = 1e-10;
+
+// ---- Linear algebra and eigen solutions (linalg/, stages/linearize.rs) ----
+
+// ---- Dynamics and kinematics (stages/dynamics/, stages/kinematics.rs) ----
+
+// ---- Forces, measures and requests (physics/) ----
+
+// ---- Assembly, initial conditions and settling (stages/assemble.rs, ic.rs, settle.rs) ----
+
+// ---- Explain (stages/explain/) ----
