@@ -3,6 +3,7 @@
 
 pub mod applied;
 pub mod forces;
+pub mod mass;
 pub mod measures;
 pub mod reactions;
 pub mod requests;

@@ -1,0 +1,126 @@
+//! Mass properties of the parts in ground axes, and the one policy for parts whose mass matrix
+//! is singular. Every analysis that needs `M`, `R I Rᵀ` or the gyroscopic load takes it from
+//! here.
+//!
+//! A part's 6×6 mass matrix in the coordinates the analyses use (CM velocity and angular
+//! velocity, both in ground axes) is `diag(m·𝟙, R I Rᵀ)`, where `I` is the inertia about the CM
+//! in body axes and `R` the body's orientation.
+
+use crate::state::Pose;
+use glam::{DMat3, DVec3};
+use linkage_model::Part;
+
+/// The mass a massless part is given where a regular mass matrix is needed (model mass units).
+pub const MASSLESS_PART_MASS: f64 = 1e-12;
+
+/// An inertia tensor is singular when its determinant is below this fraction of the cube of
+/// its mean principal moment (or its trace is not positive).
+pub const SINGULAR_INERTIA_RATIO: f64 = 1e-10;
+
+/// The rotational regularisation of a part with singular inertia, as a fraction of `m·L²`
+/// (L the model's characteristic length).
+pub const INERTIA_REGULARISATION: f64 = 1e-12;
+
+/// The inertia about the CM in ground axes: `R I Rᵀ`.
+#[inline]
+pub fn ground_inertia(part: &Part, pose: &Pose) -> DMat3 {
+    pose.r * part.inertia * pose.r.transpose()
+}
+
+/// The gyroscopic load `−ω × (I_g ω)` of a part turning at `w` (ground axes).
+#[inline]
+pub fn gyroscopic(inertia_ground: &DMat3, w: DVec3) -> DVec3 {
+    -w.cross(*inertia_ground * w)
+}
+
+/// Kinetic energy `½ m v·v + ½ ω·(I_g ω)` (model mass × length² / time²).
+#[inline]
+pub fn kinetic_energy(part: &Part, pose: &Pose, v: DVec3, w: DVec3) -> f64 {
+    0.5 * part.mass * v.length_squared() + 0.5 * w.dot(ground_inertia(part, pose) * w)
+}
+
+/// Whether a part's inertia about its CM is singular (a point mass, a massless part, a rod
+/// with no moment about its axis): [`SINGULAR_INERTIA_RATIO`].
+pub fn singular_inertia(part: &Part) -> bool {
+    let i = &part.inertia;
+    let trace = i.x_axis.x + i.y_axis.y + i.z_axis.z;
+    trace <= 0.0 || i.determinant() <= SINGULAR_INERTIA_RATIO * (trace / 3.0).powi(3)
+}
+
+/// The regularisation added to every diagonal entry of a part's rotational mass block where the
+/// analysis needs a regular mass matrix: `INERTIA_REGULARISATION · m · L²` for a part with
+/// singular inertia (with `m` = [`MASSLESS_PART_MASS`] for a massless part), 0 otherwise.
+/// Constrained directions are unaffected; a free direction without inertia gets a tiny one.
+pub fn rotational_regularisation(part: &Part, length: f64) -> f64 {
+    if !singular_inertia(part) {
+        return 0.0;
+    }
+    let mass = if part.mass > 0.0 {
+        part.mass
+    } else {
+        MASSLESS_PART_MASS
+    };
+    INERTIA_REGULARISATION * mass * length * length
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use linkage_model::Part;
+
+    fn part(mass: f64, moments: DVec3) -> Part {
+        Part {
+            origin: linkage_model::Origin {
+                statement: "PART",
+                id: 2,
+                name: "PART_2".into(),
+                span: Default::default(),
+                statement_index: 0,
+            },
+            mass,
+            inertia: DMat3::from_diagonal(moments),
+            p_gb: DVec3::ZERO,
+            r_gb: DMat3::IDENTITY,
+            p_b_bcs: DVec3::ZERO,
+            velocity: [None; 6],
+            r_b_cm: DMat3::IDENTITY,
+            exact: Vec::new(),
+        }
+    }
+
+    #[test]
+    fn ground_inertia_turns_with_the_body() {
+        let p = part(2.0, DVec3::new(1.0, 2.0, 3.0));
+        let pose = Pose {
+            p: DVec3::ZERO,
+            r: DMat3::from_rotation_z(std::f64::consts::FRAC_PI_2),
+        };
+        let ig = ground_inertia(&p, &pose);
+        // The body x axis now points along ground y: I_yy(ground) = I_xx(body).
+        assert!((ig.y_axis.y - 1.0).abs() < 1e-15);
+        assert!((ig.x_axis.x - 2.0).abs() < 1e-15);
+        assert!((ig.z_axis.z - 3.0).abs() < 1e-15);
+    }
+
+    #[test]
+    fn only_singular_inertia_is_regularised() {
+        let l = 10.0;
+        assert_eq!(rotational_regularisation(&part(2.0, DVec3::ONE), l), 0.0);
+        let rod = part(2.0, DVec3::new(0.0, 1.0, 1.0));
+        let close = |a: f64, b: f64| (a - b).abs() <= 1e-15 * b;
+        assert!(close(rotational_regularisation(&rod, l), 2e-10));
+        let massless = part(0.0, DVec3::ZERO);
+        assert!(close(rotational_regularisation(&massless, l), 1e-22));
+    }
+
+    #[test]
+    fn gyroscopic_load_vanishes_about_a_principal_axis() {
+        let ig = DMat3::from_diagonal(DVec3::new(1.0, 2.0, 3.0));
+        assert_eq!(gyroscopic(&ig, DVec3::new(0.0, 0.0, 5.0)), DVec3::ZERO);
+        // ω = (1,1,0): I ω = (1,2,0), −ω × Iω = −(0,0,1).
+        assert_eq!(
+            gyroscopic(&ig, DVec3::new(1.0, 1.0, 0.0)),
+            DVec3::new(0.0, 0.0, -1.0)
+        );
+    }
+}
