@@ -544,8 +544,12 @@ fn varval_cycle_is_an_evaluation_error_naming_the_cycle() {
     let s = state(&m);
     let mut out = vec![0.0; 12];
     let err = f.add_forces(&s, &velocities(), &mut out).unwrap_err();
-    assert!(err.starts_with("SFORCE_1 (SFORCE/1, line 16)"), "{err}");
-    assert!(err.contains("cycle") && err.contains("1 → 2 → 1"), "{err}");
+    assert_eq!(err.element, "SFORCE_1 (SFORCE/1, line 16)");
+    assert_eq!(err.time, s.time);
+    assert!(
+        err.cause.contains("cycle") && err.cause.contains("1 → 2 → 1"),
+        "{err}"
+    );
 }
 
 #[test]
@@ -561,7 +565,10 @@ fn accelerations_and_element_forces_are_unavailable() {
         let err = f
             .add_forces(&state(&m), &velocities(), &mut out)
             .unwrap_err();
-        assert!(err.contains(name) && err.contains("not"), "{err}");
+        assert!(
+            err.cause.contains(name) && err.cause.contains("not"),
+            "{err}"
+        );
     }
 }
 
@@ -661,7 +668,7 @@ fn coincident_points_with_a_non_zero_force_are_an_error() {
         .add_forces(&state(&m), &velocities(), &mut out)
         .unwrap_err();
     assert!(
-        err.starts_with("SFORCE_1") && err.contains("coincide"),
+        err.element.starts_with("SFORCE_1") && err.cause.contains("coincide"),
         "{err}"
     );
 }

@@ -10,12 +10,24 @@
 use crate::constraints::rows::Velocities;
 use crate::state::State;
 
+/// A force element that cannot be evaluated at a state: a domain error in its expression, an
+/// angle that is not defined, a law the element's settings do not allow.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+#[error("{element}: {cause} (time {time})")]
+pub struct ForceError {
+    /// The element's name (`SFORCE_3` or its view name).
+    pub element: String,
+    pub time: f64,
+    /// What failed, from the element's law or expression.
+    pub cause: String,
+}
+
 /// A set of applied force elements.
 pub trait AppliedForces {
     /// Adds the generalised forces at positions `s`, velocities `v` and time `s.time` to
-    /// `out` (length 6n). An error names the element and the cause (e.g. a domain error in its
-    /// expression).
-    fn add_forces(&self, s: &State, v: &Velocities, out: &mut [f64]) -> Result<(), String>;
+    /// `out` (length 6n). An error names the element, the time and the cause (e.g. a domain
+    /// error in its expression).
+    fn add_forces(&self, s: &State, v: &Velocities, out: &mut [f64]) -> Result<(), ForceError>;
 
     /// Adds `∂Q/∂q` to `dq` and, when given, `∂Q/∂v` to `dv`.
     fn add_jacobians(
@@ -24,14 +36,14 @@ pub trait AppliedForces {
         v: &Velocities,
         dq: &mut Vec<(usize, usize, f64)>,
         dv: Option<&mut Vec<(usize, usize, f64)>>,
-    ) -> Result<(), String>;
+    ) -> Result<(), ForceError>;
 }
 
 /// No applied forces (models without force elements).
 pub struct NoForces;
 
 impl AppliedForces for NoForces {
-    fn add_forces(&self, _: &State, _: &Velocities, _: &mut [f64]) -> Result<(), String> {
+    fn add_forces(&self, _: &State, _: &Velocities, _: &mut [f64]) -> Result<(), ForceError> {
         Ok(())
     }
     fn add_jacobians(
@@ -40,7 +52,15 @@ impl AppliedForces for NoForces {
         _: &Velocities,
         _: &mut Vec<(usize, usize, f64)>,
         _: Option<&mut Vec<(usize, usize, f64)>>,
-    ) -> Result<(), String> {
+    ) -> Result<(), ForceError> {
         Ok(())
+    }
+}
+
+/// Bridge for analyses whose errors are still text (removed once every stage has its own
+/// error type).
+impl From<ForceError> for String {
+    fn from(e: ForceError) -> String {
+        e.to_string()
     }
 }

@@ -40,7 +40,7 @@ pub mod six_dof;
 pub mod vector;
 
 use crate::constraints::rows::{BodyFrame, Velocities};
-use crate::physics::applied::AppliedForces;
+use crate::physics::applied::{AppliedForces, ForceError};
 use crate::physics::measures::{MarkerFrames, StateEnv};
 use crate::state::State;
 use algebra::{Kinematics, Real, V3};
@@ -527,7 +527,12 @@ impl ForceSet {
     }
 
     /// The loads of element `e` at `(s, v)`.
-    pub fn loads<R: Real>(&self, e: usize, s: &State, v: &Velocities) -> Result<Loads<R>, String> {
+    pub fn loads<R: Real>(
+        &self,
+        e: usize,
+        s: &State,
+        v: &Velocities,
+    ) -> Result<Loads<R>, ForceError> {
         let env = self.env(s, v);
         self.element_loads(e, &self.context(s, v, &env))
     }
@@ -543,11 +548,13 @@ impl ForceSet {
         }
     }
 
-    fn element_loads<R: Real>(&self, e: usize, cx: &Context) -> Result<Loads<R>, String> {
+    fn element_loads<R: Real>(&self, e: usize, cx: &Context) -> Result<Loads<R>, ForceError> {
         let el = &self.elements[e];
-        el.law
-            .loads::<R>(cx)
-            .map_err(|m| format!("{}: {m} (time {})", el.label, cx.kin.state.time))
+        el.law.loads::<R>(cx).map_err(|cause| ForceError {
+            element: el.label.clone(),
+            time: cx.kin.state.time,
+            cause,
+        })
     }
 
     /// Calls `sink(k, Q_k)` with each element's generalised force on each moving part k
@@ -558,7 +565,7 @@ impl ForceSet {
         s: &State,
         v: &Velocities,
         mut sink: impl FnMut(usize, [R; 6]),
-    ) -> Result<(), String> {
+    ) -> Result<(), ForceError> {
         let env = self.env(s, v);
         let cx = self.context(s, v, &env);
         let kin = cx.kin;
@@ -578,7 +585,7 @@ impl ForceSet {
 }
 
 impl AppliedForces for ForceSet {
-    fn add_forces(&self, s: &State, v: &Velocities, out: &mut [f64]) -> Result<(), String> {
+    fn add_forces(&self, s: &State, v: &Velocities, out: &mut [f64]) -> Result<(), ForceError> {
         self.generalised::<f64>(s, v, |k, q| {
             for (c, x) in q.iter().enumerate() {
                 if let Some(o) = out.get_mut(6 * k + c) {
@@ -594,7 +601,7 @@ impl AppliedForces for ForceSet {
         v: &Velocities,
         dq: &mut Vec<(usize, usize, f64)>,
         mut dv: Option<&mut Vec<(usize, usize, f64)>>,
-    ) -> Result<(), String> {
+    ) -> Result<(), ForceError> {
         let n6 = 6 * self.nparts;
         self.generalised::<Dual>(s, v, |k, q| {
             for (c, x) in q.iter().enumerate() {

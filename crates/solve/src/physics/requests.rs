@@ -436,7 +436,7 @@ impl<'a> OutputEnv<'a> {
         let mut applied = vec![0.0; 6 * n];
         if let Some(fs) = self.applied_forces()? {
             fs.add_forces(&o.state, &o.velocities, &mut applied)
-                .map_err(|m| EvalError::new(EvalErrorKind::Domain, m))?;
+                .map_err(|m| EvalError::new(EvalErrorKind::Domain, m.to_string()))?;
         }
         let ucf = model.ucf();
         let mut out = Vec::with_capacity(n);
@@ -634,7 +634,7 @@ impl<'a> OutputEnv<'a> {
             .ok_or_else(|| EvalError::unavailable("the model has no force elements".to_string()))?;
         let loads = fs
             .loads::<f64>(e, &self.output.state, &self.output.velocities)
-            .map_err(|m| EvalError::new(EvalErrorKind::Domain, m))?;
+            .map_err(|m| EvalError::new(EvalErrorKind::Domain, m.to_string()))?;
         Ok(loads.map(|l| l.map(|l| (l.point.value(), l.force.value(), l.torque.value()))))
     }
 
