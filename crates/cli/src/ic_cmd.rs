@@ -3,6 +3,7 @@
 use crate::common::{input_error, load, print_json, Format};
 use linkage_adm::Dataset;
 use linkage_model::Model;
+use linkage_solve::pipeline::Assembled;
 use linkage_solve::state::State;
 use linkage_solve::tolerances::Tolerances;
 use std::path::Path;
@@ -18,14 +19,10 @@ pub fn run(model: &Path, format: Format, save: Option<&Path>) -> ExitCode {
         Ok(f) => f,
         Err(d) => return input_error(&d, format),
     };
-    let ic = linkage_solve::stages::ic::initial_conditions(
-        &loaded.model,
-        &loaded.drivers,
-        forces.as_ref(),
-        &tol,
-    );
-    let mut report = linkage_report::ic::to_json(&loaded.model, &ic, &loaded.warnings);
-    let failed = !ic.assembly.converged || ic.inconsistent() || !report.errors.is_empty();
+    let assembled = Assembled::new(&loaded.model, &loaded.drivers, forces.as_ref(), &tol);
+    let ic = &assembled.ic;
+    let mut report = linkage_report::ic::to_json(&loaded.model, ic, &loaded.warnings);
+    let failed = assembled.failure().is_some() || !report.errors.is_empty();
     if let Some(out) = save {
         if failed {
             report.errors.push(format!(

@@ -1,6 +1,7 @@
 //! `linkage linear`: eigenvalues and modes about an operating point.
 
 use crate::common::{applied_forces, input_error, load, print_json, Format};
+use linkage_solve::pipeline::Assembled;
 use linkage_solve::stages::linearize::{run, EigenMethod, LinearOptions, DEFAULT_MODES};
 use linkage_solve::tolerances::Tolerances;
 use std::path::Path;
@@ -44,14 +45,13 @@ pub fn run_linear(args: &LinearArgs) -> ExitCode {
         vectors: args.vectors,
         method,
     };
-    let result = run(
+    let assembled = Assembled::new(
         &loaded.model,
         &loaded.drivers,
         forces.as_ref(),
         &Tolerances::default(),
-        args.static_first,
-        opts,
     );
+    let result = run(&assembled, args.static_first, opts);
     let report = linkage_report::linear::to_json(
         &loaded.model,
         &result,

@@ -7,6 +7,7 @@ use crate::common::{
 use linkage_model::settings::integrator_statement;
 use linkage_report::simulate::ExtraColumns;
 use linkage_solve::physics::requests::RequestSet;
+use linkage_solve::pipeline::Assembled;
 use linkage_solve::stages::dynamics::{run, DynamicRun, IntegratorSettings, RunProgress, Start};
 use linkage_solve::tolerances::Tolerances;
 use std::path::Path;
@@ -123,22 +124,19 @@ pub fn run_simulate(args: &SimulateArgs) -> ExitCode {
     };
     let bar = Progress::on_terminal();
     let end = args.end;
-    let result = run(
+    let assembled = Assembled::new(
         &loaded.model,
         &loaded.drivers,
         forces.as_ref(),
         &Tolerances::default(),
-        &times,
-        &settings,
-        args.start,
-        |p| match p {
-            RunProgress::Settling { elapsed, limit } => bar.settling(elapsed, limit),
-            RunProgress::Integrating(t) => bar.show(t / end, format!("t = {t:.4}")),
-        },
     );
+    let result = run(&assembled, &times, &settings, args.start, |p| match p {
+        RunProgress::Settling { elapsed, limit } => bar.settling(elapsed, limit),
+        RunProgress::Integrating(t) => bar.show(t / end, format!("t = {t:.4}")),
+    });
     bar.finish();
     let mut report =
-        linkage_report::simulate::summary(&loaded.model, &result, notes, &loaded.warnings);
+        linkage_report::simulate::summary(&assembled, &result, notes, &loaded.warnings);
     report.warnings.extend(stmt.invalid.iter().cloned());
     if let Some(out) = args.out {
         let extra = requests

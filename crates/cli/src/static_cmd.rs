@@ -5,6 +5,7 @@ use crate::ic_cmd::save_configuration;
 use clap::ValueEnum;
 use linkage_adm::Diagnostics;
 use linkage_solve::physics::applied::AppliedForces;
+use linkage_solve::pipeline::Assembled;
 use linkage_solve::stages::statics::run;
 use linkage_solve::tolerances::Tolerances;
 use std::path::Path;
@@ -47,24 +48,29 @@ pub fn run_static(args: &StaticArgs) -> ExitCode {
         Ok(f) => f,
         Err(d) => return input_error(&d, json_errors),
     };
-    if args.settle || (loaded.model.equilibrium.dynamic && args.series.is_none()) {
-        let bar = crate::common::Progress::on_terminal();
-        let limit = loaded.model.equilibrium.settling_time;
-        let st = linkage_solve::stages::settle::settle_watched(
+    let assemble = || {
+        Assembled::new(
             &loaded.model,
             &loaded.drivers,
             applied.as_ref(),
             &Tolerances::default(),
-            |elapsed| bar.settling(elapsed, limit),
-        );
+        )
+    };
+    if args.settle || (loaded.model.equilibrium.dynamic && args.series.is_none()) {
+        let assembled = assemble();
+        let bar = crate::common::Progress::on_terminal();
+        let limit = loaded.model.equilibrium.settling_time;
+        let settled = linkage_solve::stages::settle::settle(&assembled, |elapsed| {
+            bar.settling(elapsed, limit)
+        });
         bar.finish();
-        let eq_state = st
-            .outcome
+        let eq_state = settled
             .as_ref()
+            .ok()
             .and_then(|o| o.settled_equilibrium())
             .map(|e| e.state.clone());
         let mut report =
-            linkage_report::statics::settling_json(&loaded.model, st, &loaded.warnings);
+            linkage_report::statics::settling_json(&assembled, settled, &loaded.warnings);
         if let (Some(out), Some(state)) = (args.save, &eq_state) {
             if report.converged {
                 if let Err(e) = save_configuration(&loaded.dataset, &loaded.model, state, out) {
@@ -99,14 +105,9 @@ pub fn run_static(args: &StaticArgs) -> ExitCode {
         },
         None => vec![0.0],
     };
-    let result = run(
-        &loaded.model,
-        &loaded.drivers,
-        applied.as_ref(),
-        &Tolerances::default(),
-        &times,
-    );
-    let mut report = linkage_report::statics::to_json(&loaded.model, &result, &loaded.warnings);
+    let assembled = assemble();
+    let result = run(&assembled, &times);
+    let mut report = linkage_report::statics::to_json(&assembled, &result, &loaded.warnings);
     let ok = result.converged();
     if let (Some(out), true) = (args.save, ok) {
         if let Some((_, Ok(eq))) = result.steps.last() {

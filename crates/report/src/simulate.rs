@@ -6,6 +6,7 @@ use crate::verify::{equation_ref, EquationRef};
 use linkage_adm::Diagnostic;
 use linkage_model::frames::matrix_to_euler313;
 use linkage_model::Model;
+use linkage_solve::pipeline::Assembled;
 use linkage_solve::stages::dynamics::{DynamicRun, Output, StartingEquilibrium};
 use serde::Serialize;
 use std::fmt::Write;
@@ -162,15 +163,16 @@ fn start_json(model: &Model, run: &DynamicRun) -> StartJson {
 
 /// Builds the summary.
 pub fn summary(
-    model: &Model,
+    a: &Assembled,
     run: &DynamicRun,
     notes: Vec<String>,
     warnings: &[Diagnostic],
 ) -> SimulateJson {
+    let model = a.model;
     let mut errors = Vec::new();
     let mut warnings: Vec<String> = warnings.iter().map(|w| w.to_string()).collect();
     if let Some(e) = &run.error {
-        errors.push(e.clone());
+        errors.push(e.to_string());
     }
     let start = start_json(model, run);
     if start.settling.is_some() && model.equilibrium.global_damping == 0.0 {
@@ -210,13 +212,12 @@ pub fn summary(
         }
         None => (false, 0.0, 0, 0, 0, false),
     };
-    let removed_equations = run
-        .ic
-        .analysis
-        .redundant
-        .iter()
-        .map(|r| equation_ref(model, &run.ic.analysis, r.row))
-        .collect();
+    let removed_equations =
+        a.ic.analysis
+            .redundant
+            .iter()
+            .map(|r| equation_ref(model, &a.ic.analysis, r.row))
+            .collect();
     let final_state = run
         .simulation
         .as_ref()

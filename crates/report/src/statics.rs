@@ -5,7 +5,9 @@ use linkage_adm::Diagnostic;
 use linkage_model::frames::matrix_to_euler313;
 use linkage_model::settings::shown;
 use linkage_model::Model;
+use linkage_solve::constraints::system::System;
 use linkage_solve::physics::reactions::Reaction;
+use linkage_solve::pipeline::{Assembled, NotAssembled};
 use linkage_solve::stages::settle::{SettleOutcome, SettleStop};
 use linkage_solve::stages::statics::{Equilibrium, StaticRun};
 use linkage_solve::state::State;
@@ -213,7 +215,7 @@ pub fn reactions_json(model: &Model, reactions: &[Reaction]) -> Vec<ReactionJson
         .collect()
 }
 
-fn step_json(model: &Model, run: &StaticRun, t: f64, e: &Result<Equilibrium, String>) -> StepJson {
+fn step_json(model: &Model, sys: &System, t: f64, e: &Result<Equilibrium, String>) -> StepJson {
     match e {
         Ok(eq) => StepJson {
             time: t,
@@ -230,7 +232,7 @@ fn step_json(model: &Model, run: &StaticRun, t: f64, e: &Result<Equilibrium, Str
                 eq.worst
                     .iter()
                     .map(|(w, v)| {
-                        let (name, equation) = w.describe(model, &run.ic.analysis.system);
+                        let (name, equation) = w.describe(model, sys);
                         ImbalanceJson {
                             name,
                             equation,
@@ -259,21 +261,22 @@ fn step_json(model: &Model, run: &StaticRun, t: f64, e: &Result<Equilibrium, Str
 }
 
 /// Builds the JSON document.
-pub fn to_json(model: &Model, run: &StaticRun, warnings: &[Diagnostic]) -> StaticJson {
+pub fn to_json(a: &Assembled, run: &StaticRun, warnings: &[Diagnostic]) -> StaticJson {
+    let model = a.model;
     let steps: Vec<StepJson> = run
         .steps
         .iter()
-        .map(|(t, e)| step_json(model, run, *t, e))
+        .map(|(t, e)| step_json(model, &a.system, *t, e))
         .collect();
     let mut errors = Vec::new();
     let mut warnings: Vec<String> = warnings.iter().map(|w| w.to_string()).collect();
-    if let Some(why) = run.ic.failure(model) {
-        errors.push(why);
+    if let Some(why) = a.failure() {
+        errors.push(why.to_string());
     }
     for (t, e) in &run.steps {
         let why = match e {
             Err(e) => Some(e.clone()),
-            Ok(eq) => eq.failure(model, &run.ic.analysis.system),
+            Ok(eq) => eq.failure(model, &a.system),
         };
         if let Some(why) = why {
             errors.push(format!("time {t}: {why}"));
@@ -475,20 +478,20 @@ pub fn to_text(j: &StaticJson) -> String {
 
 /// The report of a dynamic settling (`linkage static --settle`).
 pub fn settling_json(
-    model: &Model,
-    st: linkage_solve::stages::settle::Settling,
+    a: &Assembled,
+    settled: Result<SettleOutcome, NotAssembled>,
     warnings: &[Diagnostic],
 ) -> StaticJson {
-    let settling = settling_summary(model, st.outcome.as_ref());
+    let model = a.model;
+    let outcome = settled.ok();
+    let settling = settling_summary(model, outcome.as_ref());
     let run = StaticRun {
-        ic: st.ic,
-        steps: st
-            .outcome
+        steps: outcome
             .and_then(|o| o.equilibrium)
             .map(|e| vec![(0.0, e)])
             .unwrap_or_default(),
     };
-    let mut j = to_json(model, &run, warnings);
+    let mut j = to_json(a, &run, warnings);
     if settling.criterion != "settled" {
         j.converged = false;
         j.errors.push(match settling.criterion {

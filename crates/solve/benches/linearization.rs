@@ -8,10 +8,9 @@
 //! `parallelogram_chain(N)`: 2N + 1 parts and 3N redundant rows left out of J, DOF 1.
 
 use linkage_solve::constraints::drivers::ExpressionDrivers;
-use linkage_solve::constraints::system::System;
 use linkage_solve::generate::{parallelogram_chain, pendulum_chain};
 use linkage_solve::physics::applied::NoForces;
-use linkage_solve::stages::ic::{admitted_rows, initial_conditions};
+use linkage_solve::pipeline::Assembled;
 use linkage_solve::stages::linearize::{linearize, EigenMethod, LinearOptions};
 use linkage_solve::tolerances::Tolerances;
 use std::sync::Arc;
@@ -33,8 +32,9 @@ fn model(text: &str) -> linkage_model::Model {
 fn bench_linearize(bencher: divan::Bencher, text: &str, method: EigenMethod, expect: usize) {
     let m = model(text);
     let d = ExpressionDrivers::new(&m).expect("functions parse");
-    let ic = initial_conditions(&m, &d, &NoForces, &Tolerances::default());
-    let rows = admitted_rows(&ic.analysis);
+    let a = Assembled::new(&m, &d, &NoForces, &Tolerances::default());
+    let ic = &a.ic;
+    let rows = &a.kept;
     let v = ic
         .velocity
         .as_ref()
@@ -49,7 +49,7 @@ fn bench_linearize(bencher: divan::Bencher, text: &str, method: EigenMethod, exp
         .expect("acceleration IC solved")
         .multipliers
         .clone();
-    let sys = System::new(&m);
+    let sys = &a.system;
     let opts = LinearOptions {
         damping: true,
         vectors: true,
@@ -58,8 +58,8 @@ fn bench_linearize(bencher: divan::Bencher, text: &str, method: EigenMethod, exp
     bencher.bench_local(|| {
         let l = linearize(
             &m,
-            &sys,
-            &rows,
+            sys,
+            rows,
             &NoForces,
             &ic.assembly.state,
             &v,

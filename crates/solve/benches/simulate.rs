@@ -18,7 +18,8 @@ use linkage_model::Model;
 use linkage_solve::constraints::drivers::ExpressionDrivers;
 use linkage_solve::generate::{parallelogram_chain, pendulum_chain};
 use linkage_solve::physics::applied::{AppliedForces, NoForces};
-use linkage_solve::stages::dynamics::{run, simulate, IntegratorSettings, Problem, Start};
+use linkage_solve::pipeline::Assembled;
+use linkage_solve::stages::dynamics::{run, simulate, IntegratorSettings, Start};
 use linkage_solve::tolerances::Tolerances;
 use std::sync::Arc;
 
@@ -62,11 +63,9 @@ fn output_times(interval: f64) -> Vec<f64> {
 /// The whole analysis: initial conditions, then the integration.
 fn run_analysis(m: &Model) -> usize {
     let d = ExpressionDrivers::new(m).expect("functions parse");
+    let a = Assembled::new(m, &d, &NoForces, &Tolerances::default());
     let r = run(
-        m,
-        &d,
-        &NoForces,
-        &Tolerances::default(),
+        &a,
         &output_times(SHORT),
         &IntegratorSettings::default(),
         Start::InitialConditions,
@@ -80,30 +79,15 @@ fn run_analysis(m: &Model) -> usize {
 /// Times the integration alone: initial conditions are computed once, outside the timing.
 fn bench_integration(bencher: divan::Bencher, m: &Model, forces: &dyn AppliedForces) {
     let d = ExpressionDrivers::new(m).expect("functions parse");
-    let ic = linkage_solve::stages::ic::initial_conditions(m, &d, forces, &Tolerances::default());
-    assert!(ic.assembly.converged);
-    let sys = linkage_solve::constraints::system::System::new(m);
-    let (rows, redundant) = ic.kept_and_removed_rows();
-    let problem = Problem {
-        model: m,
-        sys: &sys,
-        rows: &rows,
-        redundant: &redundant,
-        drivers: &d,
-        forces,
-        damping: None,
-        frozen_time: None,
-    };
-    let v0 = ic
-        .velocity
-        .as_ref()
-        .map(|v| v.velocities.clone())
-        .unwrap_or_default();
+    let a = Assembled::new(m, &d, forces, &Tolerances::default());
+    assert!(a.failure().is_none());
+    let problem = a.problem(None, None);
+    let v0 = a.velocities();
     let times = output_times(LONG);
     bencher.bench_local(|| {
         let sim = simulate(
             &problem,
-            &ic.assembly.state,
+            a.state(),
             &v0,
             &times,
             &IntegratorSettings::default(),
@@ -160,8 +144,8 @@ fn parallelogram_chain_settle(bencher: divan::Bencher, n: usize) {
     let m = model(&text);
     let d = ExpressionDrivers::new(&m).expect("functions parse");
     bencher.bench_local(|| {
-        let s = linkage_solve::stages::settle::settle(&m, &d, &NoForces, &Tolerances::default());
-        let outcome = s.outcome.expect("assembled");
+        let a = Assembled::new(&m, &d, &NoForces, &Tolerances::default());
+        let outcome = linkage_solve::stages::settle::settle(&a, |_| {}).expect("assembled");
         assert!(
             outcome.settled_equilibrium().is_some(),
             "{:?}",

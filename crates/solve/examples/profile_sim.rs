@@ -3,7 +3,8 @@
 //! by default; `swinging`: the pendulum chain with gravity across it).
 use linkage_solve::constraints::drivers::ExpressionDrivers;
 use linkage_solve::physics::applied::NoForces;
-use linkage_solve::stages::dynamics::{simulate, IntegratorSettings, Problem};
+use linkage_solve::pipeline::Assembled;
+use linkage_solve::stages::dynamics::{simulate, IntegratorSettings};
 use linkage_solve::tolerances::Tolerances;
 use std::sync::Arc;
 use std::time::Instant;
@@ -31,31 +32,16 @@ fn main() {
     let m = linkage_model::build_model(&ds).expect("builds").model;
     let d = ExpressionDrivers::new(&m).expect("functions");
     let t = Instant::now();
-    let ic =
-        linkage_solve::stages::ic::initial_conditions(&m, &d, &NoForces, &Tolerances::default());
+    let a = Assembled::new(&m, &d, &NoForces, &Tolerances::default());
+    let ic = &a.ic;
     println!(
         "verify + ic {:?} converged {} dof {}",
         t.elapsed(),
         ic.assembly.converged,
         ic.analysis.dof
     );
-    let sys = linkage_solve::constraints::system::System::new(&m);
-    let (rows, redundant) = ic.kept_and_removed_rows();
-    let problem = Problem {
-        model: &m,
-        sys: &sys,
-        rows: &rows,
-        redundant: &redundant,
-        drivers: &d,
-        forces: &NoForces,
-        damping: None,
-        frozen_time: None,
-    };
-    let v0 = ic
-        .velocity
-        .as_ref()
-        .map(|v| v.velocities.clone())
-        .unwrap_or_default();
+    let problem = a.problem(None, None);
+    let v0 = a.velocities();
     let times: Vec<f64> = (0..=5).map(|k| interval * k as f64 / 5.0).collect();
     let t = Instant::now();
     let cpu = cpu_time();

@@ -14,6 +14,7 @@ pub mod constraints;
 pub mod generate;
 pub mod linalg;
 pub mod physics;
+pub mod pipeline;
 pub mod stages;
 pub mod state;
 pub mod tolerances;

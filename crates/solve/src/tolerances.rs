@@ -73,4 +73,8 @@ pub const STATIC_ROUNDING_IMBALANCE: f64 = 1e-10;
 
 // ---- Assembly, initial conditions and settling (stages/assemble.rs, ic.rs, settle.rs) ----
 
+/// INTEGRATOR ERROR of the damped settling integration: the path to rest need not be accurate,
+/// only stable, and the Newton polish settles the final configuration to EQUILIBRIUM ERROR.
+pub const SETTLING_INTEGRATOR_ERROR: f64 = 1e-4;
+
 // ---- Explain (stages/explain/) ----

@@ -78,6 +78,7 @@ use linkage_solve::constraints::drivers::ExpressionDrivers;
 use linkage_solve::physics::applied::{AppliedForces, NoForces};
 use linkage_solve::physics::forces::ForceSet;
 use linkage_solve::physics::requests::RequestSet;
+use linkage_solve::pipeline::Assembled;
 use linkage_solve::stages::dynamics::{run, IntegratorSettings, Output, Start};
 use linkage_solve::tolerances::Tolerances;
 use std::path::{Path, PathBuf};
@@ -387,11 +388,14 @@ impl Case {
             error,
             ..Default::default()
         };
-        let result = run(
+        let assembled = Assembled::new(
             &self.model,
             &self.drivers,
             self.forces.as_ref(),
             &Tolerances::default(),
+        );
+        let result = run(
+            &assembled,
             &self.times,
             &settings,
             Start::InitialConditions,

@@ -6,7 +6,8 @@
 use linkage_model::Model;
 use linkage_solve::constraints::drivers::ExpressionDrivers;
 use linkage_solve::physics::applied::{AppliedForces, NoForces};
-use linkage_solve::stages::dynamics::{Integrator, IntegratorSettings, Problem};
+use linkage_solve::pipeline::Assembled;
+use linkage_solve::stages::dynamics::{Integrator, IntegratorSettings};
 use linkage_solve::tolerances::Tolerances;
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::cell::Cell;
@@ -75,20 +76,10 @@ fn allocations_in_steady_steps(
     counted: usize,
 ) -> Counted {
     let d = ExpressionDrivers::new(m).expect("no functions");
-    let ic = linkage_solve::stages::ic::initial_conditions(m, &d, forces, &Tolerances::default());
-    assert!(ic.assembly.converged);
-    let sys = linkage_solve::constraints::system::System::new(m);
-    let (rows, redundant) = ic.kept_and_removed_rows();
-    let p = Problem {
-        model: m,
-        sys: &sys,
-        rows: &rows,
-        redundant: &redundant,
-        drivers: &d,
-        forces,
-        damping: None,
-        frozen_time: None,
-    };
+    let a = Assembled::new(m, &d, forces, &Tolerances::default());
+    assert!(a.failure().is_none());
+    let ic = &a.ic;
+    let p = a.problem(None, None);
     let v0 = vec![(glam::DVec3::ZERO, glam::DVec3::ZERO); m.parts.len()];
     let at_start = allocations();
     let (mut integ, first) =

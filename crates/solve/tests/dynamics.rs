@@ -3,7 +3,9 @@
 use linkage_model::Model;
 use linkage_solve::constraints::drivers::ExpressionDrivers;
 use linkage_solve::physics::applied::NoForces;
-use linkage_solve::stages::dynamics::{run, DynamicRun, IntegratorSettings, Start};
+use linkage_solve::pipeline::Assembled;
+use linkage_solve::stages::dynamics::{run, DynamicRun, IntegratorSettings, RunError, Start};
+use linkage_solve::stages::settle::SettleOutcome;
 use linkage_solve::stages::statics::StaticRun;
 use linkage_solve::tolerances::Tolerances;
 use std::path::Path;
@@ -30,17 +32,19 @@ fn simulate(name: &str, text: &str, end: f64, steps: usize, error: f64) -> (Mode
         error,
         ..Default::default()
     };
-    let r = run(
-        &m,
-        &d,
-        &NoForces,
-        &Tolerances::default(),
-        &times,
-        &settings,
-        Start::InitialConditions,
-        |_| {},
-    );
+    let a = Assembled::new(&m, &d, &NoForces, &Tolerances::default());
+    let r = run(&a, &times, &settings, Start::InitialConditions, |_| {});
+    drop(a);
     (m, r)
+}
+
+/// How many redundant equations the assembly of `text` removes.
+fn removed_equations(text: &str) -> usize {
+    let ds = linkage_adm::parse_dataset(Arc::from("removed.adm"), text).unwrap();
+    let m = linkage_model::build_model(&ds).unwrap().model;
+    let d = ExpressionDrivers::new(&m).unwrap();
+    let a = Assembled::new(&m, &d, &NoForces, &Tolerances::default());
+    a.removed.len()
 }
 
 /// Complete elliptic integral of the first kind K(k) by the arithmetic–geometric mean.
@@ -126,14 +130,12 @@ fn damping_makes_the_energy_decrease_monotonically() {
     let ds = linkage_adm::parse_dataset(Arc::from("p.adm"), &text).unwrap();
     let m = linkage_model::build_model(&ds).unwrap().model;
     let d = ExpressionDrivers::new(&m).unwrap();
-    let ic =
-        linkage_solve::stages::ic::initial_conditions(&m, &d, &NoForces, &Tolerances::default());
-    let sys = linkage_solve::constraints::system::System::new(&m);
-    let rows = linkage_solve::stages::ic::admitted_rows(&ic.analysis);
+    let a = Assembled::new(&m, &d, &NoForces, &Tolerances::default());
+    let ic = &a.ic;
     let p = Problem {
         model: &m,
-        sys: &sys,
-        rows: &rows,
+        sys: &a.system,
+        rows: &a.kept,
         redundant: &[],
         drivers: &d,
         forces: &NoForces,
@@ -186,19 +188,19 @@ fn settling_finds_the_newton_equilibrium_and_says_why_it_stopped() {
     let m = linkage_model::build_model(&ds).unwrap().model;
     assert!(m.equilibrium.dynamic);
     let d = ExpressionDrivers::new(&m).unwrap();
-    let s = linkage_solve::stages::settle::settle(&m, &d, &NoForces, &Tolerances::default());
+    let a = Assembled::new(&m, &d, &NoForces, &Tolerances::default());
+    let s = linkage_solve::stages::settle::settle(&a, |_| {});
     assert!(
         matches!(
-            s.outcome.as_ref().map(|o| &o.stop),
-            Some(linkage_solve::stages::settle::SettleStop::Settled { .. })
+            s.as_ref().map(|o| &o.stop),
+            Ok(linkage_solve::stages::settle::SettleStop::Settled { .. })
         ),
         "{:?}",
-        s.outcome
+        s
     );
-    let eq = s.outcome.unwrap().equilibrium.unwrap().unwrap();
+    let eq = s.unwrap().equilibrium.unwrap().unwrap();
     assert!(eq.converged);
-    let newton =
-        linkage_solve::stages::statics::run(&m, &d, &NoForces, &Tolerances::default(), &[0.0]);
+    let newton = linkage_solve::stages::statics::run(&a, &[0.0]);
     let n_eq = newton.steps[0].1.as_ref().unwrap();
     assert!((eq.state.poses[0].p - n_eq.state.poses[0].p).length() < 1e-6);
     assert!((eq.state.poses[0].p - glam::DVec3::new(0.3, 0.7, 0.0)).length() < 1e-6);
@@ -207,14 +209,15 @@ fn settling_finds_the_newton_equilibrium_and_says_why_it_stopped() {
         .replace("END", "EQUILIBRIUM/, DYNAMIC, SETTLING_TIME = 2\nEND");
     let ds = linkage_adm::parse_dataset(Arc::from("nosettle.adm"), &text).unwrap();
     let m = linkage_model::build_model(&ds).unwrap().model;
-    let s = linkage_solve::stages::settle::settle(&m, &d, &NoForces, &Tolerances::default());
+    let a = Assembled::new(&m, &d, &NoForces, &Tolerances::default());
+    let s = linkage_solve::stages::settle::settle(&a, |_| {});
     assert!(
         matches!(
-            s.outcome.as_ref().map(|o| &o.stop),
-            Some(linkage_solve::stages::settle::SettleStop::SettlingTime { .. })
+            s.as_ref().map(|o| &o.stop),
+            Ok(linkage_solve::stages::settle::SettleStop::SettlingTime { .. })
         ),
         "{:?}",
-        s.outcome
+        s
     );
 }
 
@@ -274,7 +277,7 @@ MOTION/1, JOINT = 1, ROTATION, FUNCTION = 90D * TIME\nEND\n"
 fn consistent_duplicate_coupler_runs_and_a_drifting_one_stops_the_run() {
     // The same ratio written twice: the second coupler is redundant and stays consistent.
     let (m, r) = simulate("same.adm", &coupled_pulleys("2, -4"), 1.0, 10, 1e-6);
-    assert_eq!(r.ic.analysis.redundant.len(), 1);
+    assert_eq!(removed_equations(&coupled_pulleys("2, -4")), 1);
     let sim = r.simulation.as_ref().unwrap();
     assert!(sim.failure.is_none(), "{:?}", sim.failure);
     let last = sim.outputs.last().unwrap();
@@ -314,11 +317,9 @@ fn zero_dof_fourbar_runs_kinematically_and_the_motion_supplies_the_power() {
     let ds = linkage_adm::parse_dataset(Arc::from("fourbar_motion.adm"), text.as_str()).unwrap();
     let m = linkage_model::build_model(&ds).unwrap().model;
     let d = ExpressionDrivers::new(&m).unwrap();
+    let a = Assembled::new(&m, &d, &NoForces, &Tolerances::default());
     let r = run(
-        &m,
-        &d,
-        &NoForces,
-        &Tolerances::default(),
+        &a,
         &times,
         &IntegratorSettings::default(),
         Start::InitialConditions,
@@ -423,14 +424,12 @@ fn missing_initial_velocities_start_the_pendulum_at_rest() {
         .unwrap();
     let m = linkage_model::build_model(&ds).unwrap().model;
     let d = ExpressionDrivers::new(&m).unwrap();
-    let ic =
-        linkage_solve::stages::ic::initial_conditions(&m, &d, &NoForces, &Tolerances::default());
-    let sys = linkage_solve::constraints::system::System::new(&m);
-    let rows = linkage_solve::stages::ic::admitted_rows(&ic.analysis);
+    let a = Assembled::new(&m, &d, &NoForces, &Tolerances::default());
+    let ic = &a.ic;
     let p = Problem {
         model: &m,
-        sys: &sys,
-        rows: &rows,
+        sys: &a.system,
+        rows: &a.kept,
         redundant: &[],
         drivers: &d,
         forces: &NoForces,
@@ -490,16 +489,9 @@ fn run_from(text: &str, start: Start, end: f64) -> (Model, DynamicRun) {
         error: 1e-6,
         ..Default::default()
     };
-    let r = run(
-        &m,
-        &d,
-        &forces,
-        &Tolerances::default(),
-        &times,
-        &settings,
-        start,
-        |_| {},
-    );
+    let a = Assembled::new(&m, &d, &forces, &Tolerances::default());
+    let r = run(&a, &times, &settings, start, |_| {});
+    drop(a);
     (m, r)
 }
 
@@ -590,6 +582,9 @@ fn a_model_that_does_not_settle_is_not_run_and_says_why() {
     );
     assert!(r.simulation.is_none());
     let why = r.error.expect("the run must say why it did not start");
+    let RunError::NoEquilibrium(why) = why else {
+        panic!("{why}")
+    };
     assert!(
         why.contains("did not settle within SETTLING_TIME = 1"),
         "{why}"
@@ -597,7 +592,9 @@ fn a_model_that_does_not_settle_is_not_run_and_says_why() {
     assert!(why.contains("kinetic energy"), "{why}");
 }
 
-fn settled_chain(crank_deg: f64) -> (Model, linkage_solve::stages::settle::Settling, StaticRun) {
+/// The chain, its settling outcome, its Newton equilibrium and the number of redundant
+/// equations its assembly removed.
+fn settled_chain(crank_deg: f64) -> (Model, SettleOutcome, StaticRun, usize) {
     let text = linkage_solve::generate::parallelogram_chain(3, crank_deg).replace(
         "END",
         "EQUILIBRIUM/, DYNAMIC, GLOBAL_DAMPING = 2, SETTLING_TIME = 50\nEND",
@@ -605,10 +602,12 @@ fn settled_chain(crank_deg: f64) -> (Model, linkage_solve::stages::settle::Settl
     let ds = linkage_adm::parse_dataset(Arc::from("chain3.adm"), &text).unwrap();
     let m = linkage_model::build_model(&ds).unwrap().model;
     let d = ExpressionDrivers::new(&m).unwrap();
-    let s = linkage_solve::stages::settle::settle(&m, &d, &NoForces, &Tolerances::default());
-    let newton =
-        linkage_solve::stages::statics::run(&m, &d, &NoForces, &Tolerances::default(), &[0.0]);
-    (m, s, newton)
+    let a = Assembled::new(&m, &d, &NoForces, &Tolerances::default());
+    let s = linkage_solve::stages::settle::settle(&a, |_| {}).expect("assembles");
+    let newton = linkage_solve::stages::statics::run(&a, &[0.0]);
+    let removed = a.removed.len();
+    drop(a);
+    (m, s, newton, removed)
 }
 
 /// Centres of mass of the four cranks (length 1, pivots at (k, 0)) pointing `up` or down.
@@ -626,9 +625,8 @@ fn cranks_point(m: &Model, state: &linkage_solve::state::State, up: bool) -> boo
 /// dynamics cannot rest there and settles hanging down: the reason to settle.
 #[test]
 fn settling_and_newton_agree_on_a_closed_loop_chain_unless_newton_finds_an_unstable_pose() {
-    let (m, s, newton) = settled_chain(-60.0);
-    assert_eq!(s.ic.analysis.redundant.len(), 9);
-    let outcome = s.outcome.unwrap();
+    let (m, outcome, newton, removed) = settled_chain(-60.0);
+    assert_eq!(removed, 9);
     let settled = outcome
         .settled_equilibrium()
         .unwrap_or_else(|| panic!("{:?}", outcome.stop));
@@ -645,12 +643,11 @@ fn settling_and_newton_agree_on_a_closed_loop_chain_unless_newton_finds_an_unsta
     assert!(cranks_point(&m, &settled.state, false));
     assert_eq!(settled.stability.map(|s| s.0), Some(true));
 
-    let (m, s, newton) = settled_chain(60.0);
+    let (m, outcome, newton, _) = settled_chain(60.0);
     let n_eq = newton.steps[0].1.as_ref().unwrap();
     assert!(n_eq.converged);
     assert!(cranks_point(&m, &n_eq.state, true));
     assert_eq!(n_eq.stability.map(|s| s.0), Some(false));
-    let outcome = s.outcome.unwrap();
     let settled = outcome
         .settled_equilibrium()
         .unwrap_or_else(|| panic!("{:?}", outcome.stop));

@@ -3,6 +3,7 @@
 use linkage_model::Model;
 use linkage_solve::constraints::drivers::ExpressionDrivers;
 use linkage_solve::physics::forces::ForceSet;
+use linkage_solve::pipeline::Assembled;
 use linkage_solve::stages::linearize::{EigenMethod, LinearOptions};
 use linkage_solve::tolerances::Tolerances;
 use std::f64::consts::TAU;
@@ -35,7 +36,10 @@ ACCGRAV/, JGRAV = -9.80665\nEND\n"
 #[test]
 fn spring_and_mass_on_a_guide_deflect_by_mg_over_k() {
     let (m, d, f) = load(&spring_on_guide(2.0, 1000.0, 0.0));
-    let r = linkage_solve::stages::statics::run(&m, &d, &f, &Tolerances::default(), &[0.0]);
+    let r = linkage_solve::stages::statics::run(
+        &Assembled::new(&m, &d, &f, &Tolerances::default()),
+        &[0.0],
+    );
     let eq = r.steps[0].1.as_ref().unwrap();
     assert!(eq.converged, "{:?}", eq.worst);
     // Spring from y = 1 down to the block: length 1 − y; equilibrium k(1 − y − 0.5) = m g.
@@ -51,10 +55,7 @@ fn mass_spring_damper_frequency_and_damping_ratio() {
     // ζ = 0.1; without damping Imag = 1.59155 Hz.
     let (m, d, f) = load(&spring_on_guide(1.0, 100.0, 2.0));
     let run = linkage_solve::stages::linearize::run(
-        &m,
-        &d,
-        &f,
-        &Tolerances::default(),
+        &Assembled::new(&m, &d, &f, &Tolerances::default()),
         true,
         LinearOptions {
             damping: true,
@@ -72,10 +73,7 @@ fn mass_spring_damper_frequency_and_damping_ratio() {
         "{mode:?}"
     );
     let run = linkage_solve::stages::linearize::run(
-        &m,
-        &d,
-        &f,
-        &Tolerances::default(),
+        &Assembled::new(&m, &d, &f, &Tolerances::default()),
         true,
         LinearOptions {
             damping: false,
@@ -106,7 +104,10 @@ fn pendulum_with_a_torsion_spring_settles_where_the_torques_balance() {
     );
     assert!(text.contains("SPRINGDAMPER"));
     let (m, d, f) = load(&text);
-    let r = linkage_solve::stages::statics::run(&m, &d, &f, &Tolerances::default(), &[0.0]);
+    let r = linkage_solve::stages::statics::run(
+        &Assembled::new(&m, &d, &f, &Tolerances::default()),
+        &[0.0],
+    );
     let eq = r.steps[0].1.as_ref().unwrap();
     assert!(eq.converged, "{:?}", eq.worst);
     // θ from the torque balance (bisection).
@@ -141,10 +142,7 @@ fn damped_mass_spring_through_the_sparse_path() {
     let (mass, k, c) = (2.0, 300.0, 3.0);
     let (m, d, f) = load(&spring_on_guide(mass, k, c));
     let run = linkage_solve::stages::linearize::run(
-        &m,
-        &d,
-        &f,
-        &Tolerances::default(),
+        &Assembled::new(&m, &d, &f, &Tolerances::default()),
         true,
         LinearOptions {
             damping: true,
@@ -204,10 +202,7 @@ fn damped_chain_shift_invert_matches_the_dense_eigenvalues() {
     let (m, d, f) = load(&damped_chain(8, 0.3, 0.5));
     let solve = |method| {
         linkage_solve::stages::linearize::run(
-            &m,
-            &d,
-            &f,
-            &Tolerances::default(),
+            &Assembled::new(&m, &d, &f, &Tolerances::default()),
             true,
             LinearOptions {
                 damping: true,
@@ -248,10 +243,7 @@ fn damped_chain_modes_around_a_frequency_match_dense_modes() {
     let (m, d, f) = load(&damped_chain(8, 0.3, 0.5));
     let solve = |method| {
         linkage_solve::stages::linearize::run(
-            &m,
-            &d,
-            &f,
-            &Tolerances::default(),
+            &Assembled::new(&m, &d, &f, &Tolerances::default()),
             true,
             LinearOptions {
                 damping: true,

@@ -10,7 +10,9 @@ use linkage_solve::constraints::rows::RowGradient;
 use linkage_solve::constraints::system::System;
 use linkage_solve::physics::applied::NoForces;
 use linkage_solve::physics::measures::{MarkerFrames, PathEnv, PositionEnv};
+use linkage_solve::pipeline::Assembled;
 use linkage_solve::stages::dynamics::{run, DynamicRun, IntegratorSettings};
+use linkage_solve::stages::ic::InitialConditions;
 use linkage_solve::state::State;
 use linkage_solve::tolerances::Tolerances;
 use std::path::Path;
@@ -258,6 +260,11 @@ END
 ";
 
 fn simulate(text: &str, end: f64, steps: usize) -> DynamicRun {
+    simulate_with_ic(text, end, steps).0
+}
+
+/// The run and the initial conditions it started from.
+fn simulate_with_ic(text: &str, end: f64, steps: usize) -> (DynamicRun, InitialConditions) {
     let m = model_of(text);
     let d = ExpressionDrivers::new(&m).unwrap_or_else(|e| panic!("{e}"));
     let times: Vec<f64> = (0..=steps).map(|k| end * k as f64 / steps as f64).collect();
@@ -265,16 +272,15 @@ fn simulate(text: &str, end: f64, steps: usize) -> DynamicRun {
         error: 1e-8,
         ..Default::default()
     };
-    run(
-        &m,
-        &d,
-        &NoForces,
-        &Tolerances::default(),
+    let a = Assembled::new(&m, &d, &NoForces, &Tolerances::default());
+    let r = run(
+        &a,
         &times,
         &settings,
         linkage_solve::stages::dynamics::Start::InitialConditions,
         |_| {},
-    )
+    );
+    (r, a.ic)
 }
 
 fn close(got: DVec3, want: DVec3, tol: f64, what: &str) {
@@ -292,7 +298,7 @@ fn close(got: DVec3, want: DVec3, tol: f64, what: &str) {
 /// exact second derivatives.
 #[test]
 fn distance_pendulum_tension_is_centripetal_plus_gravity() {
-    let r = simulate(DISTANCE_PENDULUM, 2.0, 40);
+    let (r, ic) = simulate_with_ic(DISTANCE_PENDULUM, 2.0, 40);
     let sim = r.simulation.as_ref().expect("simulated");
     assert!(sim.failure.is_none(), "{:?}", sim.failure);
     assert_eq!(sim.outputs.len(), 41);
@@ -338,11 +344,7 @@ fn distance_pendulum_tension_is_centripetal_plus_gravity() {
         close(reaction.torque, DVec3::ZERO, 1e-9, "reaction torque");
     }
     // The initial conditions report the same acceleration (no refusal for a GCON).
-    let acc =
-        r.ic.acceleration
-            .as_ref()
-            .expect("acceleration IC")
-            .as_ref();
+    let acc = ic.acceleration.as_ref().expect("acceleration IC").as_ref();
     let acc = acc.unwrap_or_else(|e| panic!("{e}"));
     let first = &sim.outputs[0];
     close(
@@ -410,13 +412,9 @@ fn distance_pendulum_statics_see_the_rod_geometric_stiffness() {
             .replace(", VY=0.75, VZ=1.299038105676658", "");
         let model = model_of(&text);
         let d = ExpressionDrivers::new(&model).unwrap_or_else(|e| panic!("{e}"));
-        let r = linkage_solve::stages::statics::run(
-            &model,
-            &d,
-            &NoForces,
-            &Tolerances::default(),
-            &[0.0],
-        );
+        let a = Assembled::new(&model, &d, &NoForces, &Tolerances::default());
+        let r = linkage_solve::stages::statics::run(&a, &[0.0]);
+        drop(a);
         let eq = r.steps[0].1.clone().unwrap_or_else(|e| panic!("{e}"));
         (model, eq)
     };

@@ -24,6 +24,7 @@ fn run_text(name: &str, text: &str) -> (Model, InitialConditions) {
     let d = ExpressionDrivers::new(&m).unwrap();
     let ic = initial_conditions(
         &m,
+        &linkage_solve::constraints::system::System::new(&m),
         &d,
         &linkage_solve::physics::applied::NoForces,
         &Tolerances::default(),

@@ -3,6 +3,7 @@
 use linkage_model::Model;
 use linkage_solve::constraints::drivers::ExpressionDrivers;
 use linkage_solve::physics::applied::NoForces;
+use linkage_solve::pipeline::Assembled;
 use linkage_solve::stages::linearize::{run, EigenMethod, LinearOptions, Linearization};
 use linkage_solve::tolerances::Tolerances;
 use std::f64::consts::TAU;
@@ -31,10 +32,7 @@ fn linear(name: &str, text: &str, static_first: bool) -> (Model, Linearization) 
         .model;
     let d = ExpressionDrivers::new(&m).unwrap();
     let r = run(
-        &m,
-        &d,
-        &NoForces,
-        &Tolerances::default(),
+        &Assembled::new(&m, &d, &NoForces, &Tolerances::default()),
         static_first,
         OPTS,
     );
@@ -166,10 +164,7 @@ fn linear_with(name: &str, text: &str, static_first: bool, method: EigenMethod) 
     let d = ExpressionDrivers::new(&m).unwrap();
     let opts = LinearOptions { method, ..OPTS };
     run(
-        &m,
-        &d,
-        &NoForces,
-        &Tolerances::default(),
+        &Assembled::new(&m, &d, &NoForces, &Tolerances::default()),
         static_first,
         opts,
     )
@@ -355,10 +350,7 @@ fn shift_invert_reproduces_the_dense_eigenvalues_of_the_test_mechanisms() {
                 ..OPTS
             };
             if run(
-                &m,
-                &d,
-                &NoForces,
-                &Tolerances::default(),
+                &Assembled::new(&m, &d, &NoForces, &Tolerances::default()),
                 static_first,
                 opts,
             )

@@ -3,6 +3,7 @@
 use linkage_model::Model;
 use linkage_solve::constraints::drivers::ExpressionDrivers;
 use linkage_solve::physics::applied::NoForces;
+use linkage_solve::pipeline::Assembled;
 use linkage_solve::stages::statics::{output_times, run, StaticRun};
 use linkage_solve::tolerances::Tolerances;
 use std::path::Path;
@@ -22,7 +23,9 @@ fn solve(name: &str, text: &str, times: &[f64]) -> (Model, StaticRun) {
         .unwrap_or_else(|e| panic!("{name}: {e}"))
         .model;
     let d = ExpressionDrivers::new(&m).unwrap();
-    let r = run(&m, &d, &NoForces, &Tolerances::default(), times);
+    let a = Assembled::new(&m, &d, &NoForces, &Tolerances::default());
+    let r = run(&a, times);
+    drop(a);
     (m, r)
 }
 

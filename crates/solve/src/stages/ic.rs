@@ -15,8 +15,8 @@
 use crate::constraints::drivers::ExpressionDrivers;
 use crate::constraints::rows::RowGradient;
 use crate::constraints::system::System;
-use crate::linalg::linear::SparseLu;
-use crate::physics::applied::AppliedForces;
+use crate::linalg::linear::{LinearError, SparseLu};
+use crate::physics::applied::{AppliedForces, ForceError};
 pub use crate::physics::reactions::{element_reactions, Reaction};
 use crate::stages::assemble::{assemble, hard_rows, Assembly, HardRow};
 use crate::stages::verify::{report_residual, residuals, verify, verify_at, Verification};
@@ -80,7 +80,7 @@ pub struct InitialConditions {
     pub repaired: Vec<Repair>,
     pub velocity: Option<VelocityIc>,
     /// `Err` with the reason when the acceleration/force solve could not be done.
-    pub acceleration: Option<Result<AccelerationIc, String>>,
+    pub acceleration: Option<Result<AccelerationIc, AccelerationError>>,
     /// Motions whose displacement at the start time cannot be evaluated (left out of the
     /// assembly): element, time and cause. Velocity and acceleration motions without ICDISP
     /// are not listed (the assembly decides their start displacement).
@@ -95,47 +95,6 @@ impl InitialConditions {
             admitted_rows(&self.analysis),
             self.analysis.redundant.iter().map(|r| r.row).collect(),
         )
-    }
-
-    /// Why no analysis can start from these initial conditions, naming the equation: the
-    /// assembly did not converge (largest remaining residual), or a redundant equation is
-    /// inconsistent (its residual). `None` when the model is assembled.
-    pub fn failure(&self, model: &Model) -> Option<String> {
-        let name = |row: usize| {
-            let r = &self.analysis.system.rows[row];
-            (
-                model.constraints[r.element].origin.name.clone(),
-                r.label,
-                crate::stages::verify::report_unit_suffix(r.unit),
-            )
-        };
-        if !self.assembly.converged {
-            return Some(format!(
-                "the model could not be assembled: the initial conditions did not converge \
-                 (largest residual {:.3e}); run `linkage ic` for the equations left unsatisfied",
-                self.assembly.max_residual
-            ));
-        }
-        let bad: Vec<String> = self
-            .analysis
-            .redundant
-            .iter()
-            .filter(|r| r.consistent == Some(false))
-            .map(|r| {
-                let (element, label, u) = name(r.row);
-                match r.residual {
-                    Some(x) => format!("{label} of {element} (residual {x:.4e}{u})"),
-                    None => format!("{label} of {element}"),
-                }
-            })
-            .collect();
-        (!bad.is_empty()).then(|| {
-            format!(
-                "the model cannot be assembled: redundant equation(s) inconsistent with the \
-                 others: {}",
-                bad.join(", ")
-            )
-        })
     }
 
     /// Whether some redundant equation cannot be satisfied (the model cannot be assembled as
@@ -159,21 +118,22 @@ pub fn admitted_rows(v: &Verification) -> Vec<usize> {
         .collect()
 }
 
-/// Runs the displacement, velocity and acceleration/force initial conditions.
+/// Runs the displacement, velocity and acceleration/force initial conditions of `model`, whose
+/// compiled rows are `sys` (see [`crate::pipeline::Assembled`], which calls this).
 pub fn initial_conditions(
     model: &Model,
+    sys: &System,
     drivers: &ExpressionDrivers,
     forces: &dyn AppliedForces,
     tol: &Tolerances,
 ) -> InitialConditions {
     let input = State::input(model);
     let hard = hard_rows(model);
-    let sys = System::new(model);
     let mut analysis = verify(model, drivers, tol);
-    let before = residuals(&sys, &input, drivers);
+    let before = residuals(sys, &input, drivers);
     let mut asm = assemble(
         model,
-        &sys,
+        sys,
         &admitted_rows(&analysis),
         &hard,
         drivers,
@@ -192,7 +152,7 @@ pub fn initial_conditions(
         }
         asm = assemble(
             model,
-            &sys,
+            sys,
             &admitted_rows(&analysis),
             &hard,
             drivers,
@@ -210,8 +170,8 @@ pub fn initial_conditions(
         })
         .map(|e| crate::stages::verify::motion_error(model, drivers, e, input.time))
         .collect();
-    let after = residuals(&sys, &asm.state, drivers);
-    let repaired = analysis_repairs(&sys, &before, &after, model, tol);
+    let after = residuals(sys, &asm.state, drivers);
+    let repaired = analysis_repairs(sys, &before, &after, model, tol);
     let moved = (0..model.parts.len())
         .filter_map(|k| {
             let (a, b) = (asm.state.poses[k], input.poses[k]);
@@ -230,10 +190,10 @@ pub fn initial_conditions(
         .collect();
     let (velocity, acceleration) = if asm.converged {
         let rows = admitted_rows(&analysis);
-        let vel = velocity_ic(model, &sys, &rows, &hard, drivers, &asm.state);
+        let vel = velocity_ic(model, sys, &rows, &hard, drivers, &asm.state);
         let acc = acceleration_ic(
             model,
-            &sys,
+            sys,
             &rows,
             drivers,
             forces,
@@ -458,6 +418,35 @@ pub fn velocity_ic(
     }
 }
 
+/// Why the acceleration/force IC could not be solved.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum AccelerationError {
+    /// An applied force cannot be evaluated at the assembled configuration.
+    #[error(transparent)]
+    Force(#[from] ForceError),
+    /// A motion's acceleration cannot be evaluated (`element` is its label with the line).
+    #[error("{element}: the motion's acceleration at time {time}: {cause}")]
+    MotionAcceleration {
+        element: String,
+        time: f64,
+        cause: String,
+    },
+    /// A general constraint's second time derivative cannot be evaluated.
+    #[error(
+        "{element}: the second time derivative of the constraint cannot be evaluated: {cause}"
+    )]
+    ConstraintBias { element: String, cause: String },
+    /// The saddle-point matrix cannot be factorised.
+    #[error(transparent)]
+    Factor(#[from] LinearError),
+    /// The matrix is singular.
+    #[error(
+        "the acceleration equations are singular: a massless part or a part without inertia \
+         has motion the constraints leave free"
+    )]
+    Singular,
+}
+
 /// Acceleration and force IC.
 pub fn acceleration_ic(
     model: &Model,
@@ -467,7 +456,7 @@ pub fn acceleration_ic(
     forces: &dyn AppliedForces,
     s: &State,
     v: &[(DVec3, DVec3)],
-) -> Result<AccelerationIc, String> {
+) -> Result<AccelerationIc, AccelerationError> {
     let n = model.parts.len();
     let mut applied = vec![0.0; 6 * n];
     forces.add_forces(s, v, &mut applied)?;
@@ -479,23 +468,23 @@ pub fn acceleration_ic(
             match drivers.motion_rates(row.element, s.time) {
                 Some(Ok((_, acc))) => acc,
                 Some(Err(e)) => {
-                    return Err(format!(
-                        "{}: the motion's acceleration at time {}: {e}",
-                        model.constraints[row.element].origin.label(),
-                        s.time
-                    ))
+                    return Err(AccelerationError::MotionAcceleration {
+                        element: model.constraints[row.element].origin.label(),
+                        time: s.time,
+                        cause: e.to_string(),
+                    })
                 }
                 None => continue,
             }
         } else {
             0.0
         };
-        let bias = sys.acceleration_bias(r, s, v, 1.0).map_err(|e| {
-            format!(
-                "{}: the second time derivative of the constraint cannot be evaluated: {e}",
-                model.constraints[row.element].origin.name
-            )
-        })?;
+        let bias =
+            sys.acceleration_bias(r, s, v, 1.0)
+                .map_err(|e| AccelerationError::ConstraintBias {
+                    element: model.constraints[row.element].origin.name.clone(),
+                    cause: e.to_string(),
+                })?;
         sys.gradient(r, s, &mut g);
         eqs.push((r, g.clone(), fdd - bias));
     }
@@ -526,10 +515,9 @@ pub fn acceleration_ic(
         push_gradient(&mut entries, 6 * n + e, grad);
         rhs[6 * n + e] = *b;
     }
-    let lu = SparseLu::factor(dim, &entries).map_err(|e| e.to_string())?;
-    lu.solve(&mut rhs).map_err(|_| {
-        "the acceleration equations are singular: a massless part or a part without inertia has motion the constraints leave free".to_string()
-    })?;
+    let lu = SparseLu::factor(dim, &entries)?;
+    lu.solve(&mut rhs)
+        .map_err(|_| AccelerationError::Singular)?;
     let acc: Vec<(DVec3, DVec3)> = (0..n)
         .map(|k| {
             (

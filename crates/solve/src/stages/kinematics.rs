@@ -246,11 +246,9 @@ mod tests {
         let forces = crate::physics::applied::NoForces;
         let tol = crate::tolerances::Tolerances::default();
         let times = [0.0, 0.5, 1.0, 2.0];
+        let assembled = crate::pipeline::Assembled::new(&model, &drivers, &forces, &tol);
         let run = crate::stages::dynamics::run(
-            &model,
-            &drivers,
-            &forces,
-            &tol,
+            &assembled,
             &times,
             &IntegratorSettings::default(),
             crate::stages::dynamics::Start::InitialConditions,

@@ -30,6 +30,7 @@ use crate::constraints::rows::{RowGradient, Velocities};
 use crate::constraints::system::System;
 use crate::linalg::eigs::{zero_eigenvectors, ConstrainedPencil, EigenError, SparseMatrix, Wanted};
 use crate::physics::applied::AppliedForces;
+use crate::pipeline::Assembled;
 use crate::state::State;
 use faer::linalg::solvers::DenseSolveCore;
 use faer::Mat;
@@ -818,88 +819,68 @@ fn solve_shift_invert(
     })
 }
 
-/// A linear analysis: initial conditions, optionally static equilibrium, then the eigen
+/// A linear analysis of an assembled model: optionally static equilibrium, then the eigen
 /// solution about that operating point.
 #[derive(Clone, Debug)]
 pub struct LinearRun {
-    pub ic: crate::stages::ic::InitialConditions,
     /// The static equilibrium used as operating point (with `--static-first`).
     pub equilibrium: Option<Result<crate::stages::statics::Equilibrium, String>>,
     pub result: Result<Linearization, String>,
 }
 
-/// Runs the initial conditions, then (with `static_first`) static equilibrium, then the
-/// linearization about the resulting operating point. Without static equilibrium the operating
-/// point is the assembled configuration with the IC velocities and the constraint forces of the
-/// acceleration/force IC.
-pub fn run(
-    model: &Model,
-    drivers: &crate::constraints::drivers::ExpressionDrivers,
-    forces: &dyn AppliedForces,
-    tol: &crate::tolerances::Tolerances,
-    static_first: bool,
-    opts: LinearOptions,
-) -> LinearRun {
-    let sys = System::new(model);
+/// Linearizes an assembled model about its operating point: with `static_first`, static
+/// equilibrium at the start time (at rest, with its multipliers); otherwise the assembled
+/// configuration with the IC velocities and the constraint forces of the acceleration/force IC.
+pub fn run(a: &Assembled, static_first: bool, opts: LinearOptions) -> LinearRun {
+    let model = a.model;
+    let no_operating_point = |why: String| Err(format!("{why}; no operating point"));
+    if let Some(why) = a.failure() {
+        return LinearRun {
+            equilibrium: None,
+            result: no_operating_point(why.to_string()),
+        };
+    }
     if static_first {
-        let st = crate::stages::statics::run(model, drivers, forces, tol, &[0.0]);
-        let eq = st.steps.into_iter().next().map(|(_, e)| e);
-        let ic = st.ic;
-        let rows = crate::stages::ic::admitted_rows(&ic.analysis);
+        let eq = crate::stages::statics::run(a, &[0.0])
+            .steps
+            .into_iter()
+            .next()
+            .map(|(_, e)| e);
         let result = match &eq {
-            Some(Ok(e)) if e.converged => {
-                let v = vec![(glam::DVec3::ZERO, glam::DVec3::ZERO); model.parts.len()];
-                linearize(
-                    model,
-                    &sys,
-                    &rows,
-                    forces,
-                    &e.state,
-                    &v,
-                    &e.multipliers,
-                    opts,
-                )
-            }
+            Some(Ok(e)) if e.converged => linearize(
+                model,
+                &a.system,
+                &a.kept,
+                a.forces,
+                &e.state,
+                &a.rest(),
+                &e.multipliers,
+                opts,
+            ),
             Some(Ok(_)) => Err("static equilibrium did not converge; no operating point".into()),
             Some(Err(e)) => Err(e.clone()),
-            None => Err(format!(
-                "{}; no operating point",
-                ic.failure(model)
-                    .unwrap_or_else(|| "the model could not be assembled".into())
-            )),
+            None => no_operating_point("the model could not be assembled".into()),
         };
         return LinearRun {
-            ic,
             equilibrium: eq,
             result,
         };
     }
-    let ic = crate::stages::ic::initial_conditions(model, drivers, forces, tol);
-    let rows = crate::stages::ic::admitted_rows(&ic.analysis);
-    let result = match (&ic.velocity, &ic.acceleration) {
-        _ if ic.failure(model).is_some() => Err(format!(
-            "{}; no operating point",
-            ic.failure(model).unwrap_or_default()
-        )),
-        (Some(v), Some(Ok(a))) => linearize(
+    let result = match (&a.ic.velocity, &a.ic.acceleration) {
+        (Some(v), Some(Ok(acc))) => linearize(
             model,
-            &sys,
-            &rows,
-            forces,
-            &ic.assembly.state,
+            &a.system,
+            &a.kept,
+            a.forces,
+            a.state(),
             &v.velocities,
-            &a.multipliers,
+            &acc.multipliers,
             opts,
         ),
-        (_, Some(Err(e))) => Err(e.clone()),
-        _ => Err(format!(
-            "{}; no operating point",
-            ic.failure(model)
-                .unwrap_or_else(|| "the model could not be assembled".into())
-        )),
+        (_, Some(Err(e))) => Err(e.to_string()),
+        _ => no_operating_point("the model could not be assembled".into()),
     };
     LinearRun {
-        ic,
         equilibrium: None,
         result,
     }

@@ -10,16 +10,12 @@
 //! configuration is then polished with the static Newton iteration, and time is reset to the
 //! start.
 
-use crate::constraints::drivers::ExpressionDrivers;
 use crate::constraints::system::System;
-use crate::physics::applied::AppliedForces;
-use crate::stages::dynamics::{
-    simulate_with, AfterOutput, ExtraDamping, IntegratorSettings, Problem,
-};
+use crate::pipeline::{Assembled, NotAssembled};
+use crate::stages::dynamics::{simulate_with, AfterOutput, ExtraDamping, IntegratorSettings};
 use crate::stages::statics::{equilibrium, Equilibrium};
 use crate::state::State;
-use crate::tolerances::Tolerances;
-use glam::DVec3;
+use crate::tolerances::SETTLING_INTEGRATOR_ERROR;
 use linkage_model::settings::shown;
 use linkage_model::Model;
 
@@ -41,14 +37,6 @@ pub enum SettleStop {
     },
     /// The integration failed.
     Failed(String),
-}
-
-/// Result of dynamic settling.
-#[derive(Clone, Debug)]
-pub struct Settling {
-    pub ic: crate::stages::ic::InitialConditions,
-    /// `None` when the model could not be assembled (nothing was integrated).
-    pub outcome: Option<SettleOutcome>,
 }
 
 /// How the settling of an assembled model went: what stopped it, the pseudo-time integrated,
@@ -105,73 +93,25 @@ impl SettleOutcome {
     }
 }
 
-/// Settles the model by damped dynamics, then polishes with Newton statics, with the
-/// dataset's EQUILIBRIUM settings (`model.equilibrium`).
-pub fn settle(
-    model: &Model,
-    drivers: &ExpressionDrivers,
-    forces: &dyn AppliedForces,
-    tol: &Tolerances,
-) -> Settling {
-    settle_watched(model, drivers, forces, tol, |_| {})
-}
-
-/// [`settle`], reporting the pseudo-time integrated so far (from 0 to SETTLING_TIME) to
-/// `progress` after every step.
-pub fn settle_watched(
-    model: &Model,
-    drivers: &ExpressionDrivers,
-    forces: &dyn AppliedForces,
-    tol: &Tolerances,
-    progress: impl FnMut(f64),
-) -> Settling {
-    let ic = crate::stages::ic::initial_conditions(model, drivers, forces, tol);
-    if ic.failure(model).is_some() {
-        return Settling { ic, outcome: None };
+/// Settles an assembled model by damped dynamics with time frozen at the start, then polishes
+/// with Newton statics at the start time, with the dataset's EQUILIBRIUM settings
+/// (`model.equilibrium`); the kept rows and anchored motions are the assembly's. `progress`
+/// hears the pseudo-time integrated so far (from 0 to SETTLING_TIME) after every step.
+pub fn settle(a: &Assembled, mut progress: impl FnMut(f64)) -> Result<SettleOutcome, NotAssembled> {
+    if let Some(why) = a.failure() {
+        return Err(why.clone());
     }
-    let outcome = settle_assembled(model, drivers, forces, &ic, progress);
-    Settling {
-        ic,
-        outcome: Some(outcome),
-    }
-}
-
-/// Settles a model from its initial conditions `ic` (which must have assembled, with no
-/// inconsistent redundancy): damped dynamics with time frozen at the start, then the Newton
-/// polish at the start time. `progress` hears the pseudo-time integrated after every step.
-pub fn settle_assembled(
-    model: &Model,
-    drivers: &ExpressionDrivers,
-    forces: &dyn AppliedForces,
-    ic: &crate::stages::ic::InitialConditions,
-    mut progress: impl FnMut(f64),
-) -> SettleOutcome {
+    let model = a.model;
     let eq = &model.equilibrium;
-    let sys = System::new(model);
-    let (rows, redundant) = ic.kept_and_removed_rows();
-    let drivers = &drivers.anchored(&sys, &rows, &ic.assembly.state);
-    let t0 = ic.assembly.state.time;
-    let problem = Problem {
-        model,
-        sys: &sys,
-        rows: &rows,
-        redundant: &redundant,
-        drivers,
-        forces,
-        damping: Some(ExtraDamping(eq.global_damping)),
-        frozen_time: Some(t0),
-    };
-    let v0: Vec<(DVec3, DVec3)> = ic
-        .velocity
-        .as_ref()
-        .map(|v| v.velocities.clone())
-        .unwrap_or_else(|| vec![(DVec3::ZERO, DVec3::ZERO); model.parts.len()]);
+    let t0 = a.state().time;
+    let problem = a.problem(Some(ExtraDamping(eq.global_damping)), Some(t0));
+    let v0 = a.velocities();
     // One integration over SETTLING_TIME, watched at `WINDOWS` evenly spaced outputs (and the
     // start): it ends at the first output where both limits hold.
     let dt = eq.settling_time / WINDOWS as f64;
     let times: Vec<f64> = (0..=WINDOWS).map(|k| t0 + dt * k as f64).collect();
     let settings = IntegratorSettings {
-        error: 1e-4,
+        error: SETTLING_INTEGRATOR_ERROR,
         hmax: Some(dt),
         ..Default::default()
     };
@@ -179,7 +119,7 @@ pub fn settle_assembled(
     let mut last: Option<(State, f64)> = None;
     let sim = simulate_with(
         &problem,
-        &ic.assembly.state,
+        a.state(),
         &v0,
         &times,
         &settings,
@@ -218,7 +158,7 @@ pub fn settle_assembled(
             f.message
         )));
     }
-    let (mut state, tau) = last.unwrap_or_else(|| (ic.assembly.state.clone(), t0));
+    let (mut state, tau) = last.unwrap_or_else(|| (a.state().clone(), t0));
     let time_used = tau - t0;
     state.time = t0;
     let stop = stop.unwrap_or_else(|| {
@@ -226,12 +166,14 @@ pub fn settle_assembled(
     });
     let equilibrium = match &stop {
         SettleStop::Failed(_) => None,
-        _ => Some(equilibrium(model, &sys, &rows, drivers, forces, &state, eq)),
+        _ => Some(equilibrium(
+            model, &a.system, &a.kept, &a.drivers, a.forces, &state, eq,
+        )),
     };
-    SettleOutcome {
+    Ok(SettleOutcome {
         stop,
         time_used,
         state,
         equilibrium,
-    }
+    })
 }

@@ -23,9 +23,9 @@ use crate::constraints::system::{RowUnit, System};
 use crate::linalg::linear::SparseLu;
 use crate::physics::applied::AppliedForces;
 use crate::physics::reactions::{element_reactions, Reaction};
+use crate::pipeline::Assembled;
 use crate::stages::verify::Drivers;
 use crate::state::State;
-use crate::tolerances::Tolerances;
 use crate::tolerances::STATIC_ROUNDING_IMBALANCE;
 use glam::DVec3;
 use linkage_model::settings::EquilibriumSettings;
@@ -648,20 +648,19 @@ pub fn is_length(unit: RowUnit) -> bool {
     matches!(unit, RowUnit::Length | RowUnit::Mixed)
 }
 
-/// A static analysis: initial conditions, then one equilibrium at the start time or a
+/// A static analysis of an assembled model: one equilibrium at the start time or a
 /// quasi-static series.
 #[derive(Clone, Debug)]
 pub struct StaticRun {
-    pub ic: crate::stages::ic::InitialConditions,
-    /// `(time, equilibrium)` at every output time; stops at the first failure.
+    /// `(time, equilibrium)` at every output time; stops at the first failure; empty when the
+    /// model could not be assembled.
     pub steps: Vec<(f64, Result<Equilibrium, String>)>,
 }
 
 impl StaticRun {
     /// Whether every requested equilibrium converged.
     pub fn converged(&self) -> bool {
-        self.ic.assembly.converged
-            && !self.steps.is_empty()
+        !self.steps.is_empty()
             && self
                 .steps
                 .iter()
@@ -675,39 +674,30 @@ pub fn output_times(end: f64, steps: usize) -> Vec<f64> {
     (0..=steps).map(|k| end * k as f64 / steps as f64).collect()
 }
 
-/// Runs the initial conditions, then static equilibrium at each of `times` (one time for a
-/// single equilibrium), each started from a linear extrapolation of the previous two.
-pub fn run(
-    model: &Model,
-    drivers: &crate::constraints::drivers::ExpressionDrivers,
-    forces: &dyn AppliedForces,
-    tol: &Tolerances,
-    times: &[f64],
-) -> StaticRun {
-    let ic = crate::stages::ic::initial_conditions(model, drivers, forces, tol);
+/// Static equilibrium of an assembled model at each of `times` (one time for a single
+/// equilibrium), each started from a linear extrapolation of the previous two; nothing when the
+/// model could not be assembled ([`Assembled::failure`] says why).
+pub fn run(a: &Assembled, times: &[f64]) -> StaticRun {
     let mut steps = Vec::new();
-    if !ic.assembly.converged || ic.inconsistent() {
-        return StaticRun { ic, steps };
+    if a.failure().is_some() {
+        return StaticRun { steps };
     }
-    let sys = System::new(model);
-    let rows = crate::stages::ic::admitted_rows(&ic.analysis);
-    let drivers = &drivers.anchored(&sys, &rows, &ic.assembly.state);
     let mut history: Vec<State> = Vec::new();
     for &t in times {
         let mut start = match history.as_slice() {
-            [] => ic.assembly.state.clone(),
+            [] => a.state().clone(),
             [only] => only.clone(),
             [.., a, b] => extrapolate(a, b),
         };
         start.time = t;
         let result = equilibrium(
-            model,
-            &sys,
-            &rows,
-            drivers,
-            forces,
+            a.model,
+            &a.system,
+            &a.kept,
+            &a.drivers,
+            a.forces,
             &start,
-            &model.equilibrium,
+            &a.model.equilibrium,
         );
         let ok = result.as_ref().is_ok_and(|e| e.converged);
         if let Ok(e) = &result {
@@ -718,7 +708,7 @@ pub fn run(
             break;
         }
     }
-    StaticRun { ic, steps }
+    StaticRun { steps }
 }
 
 /// `b + (b − a)` on the configuration manifold.

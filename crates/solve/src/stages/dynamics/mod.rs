@@ -36,7 +36,7 @@
 
 mod run;
 pub use linkage_model::settings::IntegratorSettings;
-pub use run::{run, DynamicRun, RunProgress, Start, StartingEquilibrium};
+pub use run::{run, DynamicRun, RunError, RunProgress, Start, StartingEquilibrium};
 
 use crate::constraints::hessian::HessianBlocks;
 use crate::constraints::rows::{RowGradient, Velocities};

@@ -1,10 +1,9 @@
 //! A dynamic analysis from the dataset: initial conditions (or static equilibrium first), then
 //! the simulation.
 
-use super::{simulate, IntegratorSettings, Problem, Simulation};
+use super::{simulate, IntegratorSettings, Simulation};
 use crate::constraints::system::System;
-use crate::physics::applied::AppliedForces;
-use glam::DVec3;
+use crate::pipeline::{Assembled, NotAssembled};
 use linkage_model::Model;
 
 /// How far a [`run`] has got.
@@ -60,111 +59,91 @@ impl StartingEquilibrium {
     }
 }
 
-/// A dynamic analysis from the dataset: initial conditions (or static equilibrium first), then
-/// the simulation.
+/// Why a dynamic run did not start.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum RunError {
+    /// The model could not be assembled.
+    #[error(transparent)]
+    NotAssembled(#[from] NotAssembled),
+    /// The starting equilibrium was asked for and not found (the reason, as the statics or
+    /// settling stage states it).
+    #[error("no static equilibrium to start from: {0}")]
+    NoEquilibrium(String),
+}
+
+/// A dynamic analysis of an assembled model: static equilibrium first when asked, then the
+/// simulation.
 #[derive(Clone, Debug)]
 pub struct DynamicRun {
-    pub ic: crate::stages::ic::InitialConditions,
     /// The equilibrium the run was asked to start from, and how it was found.
     pub equilibrium: Option<StartingEquilibrium>,
     pub simulation: Option<Simulation>,
     /// Why no simulation was run.
-    pub error: Option<String>,
+    pub error: Option<RunError>,
 }
 
-/// Runs initial conditions (and finds static equilibrium first when `start` asks for it), then
-/// integrates to the last of `times`. Every stage uses the rows the initial conditions kept;
-/// the starting equilibrium is at rest and at the start time.
-#[allow(clippy::too_many_arguments)]
+/// Integrates an assembled model to the last of `times`, from its initial conditions or (when
+/// `start` asks for it) from static equilibrium at rest at the start time. Every stage uses the
+/// rows and anchored motions of the assembly.
 pub fn run(
-    model: &Model,
-    drivers: &crate::constraints::drivers::ExpressionDrivers,
-    forces: &dyn AppliedForces,
-    tol: &crate::tolerances::Tolerances,
+    a: &Assembled,
     times: &[f64],
     settings: &IntegratorSettings,
     start: Start,
     mut progress: impl FnMut(RunProgress),
 ) -> DynamicRun {
-    let sys = System::new(model);
-    let ic = crate::stages::ic::initial_conditions(model, drivers, forces, tol);
-    let fail = |ic, equilibrium, why: String| DynamicRun {
-        ic,
+    let model = a.model;
+    let fail = |equilibrium, why: RunError| DynamicRun {
         equilibrium,
         simulation: None,
         error: Some(why),
     };
-    if let Some(why) = ic.failure(model) {
-        return fail(ic, None, why);
+    if let Some(why) = a.failure() {
+        return fail(None, why.clone().into());
     }
-    // The rows every stage keeps, and motions anchored at the assembled configuration.
-    let (rows, redundant) = ic.kept_and_removed_rows();
-    let anchored = drivers.anchored(&sys, &rows, &ic.assembly.state);
     let settle = match start {
         Start::InitialConditions => None,
         Start::Equilibrium => Some(model.equilibrium.dynamic),
         Start::SettledEquilibrium => Some(true),
     };
     let (equilibrium, state, v0) = match settle {
-        None => {
-            let v0 = ic
-                .velocity
-                .as_ref()
-                .map(|v| v.velocities.clone())
-                .unwrap_or_default();
-            (None, ic.assembly.state.clone(), v0)
-        }
+        None => (None, a.state().clone(), a.velocities()),
         Some(settle) => {
             let found = if settle {
                 let limit = model.equilibrium.settling_time;
-                StartingEquilibrium::Settled(crate::stages::settle::settle_assembled(
-                    model,
-                    drivers,
-                    forces,
-                    &ic,
-                    |elapsed| progress(RunProgress::Settling { elapsed, limit }),
-                ))
+                let settled = crate::stages::settle::settle(a, |elapsed| {
+                    progress(RunProgress::Settling { elapsed, limit })
+                });
+                match settled {
+                    Ok(outcome) => StartingEquilibrium::Settled(outcome),
+                    Err(why) => return fail(None, why.into()),
+                }
             } else {
                 StartingEquilibrium::Newton(crate::stages::statics::equilibrium(
                     model,
-                    &sys,
-                    &rows,
-                    &anchored,
-                    forces,
-                    &ic.assembly.state,
+                    &a.system,
+                    &a.kept,
+                    &a.drivers,
+                    a.forces,
+                    a.state(),
                     &model.equilibrium,
                 ))
             };
             let Some(e) = found.equilibrium() else {
                 let why = found
-                    .failure(model, &sys)
+                    .failure(model, &a.system)
                     .unwrap_or_else(|| "no static equilibrium was found".into());
-                return fail(
-                    ic,
-                    Some(found),
-                    format!("no static equilibrium to start from: {why}"),
-                );
+                return fail(Some(found), RunError::NoEquilibrium(why));
             };
             let state = e.state.clone();
-            let rest = vec![(DVec3::ZERO, DVec3::ZERO); model.parts.len()];
-            (Some(found), state, rest)
+            (Some(found), state, a.rest())
         }
     };
-    let problem = Problem {
-        model,
-        sys: &sys,
-        rows: &rows,
-        redundant: &redundant,
-        drivers: &anchored,
-        forces,
-        damping: None,
-        frozen_time: None,
-    };
+    let problem = a.problem(None, None);
     let sim = simulate(&problem, &state, &v0, times, settings, |t| {
         progress(RunProgress::Integrating(t))
     });
     DynamicRun {
-        ic,
         equilibrium,
         simulation: Some(sim),
         error: None,

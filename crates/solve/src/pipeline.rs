@@ -1,0 +1,193 @@
+//! The assembled problem: built once per dataset, consumed by every analysis.
+//!
+//! ```text
+//! Model ──Assembled::new──▶ Assembled ──▶ statics::run      (equilibrium, quasi-statics)
+//!   (compile the system,       │      ──▶ settle::settle    (damped dynamics, frozen time)
+//!    initial conditions,       │      ──▶ linearize::run    (modes about an operating point)
+//!    kept/removed rows,        │      ──▶ dynamics::run     (simulation, or kinematics at 0 DOF)
+//!    anchored motions)         └──▶ failure(): the one definition of "could not be assembled"
+//! ```
+//!
+//! The model is immutable; an [`Assembled`] holds what every stage shares and never changes
+//! after assembly: the compiled [`System`], the initial conditions, the rows every stage
+//! enforces (the independent set at the assembled pose) and the redundant rows it monitors,
+//! the motion drivers anchored at the assembled configuration (velocity and acceleration
+//! motions without ICDISP start from the displacement the assembly gave them, so
+//! `q(t) = q(0) + ∫f`), and the applied forces. Each stage takes `&Assembled` (or the state a
+//! previous stage left) and returns its own result type.
+
+use crate::constraints::drivers::ExpressionDrivers;
+use crate::constraints::system::System;
+use crate::physics::applied::AppliedForces;
+use crate::stages::dynamics::{ExtraDamping, Problem};
+use crate::stages::ic::{initial_conditions, InitialConditions};
+use crate::stages::verify::report_unit_suffix;
+use crate::state::State;
+use crate::tolerances::Tolerances;
+use glam::DVec3;
+use linkage_model::Model;
+
+/// A redundant equation that the assembled configuration cannot satisfy.
+#[derive(Clone, Debug, PartialEq)]
+pub struct InconsistentEquation {
+    /// The element's name (`JOINT_7` or its view name).
+    pub element: String,
+    /// The equation, as verify names it (`Rotation Between Zi & Xj`).
+    pub label: &'static str,
+    /// Its residual (length units or degrees) and the unit suffix used to print it.
+    pub residual: Option<f64>,
+    pub unit: &'static str,
+}
+
+impl std::fmt::Display for InconsistentEquation {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self.residual {
+            Some(x) => write!(
+                f,
+                "{} of {} (residual {x:.4e}{})",
+                self.label, self.element, self.unit
+            ),
+            None => write!(f, "{} of {}", self.label, self.element),
+        }
+    }
+}
+
+/// Why no analysis can start from the initial conditions.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum NotAssembled {
+    /// The displacement IC did not converge.
+    #[error(
+        "the model could not be assembled: the initial conditions did not converge (largest \
+         residual {max_residual:.3e}); run `linkage ic` for the equations left unsatisfied"
+    )]
+    DidNotConverge { max_residual: f64 },
+    /// The assembly converged but some redundant equation does not hold there.
+    #[error(
+        "the model cannot be assembled: redundant equation(s) inconsistent with the others: {}",
+        list(.equations)
+    )]
+    Inconsistent {
+        equations: Vec<InconsistentEquation>,
+    },
+}
+
+fn list(equations: &[InconsistentEquation]) -> String {
+    equations
+        .iter()
+        .map(|e| e.to_string())
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
+impl NotAssembled {
+    /// The judgement on initial conditions: `None` when the model is assembled (the displacement
+    /// IC converged and every redundant equation holds at the assembled pose).
+    pub fn judge(model: &Model, ic: &InitialConditions) -> Option<NotAssembled> {
+        if !ic.assembly.converged {
+            return Some(NotAssembled::DidNotConverge {
+                max_residual: ic.assembly.max_residual,
+            });
+        }
+        let sys = &ic.analysis.system;
+        let equations: Vec<InconsistentEquation> = ic
+            .analysis
+            .redundant
+            .iter()
+            .filter(|r| r.consistent == Some(false))
+            .map(|r| {
+                let row = &sys.rows[r.row];
+                InconsistentEquation {
+                    element: model.constraints[row.element].origin.name.clone(),
+                    label: row.label,
+                    residual: r.residual,
+                    unit: report_unit_suffix(row.unit),
+                }
+            })
+            .collect();
+        (!equations.is_empty()).then_some(NotAssembled::Inconsistent { equations })
+    }
+}
+
+/// The assembled problem every analysis starts from (see the module documentation).
+pub struct Assembled<'m> {
+    pub model: &'m Model,
+    pub forces: &'m dyn AppliedForces,
+    /// The compiled constraint rows of the model (one compilation for every stage).
+    pub system: System,
+    /// Displacement, velocity and acceleration/force initial conditions.
+    pub ic: InitialConditions,
+    /// Rows every stage enforces: the independent set at the assembled configuration.
+    pub kept: Vec<usize>,
+    /// Redundant rows: left out of every solve (zero reactions), their consistency monitored.
+    pub removed: Vec<usize>,
+    /// Motion drivers anchored at the assembled configuration.
+    pub drivers: ExpressionDrivers,
+    failure: Option<NotAssembled>,
+}
+
+impl<'m> Assembled<'m> {
+    /// Compiles the model's constraints and runs the initial conditions with `drivers` (the
+    /// dataset's motions) and `forces`.
+    pub fn new(
+        model: &'m Model,
+        drivers: &ExpressionDrivers,
+        forces: &'m dyn AppliedForces,
+        tol: &Tolerances,
+    ) -> Assembled<'m> {
+        let system = System::new(model);
+        let ic = initial_conditions(model, &system, drivers, forces, tol);
+        let (kept, removed) = ic.kept_and_removed_rows();
+        let anchored = drivers.anchored(&system, &kept, &ic.assembly.state);
+        let failure = NotAssembled::judge(model, &ic);
+        Assembled {
+            model,
+            forces,
+            system,
+            ic,
+            kept,
+            removed,
+            drivers: anchored,
+            failure,
+        }
+    }
+
+    /// Why no analysis can start from here (`None` when the model is assembled).
+    pub fn failure(&self) -> Option<&NotAssembled> {
+        self.failure.as_ref()
+    }
+
+    /// The assembled configuration, at the start time.
+    pub fn state(&self) -> &State {
+        &self.ic.assembly.state
+    }
+
+    /// The initial velocities (CM velocity and angular velocity, ground axes); at rest when the
+    /// velocity IC was not run.
+    pub fn velocities(&self) -> Vec<(DVec3, DVec3)> {
+        self.ic
+            .velocity
+            .as_ref()
+            .map(|v| v.velocities.clone())
+            .unwrap_or_else(|| self.rest())
+    }
+
+    /// Every part at rest.
+    pub fn rest(&self) -> Vec<(DVec3, DVec3)> {
+        vec![(DVec3::ZERO, DVec3::ZERO); self.model.parts.len()]
+    }
+
+    /// The dynamic problem on the kept rows with the anchored drivers; `damping` and
+    /// `frozen_time` for settling.
+    pub fn problem(&self, damping: Option<ExtraDamping>, frozen_time: Option<f64>) -> Problem<'_> {
+        Problem {
+            model: self.model,
+            sys: &self.system,
+            rows: &self.kept,
+            redundant: &self.removed,
+            drivers: &self.drivers,
+            forces: self.forces,
+            damping,
+            frozen_time,
+        }
+    }
+}
