@@ -191,3 +191,78 @@ impl<'m> Assembled<'m> {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::physics::applied::NoForces;
+    use std::sync::Arc;
+
+    fn mechanism(name: &str) -> Model {
+        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("../../mechanisms")
+            .join(name);
+        let text = std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{name}: {e}"));
+        let ds = linkage_adm::parse_dataset(Arc::from(name), &text).expect("parses");
+        linkage_model::build_model(&ds).expect("builds").model
+    }
+
+    /// The planar four-bar: assembled, its three redundant rows removed from every stage,
+    /// the others kept, and nothing moved (it is built assembled).
+    #[test]
+    fn a_fourbar_assembles_and_removes_its_three_redundant_rows() {
+        let m = mechanism("fourbar.adm");
+        let d = ExpressionDrivers::new(&m).unwrap();
+        let a = Assembled::new(&m, &d, &NoForces, &Tolerances::default());
+        assert!(a.failure().is_none());
+        assert_eq!(a.removed.len(), 3);
+        assert_eq!(a.kept.len() + a.removed.len(), a.system.rows.len());
+        assert!(a.kept.iter().all(|r| !a.removed.contains(r)));
+        assert!(a.ic.moved.is_empty());
+        assert_eq!(a.velocities().len(), m.parts.len());
+        let p = a.problem(None, None);
+        assert_eq!(p.rows, a.kept.as_slice());
+        assert_eq!(p.redundant, a.removed.as_slice());
+    }
+
+    /// A door on two hinges whose top hinge is tilted 2°: the assembly converges, but the
+    /// redundant rotation of the top hinge cannot hold, and the judgement names it with its
+    /// residual, in the words every analysis prints.
+    #[test]
+    fn a_tilted_hinge_is_not_assembled_and_names_the_inconsistent_equation() {
+        let m = mechanism("door_tilted_hinge.adm");
+        let d = ExpressionDrivers::new(&m).unwrap();
+        let a = Assembled::new(&m, &d, &NoForces, &Tolerances::default());
+        let Some(NotAssembled::Inconsistent { equations }) = a.failure() else {
+            panic!("{:?}", a.failure());
+        };
+        assert_eq!(equations.len(), 1);
+        let e = &equations[0];
+        assert_eq!(
+            (e.element.as_str(), e.label, e.unit),
+            ("hinge_top", "Rotation Between Zi & Yj", " deg")
+        );
+        assert!((e.residual.unwrap() - 2.0).abs() < 1e-9, "{e:?}");
+        assert_eq!(
+            a.failure().unwrap().to_string(),
+            "the model cannot be assembled: redundant equation(s) inconsistent with the \
+             others: Rotation Between Zi & Yj of hinge_top (residual 2.0000e0 deg)"
+        );
+    }
+
+    /// An assembly that does not converge is judged before any redundancy.
+    #[test]
+    fn an_unconverged_assembly_is_judged_by_its_largest_residual() {
+        let m = mechanism("fourbar.adm");
+        let d = ExpressionDrivers::new(&m).unwrap();
+        let mut ic = Assembled::new(&m, &d, &NoForces, &Tolerances::default()).ic;
+        ic.assembly.converged = false;
+        ic.assembly.max_residual = 0.25;
+        let why = NotAssembled::judge(&m, &ic).expect("not assembled");
+        assert_eq!(why, NotAssembled::DidNotConverge { max_residual: 0.25 });
+        assert!(
+            why.to_string().contains("largest residual 2.500e-1"),
+            "{why}"
+        );
+    }
+}
