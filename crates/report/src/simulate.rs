@@ -1,7 +1,7 @@
 //! Simulation output: CSV time histories and a JSON/text summary.
 
-use crate::ic::{part_states, PartStateJson};
-use crate::statics::{pose_line, settling_line, settling_summary, SettlingJson};
+use crate::poses::{part_states, pose_line, PartStateJson};
+use crate::statics::{settling_line, settling_summary, SettlingJson};
 use crate::verify::{equation_ref, EquationRef};
 use linkage_adm::Diagnostic;
 use linkage_model::frames::matrix_to_euler313;
@@ -160,17 +160,14 @@ fn start_json(model: &Model, run: &DynamicRun) -> StartJson {
     }
 }
 
-/// Builds the summary.
-pub fn summary(
-    model: &Model,
-    run: &DynamicRun,
-    notes: Vec<String>,
-    warnings: &[Diagnostic],
-) -> SimulateJson {
+/// Builds the summary. The notes are what the model's INTEGRATOR resolution says (an Adams
+/// integrator mapped to HHT, arguments without effect); the warnings end with the INTEGRATOR
+/// values that could not be used.
+pub fn summary(model: &Model, run: &DynamicRun, warnings: &[Diagnostic]) -> SimulateJson {
     let mut errors = Vec::new();
     let mut warnings: Vec<String> = warnings.iter().map(|w| w.to_string()).collect();
     if let Some(e) = &run.error {
-        errors.push(e.clone());
+        errors.push(e.to_string());
     }
     let start = start_json(model, run);
     if start.settling.is_some() && model.equilibrium.global_damping == 0.0 {
@@ -223,6 +220,8 @@ pub fn summary(
         .and_then(|s| s.outputs.last())
         .map(|o| part_states(model, &o.state, &o.velocities, Some(&o.accelerations)))
         .unwrap_or_default();
+    let integrator = &model.integrator;
+    warnings.extend(integrator.warnings.iter().map(ToString::to_string));
     SimulateJson {
         file: model.file.to_string(),
         title: model.title.clone(),
@@ -235,7 +234,7 @@ pub fn summary(
         start,
         removed_equations,
         final_state,
-        notes,
+        notes: integrator.notes.iter().map(ToString::to_string).collect(),
         warnings,
         errors,
     }
