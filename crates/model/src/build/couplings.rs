@@ -201,3 +201,70 @@ pub(crate) fn gears(
         });
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use crate::build::test_support::{errors, ok};
+    use crate::model::ConstraintKind;
+    use linkage_adm::CouplerDof;
+
+    const JOINTS: &str = "JOINT/1, REVOLUTE, I = 20, J = 1\nJOINT/2, TRANSLATIONAL, I = 30, J = 2\nJOINT/3, CYLINDRICAL, I = 30, J = 21\nJOINT/4, SPHERICAL, I = 21, J = 1\n";
+
+    #[test]
+    fn coupler_scales_start_at_one_and_types_follow_the_joints() {
+        let b = ok(&format!(
+            "{JOINTS}COUPLER/1, JOINTS = 1, 2, SCALES = -2\nCOUPLER/2, JOINTS = 1, 2, 3, TYPE = R:T:T, SCALES = 3, 4, 5"
+        ));
+        let terms = |k: usize| match &b.model.constraints[k].kind {
+            ConstraintKind::Coupler { terms, .. } => terms.clone(),
+            other => panic!("{other:?}"),
+        };
+        assert_eq!(
+            terms(4),
+            [
+                (0, CouplerDof::Rotation, 1.0),
+                (1, CouplerDof::Translation, -2.0)
+            ]
+        );
+        assert_eq!(
+            terms(5),
+            [
+                (0, CouplerDof::Rotation, 3.0),
+                (1, CouplerDof::Translation, 4.0),
+                (2, CouplerDof::Translation, 5.0)
+            ]
+        );
+    }
+
+    #[test]
+    fn coupler_and_gear_errors() {
+        let e = errors(&format!("{JOINTS}COUPLER/2, JOINTS = 1, 2\nCOUPLER/3, JOINTS = 1, 3, SCALES = 1\nCOUPLER/4, JOINTS = 1, 4, SCALES = 1\nCOUPLER/5, JOINTS = 1, 2, 3, SCALES = 1\nGEAR/1, JOINTS = 1, 4, CV = 20\nGEAR/2, JOINTS = 1, 9"));
+        let messages: Vec<&str> = e.iter().map(|(_, _, m)| m.as_str()).collect();
+        assert_eq!(
+            messages,
+            [
+                "COUPLER_2: SCALES is missing",
+                "COUPLER_3: TYPE must say T or R for cylindrical JOINT 3",
+                "COUPLER_4: JOINT 4 is SPHERICAL, a coupler needs a revolute, translational or cylindrical joint (with a matching TYPE)",
+                "COUPLER_5: 1 SCALES for 3 joints",
+                "GEAR_1: JOINT 4 is SPHERICAL, a gear needs revolute, translational or cylindrical joints",
+                "GEAR_2: CV (common velocity marker) is missing",
+            ]
+        );
+    }
+
+    #[test]
+    fn gear_refers_to_two_joints_and_a_common_velocity_marker() {
+        let b = ok(&format!("{JOINTS}GEAR/1, JOINTS = 1, 2, CV = 21"));
+        let gear = b
+            .model
+            .constraints
+            .last()
+            .unwrap_or_else(|| panic!("no constraints"));
+        let ConstraintKind::Gear { joints, cv } = &gear.kind else {
+            panic!("{gear:?}")
+        };
+        assert_eq!((*joints, b.model.markers[*cv].id), ([0, 1], 21));
+        assert_eq!(gear.origin.element(), "GEAR/1");
+    }
+}

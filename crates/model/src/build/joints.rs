@@ -136,3 +136,91 @@ pub(crate) fn jprims(
         });
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use crate::build::test_support::{errors, ok};
+    use crate::model::{ConstraintKind, JointInitial};
+    use linkage_adm::{JointType, JprimType, Span};
+
+    #[test]
+    fn joint_initial_conditions_by_joint_type() {
+        let b = ok("JOINT/1, REVOLUTE, I = 20, J = 1, IC = 0.5, 2\nJOINT/2, TRANSLATIONAL, I = 30, J = 2, IC = 3\nJOINT/3, CYLINDRICAL, I = 21, J = 30, ICTRAN = 1, 2, ICROT = 4\nJOINT/4, SPHERICAL, I = 21, J = 1, IC = 1");
+        let initial = |k: usize| match &b.model.constraints[k].kind {
+            ConstraintKind::Joint { initial, .. } => initial.clone(),
+            other => panic!("{other:?}"),
+        };
+        assert_eq!(
+            initial(0),
+            JointInitial {
+                translation: (None, None),
+                rotation: (Some(0.5), Some(2.0)),
+                span: Some(Span::new(12, 35)),
+            }
+        );
+        assert_eq!(initial(1).translation, (Some(3.0), None));
+        assert_eq!(initial(2).translation, (Some(1.0), Some(2.0)));
+        assert_eq!(initial(2).rotation, (Some(4.0), None));
+        // IC on a spherical joint: ignored (its position is kept for messages).
+        assert_eq!(
+            (initial(3).translation, initial(3).rotation, initial(3).span),
+            ((None, None), (None, None), Some(Span::new(15, 36)))
+        );
+        assert_eq!(b.warnings.len(), 1);
+        assert_eq!(
+            b.warnings[0].message,
+            "JOINT_4: IC applies to revolute and translational joints only; ignored"
+        );
+        assert_eq!(b.model.constraints[0].description(), "Revolute Joint");
+    }
+
+    #[test]
+    fn joint_and_jprim_errors() {
+        let e = errors("JOINT/1, RACKPIN, I = 20, J = 1\nJOINT/1, REVOLUTE, I = 20, J = 21\nJOINT/2, SCREW, I = 20, J = 30, PITCH = 0\nJOINT/3, REVOLUTE, I = 99, J = 22\nJOINT/3, REVOLUTE, I = 20, J = 1\nJOINT/3, REVOLUTE, I = 20, J = 1");
+        assert_eq!(
+            e,
+            [
+                (
+                    12,
+                    1,
+                    "JOINT_1: RACKPIN needs a non-zero PD (pitch diameter)".to_string()
+                ),
+                (
+                    13,
+                    1,
+                    "JOINT_1: I marker 20 and J marker 21 are both on PART_2".to_string()
+                ),
+                (14, 1, "JOINT_2: SCREW needs a non-zero PITCH".to_string()),
+                (15, 24, "JOINT_3: marker 99 does not exist".to_string()),
+                (
+                    15,
+                    32,
+                    "JOINT_3: marker 22 is FLOATING; a constraint needs a fixed marker".to_string()
+                ),
+                // A refused joint leaves its id free: only the third JOINT/3 is a duplicate.
+                (17, 1, "duplicate JOINT id 3".to_string()),
+            ]
+        );
+        let b = ok("JPRIM/1, INLINE, I = 20, J = 1\nJPRIM/2, ORIENTATION, I = 30, J = 20");
+        let kinds: Vec<_> = b
+            .model
+            .constraints
+            .iter()
+            .map(|c| match &c.kind {
+                ConstraintKind::Jprim { kind, i, j } => {
+                    (*kind, b.model.markers[*i].id, b.model.markers[*j].id)
+                }
+                other => panic!("{other:?}"),
+            })
+            .collect();
+        assert_eq!(
+            kinds,
+            [(JprimType::Inline, 20, 1), (JprimType::Orientation, 30, 20)]
+        );
+        assert_eq!(
+            errors("JPRIM/1, INLINE, I = 20, J = 1\nJPRIM/1, INLINE, I = 30, J = 1"),
+            [(13, 1, "duplicate JPRIM id 1".to_string())]
+        );
+        let _ = JointType::Revolute;
+    }
+}

@@ -199,3 +199,76 @@ fn resolve_reference_markers(ms: &mut MarkerStatements, cx: &mut Ctx) {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use crate::build::test_support::{build_text, errors_in_order};
+    use crate::Body;
+    use glam::DVec3;
+
+    const PARTS: &str = "t\nPART/1, GROUND\nPART/2, QG = 10, 0, 0\n";
+
+    fn close(a: DVec3, b: DVec3) -> bool {
+        (a - b).length() < 1e-12
+    }
+
+    #[test]
+    fn reference_markers_are_resolved_along_a_chain() {
+        // 5 is given in 4, which is given in 3 (rotated 90° about z): resolved in any order.
+        let b = build_text(&format!("{PARTS}MARKER/5, PART = 2, QP = 1, 0, 0, RM = 4\nMARKER/4, PART = 2, QP = 0, 2, 0, RM = 3\nMARKER/3, PART = 2, QP = 0, 0, 1, REULER = 90D, 0, 0\nEND\n"))
+            .unwrap_or_else(|e| panic!("{e}"));
+        let m = &b.model;
+        let (p3, r3) = (m.markers[2].p_bm, m.markers[2].r_bm);
+        assert!(close(p3, DVec3::new(0.0, 0.0, 1.0)));
+        // In 3's axes y is ground −x: 4 sits at (−2, 0, 1) with 3's axes.
+        assert!(close(m.markers[1].p_bm, DVec3::new(-2.0, 0.0, 1.0)));
+        assert!((m.markers[1].r_bm - r3)
+            .abs()
+            .to_cols_array()
+            .iter()
+            .all(|x| *x < 1e-15));
+        // 5: 4's x axis is ground y.
+        assert!(close(m.markers[0].p_bm, DVec3::new(-2.0, 1.0, 1.0)));
+        assert_eq!(m.markers[0].body, Body::Part(0));
+        let (p_g, _) = m.marker_in_ground(0);
+        assert!(close(p_g, DVec3::new(8.0, 1.0, 1.0)));
+    }
+
+    #[test]
+    fn zp_xp_orient_a_marker_with_or_without_usexp() {
+        let b = build_text(&format!("{PARTS}MARKER/3, PART = 2, QP = 0, 0, 0, ZP = 0, 1, 0, XP = 0, 0, 1, USEXP\nMARKER/4, PART = 2, ZP = 0, 1, 0, XP = 0, 0, 1\nEND\n"))
+            .unwrap_or_else(|e| panic!("{e}"));
+        // With USEXP, ZP fixes the x-z plane: z is ZP's direction square to XP's.
+        let usexp = b.model.markers[0].r_bm;
+        assert!(close(usexp.z_axis, DVec3::Y));
+        let plain = b.model.markers[1].r_bm;
+        assert!(close(plain.z_axis, DVec3::Y));
+        assert!(close(plain.x_axis, DVec3::Z));
+    }
+
+    #[test]
+    fn marker_errors_name_the_argument() {
+        let e = errors_in_order(&format!("{PARTS}MARKER/3, PART = 9\nMARKER/3, PART = 2\nMARKER/4, PART = 2, QP = 1, 1, 1, ZP = 1, 1, 1\nMARKER/5, PART = 2, RM = 6\nMARKER/6, PART = 2, RM = 5\nMARKER/7, PART = 2, RM = 99\nMARKER/8, PART = 1, RM = 4\nEND\n"));
+        assert_eq!(
+            e,
+            [
+                (4, 18, "MARKER_3: PART 9 does not exist".to_string()),
+                (5, 1, "duplicate MARKER id 3".to_string()),
+                (
+                    6,
+                    35,
+                    "MARKER_4: ZP/XP do not define an orientation (point coincides with QP)"
+                        .to_string()
+                ),
+                (9, 26, "MARKER_7: RM marker 99 does not exist".to_string()),
+                (
+                    10,
+                    26,
+                    "MARKER_8: RM marker 4 is on another part".to_string()
+                ),
+                (7, 1, "MARKER_5: circular RM references".to_string()),
+                (8, 1, "MARKER_6: circular RM references".to_string()),
+            ]
+        );
+    }
+}

@@ -27,9 +27,8 @@ pub(crate) fn moving_parts(
     for (k, p) in parts.moving.iter().enumerate() {
         let name = p.header.name.as_str();
         let mass = mass(p, cx);
-        let cm = p
-            .cm
-            .and_then(|r| marker_on_part(markers, cx, r, k, "CM", name));
+        let cm =
+            p.cm.and_then(|r| marker_on_part(markers, cx, r, k, "CM", name));
         let c = cm.map_or(DVec3::ZERO, |m| markers.placed[m].p);
         let im = match p.im {
             Some(r) => marker_on_part(markers, cx, r, k, "IM", name),
@@ -164,4 +163,75 @@ pub(crate) fn body_markers(markers: &MarkerStatements, cm_in_bcs: &[DVec3]) -> V
             }
         })
         .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::build::test_support::{build_text, errors_in_order};
+    use glam::{DMat3, DVec3};
+
+    #[test]
+    fn inertia_about_im_is_moved_to_the_centre_of_mass() {
+        // CM at (0, 1, 0) of the BCS, IP given about IM at the BCS origin: the parallel-axis
+        // theorem removes m·1² from Ixx and Izz.
+        let b = build_text("t\nPART/1, GROUND\nPART/2, QG = 5, 0, 0, MASS = 2, CM = 3, IM = 4, IP = 10, 20, 30\nMARKER/3, PART = 2, QP = 0, 1, 0\nMARKER/4, PART = 2\nMARKER/5, PART = 2, QP = 1, 1, 0\nEND\n")
+            .unwrap_or_else(|e| panic!("{e}"));
+        let p = &b.model.parts[0];
+        assert_eq!(p.mass, 2.0);
+        assert_eq!(p.p_gb, DVec3::new(5.0, 1.0, 0.0));
+        assert_eq!(p.p_b_bcs, DVec3::new(0.0, -1.0, 0.0));
+        let expect = DMat3::from_diagonal(DVec3::new(8.0, 20.0, 28.0));
+        assert!((p.inertia - expect)
+            .abs()
+            .to_cols_array()
+            .iter()
+            .all(|x| *x < 1e-12));
+        // Markers are stored relative to the centre of mass.
+        assert_eq!(b.model.markers[0].p_bm, DVec3::ZERO);
+        assert_eq!(b.model.markers[1].p_bm, DVec3::new(0.0, -1.0, 0.0));
+        assert_eq!(b.model.markers[2].p_bm, DVec3::new(1.0, 0.0, 0.0));
+        assert!(b.warnings.is_empty(), "{:?}", b.warnings);
+    }
+
+    #[test]
+    fn mass_errors_and_warnings() {
+        let e = errors_in_order("t\nPART/1, GROUND\nMARKER/9, PART = 1\nPART/2, MASS = -1, CM = 9\nPART/3, MASS = 1, CM = 8, IP = 1, 1, -5\nEND\n");
+        assert_eq!(
+            e[0],
+            (
+                4,
+                9,
+                "PART_2: mass must not be negative (MASS = -1)".to_string()
+            )
+        );
+        assert_eq!(
+            e[1],
+            (4, 25, "PART_2: CM marker 9 is not on this part".to_string())
+        );
+        assert_eq!(
+            e[2],
+            (5, 24, "PART_3: CM marker 8 does not exist".to_string())
+        );
+        assert!(
+            e[3].2.starts_with(
+                "PART_3: non-physical inertia about the centre of mass: negative principal moment"
+            ),
+            "{}",
+            e[3].2
+        );
+        let b = build_text(
+            "t\nPART/1, GROUND\nPART/2, MASS = 1\nPART/3, MASS = 1, IP = 1, 1, 3\nEND\n",
+        )
+        .unwrap_or_else(|e| panic!("{e}"));
+        let w: Vec<&str> = b.warnings.iter().map(|w| w.message.as_str()).collect();
+        assert_eq!(w[0], "PART_2: MASS given without IP: its inertia is zero");
+        assert!(
+            w[1].starts_with(
+                "PART_3: non-physical inertia about the centre of mass: principal moments"
+            ),
+            "{}",
+            w[1]
+        );
+        assert_eq!(w.len(), 2);
+    }
 }

@@ -143,3 +143,57 @@ fn characteristic_length(m: &Model) -> f64 {
 
 #[cfg(test)]
 mod test_support;
+
+#[cfg(test)]
+mod tests {
+    use super::test_support::{build_text, errors_in_order, ok, BASE};
+    use crate::settings::{IntegratorIssue, IntegratorNote};
+
+    #[test]
+    fn errors_come_in_the_order_of_the_statement_families() {
+        // Written in the reverse order of the builders: reported in builder order.
+        let e = errors_in_order("t\nVARIABLE/1\nSFORCE/1, I = 9, J = 1, FUNCTION = 1\nJOINT/1, REVOLUTE, I = 9, J = 1\nMARKER/1, PART = 7\nPART/1, GROUND\nUNITS/, UCF = -1\nEND\n");
+        let lines: Vec<u32> = e.iter().map(|(line, _, _)| *line).collect();
+        assert_eq!(lines, [7, 5, 4, 3, 2], "{e:?}");
+    }
+
+    #[test]
+    fn characteristic_length_is_the_bounding_box_diagonal() {
+        // Markers at (0,0,0), (1,0,0), (0,2,0), (1,2,0) and CMs at (0,2,0) and (0,0,0);
+        // floating markers do not count.
+        let b = ok("");
+        assert!((b.model.characteristic_length - 5f64.sqrt()).abs() < 1e-15);
+        let single = build_text("t\nPART/1, GROUND\nEND\n").unwrap_or_else(|e| panic!("{e}"));
+        assert_eq!(single.model.characteristic_length, 1.0);
+        assert!(BASE.starts_with("title"));
+    }
+
+    #[test]
+    fn integrator_is_resolved_with_the_model_and_warns_nowhere_else() {
+        let b = ok("INTEGRATOR/GSTIFF, ERROR = 1E-5, HMAX = -1, KMAX = 6");
+        let integrator = &b.model.integrator;
+        assert_eq!(integrator.settings.error, 1e-5);
+        assert_eq!(integrator.settings.hmax, None);
+        assert_eq!(
+            integrator.notes,
+            [
+                IntegratorNote::MappedToHht {
+                    name: "GSTIFF".into(),
+                    alpha: -0.3
+                },
+                IntegratorNote::WithoutEffect {
+                    arguments: vec!["KMAX".into()]
+                }
+            ]
+        );
+        assert_eq!(
+            integrator.warnings,
+            [IntegratorIssue::NotPositive {
+                key: "HMAX",
+                value: -1.0
+            }]
+        );
+        // Only `simulate` reports them: the build's own warnings do not carry them.
+        assert!(b.warnings.is_empty(), "{:?}", b.warnings);
+    }
+}

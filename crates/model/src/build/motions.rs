@@ -80,7 +80,13 @@ fn joint_motion(
         (JointType::Cylindrical, Some(MotionDof::Rotation)) => MotionCoordinate::RotationZ,
         (JointType::Cylindrical, Some(MotionDof::Translation)) => MotionCoordinate::TranslationZ,
         (JointType::Cylindrical, None) => {
-            cx.error(m.header.span, format!("{name}: a motion on cylindrical JOINT {} must say TRANSLATION or ROTATION", joint.id));
+            cx.error(
+                m.header.span,
+                format!(
+                    "{name}: a motion on cylindrical JOINT {} must say TRANSLATION or ROTATION",
+                    joint.id
+                ),
+            );
             return None;
         }
         (k, d) => {
@@ -134,5 +140,66 @@ pub(crate) fn gcons(
                 function: g.function.clone(),
             },
         });
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::build::test_support::{errors, ok};
+    use crate::model::{ConstraintKind, MotionCoordinate};
+    use linkage_adm::MotionAxis;
+
+    const JOINTS: &str = "JOINT/1, REVOLUTE, I = 20, J = 1\nJOINT/2, TRANSLATIONAL, I = 30, J = 2\nJOINT/3, CYLINDRICAL, I = 30, J = 21\n";
+
+    #[test]
+    fn motions_drive_the_joint_coordinate_or_a_marker_axis() {
+        let b = ok(&format!("{JOINTS}MOTION/1, JOINT = 1, FUNCTION = TIME\nMOTION/2, JOINT = 2, FUNCTION = 0\nMOTION/3, JOINT = 3, TRANSLATION, FUNCTION = 0\nMOTION/4, I = 20, J = 1, B2, FUNCTION = 0\nGCON/1, I = 20, FUNCTION = DX(20)"));
+        let motion = |k: usize| match &b.model.constraints[k].kind {
+            ConstraintKind::Motion {
+                joint,
+                i,
+                j,
+                coordinate,
+                ..
+            } => (
+                *joint,
+                b.model.markers[*i].id,
+                b.model.markers[*j].id,
+                *coordinate,
+            ),
+            other => panic!("{other:?}"),
+        };
+        assert_eq!(motion(3), (Some(0), 20, 1, MotionCoordinate::RotationZ));
+        assert_eq!(motion(4), (Some(1), 30, 2, MotionCoordinate::TranslationZ));
+        assert_eq!(motion(5), (Some(2), 30, 21, MotionCoordinate::TranslationZ));
+        assert_eq!(
+            motion(6),
+            (None, 20, 1, MotionCoordinate::Marker(MotionAxis::B2))
+        );
+        assert_eq!(b.model.constraints[3].description(), "Rotational Motion");
+        assert_eq!(b.model.constraints[6].description(), "Rotational Motion");
+        let ConstraintKind::Gcon { i, function } = &b.model.constraints[7].kind else {
+            panic!("{:?}", b.model.constraints[7])
+        };
+        assert_eq!(b.model.markers[*i].id, 20);
+        assert!(function.is_some());
+    }
+
+    #[test]
+    fn motion_and_gcon_errors() {
+        let e = errors(&format!("{JOINTS}MOTION/1, JOINT = 3, FUNCTION = 0\nMOTION/2, JOINT = 1, TRANSLATION, FUNCTION = 0\nMOTION/3, JOINT = 1\nMOTION/4, JOINT = 8, FUNCTION = 0\nMOTION/4, JOINT = 1, FUNCTION = 0\nGCON/1, FUNCTION = 0\nGCON/2, I = 20"));
+        let messages: Vec<&str> = e.iter().map(|(_, _, m)| m.as_str()).collect();
+        assert_eq!(
+            messages,
+            [
+                "MOTION_1: a motion on cylindrical JOINT 3 must say TRANSLATION or ROTATION",
+                "MOTION_2: cannot drive translation of a REVOLUTE joint (JOINT 1)",
+                "MOTION_3: FUNCTION is missing",
+                "MOTION_4: JOINT 8 does not exist",
+                "duplicate MOTION id 4",
+                "GCON_1: I marker is missing",
+                "GCON_2: FUNCTION is missing",
+            ]
+        );
     }
 }

@@ -102,3 +102,42 @@ fn bcs_in_ground(p: &linkage_adm::Part, cx: &mut Ctx) -> (DVec3, DMat3) {
     };
     (qg, r)
 }
+
+#[cfg(test)]
+mod tests {
+    use crate::build::test_support::{build_text, errors_in_order};
+    use glam::DVec3;
+
+    #[test]
+    fn bcs_from_reuler_and_from_zg_xg() {
+        let b = build_text("t\nPART/1, GROUND\nPART/2, QG = 1, 2, 3, REULER = 90D, 0, 0\nPART/3, QG = 0, 0, 1, ZG = 1, 0, 1, XG = 0, 0, 5\nEND\n")
+            .unwrap_or_else(|e| panic!("{e}"));
+        let m = &b.model;
+        assert_eq!(m.ground_name, "PART_1");
+        // No CM marker: the body frame is the BCS.
+        assert_eq!(m.parts[0].p_gb, DVec3::new(1.0, 2.0, 3.0));
+        // ψ = 90° about z: x_B along ground y.
+        assert!((m.parts[0].r_gb.x_axis - DVec3::Y).length() < 1e-15);
+        // ZG on +x from QG: z_B = ground x; XG straight above QG: x_B = ground z.
+        assert!((m.parts[1].r_gb.z_axis - DVec3::X).length() < 1e-15);
+        assert!((m.parts[1].r_gb.x_axis - DVec3::Z).length() < 1e-15);
+        assert_eq!(m.parts[1].p_gb, DVec3::new(0.0, 0.0, 1.0));
+    }
+
+    #[test]
+    fn ground_must_be_given_once_and_part_ids_unique() {
+        let e = errors_in_order("t\nPART/1, GROUND\nPART/2, GROUND\nPART/1, MASS = 1\nPART/3, QG = 1, 1, 1, ZG = 1, 1, 1\nEND\n");
+        let messages: Vec<&str> = e.iter().map(|(_, _, m)| m.as_str()).collect();
+        assert_eq!(
+            messages,
+            [
+                "second GROUND part 'PART_2' (the first is 'PART_1' at line 2)",
+                "duplicate PART id 1",
+                "PART_3: ZG coincides with QG, the part's z axis is undefined",
+            ]
+        );
+        assert_eq!((e[2].0, e[2].1), (5, 23));
+        let e = errors_in_order("t\nPART/2, MASS = 1\nEND\n");
+        assert_eq!(e, [(0, 0, "the dataset has no GROUND part".to_string())]);
+    }
+}

@@ -84,3 +84,40 @@ pub(crate) fn build_units(ds: &Dataset, cx: &mut Ctx) -> Units {
     }
     out
 }
+
+#[cfg(test)]
+mod tests {
+    use crate::build::test_support::{build_text, errors_in_order};
+
+    fn ucf(units: &str) -> f64 {
+        build_text(&format!("t\nPART/1, GROUND\n{units}\nEND\n"))
+            .unwrap_or_else(|e| panic!("{e}"))
+            .model
+            .ucf()
+    }
+
+    #[test]
+    fn units_from_a_system_overridden_one_by_one() {
+        assert_eq!(ucf(""), 1.0);
+        assert_eq!(ucf("UNITS/"), 1.0);
+        assert_eq!(ucf("UNITS/, SYSTEM = MKS"), 1.0);
+        // Newton, kilogram, millimetre: UCF = 1 / 1e-3.
+        assert!((ucf("UNITS/, SYSTEM = MKS, LENGTH = MILLIMETER") - 1000.0).abs() < 1e-9);
+        // Not given: Newton, kilogram, millimetre, second.
+        assert!((ucf("UNITS/, FORCE = NEWTON") - 1000.0).abs() < 1e-9);
+        assert_eq!(ucf("UNITS/, SYSTEM = MKS, UCF = 2"), 2.0);
+        let b = build_text("t\nPART/1, GROUND\nUNITS/, SYSTEM = MKS, LENGTH = MILLIMETER\nEND\n")
+            .unwrap_or_else(|e| panic!("{e}"));
+        assert_eq!(
+            b.model.units.names,
+            ["NEWTON", "KILOGRAM", "MILLIMETER", "SECOND"]
+        );
+    }
+
+    #[test]
+    fn a_non_positive_ucf_is_an_error() {
+        // Unknown names are refused when the dataset is read; the UCF's value here.
+        let e = errors_in_order("t\nPART/1, GROUND\nUNITS/, SYSTEM = MKS, UCF = 0\nEND\n");
+        assert_eq!(e, [(3, 23, "UCF must be positive".to_string())]);
+    }
+}

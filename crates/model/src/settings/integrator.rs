@@ -121,7 +121,10 @@ pub fn resolve_integrator(ds: &Dataset) -> ResolvedIntegrator {
         hinit: stmt.hinit,
         hmin: stmt.hmin.unwrap_or(default.hmin),
         alpha: stmt.alpha.unwrap_or(default.alpha),
-        maxit: stmt.maxit.unwrap_or(default.maxit).max(MIN_INTEGRATOR_MAXIT),
+        maxit: stmt
+            .maxit
+            .unwrap_or(default.maxit)
+            .max(MIN_INTEGRATOR_MAXIT),
     };
     let mut notes = Vec::new();
     if let Some(name) = stmt.name.filter(|n| n != "HHT") {
@@ -190,13 +193,12 @@ pub fn integrator_statement(ds: &Dataset) -> IntegratorStatement {
             }
         }
         // A positive time or tolerance, or a warning and the value left out.
-        let positive = |key: &'static str, slot: &mut Option<f64>, invalid: &mut Vec<_>| match n(
-            key,
-        ) {
-            Some(x) if x > 0.0 && x.is_finite() => *slot = Some(x),
-            Some(value) => invalid.push(IntegratorIssue::NotPositive { key, value }),
-            None => {}
-        };
+        let positive =
+            |key: &'static str, slot: &mut Option<f64>, invalid: &mut Vec<_>| match n(key) {
+                Some(x) if x > 0.0 && x.is_finite() => *slot = Some(x),
+                Some(value) => invalid.push(IntegratorIssue::NotPositive { key, value }),
+                None => {}
+            };
         positive("ERROR", &mut out.error, &mut out.invalid);
         positive("HMAX", &mut out.hmax, &mut out.invalid);
         positive("HINIT", &mut out.hinit, &mut out.invalid);
@@ -306,7 +308,12 @@ mod tests {
         let r = resolve_integrator(&ds("t\nPART/1, GROUND\nEND\n"));
         assert_eq!(r, ResolvedIntegrator::default());
         assert_eq!(
-            (r.settings.error, r.settings.hmin, r.settings.alpha, r.settings.maxit),
+            (
+                r.settings.error,
+                r.settings.hmin,
+                r.settings.alpha,
+                r.settings.maxit
+            ),
             (1e-3, 1e-10, -0.3, 10)
         );
         assert_eq!((r.settings.hmax, r.settings.hinit), (None, None));
@@ -361,6 +368,9 @@ mod tests {
                 alpha: -0.3
             }]
         );
-        assert_eq!(r.warnings, [IntegratorIssue::AlphaOutOfRange { alpha: -1.0 }]);
+        assert_eq!(
+            r.warnings,
+            [IntegratorIssue::AlphaOutOfRange { alpha: -1.0 }]
+        );
     }
 }
