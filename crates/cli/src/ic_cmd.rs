@@ -59,6 +59,16 @@ fn emit(report: &linkage_report::ic::IcJson, format: Format) {
     }
 }
 
+/// Why a configuration could not be saved (shown after `cannot write OUT:`).
+#[derive(Debug, thiserror::Error)]
+pub enum SaveError {
+    /// The dataset text could not be rewritten with the new poses.
+    #[error("{0}")]
+    Rewrite(linkage_adm::Diagnostics),
+    #[error("{0}")]
+    Write(std::io::Error),
+}
+
 /// Writes the dataset with every moved part's QG/REULER at configuration `state` (markers keep
 /// their place on their part because they are given in the part's frame).
 pub fn save_configuration(
@@ -66,7 +76,7 @@ pub fn save_configuration(
     model: &Model,
     state: &State,
     out: &Path,
-) -> Result<(), String> {
+) -> Result<(), SaveError> {
     let poses: Vec<linkage_adm::writer::PartPose> = model
         .parts
         .iter()
@@ -85,6 +95,6 @@ pub fn save_configuration(
             }
         })
         .collect();
-    let text = linkage_adm::writer::write_part_poses(ds, &poses).map_err(|d| d.to_string())?;
-    linkage_adm::writer::write_atomically(out, &text).map_err(|e| e.to_string())
+    let text = linkage_adm::writer::write_part_poses(ds, &poses).map_err(SaveError::Rewrite)?;
+    linkage_adm::writer::write_atomically(out, &text).map_err(SaveError::Write)
 }

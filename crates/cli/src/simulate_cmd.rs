@@ -4,11 +4,10 @@
 use crate::common::{
     applied_forces, input_error, load, output_times, print_json, Format, Progress,
 };
-use linkage_model::settings::integrator_statement;
 use linkage_report::simulate::ExtraColumns;
 use linkage_solve::physics::requests::RequestSet;
 use linkage_solve::pipeline::Assembled;
-use linkage_solve::stages::dynamics::{run, DynamicRun, IntegratorSettings, RunProgress, Start};
+use linkage_solve::stages::dynamics::{run, DynamicRun, RunProgress, Start};
 use linkage_solve::tolerances::Tolerances;
 use std::path::Path;
 use std::process::ExitCode;
@@ -44,7 +43,7 @@ fn request_columns(
             Ok(v) => v,
             Err(e) => {
                 if failed == 0 {
-                    errors.push(e);
+                    errors.push(e.to_string());
                 }
                 failed += 1;
                 vec![f64::NAN; names.len()]
@@ -85,25 +84,11 @@ pub fn run_simulate(args: &SimulateArgs) -> ExitCode {
             return ExitCode::from(2);
         }
     };
-    // INTEGRATOR settings: every Adams integrator name is accepted and mapped to HHT.
-    let stmt = integrator_statement(&loaded.dataset);
-    let mut notes = Vec::new();
-    if let Some(name) = &stmt.name {
-        if name != "HHT" {
-            notes.push(format!(
-                "INTEGRATOR {name} is mapped to linkage's HHT-I3 integrator (α = {})",
-                stmt.alpha.unwrap_or(-0.3)
-            ));
-        }
-    }
-    if !stmt.ignored.is_empty() {
-        notes.push(format!(
-            "INTEGRATOR arguments without effect in linkage: {}",
-            stmt.ignored.join(", ")
-        ));
-    }
+    // INTEGRATOR settings, resolved by the model (every Adams integrator name is mapped to
+    // HHT); the simulate report carries its notes and warnings.
+    let integrator = &loaded.model.integrator;
     // A step size bound that would need more steps than any run can take is a typing error.
-    if let Some(hmax) = stmt.hmax {
+    if let Some(hmax) = integrator.settings.hmax {
         let steps = args.end / hmax;
         if steps > MAX_STEPS {
             eprintln!(
@@ -114,14 +99,6 @@ pub fn run_simulate(args: &SimulateArgs) -> ExitCode {
             return ExitCode::from(2);
         }
     }
-    let settings = IntegratorSettings {
-        error: stmt.error.unwrap_or(1e-3),
-        hmax: stmt.hmax,
-        hinit: stmt.hinit,
-        hmin: stmt.hmin.unwrap_or(1e-10),
-        alpha: stmt.alpha.unwrap_or(-0.3),
-        maxit: stmt.maxit.unwrap_or(10).max(4),
-    };
     let bar = Progress::on_terminal();
     let end = args.end;
     let assembled = Assembled::new(
@@ -130,14 +107,18 @@ pub fn run_simulate(args: &SimulateArgs) -> ExitCode {
         forces.as_ref(),
         &Tolerances::default(),
     );
-    let result = run(&assembled, &times, &settings, args.start, |p| match p {
-        RunProgress::Settling { elapsed, limit } => bar.settling(elapsed, limit),
-        RunProgress::Integrating(t) => bar.show(t / end, format!("t = {t:.4}")),
-    });
+    let result = run(
+        &assembled,
+        &times,
+        &integrator.settings,
+        args.start,
+        |p| match p {
+            RunProgress::Settling { elapsed, limit } => bar.settling(elapsed, limit),
+            RunProgress::Integrating(t) => bar.show(t / end, format!("t = {t:.4}")),
+        },
+    );
     bar.finish();
-    let mut report =
-        linkage_report::simulate::summary(&assembled, &result, notes, &loaded.warnings);
-    report.warnings.extend(stmt.invalid.iter().cloned());
+    let mut report = linkage_report::simulate::summary(&assembled, &result, &loaded.warnings);
     if let Some(out) = args.out {
         let extra = requests
             .as_ref()

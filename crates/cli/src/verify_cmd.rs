@@ -1,6 +1,7 @@
 //! `linkage verify` (with `--explain`, `--apply K --save OUT.adm`).
 
 use crate::common::{input_error, load, print_json, Format, Loaded};
+use linkage_adm::Diagnostics;
 use linkage_report::explain::AppliedJson;
 use linkage_solve::stages::explain::repair::realize;
 use linkage_solve::stages::explain::{dense, explain, generic, Mobility, Proposal};
@@ -37,7 +38,7 @@ pub fn run(args: &VerifyArgs) -> ExitCode {
             match apply(&loaded, &ex.suggestions, k, args.save, &tol) {
                 Ok(a) => j.applied = Some(a),
                 Err(e) => {
-                    report.errors.push(e);
+                    report.errors.push(e.to_string());
                     failed = true;
                 }
             }
@@ -67,6 +68,45 @@ pub fn run(args: &VerifyArgs) -> ExitCode {
     }
 }
 
+/// Why `--apply K --save OUT.adm` wrote nothing (or could not write).
+#[derive(Debug, thiserror::Error)]
+pub enum ApplyError {
+    #[error("--apply needs --save OUT.adm")]
+    NoSave,
+    /// `number` is not between 1 and `count`.
+    #[error(
+        "--apply {number}: there {} {count} proposal{} (numbered from 1); nothing written",
+        if *.count == 1 { "is" } else { "are" },
+        if *.count == 1 { "" } else { "s" }
+    )]
+    NoSuchProposal { number: usize, count: usize },
+    #[error("cannot apply proposal {number}: {source}")]
+    Edit { number: usize, source: Diagnostics },
+    #[error("internal error: the changed dataset does not read back: {0}")]
+    ReadBack(Diagnostics),
+    #[error("internal error: the changed dataset does not build: {0}")]
+    Build(Diagnostics),
+    #[error("internal error: {0}")]
+    Functions(Diagnostics),
+    /// The changed dataset does not have the mobility the proposal promised.
+    #[error(
+        "internal error: proposal {number} promised {promised_dof} DOF and {promised_redundant} \
+         redundant equations, the changed dataset has {dof} and {redundant}; nothing written"
+    )]
+    BrokenPromise {
+        number: usize,
+        promised_dof: i64,
+        promised_redundant: usize,
+        dof: i64,
+        redundant: usize,
+    },
+    #[error("cannot write {path}: {source}")]
+    Write {
+        path: String,
+        source: std::io::Error,
+    },
+}
+
 /// Writes the dataset with proposal `k` applied to `save`, then reads it back and verifies it:
 /// the written model must have the DOF and redundancy the proposal promised.
 fn apply(
@@ -75,29 +115,27 @@ fn apply(
     k: usize,
     save: Option<&Path>,
     tol: &Tolerances,
-) -> Result<AppliedJson, String> {
+) -> Result<AppliedJson, ApplyError> {
     let Some(out) = save else {
-        return Err("--apply needs --save OUT.adm".into());
+        return Err(ApplyError::NoSave);
     };
     let Some(p) = k.checked_sub(1).and_then(|i| suggestions.get(i)) else {
-        return Err(format!(
-            "--apply {k}: there {} {} proposal{} (numbered from 1); nothing written",
-            if suggestions.len() == 1 { "is" } else { "are" },
-            suggestions.len(),
-            if suggestions.len() == 1 { "" } else { "s" }
-        ));
+        return Err(ApplyError::NoSuchProposal {
+            number: k,
+            count: suggestions.len(),
+        });
     };
     let real = realize(&loaded.model, &p.changes);
     let text = linkage_adm::edit::apply_edits(&loaded.dataset, &real.edits)
-        .map_err(|d| format!("cannot apply proposal {k}: {d}"))?;
+        .map_err(|source| ApplyError::Edit { number: k, source })?;
     // Check what will be written before writing it.
     let ds = linkage_adm::parse_dataset(out.display().to_string().into(), &text)
-        .map_err(|d| format!("internal error: the changed dataset does not read back: {d}"))?;
+        .map_err(ApplyError::ReadBack)?;
     let model = linkage_model::build_model(&ds)
-        .map_err(|d| format!("internal error: the changed dataset does not build: {d}"))?
+        .map_err(ApplyError::Build)?
         .model;
     let drivers = linkage_solve::constraints::drivers::ExpressionDrivers::new(&model)
-        .map_err(|d| format!("internal error: {d}"))?;
+        .map_err(ApplyError::Functions)?;
     let v = linkage_solve::stages::verify::verify(&model, &drivers, tol);
     let input = State::input(&model);
     let length = model.characteristic_length;
@@ -109,14 +147,18 @@ fn apply(
         _ => (at_input.dof, at_input.redundant),
     };
     if (want_dof, want_red) != (p.dof_after, p.redundant_after) {
-        return Err(format!(
-            "internal error: proposal {k} promised {} DOF and {} redundant equations, the changed \
-             dataset has {want_dof} and {want_red}; nothing written",
-            p.dof_after, p.redundant_after
-        ));
+        return Err(ApplyError::BrokenPromise {
+            number: k,
+            promised_dof: p.dof_after,
+            promised_redundant: p.redundant_after,
+            dof: want_dof,
+            redundant: want_red,
+        });
     }
-    linkage_adm::writer::write_atomically(out, &text)
-        .map_err(|e| format!("cannot write {}: {e}", out.display()))?;
+    linkage_adm::writer::write_atomically(out, &text).map_err(|source| ApplyError::Write {
+        path: out.display().to_string(),
+        source,
+    })?;
     Ok(AppliedJson {
         number: k,
         file: out.display().to_string(),

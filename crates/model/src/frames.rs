@@ -4,6 +4,15 @@
 
 use glam::{DMat3, DVec3};
 
+/// `sin θ` below which [`matrix_to_euler313`] takes the pose at gimbal lock (θ = 0 or π, only
+/// `ψ ± φ` determined): at 1e-12 the angles ψ and φ of the general formula would be
+/// atan2 of rounding-level numbers, i.e. noise.
+pub const EULER_GIMBAL_SINE: f64 = 1e-12;
+
+/// Rotation angle (radians) below which [`exp_so3`] is the identity: the axis `θ/|θ|` is
+/// undefined at 0, and a rotation this small moves no double-precision coordinate.
+pub const NEGLIGIBLE_ROTATION_ANGLE: f64 = 1e-300;
+
 /// `A(ψ,θ,φ) = Rz(ψ)·Rx(θ)·Rz(φ)`: columns are the rotated frame's axes in the parent frame
 /// (ADM-REFERENCE §3.2).
 pub fn euler313_to_matrix(a: [f64; 3]) -> DMat3 {
@@ -17,7 +26,7 @@ pub fn matrix_to_euler313(r: &DMat3) -> [f64; 3] {
     // rounding-level deviation of A33 from 1 does not create a spurious θ with noisy ψ, φ.
     let s = r.z_axis.x.hypot(r.z_axis.y);
     let theta = s.atan2(r.z_axis.z);
-    if s > 1e-12 {
+    if s > EULER_GIMBAL_SINE {
         let psi = r.z_axis.x.atan2(-r.z_axis.y);
         let phi = r.x_axis.z.atan2(r.y_axis.z);
         [psi, theta, phi]
@@ -76,7 +85,7 @@ pub fn skew(v: DVec3) -> DMat3 {
 /// Rotation `exp([θ]×)` by angle `|θ|` about `θ/|θ|` (Rodrigues).
 pub fn exp_so3(theta: DVec3) -> DMat3 {
     let angle = theta.length();
-    if angle < 1e-300 {
+    if angle < NEGLIGIBLE_ROTATION_ANGLE {
         return DMat3::IDENTITY;
     }
     DMat3::from_axis_angle(theta / angle, angle)

@@ -3,6 +3,12 @@
 
 use glam::{DMat3, DVec3};
 
+/// Relative size (squared, against the squared diagonal) below which the off-diagonal terms
+/// of a symmetric 3×3 matrix are taken as zero in [`symmetric_eigenvalues`], and the floor of
+/// the scales there and in [`check_physical`]: near the smallest normal double, so only an
+/// exactly diagonal (or zero) matrix takes that branch and no scale divides by zero.
+pub const NEGLIGIBLE_RELATIVE_SIZE: f64 = 1e-300;
+
 /// Tensor from `IP = Ixx, Iyy, Izz, Ixy, Ixz, Iyz`. Adams defines products as positive integrals
 /// (`Ixy = ∫x·y dm`, ADM-REFERENCE §2.3), so the tensor holds their negatives off the diagonal.
 pub fn tensor_from_ip(ip: [f64; 6]) -> DMat3 {
@@ -32,7 +38,8 @@ pub fn symmetric_eigenvalues(a: &DMat3) -> [f64; 3] {
     let (a11, a22, a33) = (a.x_axis.x, a.y_axis.y, a.z_axis.z);
     let (a12, a13, a23) = (a.y_axis.x, a.z_axis.x, a.z_axis.y);
     let p1 = a12 * a12 + a13 * a13 + a23 * a23;
-    let mut e = if p1 <= 1e-300 * (a11 * a11 + a22 * a22 + a33 * a33).max(1e-300) {
+    let diagonal = (a11 * a11 + a22 * a22 + a33 * a33).max(NEGLIGIBLE_RELATIVE_SIZE);
+    let mut e = if p1 <= NEGLIGIBLE_RELATIVE_SIZE * diagonal {
         [a11, a22, a33]
     } else {
         let q = (a11 + a22 + a33) / 3.0;
@@ -65,7 +72,7 @@ pub enum InertiaDefect {
 /// triangle inequality `I1 + I2 ≥ I3`, each beyond a relative tolerance `rel_tol`.
 pub fn check_physical(i_cm: &DMat3, rel_tol: f64) -> Result<(), InertiaDefect> {
     let [a, b, c] = symmetric_eigenvalues(i_cm);
-    let scale = c.abs().max(1e-300);
+    let scale = c.abs().max(NEGLIGIBLE_RELATIVE_SIZE);
     if a < -rel_tol * scale {
         return Err(InertiaDefect::Negative(format!(
             "negative principal moment of inertia {a:.6e} (principal moments {a:.6e}, {b:.6e}, {c:.6e})"

@@ -10,6 +10,7 @@
 //! position of B's origin in G; a marker M on part P stores `p_BM` and `R_BM` in the part's
 //! body frame B, whose origin is the centre of mass and whose axes are the part's BCS axes.
 
+pub mod bodies;
 pub mod build;
 pub mod forces;
 pub mod frames;

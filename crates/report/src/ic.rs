@@ -1,5 +1,7 @@
 //! The initial-conditions report: text and JSON.
 
+use crate::poses::{a3, part_states, PartStateJson};
+use crate::reactions::{reactions_json, ReactionJson};
 use crate::verify::{equation_ref, to_json as verify_json, EquationRef, RedundantJson};
 use linkage_adm::Diagnostic;
 use linkage_model::Model;
@@ -26,60 +28,10 @@ pub struct RepairJson {
 }
 
 #[derive(Clone, Debug, Serialize, PartialEq)]
-pub struct ReactionJson {
-    pub name: String,
-    pub element: String,
-    #[serde(rename = "type")]
-    pub kind: String,
-    /// Force on the I marker, ground axes, model force units.
-    pub force: [f64; 3],
-    /// Torque about the I marker origin, ground axes, model force × length units.
-    pub torque: [f64; 3],
-}
-
-#[derive(Clone, Debug, Serialize, PartialEq)]
 pub struct ResidualJson {
     pub name: String,
     pub equation: String,
     pub residual: f64,
-}
-
-#[derive(Clone, Debug, Serialize, PartialEq)]
-pub struct PartStateJson {
-    pub name: String,
-    /// Centre of mass in ground.
-    pub position: [f64; 3],
-    /// 3-1-3 body angles of the part's axes in degrees.
-    pub reuler: [f64; 3],
-    /// CM velocity and angular velocity, ground axes.
-    pub velocity: [f64; 3],
-    pub angular_velocity: [f64; 3],
-    /// CM acceleration and angular acceleration, ground axes (`null` when not computed).
-    pub acceleration: Option<[f64; 3]>,
-    pub angular_acceleration: Option<[f64; 3]>,
-}
-
-/// Every part's state: pose at `state`, `velocities` and (when known) `accelerations`, each a
-/// `(CM, angular)` pair per part in ground axes.
-pub fn part_states(
-    model: &Model,
-    state: &linkage_solve::state::State,
-    velocities: &[(glam::DVec3, glam::DVec3)],
-    accelerations: Option<&[(glam::DVec3, glam::DVec3)]>,
-) -> Vec<PartStateJson> {
-    crate::statics::part_poses(model, state)
-        .into_iter()
-        .enumerate()
-        .map(|(k, pose)| PartStateJson {
-            name: pose.name,
-            position: pose.position,
-            reuler: pose.reuler,
-            velocity: a3(velocities[k].0),
-            angular_velocity: a3(velocities[k].1),
-            acceleration: accelerations.map(|a| a3(a[k].0)),
-            angular_acceleration: accelerations.map(|a| a3(a[k].1)),
-        })
-        .collect()
 }
 
 /// The JSON document of `linkage ic --format json`.
@@ -104,10 +56,6 @@ pub struct IcJson {
     pub reactions: Vec<ReactionJson>,
     pub warnings: Vec<String>,
     pub errors: Vec<String>,
-}
-
-fn a3(v: glam::DVec3) -> [f64; 3] {
-    [v.x, v.y, v.z]
 }
 
 fn unit_name(u: RowUnit) -> &'static str {
@@ -213,7 +161,7 @@ pub fn to_json(model: &Model, ic: &InitialConditions, warnings: &[Diagnostic]) -
         acceleration_error: acc.map(|a| a.max_error),
         parts,
         reactions: acc
-            .map(|a| crate::statics::reactions_json(model, &a.reactions))
+            .map(|a| reactions_json(model, &a.reactions))
             .unwrap_or_default(),
         warnings,
         errors,

@@ -6,6 +6,8 @@
 pub mod explain;
 pub mod ic;
 pub mod linear;
+pub mod poses;
+pub mod reactions;
 pub mod simulate;
 pub mod statics;
 pub mod verify;

@@ -149,7 +149,7 @@ pub fn to_json(
             )
         }
         Err(e) => {
-            errors.push(e.clone());
+            errors.push(e.to_string());
             (0, Vec::new(), 0, 0)
         }
     };

@@ -1,7 +1,7 @@
 //! Simulation output: CSV time histories and a JSON/text summary.
 
-use crate::ic::{part_states, PartStateJson};
-use crate::statics::{pose_line, settling_line, settling_summary, SettlingJson};
+use crate::poses::{part_states, pose_line, PartStateJson};
+use crate::statics::{settling_line, settling_summary, SettlingJson};
 use crate::verify::{equation_ref, EquationRef};
 use linkage_adm::Diagnostic;
 use linkage_model::frames::matrix_to_euler313;
@@ -161,13 +161,10 @@ fn start_json(model: &Model, run: &DynamicRun) -> StartJson {
     }
 }
 
-/// Builds the summary.
-pub fn summary(
-    a: &Assembled,
-    run: &DynamicRun,
-    notes: Vec<String>,
-    warnings: &[Diagnostic],
-) -> SimulateJson {
+/// Builds the summary. The notes are what the model's INTEGRATOR resolution says (an Adams
+/// integrator mapped to HHT, arguments without effect); the warnings end with the INTEGRATOR
+/// values that could not be used.
+pub fn summary(a: &Assembled, run: &DynamicRun, warnings: &[Diagnostic]) -> SimulateJson {
     let model = a.model;
     let mut errors = Vec::new();
     let mut warnings: Vec<String> = warnings.iter().map(|w| w.to_string()).collect();
@@ -224,6 +221,8 @@ pub fn summary(
         .and_then(|s| s.outputs.last())
         .map(|o| part_states(model, &o.state, &o.velocities, Some(&o.accelerations)))
         .unwrap_or_default();
+    let integrator = &model.integrator;
+    warnings.extend(integrator.warnings.iter().map(ToString::to_string));
     SimulateJson {
         file: model.file.to_string(),
         title: model.title.clone(),
@@ -236,7 +235,7 @@ pub fn summary(
         start,
         removed_equations,
         final_state,
-        notes,
+        notes: integrator.notes.iter().map(ToString::to_string).collect(),
         warnings,
         errors,
     }

@@ -1,27 +1,16 @@
 //! The static-equilibrium report: text, JSON and CSV.
 
-use crate::ic::ReactionJson;
+use crate::poses::{part_poses, pose_line, PartPoseJson};
+use crate::reactions::{reactions_json, ReactionJson};
 use linkage_adm::Diagnostic;
-use linkage_model::frames::matrix_to_euler313;
 use linkage_model::settings::shown;
 use linkage_model::Model;
 use linkage_solve::constraints::system::System;
-use linkage_solve::physics::reactions::Reaction;
 use linkage_solve::pipeline::{Assembled, NotAssembled};
 use linkage_solve::stages::settle::{SettleOutcome, SettleStop};
 use linkage_solve::stages::statics::{Equilibrium, StaticRun};
-use linkage_solve::state::State;
 use serde::Serialize;
 use std::fmt::Write;
-
-#[derive(Clone, Debug, Serialize, PartialEq)]
-pub struct PartPoseJson {
-    pub name: String,
-    /// Centre of mass in ground coordinates.
-    pub position: [f64; 3],
-    /// Body 3-1-3 angles of the part's BCS in degrees.
-    pub reuler: [f64; 3],
-}
 
 #[derive(Clone, Debug, Serialize, PartialEq)]
 pub struct ImbalanceJson {
@@ -113,7 +102,7 @@ pub fn settling_summary(model: &Model, outcome: Option<&SettleOutcome>) -> Settl
             Some(*acceleration),
             None,
         ),
-        Some(SettleStop::Failed(m)) => ("failed", None, None, Some(m.clone())),
+        Some(SettleStop::Failed(m)) => ("failed", None, None, Some(m.to_string())),
         None => (
             "failed",
             None,
@@ -180,42 +169,14 @@ pub fn settling_line(st: &SettlingJson) -> String {
     )
 }
 
-fn a3(v: glam::DVec3) -> [f64; 3] {
-    [v.x, v.y, v.z]
-}
-
-/// Poses of every part at `s`.
-pub fn part_poses(model: &Model, s: &State) -> Vec<PartPoseJson> {
-    model
-        .parts
-        .iter()
-        .enumerate()
-        .map(|(k, p)| PartPoseJson {
-            name: p.origin.name.clone(),
-            position: a3(s.poses[k].p),
-            reuler: matrix_to_euler313(&s.poses[k].r).map(f64::to_degrees),
-        })
-        .collect()
-}
-
-/// Reactions named for reports.
-pub fn reactions_json(model: &Model, reactions: &[Reaction]) -> Vec<ReactionJson> {
-    reactions
-        .iter()
-        .map(|r| {
-            let c = &model.constraints[r.element];
-            ReactionJson {
-                name: c.origin.name.clone(),
-                element: c.origin.element(),
-                kind: c.description(),
-                force: a3(r.force),
-                torque: a3(r.torque),
-            }
-        })
-        .collect()
-}
-
-fn step_json(model: &Model, sys: &System, t: f64, e: &Result<Equilibrium, String>) -> StepJson {
+/// One output time of a static run; a step whose equilibrium could not be computed carries the
+/// error's text.
+fn step_json<E: std::fmt::Display>(
+    model: &Model,
+    sys: &System,
+    t: f64,
+    e: &Result<Equilibrium, E>,
+) -> StepJson {
     match e {
         Ok(eq) => StepJson {
             time: t,
@@ -255,7 +216,7 @@ fn step_json(model: &Model, sys: &System, t: f64, e: &Result<Equilibrium, String
             reactions: Vec::new(),
             largest_imbalance: Vec::new(),
             unbounded: false,
-            error: Some(msg.clone()),
+            error: Some(msg.to_string()),
         },
     }
 }
@@ -275,7 +236,7 @@ pub fn to_json(a: &Assembled, run: &StaticRun, warnings: &[Diagnostic]) -> Stati
     }
     for (t, e) in &run.steps {
         let why = match e {
-            Err(e) => Some(e.clone()),
+            Err(e) => Some(e.to_string()),
             Ok(eq) => eq.failure(model, &a.system),
         };
         if let Some(why) = why {
@@ -358,15 +319,6 @@ pub fn to_csv(model: &Model, run: &StaticRun) -> String {
         s.push('\n');
     }
     s
-}
-
-/// `   name   (x, y, z)   (ψ, θ, φ)`: a part's centre of mass and 3-1-3 angles (degrees) in
-/// the text reports.
-pub fn pose_line(name: &str, position: [f64; 3], reuler: [f64; 3]) -> String {
-    format!(
-        "   {:<24} ({:.6}, {:.6}, {:.6})   ({:.4}, {:.4}, {:.4})",
-        name, position[0], position[1], position[2], reuler[0], reuler[1], reuler[2]
-    )
 }
 
 /// Human report.

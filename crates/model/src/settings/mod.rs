@@ -1,6 +1,12 @@
-//! Analysis settings from the dataset's IC/, EQUILIBRIUM/, … statements, with Adams' defaults
-//! (ADM-REFERENCE §9).
+//! Analysis settings from the dataset's IC/, EQUILIBRIUM/ and INTEGRATOR/ ([`integrator`])
+//! statements, with Adams' defaults (ADM-REFERENCE §9).
 
+pub mod integrator;
+
+pub use integrator::{
+    integrator_statement, resolve_integrator, IntegratorIssue, IntegratorNote, IntegratorSettings,
+    IntegratorStatement, ResolvedIntegrator, MIN_INTEGRATOR_ERROR,
+};
 use linkage_adm::{Dataset, Diagnostic, Statement, Value};
 use std::sync::Arc;
 
@@ -261,6 +267,21 @@ pub fn equilibrium_settings(
     s
 }
 
+/// A setting or time as a reader wants it in a message: `4`, `2.25`, `1e12`, `1.5e-9`
+/// (exponent form when very small or large, six significant digits at most).
+pub fn shown(x: f64) -> String {
+    let trim = |t: &str| t.trim_end_matches('0').trim_end_matches('.').to_string();
+    if x != 0.0 && (x.abs() < 1e-3 || x.abs() >= 1e6) {
+        let t = format!("{x:.5e}");
+        match t.split_once('e') {
+            Some((mantissa, exponent)) => format!("{}e{exponent}", trim(mantissa)),
+            None => t,
+        }
+    } else {
+        trim(&format!("{x:.6}"))
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -313,227 +334,4 @@ mod tests {
             ["4", "2.25", "0.125", "1e12", "1.5e-9", "-1", "0", "2.5e9", "1e-12"]
         );
     }
-
-    #[test]
-    fn integrator_values_that_cannot_be_used_are_named_and_left_out() {
-        let d = ds("t\nPART/1, GROUND\nINTEGRATOR/HHT, ERROR = -1, HMAX = 0.01, HMIN = 0.5, ALPHA = 0.2, MAXIT = 0, KMAX = 6\nEND\n");
-        let st = integrator_statement(&d);
-        assert_eq!(st.name.as_deref(), Some("HHT"));
-        assert_eq!(
-            (st.error, st.hmax, st.hmin, st.alpha, st.maxit),
-            (None, Some(0.01), None, None, None)
-        );
-        assert_eq!(st.ignored, vec!["KMAX".to_string()]);
-        assert_eq!(
-            st.invalid,
-            vec![
-                "INTEGRATOR ERROR = -1 is not a positive number; it is ignored",
-                "INTEGRATOR ALPHA = 0.2 is outside HHT's range −1/3 … 0; it is ignored",
-                "INTEGRATOR MAXIT = 0 is not a positive count; it is ignored",
-                "INTEGRATOR HMIN = 0.5 exceeds HMAX = 0.01; HMIN is ignored",
-            ]
-        );
-        let d = ds("t\nPART/1, GROUND\nINTEGRATOR/GSTIFF, ERROR = 1E-20, HMIN = 1E-6\nEND\n");
-        let st = integrator_statement(&d);
-        assert_eq!(
-            (st.error, st.hmin),
-            (Some(MIN_INTEGRATOR_ERROR), Some(1e-6))
-        );
-        assert_eq!(
-            st.invalid,
-            vec!["INTEGRATOR ERROR = 1e-20 is below what double precision can meet; 1e-12 is used"]
-        );
-    }
-}
-
-/// Integrator settings (INTEGRATOR statement; Adams names are accepted by the caller and mapped
-/// to HHT).
-#[derive(Clone, Debug, PartialEq)]
-pub struct IntegratorSettings {
-    /// Local error tolerance (relative to the characteristic length for translations).
-    pub error: f64,
-    pub hmax: Option<f64>,
-    pub hinit: Option<f64>,
-    pub hmin: f64,
-    /// HHT α in [−1/3, 0].
-    pub alpha: f64,
-    /// Newton iterations per step before the step is retried smaller.
-    pub maxit: usize,
-}
-
-impl Default for IntegratorSettings {
-    fn default() -> Self {
-        IntegratorSettings {
-            error: 1e-3,
-            hmax: None,
-            hinit: None,
-            hmin: 1e-10,
-            alpha: -0.3,
-            maxit: 10,
-        }
-    }
-}
-
-/// `INTEGRATOR/` settings (ADM-REFERENCE §8.5, §9.4). Adams' integrator names are accepted;
-/// linkage always integrates with HHT (index 3) and says which settings had no effect.
-#[derive(Clone, Debug, PartialEq)]
-pub struct IntegratorStatement {
-    /// The integrator named (GSTIFF, WSTIFF, HHT, NEWMARK, HASTIFF, …), upper case.
-    pub name: Option<String>,
-    pub error: Option<f64>,
-    pub hmax: Option<f64>,
-    pub hinit: Option<f64>,
-    pub hmin: Option<f64>,
-    pub alpha: Option<f64>,
-    pub maxit: Option<usize>,
-    /// Arguments given that linkage does not use (KMAX, CORRECTOR, FORMULATION, …).
-    pub ignored: Vec<String>,
-    /// Values that cannot be used, each with what is used instead (for warnings).
-    pub invalid: Vec<String>,
-}
-
-/// A setting or time as a reader wants it in a message: `4`, `2.25`, `1e12`, `1.5e-9`
-/// (exponent form when very small or large, six significant digits at most).
-pub fn shown(x: f64) -> String {
-    let trim = |t: &str| t.trim_end_matches('0').trim_end_matches('.').to_string();
-    if x != 0.0 && (x.abs() < 1e-3 || x.abs() >= 1e6) {
-        let t = format!("{x:.5e}");
-        match t.split_once('e') {
-            Some((mantissa, exponent)) => format!("{}e{exponent}", trim(mantissa)),
-            None => t,
-        }
-    } else {
-        trim(&format!("{x:.6}"))
-    }
-}
-
-/// The smallest INTEGRATOR ERROR linkage honours: below it the local error estimate is
-/// rounding (coordinates carry about 1e-16 of their size, and models far from the origin
-/// more), so a smaller tolerance could only pin the step at HMIN.
-pub const MIN_INTEGRATOR_ERROR: f64 = 1e-12;
-
-const INTEGRATOR_NAMES: [&str; 18] = [
-    "GSTIFF",
-    "WSTIFF",
-    "HHT",
-    "NEWMARK",
-    "HASTIFF",
-    "CONSTANT_BDF",
-    "ABAM",
-    "RKF45",
-    "SI2",
-    "SI1",
-    "I3",
-    "ERROR",
-    "HMAX",
-    "HINIT",
-    "HMIN",
-    "ALPHA",
-    "MAXIT",
-    "KMAX",
-];
-
-/// Reads the `INTEGRATOR/` statements (later ones override earlier ones).
-pub fn integrator_statement(ds: &Dataset) -> IntegratorStatement {
-    let mut out = IntegratorStatement {
-        name: None,
-        error: None,
-        hmax: None,
-        hinit: None,
-        hmin: None,
-        alpha: None,
-        maxit: None,
-        ignored: Vec::new(),
-        invalid: Vec::new(),
-    };
-    for stmt in ds.statements.iter().filter(|st| st.keyword == "INTEGRATOR") {
-        let n = |k: &str| number(stmt, k, &INTEGRATOR_NAMES);
-        for name in [
-            "GSTIFF",
-            "WSTIFF",
-            "HHT",
-            "NEWMARK",
-            "HASTIFF",
-            "CONSTANT_BDF",
-            "ABAM",
-            "RKF45",
-        ] {
-            if find(stmt, name, &INTEGRATOR_NAMES).is_some_and(|a| a.values.is_empty()) {
-                out.name = Some(name.to_string());
-            }
-        }
-        // A positive time or tolerance, or a warning and the value left out.
-        let positive = |key: &str, slot: &mut Option<f64>, invalid: &mut Vec<String>| match n(key) {
-            Some(x) if x > 0.0 && x.is_finite() => *slot = Some(x),
-            Some(x) => invalid.push(format!(
-                "INTEGRATOR {key} = {} is not a positive number; it is ignored",
-                shown(x)
-            )),
-            None => {}
-        };
-        positive("ERROR", &mut out.error, &mut out.invalid);
-        positive("HMAX", &mut out.hmax, &mut out.invalid);
-        positive("HINIT", &mut out.hinit, &mut out.invalid);
-        positive("HMIN", &mut out.hmin, &mut out.invalid);
-        if let Some(e) = out.error.filter(|e| *e < MIN_INTEGRATOR_ERROR) {
-            out.invalid.push(format!(
-                "INTEGRATOR ERROR = {} is below what double precision can meet; {} is used",
-                shown(e),
-                shown(MIN_INTEGRATOR_ERROR)
-            ));
-            out.error = Some(MIN_INTEGRATOR_ERROR);
-        }
-        if let Some(a) = n("ALPHA") {
-            if (-1.0 / 3.0..=0.0).contains(&a) {
-                out.alpha = Some(a);
-            } else {
-                out.invalid.push(format!(
-                    "INTEGRATOR ALPHA = {a} is outside HHT's range −1/3 … 0; it is ignored"
-                ));
-            }
-        }
-        if let Some(m) = n("MAXIT") {
-            if m >= 1.0 && m.is_finite() {
-                out.maxit = Some(m as usize);
-            } else {
-                out.invalid.push(format!(
-                    "INTEGRATOR MAXIT = {m} is not a positive count; it is ignored"
-                ));
-            }
-        }
-        for a in &stmt.args {
-            let used = [
-                "ERROR",
-                "HMAX",
-                "HINIT",
-                "HMIN",
-                "ALPHA",
-                "MAXIT",
-                "GSTIFF",
-                "WSTIFF",
-                "HHT",
-                "NEWMARK",
-                "HASTIFF",
-                "CONSTANT_BDF",
-                "ABAM",
-                "RKF45",
-            ]
-            .iter()
-            .any(|k| k.starts_with(a.key.as_str()) && !a.key.is_empty());
-            if !used && !out.ignored.contains(&a.key) {
-                out.ignored.push(a.key.clone());
-            }
-        }
-    }
-    if let (Some(lo), Some(hi)) = (out.hmin, out.hmax) {
-        if lo > hi {
-            out.invalid.push(format!(
-                "INTEGRATOR HMIN = {} exceeds HMAX = {}; HMIN is ignored",
-                shown(lo),
-                shown(hi)
-            ));
-            out.hmin = None;
-        }
-    }
-    out
 }

@@ -1,0 +1,56 @@
+//! What every builder shares: the diagnostics collected so far (errors and warnings, in the
+//! order they are found) and the small conversions from dataset values.
+
+use crate::bodies::Origin;
+use glam::DVec3;
+use linkage_adm::{Diagnostic, Header, Span};
+use std::collections::HashSet;
+use std::sync::Arc;
+
+/// The diagnostics of one build. Every problem is collected (not just the first); a build
+/// with errors returns them all, in the order the builders found them.
+pub(crate) struct Ctx {
+    pub file: Arc<str>,
+    pub errors: Vec<Diagnostic>,
+    pub warnings: Vec<Diagnostic>,
+}
+
+impl Ctx {
+    /// An error at `span` of the dataset.
+    pub fn error(&mut self, span: Span, msg: impl Into<String>) {
+        self.errors
+            .push(Diagnostic::error(self.file.clone(), Some(span), msg));
+    }
+
+    /// A warning at `span` of the dataset.
+    pub fn warn(&mut self, span: Span, msg: impl Into<String>) {
+        self.warnings
+            .push(Diagnostic::warning(self.file.clone(), Some(span), msg));
+    }
+
+    /// False, after the error `duplicate STATEMENT id N`, when `h`'s id is already in `seen`
+    /// (ids are unique within a statement type); true (and the id recorded) otherwise.
+    pub fn unique(&mut self, seen: &mut HashSet<u64>, statement: &str, h: &Header) -> bool {
+        if !seen.insert(h.id) {
+            self.error(h.span, format!("duplicate {statement} id {}", h.id));
+            return false;
+        }
+        true
+    }
+}
+
+/// Where the element of header `h` (a `statement` statement) was defined.
+pub(crate) fn origin(statement: &'static str, h: &Header) -> Origin {
+    Origin {
+        statement,
+        id: h.id,
+        name: h.name.clone(),
+        span: h.span,
+        statement_index: h.statement,
+    }
+}
+
+/// A dataset triple as a vector.
+pub(crate) fn v3(a: [f64; 3]) -> DVec3 {
+    DVec3::from_array(a)
+}
