@@ -21,15 +21,17 @@ use crate::constraints::rows::RowGradient;
 use crate::constraints::system::RowUnit;
 use crate::linalg::linear::SparseLu;
 use crate::stages::dynamics::{
-    flat, redundant_violation, Failure, OutputSolver, Problem, Simulation,
+    flat, redundant_violation, Failure, IntegrationError, OutputSolver, Problem, Simulation,
 };
-use crate::stages::verify::report_residual;
+use crate::stages::verify::{report_residual, report_unit_suffix};
 use crate::state::State;
+use crate::tolerances::KINEMATIC_POSITION;
 use glam::DVec3;
 
 /// Largest constraint residual accepted for positions: lengths relative to the model's
-/// characteristic length, angles and direction cosines absolute.
-pub const POSITION_TOLERANCE: f64 = 1e-10;
+/// characteristic length, angles and direction cosines absolute
+/// ([`crate::tolerances::KINEMATIC_POSITION`]).
+pub const POSITION_TOLERANCE: f64 = KINEMATIC_POSITION;
 
 /// Newton iterations per output time before the position solve gives up.
 pub const MAX_ITERATIONS: usize = 25;
@@ -43,20 +45,11 @@ pub(crate) fn run(
     times: &[f64],
     mut progress: impl FnMut(f64),
 ) -> Simulation {
-    let mut sim = Simulation {
-        outputs: Vec::new(),
-        failure: None,
-        steps: 0,
-        rejected: 0,
-        kinematic: true,
-    };
+    let mut sim = Simulation::empty(true);
     let mut solver = match OutputSolver::new(p, start, v0) {
         Ok(s) => s,
-        Err(message) => {
-            sim.failure = Some(Failure {
-                time: start.time,
-                message,
-            });
+        Err(e) => {
+            sim.failure = Some(Failure::new(start.time, e));
             return sim;
         }
     };
@@ -76,8 +69,8 @@ pub(crate) fn run(
         guess.time = t;
         let s = match positions(p, guess) {
             Ok(s) => s,
-            Err(message) => {
-                sim.failure = Some(Failure { time: t, message });
+            Err(e) => {
+                sim.failure = Some(Failure::new(t, e));
                 return sim;
             }
         };
@@ -87,8 +80,8 @@ pub(crate) fn run(
         }
         let output = match solver.output(p, &s, &v) {
             Ok(o) => o,
-            Err(message) => {
-                sim.failure = Some(Failure { time: t, message });
+            Err(e) => {
+                sim.failure = Some(Failure::new(t, e));
                 return sim;
             }
         };
@@ -116,7 +109,7 @@ fn holds(unit: RowUnit, v: f64, length: f64) -> bool {
 }
 
 /// Solves `Φ(q, t) = 0` for the positions by Newton's method from `s` (time `s.time`).
-fn positions(p: &Problem, mut s: State) -> Result<State, String> {
+fn positions(p: &Problem, mut s: State) -> Result<State, IntegrationError> {
     let n = p.model.parts.len();
     let m = p.rows.len();
     let length = p.model.characteristic_length;
@@ -132,24 +125,23 @@ fn positions(p: &Problem, mut s: State) -> Result<State, String> {
             .map(|(&r, &d)| p.sys.residual(r, &s, d))
             .collect();
         if let Some(k) = phi.iter().position(|v| !v.is_finite()) {
-            return Err(format!(
-                "the constraint {} of {} cannot be evaluated at time {}",
-                p.sys.rows[p.rows[k]].label,
-                p.model.constraints[p.sys.rows[p.rows[k]].element]
-                    .origin
-                    .name,
-                s.time
-            ));
+            let row = &p.sys.rows[p.rows[k]];
+            return Err(IntegrationError::PositionNotEvaluable {
+                equation: row.label,
+                element: p.model.constraints[row.element].origin.name.clone(),
+                time: s.time,
+            });
         }
         worst = phi
             .iter()
             .enumerate()
             .map(|(k, v)| {
-                let scale = match p.sys.rows[p.rows[k]].unit {
+                // Lengths relative to the characteristic length.
+                let reference = match p.sys.rows[p.rows[k]].unit {
                     RowUnit::Length | RowUnit::Mixed => length,
                     _ => 1.0,
                 };
-                (k, v.abs() / scale)
+                (k, v.abs() / reference)
             })
             .fold((0, 0.0), |a, b| if b.1 > a.1 { b } else { a });
         if p.rows
@@ -175,12 +167,7 @@ fn positions(p: &Problem, mut s: State) -> Result<State, String> {
             .then(|| SparseLu::factor(m, &entries).and_then(|lu| lu.solve(&mut rhs)))
             .and_then(Result::ok);
         if solved.is_none() {
-            return Err(format!(
-                "the constraint Jacobian is singular at time {}: the mechanism is at a \
-                 singular (locked or toggle) configuration, or the motions drive it beyond \
-                 its reach",
-                s.time
-            ));
+            return Err(IntegrationError::PositionsSingular { time: s.time });
         }
         s = State {
             time: s.time,
@@ -189,20 +176,14 @@ fn positions(p: &Problem, mut s: State) -> Result<State, String> {
     }
     let row = &p.sys.rows[p.rows[worst.0]];
     let value = p.sys.residual(p.rows[worst.0], &s, drives[worst.0]);
-    Err(format!(
-        "the positions could not be found from the constraints at time {} in {MAX_ITERATIONS} \
-         iterations: largest residual {:.6e}{} in {} of {} (the motions may drive the \
-         mechanism beyond its reach)",
-        s.time,
-        report_residual(row.unit, value),
-        if matches!(row.unit, RowUnit::Direction | RowUnit::Angle) {
-            " deg"
-        } else {
-            ""
-        },
-        row.label,
-        p.model.constraints[row.element].origin.name
-    ))
+    Err(IntegrationError::PositionsNotFound {
+        time: s.time,
+        iterations: MAX_ITERATIONS,
+        residual: report_residual(row.unit, value),
+        unit: report_unit_suffix(row.unit),
+        equation: row.label,
+        element: p.model.constraints[row.element].origin.name.clone(),
+    })
 }
 
 /// `s` with every part moved by the tangent increment `d` (6 per part: translation, rotation
