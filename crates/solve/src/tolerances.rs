@@ -105,8 +105,9 @@ pub const SPAN_FLOOR: f64 = 1e-300;
 /// there in a few iterations, and it is a hundred times tighter than the dynamics corrector
 /// ([`CORRECTOR_CONSTRAINT`]), since nothing is integrated.
 pub const KINEMATIC_POSITION: f64 = 1e-10;
-/// Constraint rows (constraints/rows.rs): the Euler-angle rate map `E` of a marker motion (B1, B2, B3)
-/// angle is singular (gimbal lock) when `|det E|` is below this; its rates are then zero.
+/// Constraint rows (constraints/rows.rs): the Euler-angle rate map `E` of a marker motion's
+/// angle (B1, B2, B3) is singular (gimbal lock) when `|det E|` is below this; its rates are
+/// then zero.
 pub const EULER_RATE_SINGULAR: f64 = 1e-12;
 /// Constraint rows: the angle `atan2(s, c)` has no defined rate when `s² + c²` is below this
 /// (both directions vanish; only an exact zero is expected, the value guards the division).

@@ -55,7 +55,7 @@ mod simulate;
 pub use error::{IntegrationError, MatrixRole, SingularSolve};
 pub use integrator::Integrator;
 pub use linkage_model::settings::IntegratorSettings;
-pub use output::{Consistent, Output, OutputSolver};
+pub use output::{consistent_output, Consistent, Output, OutputSolver};
 pub use problem::{flat, ExtraDamping, Problem};
 pub(crate) use redundant::redundant_violation;
 pub use results::{Failure, Simulation};
