@@ -205,6 +205,8 @@ mod tests {
     use crate::constraints::drivers::ExpressionDrivers;
     use crate::stages::dynamics::IntegratorSettings;
 
+    use crate::stages::dynamics::IntegrationError;
+
     fn load(text: &str) -> linkage_model::Model {
         let ds =
             linkage_adm::parse_dataset(std::sync::Arc::from("test.adm"), text).expect("parses");
@@ -259,5 +261,43 @@ mod tests {
                 motion.force
             );
         }
+    }
+
+    /// The slider's motion `x = SQRT(0.5 − t)` has no value after t = 0.5: the run stops at
+    /// the first output past it, with the motion and the time as values.
+    #[test]
+    fn a_motion_without_a_value_stops_the_run_naming_it() {
+        let model = load(
+            "slider\nUNITS/, FORCE = NEWTON, MASS = KILOGRAM, LENGTH = METER, TIME = SECOND\n\
+             PART/1, GROUND\nMARKER/1, PART = 1, REULER = 90D, 90D, 0D\n\
+             PART/2, MASS = 3, CM = 2, IP = 1, 1, 1\nMARKER/2, PART = 2\n\
+             MARKER/3, PART = 2, REULER = 90D, 90D, 0D\n\
+             JOINT/1, TRANSLATIONAL, I = 3, J = 1\n\
+             MOTION/1, JOINT = 1, TRANSLATION, FUNCTION = SQRT(0.5 - TIME)\nEND\n",
+        );
+        let drivers = ExpressionDrivers::new(&model).unwrap();
+        let run = crate::stages::dynamics::run(
+            &model,
+            &drivers,
+            &crate::physics::applied::NoForces,
+            &crate::tolerances::Tolerances::default(),
+            &[0.0, 0.25, 1.0],
+            &IntegratorSettings::default(),
+            crate::stages::dynamics::Start::InitialConditions,
+            |_| {},
+        );
+        let sim = run.simulation.expect("runs");
+        assert!(sim.kinematic);
+        assert_eq!(sim.outputs.len(), 2);
+        let f = sim.failure.expect("stops");
+        assert_eq!(f.time, 1.0);
+        match &f.cause {
+            IntegrationError::Motion { element, time, .. } => {
+                assert!(element.starts_with("MOTION_1"), "{element}");
+                assert_eq!(*time, 1.0);
+            }
+            other => panic!("unexpected cause {other:?}"),
+        }
+        assert_eq!(f.message, f.cause.to_string());
     }
 }
