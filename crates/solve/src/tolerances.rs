@@ -69,6 +69,50 @@ pub const STATIC_ROUNDING_IMBALANCE: f64 = 1e-10;
 
 // ---- Dynamics and kinematics (stages/dynamics/, stages/kinematics.rs) ----
 
+/// The corrector refreshes its iteration matrix when a correction is more than this fraction
+/// of the one before (modified Newton converging too slowly: a fresh matrix converges
+/// quadratically again, and refreshing costs less than several slow iterations).
+pub const MATRIX_REFRESH_RATE: f64 = 0.05;
+/// Accelerations below `CORRECTOR_ACCELERATION_FLOOR / h²` (scaled like the corrections) count
+/// as zero in the corrector's relative test: they move the positions by less than this over a
+/// step, far below any constraint tolerance.
+pub const CORRECTOR_ACCELERATION_FLOOR: f64 = 1e-12;
+/// The corrector's relative test compares the correction with at least this acceleration
+/// (translations over L per time², rotations in rad per time²), so that a body at rest does
+/// not ask for corrections relative to zero.
+pub const CORRECTOR_ACCELERATION_MIN: f64 = 1e-8;
+/// A redundant row removed as consistent has become inconsistent when its residual exceeds
+/// this × L (lengths) or this (dot products, angles): the verify tolerances' defaults, so a
+/// run stops where verify would have called the row inconsistent.
+pub const REDUNDANT_DRIFT: f64 = 1e-6;
+/// The first output time is the start time when they differ by less than this fraction of
+/// `max(|t_end|, 1)` (rounding of times written in the dataset).
+pub const OUTPUT_AT_START: f64 = 1e-12;
+/// A step reaches the next output time when it falls short by less than this fraction of the
+/// whole span (the step is then stretched to land on it exactly, not leave a sliver).
+pub const OUTPUT_HIT: f64 = 1e-12;
+/// The rest of the way to an output is taken in one step when it exceeds the step size by
+/// less than this fraction (rounding of the step size).
+pub const STEP_FITS: f64 = 1e-9;
+/// A step is at the minimum step size HMIN when it exceeds it by less than this fraction: a
+/// failure there ends the run, an error estimate above ERROR is accepted.
+pub const AT_MIN_STEP: f64 = 1e-4;
+/// The span of a run is at least this (time units), so that a run whose only output is at its
+/// start still has a positive step size (not a tolerance on any result).
+pub const SPAN_FLOOR: f64 = 1e-300;
+/// The kinematic run (zero DOF) solves the positions until every constraint residual is below
+/// this × L (lengths) or this (angles, direction cosines): Newton on a square Jacobian gets
+/// there in a few iterations, and it is a hundred times tighter than the dynamics corrector
+/// ([`CORRECTOR_CONSTRAINT`]), since nothing is integrated.
+pub const KINEMATIC_POSITION: f64 = 1e-10;
+/// Constraint rows (constraints/rows.rs): the Euler-angle rate map `E` of a marker motion's
+/// angle (B1, B2, B3) is singular (gimbal lock) when `|det E|` is below this; its rates are
+/// then zero.
+pub const EULER_RATE_SINGULAR: f64 = 1e-12;
+/// Constraint rows: the angle `atan2(s, c)` has no defined rate when `s² + c²` is below this
+/// (both directions vanish; only an exact zero is expected, the value guards the division).
+pub const ATAN2_DEGENERATE: f64 = 1e-300;
+
 // ---- Forces, measures and requests (physics/) ----
 
 // ---- Assembly, initial conditions and settling (stages/assemble.rs, ic.rs, settle.rs) ----

@@ -299,6 +299,20 @@ fn consistent_duplicate_coupler_runs_and_a_drifting_one_stops_the_run() {
         .iter()
         .any(|c| f.message.contains(&c.origin.name));
     assert!(named, "{f:?}");
+    // The cause is a value: the removed row (the motion's, motions come last in the rank
+    // order) and its element, as the message names them.
+    match &f.cause {
+        linkage_solve::stages::dynamics::IntegrationError::RedundantViolated {
+            element,
+            equation,
+            ..
+        } => {
+            assert_eq!(element, "MOTION_1");
+            assert!(f.message.contains(equation), "{f:?}");
+        }
+        other => panic!("unexpected cause {other:?}"),
+    }
+    assert_eq!(f.message, f.cause.to_string());
 }
 
 /// A zero-DOF model runs kinematically: the four-bar driven at 30°/s (three redundant rows)

@@ -19,6 +19,7 @@
 //! * `atan2(s, c)`: `(c·ds − s·dc)/(s² + c²)`.
 
 use crate::state::State;
+use crate::tolerances::{ATAN2_DEGENERATE, EULER_RATE_SINGULAR};
 use glam::{DMat3, DVec3};
 use linkage_model::Body;
 
@@ -161,7 +162,7 @@ impl EulerSeq {
     /// `E⁻¹` where the left angular velocity is `ω = E·(rates)`; `None` at a singular pose.
     fn rate_map(self, b: [f64; 3]) -> Option<DMat3> {
         let (e, _, _) = self.rate_matrix(b);
-        (e.determinant().abs() > 1e-12).then(|| e.inverse())
+        (e.determinant().abs() > EULER_RATE_SINGULAR).then(|| e.inverse())
     }
 }
 
@@ -213,7 +214,7 @@ pub fn dot_series(a: &[DVec3; 3], b: &[DVec3; 3]) -> [f64; 3] {
 /// (rates zero where ρ vanishes).
 pub fn atan2_series([sn, sd, sdd]: [f64; 3], [cs, cd, cdd]: [f64; 3]) -> [f64; 3] {
     let rho = sn * sn + cs * cs;
-    if rho <= 1e-300 {
+    if rho <= ATAN2_DEGENERATE {
         return [sn.atan2(cs), 0.0, 0.0];
     }
     let rate = (cs * sd - sn * cd) / rho;
@@ -232,6 +233,18 @@ impl RowGradient {
     pub fn clear(&mut self) {
         self.blocks.clear();
     }
+    /// The row's rate `J_row · v = Σ_k (∂/∂x_k · v_k + ∂/∂θ_k · ω_k)` for the velocities (or
+    /// accelerations) `v`, one (CM, angular) pair per part in ground axes.
+    pub fn rate(&self, v: &Velocities) -> f64 {
+        self.blocks
+            .iter()
+            .map(|(k, b)| {
+                DVec3::new(b[0], b[1], b[2]).dot(v[*k].0)
+                    + DVec3::new(b[3], b[4], b[5]).dot(v[*k].1)
+            })
+            .sum()
+    }
+
     /// Adds a 6-vector to part `k`'s block.
     pub fn add_block(&mut self, k: usize, v: [f64; 6]) {
         if let Some((_, b)) = self.blocks.iter_mut().find(|(kk, _)| *kk == k) {
@@ -316,7 +329,7 @@ impl Quantity {
                 let (vx, vxr, vyr) = (x.eval(s), x_ref.eval(s), y_ref.eval(s));
                 let (sn, cs) = angle_parts(vx, vxr, vyr);
                 let den = sn * sn + cs * cs;
-                if den <= 1e-300 {
+                if den <= ATAN2_DEGENERATE {
                     return;
                 }
                 // dθ = (cs·ds − sn·dc)/den; ds = d(x·y_ref), dc = d(x·x_ref).
@@ -373,7 +386,7 @@ impl Quantity {
                 let (_, rj) = j.eval(s);
                 let b = seq.angles(&(rj.transpose() * ri));
                 let (e, d0, d1) = seq.rate_matrix(b);
-                if e.determinant().abs() <= 1e-12 {
+                if e.determinant().abs() <= EULER_RATE_SINGULAR {
                     return [b[*k], 0.0, 0.0];
                 }
                 let einv = e.inverse();

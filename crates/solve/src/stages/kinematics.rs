@@ -21,15 +21,17 @@ use crate::constraints::rows::RowGradient;
 use crate::constraints::system::RowUnit;
 use crate::linalg::linear::SparseLu;
 use crate::stages::dynamics::{
-    flat, redundant_violation, Failure, OutputSolver, Problem, Simulation,
+    flat, redundant_violation, Failure, IntegrationError, OutputSolver, Problem, Simulation,
 };
-use crate::stages::verify::report_residual;
+use crate::stages::verify::{report_residual, report_unit_suffix};
 use crate::state::State;
+use crate::tolerances::KINEMATIC_POSITION;
 use glam::DVec3;
 
 /// Largest constraint residual accepted for positions: lengths relative to the model's
-/// characteristic length, angles and direction cosines absolute.
-pub const POSITION_TOLERANCE: f64 = 1e-10;
+/// characteristic length, angles and direction cosines absolute
+/// ([`crate::tolerances::KINEMATIC_POSITION`]).
+pub const POSITION_TOLERANCE: f64 = KINEMATIC_POSITION;
 
 /// Newton iterations per output time before the position solve gives up.
 pub const MAX_ITERATIONS: usize = 25;
@@ -43,20 +45,11 @@ pub(crate) fn run(
     times: &[f64],
     mut progress: impl FnMut(f64),
 ) -> Simulation {
-    let mut sim = Simulation {
-        outputs: Vec::new(),
-        failure: None,
-        steps: 0,
-        rejected: 0,
-        kinematic: true,
-    };
+    let mut sim = Simulation::empty(true);
     let mut solver = match OutputSolver::new(p, start, v0) {
         Ok(s) => s,
-        Err(message) => {
-            sim.failure = Some(Failure {
-                time: start.time,
-                message,
-            });
+        Err(e) => {
+            sim.failure = Some(Failure::new(start.time, e));
             return sim;
         }
     };
@@ -76,8 +69,8 @@ pub(crate) fn run(
         guess.time = t;
         let s = match positions(p, guess) {
             Ok(s) => s,
-            Err(message) => {
-                sim.failure = Some(Failure { time: t, message });
+            Err(e) => {
+                sim.failure = Some(Failure::new(t, e));
                 return sim;
             }
         };
@@ -87,8 +80,8 @@ pub(crate) fn run(
         }
         let output = match solver.output(p, &s, &v) {
             Ok(o) => o,
-            Err(message) => {
-                sim.failure = Some(Failure { time: t, message });
+            Err(e) => {
+                sim.failure = Some(Failure::new(t, e));
                 return sim;
             }
         };
@@ -116,7 +109,7 @@ fn holds(unit: RowUnit, v: f64, length: f64) -> bool {
 }
 
 /// Solves `Φ(q, t) = 0` for the positions by Newton's method from `s` (time `s.time`).
-fn positions(p: &Problem, mut s: State) -> Result<State, String> {
+fn positions(p: &Problem, mut s: State) -> Result<State, IntegrationError> {
     let n = p.model.parts.len();
     let m = p.rows.len();
     let length = p.model.characteristic_length;
@@ -132,24 +125,23 @@ fn positions(p: &Problem, mut s: State) -> Result<State, String> {
             .map(|(&r, &d)| p.sys.residual(r, &s, d))
             .collect();
         if let Some(k) = phi.iter().position(|v| !v.is_finite()) {
-            return Err(format!(
-                "the constraint {} of {} cannot be evaluated at time {}",
-                p.sys.rows[p.rows[k]].label,
-                p.model.constraints[p.sys.rows[p.rows[k]].element]
-                    .origin
-                    .name,
-                s.time
-            ));
+            let row = &p.sys.rows[p.rows[k]];
+            return Err(IntegrationError::PositionNotEvaluable {
+                equation: row.label,
+                element: p.model.constraints[row.element].origin.name.clone(),
+                time: s.time,
+            });
         }
         worst = phi
             .iter()
             .enumerate()
             .map(|(k, v)| {
-                let scale = match p.sys.rows[p.rows[k]].unit {
+                // Lengths relative to the characteristic length.
+                let reference = match p.sys.rows[p.rows[k]].unit {
                     RowUnit::Length | RowUnit::Mixed => length,
                     _ => 1.0,
                 };
-                (k, v.abs() / scale)
+                (k, v.abs() / reference)
             })
             .fold((0, 0.0), |a, b| if b.1 > a.1 { b } else { a });
         if p.rows
@@ -175,12 +167,7 @@ fn positions(p: &Problem, mut s: State) -> Result<State, String> {
             .then(|| SparseLu::factor(m, &entries).and_then(|lu| lu.solve(&mut rhs)))
             .and_then(Result::ok);
         if solved.is_none() {
-            return Err(format!(
-                "the constraint Jacobian is singular at time {}: the mechanism is at a \
-                 singular (locked or toggle) configuration, or the motions drive it beyond \
-                 its reach",
-                s.time
-            ));
+            return Err(IntegrationError::PositionsSingular { time: s.time });
         }
         s = State {
             time: s.time,
@@ -189,20 +176,14 @@ fn positions(p: &Problem, mut s: State) -> Result<State, String> {
     }
     let row = &p.sys.rows[p.rows[worst.0]];
     let value = p.sys.residual(p.rows[worst.0], &s, drives[worst.0]);
-    Err(format!(
-        "the positions could not be found from the constraints at time {} in {MAX_ITERATIONS} \
-         iterations: largest residual {:.6e}{} in {} of {} (the motions may drive the \
-         mechanism beyond its reach)",
-        s.time,
-        report_residual(row.unit, value),
-        if matches!(row.unit, RowUnit::Direction | RowUnit::Angle) {
-            " deg"
-        } else {
-            ""
-        },
-        row.label,
-        p.model.constraints[row.element].origin.name
-    ))
+    Err(IntegrationError::PositionsNotFound {
+        time: s.time,
+        iterations: MAX_ITERATIONS,
+        residual: report_residual(row.unit, value),
+        unit: report_unit_suffix(row.unit),
+        equation: row.label,
+        element: p.model.constraints[row.element].origin.name.clone(),
+    })
 }
 
 /// `s` with every part moved by the tangent increment `d` (6 per part: translation, rotation
@@ -223,6 +204,8 @@ fn apply(s: &State, d: &[f64]) -> State {
 mod tests {
     use crate::constraints::drivers::ExpressionDrivers;
     use crate::stages::dynamics::IntegratorSettings;
+
+    use crate::stages::dynamics::IntegrationError;
 
     fn load(text: &str) -> linkage_model::Model {
         let ds =
@@ -276,5 +259,43 @@ mod tests {
                 motion.force
             );
         }
+    }
+
+    /// The slider's motion `x = SQRT(0.5 − t)` has no value after t = 0.5: the run stops at
+    /// the first output past it, with the motion and the time as values.
+    #[test]
+    fn a_motion_without_a_value_stops_the_run_naming_it() {
+        let model = load(
+            "slider\nUNITS/, FORCE = NEWTON, MASS = KILOGRAM, LENGTH = METER, TIME = SECOND\n\
+             PART/1, GROUND\nMARKER/1, PART = 1, REULER = 90D, 90D, 0D\n\
+             PART/2, MASS = 3, CM = 2, IP = 1, 1, 1\nMARKER/2, PART = 2\n\
+             MARKER/3, PART = 2, REULER = 90D, 90D, 0D\n\
+             JOINT/1, TRANSLATIONAL, I = 3, J = 1\n\
+             MOTION/1, JOINT = 1, TRANSLATION, FUNCTION = SQRT(0.5 - TIME)\nEND\n",
+        );
+        let drivers = ExpressionDrivers::new(&model).unwrap();
+        let forces = crate::physics::applied::NoForces;
+        let tol = crate::tolerances::Tolerances::default();
+        let assembled = crate::pipeline::Assembled::new(&model, &drivers, &forces, &tol);
+        let run = crate::stages::dynamics::run(
+            &assembled,
+            &[0.0, 0.25, 1.0],
+            &IntegratorSettings::default(),
+            crate::stages::dynamics::Start::InitialConditions,
+            |_| {},
+        );
+        let sim = run.simulation.expect("runs");
+        assert!(sim.kinematic);
+        assert_eq!(sim.outputs.len(), 2);
+        let f = sim.failure.expect("stops");
+        assert_eq!(f.time, 1.0);
+        match &f.cause {
+            IntegrationError::Motion { element, time, .. } => {
+                assert!(element.starts_with("MOTION_1"), "{element}");
+                assert_eq!(*time, 1.0);
+            }
+            other => panic!("unexpected cause {other:?}"),
+        }
+        assert_eq!(f.message, f.cause.to_string());
     }
 }

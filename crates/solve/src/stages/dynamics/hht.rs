@@ -1,0 +1,34 @@
+//! The HHT-α method's coefficients (Negrut, Rampalli, Ottarsson, Sajdak 2007).
+
+use super::matrix::MatrixCoefficients;
+
+/// HHT-α coefficients: `β = (1−α)²/4`, `γ = 1/2 − α`, with `α ∈ [−1/3, 0]`.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct Hht {
+    pub alpha: f64,
+    pub beta: f64,
+    pub gamma: f64,
+}
+
+impl Hht {
+    /// The coefficients of `alpha`, clamped to `[−1/3, 0]`.
+    pub(super) fn new(alpha: f64) -> Hht {
+        let alpha = alpha.clamp(-1.0 / 3.0, 0.0);
+        Hht {
+            alpha,
+            beta: (1.0 - alpha).powi(2) / 4.0,
+            gamma: 0.5 - alpha,
+        }
+    }
+
+    /// The iteration matrix's coefficients for step size `h`: `(1+α)βh²` on the stiffness,
+    /// `(1+α)γh` on the damping, `1+α` on the multipliers.
+    pub(super) fn matrix_coefficients(self, h: f64) -> MatrixCoefficients {
+        let Hht { alpha, beta, gamma } = self;
+        MatrixCoefficients {
+            stiffness: (1.0 + alpha) * beta * h * h,
+            damping: (1.0 + alpha) * gamma * h,
+            multiplier: 1.0 + alpha,
+        }
+    }
+}

@@ -1,0 +1,228 @@
+//! Assembly of the corrector's scaled iteration matrix, and the pieces it shares with the
+//! consistent-output matrix: the mass blocks and the growing sparsity pattern.
+
+use super::error::{IntegrationError, MatrixRole};
+use super::problem::{ExtraDamping, Problem};
+use crate::constraints::hessian::HessianBlocks;
+use crate::constraints::rows::{RowGradient, Velocities};
+use crate::linalg::linear::FixedPatternLu;
+use crate::physics::mass;
+use crate::state::State;
+
+/// An empty `dim × dim` matrix whose pattern is the diagonal (it grows on first assembly).
+pub(super) fn diagonal(dim: usize) -> Result<FixedPatternLu, IntegrationError> {
+    FixedPatternLu::new(dim, (0..dim).map(|i| (i, i))).map_err(|cause| IntegrationError::Setup {
+        matrix: MatrixRole::Both,
+        cause,
+    })
+}
+
+/// Assembles `a` with `fill` until no entry falls outside its pattern: the pattern starts
+/// as the diagonal, the first assembly grows it to the entries that are nonzero there, and
+/// an entry that becomes nonzero later grows it once more ([`FixedPatternLu::grow`]); a
+/// planar mechanism thus keeps a planar pattern. Returns whether the pattern grew.
+pub(super) fn assemble_growing(
+    a: &mut FixedPatternLu,
+    what: MatrixRole,
+    mut fill: impl FnMut(&mut FixedPatternLu),
+) -> Result<bool, IntegrationError> {
+    let mut grew = false;
+    // The values do not change between passes, so the second one finds every entry.
+    for _ in 0..3 {
+        a.clear();
+        fill(a);
+        if !a.has_missing() {
+            return Ok(grew);
+        }
+        a.grow().map_err(|cause| IntegrationError::Setup {
+            matrix: what,
+            cause,
+        })?;
+        grew = true;
+    }
+    Err(IntegrationError::PatternUnsettled(what))
+}
+
+/// Adds the mass blocks `m·𝟙` and `I_g = R I Rᵀ` ([`mass::ground_inertia`]) of every part to
+/// `matrix`; `rotational(k)` is added to the diagonal of part k's rotational block
+/// (regularisation of the projection).
+pub(super) fn add_mass(
+    p: &Problem,
+    s: &State,
+    matrix: &mut FixedPatternLu,
+    rotational: impl Fn(usize) -> f64,
+) {
+    for (k, part) in p.model.parts.iter().enumerate() {
+        let ig = mass::ground_inertia(part, &s.poses[k]);
+        let reg = rotational(k);
+        let diagonal = |x: f64| move |i: usize, j: usize| if i == j { x } else { 0.0 };
+        matrix.add_block((6 * k, 6 * k), (3, 3), 1.0, diagonal(part.mass));
+        matrix.add_block((6 * k + 3, 6 * k + 3), (3, 3), 1.0, |i, j| {
+            ig.col(j)[i] + diagonal(reg)(i, j)
+        });
+    }
+}
+
+/// Coefficients of the scaled iteration matrix
+/// `[M + stiffness·K_T + damping·C_T, multiplier·UCF·Jᵀ; J, 0]`; for HHT-α with step h:
+/// `(1+α)βh²`, `(1+α)γh` and `1+α`.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct MatrixCoefficients {
+    pub stiffness: f64,
+    pub damping: f64,
+    pub multiplier: f64,
+}
+
+/// The iterate the matrix is assembled at: positions (and time), velocities, the kept rows'
+/// gradients at `s` and their multipliers (force units).
+pub(super) struct Iterate<'i> {
+    pub s: &'i State,
+    pub v: &'i Velocities,
+    pub grads: &'i [RowGradient],
+    pub lambda: &'i [f64],
+}
+
+/// The corrector's iteration matrix in a [`FixedPatternLu`], with the buffers of its assembly
+/// and the step size it was last factorised for.
+pub(super) struct IterationMatrix {
+    pub lu: FixedPatternLu,
+    /// The step size of the valid factorisation (`None`: none valid).
+    pub h: Option<f64>,
+    /// Counts the changes of the pattern (matrices copying it compare this).
+    pub pattern: u64,
+    hessian: HessianBlocks,
+    /// Force Jacobians `∂Q/∂q`, `∂Q/∂v` as triplets.
+    dq: Vec<(usize, usize, f64)>,
+    dv: Vec<(usize, usize, f64)>,
+    /// The state force elements see when time is frozen.
+    force_state: State,
+}
+
+impl IterationMatrix {
+    /// An unassembled matrix for `p` (diagonal pattern); `like` sizes the frozen-time state.
+    pub(super) fn new(p: &Problem, like: &State) -> Result<IterationMatrix, IntegrationError> {
+        Ok(IterationMatrix {
+            lu: diagonal(6 * p.n() + p.rows.len())?,
+            h: None,
+            pattern: 0,
+            hessian: HessianBlocks::default(),
+            dq: Vec::new(),
+            dv: Vec::new(),
+            force_state: like.clone(),
+        })
+    }
+
+    /// Assembles the values of the scaled iteration matrix (its pattern grows on first use,
+    /// see [`assemble_growing`])
+    ///
+    /// ```text
+    /// [M + stiffness·K_T + damping·C_T    multiplier·UCF·Jᵀ]
+    /// [J                                  0                ]
+    /// ```
+    ///
+    /// with `K_T = −UCF·∂Q/∂q + UCF·Σλ ∂²Φ/∂q²` (geometric stiffness of the kept rows' terms),
+    /// `C_T = −UCF·∂Q/∂v` (+ the extra damping), at the iterate `at`. A row's second
+    /// derivatives claim their places in the pattern even while its multiplier is zero.
+    /// Cost: the force Jacobians and the rows' Hessians, O(rows + parts) for a chain.
+    pub(super) fn assemble(
+        &mut self,
+        p: &Problem,
+        at: &Iterate,
+        c: MatrixCoefficients,
+    ) -> Result<(), IntegrationError> {
+        let n = p.n();
+        let ucf = p.model.ucf();
+        let s = at.s;
+        let (kq, kv) = (c.stiffness, c.damping);
+        self.dq.clear();
+        self.dv.clear();
+        p.forces.add_jacobians(
+            p.force_state(s, &mut self.force_state),
+            at.v,
+            &mut self.dq,
+            Some(&mut self.dv),
+        )?;
+        let (dq, dv, hessian) = (&self.dq, &self.dv, &mut self.hessian);
+        let grew = assemble_growing(&mut self.lu, MatrixRole::Newton, |a| {
+            add_mass(p, s, a, |_| 0.0);
+            for &(i, j, x) in dq {
+                a.add(i, j, -ucf * x * kq);
+            }
+            for &(i, j, x) in dv {
+                a.add(i, j, -ucf * x * kv);
+            }
+            if let Some(ExtraDamping(damping)) = p.damping {
+                for (k, part) in p.model.parts.iter().enumerate() {
+                    let ig = mass::ground_inertia(part, &s.poses[k]);
+                    let m = |i: usize, j: usize| if i == j { part.mass } else { 0.0 };
+                    a.add_block((6 * k, 6 * k), (3, 3), damping * kv, m);
+                    a.add_block((6 * k + 3, 6 * k + 3), (3, 3), damping * kv, |i, j| {
+                        ig.col(j)[i]
+                    });
+                }
+            }
+            for (k, &r) in p.rows.iter().enumerate() {
+                hessian.clear();
+                p.sys.hessian(r, s, 1.0, hessian);
+                let f = ucf * at.lambda[k] * kq;
+                for &(br, rs, bc, cs, m) in &hessian.blocks {
+                    a.add_block((6 * br + 3 * rs, 6 * bc + 3 * cs), (3, 3), f, |i, j| {
+                        m.col(j)[i]
+                    });
+                }
+                for (body, b) in &at.grads[k].blocks {
+                    a.add_block((6 * body, 6 * n + k), (6, 1), c.multiplier * ucf, |i, _| {
+                        b[i]
+                    });
+                    a.add_block((6 * n + k, 6 * body), (1, 6), 1.0, |_, j| b[j]);
+                }
+            }
+        })?;
+        if grew {
+            self.pattern += 1;
+        }
+        Ok(())
+    }
+
+    /// Assembles and factorises at `at` for a step of coefficients `c`.
+    pub(super) fn refresh(
+        &mut self,
+        p: &Problem,
+        at: &Iterate,
+        c: MatrixCoefficients,
+    ) -> Result<(), IntegrationError> {
+        self.assemble(p, at, c)?;
+        self.lu
+            .factor()
+            .map_err(IntegrationError::NewtonFactorisation)
+    }
+}
+
+/// The step size the pattern-finding assembly uses: only which entries are nonzero matters
+/// there, and any positive step size gives the same entries.
+const PATTERN_PROBE_STEP: f64 = 1e-3;
+
+impl IterationMatrix {
+    /// A matrix for `p` whose pattern is found by assembling it at `start` with velocities
+    /// `v0` (one per part) and zero multipliers (the rows' second derivatives claim their
+    /// places all the same); `coefficients(h)` gives the matrix coefficients of step size h.
+    pub(super) fn with_pattern(
+        p: &Problem,
+        start: &State,
+        v0: &Velocities,
+        coefficients: impl Fn(f64) -> MatrixCoefficients,
+    ) -> Result<IterationMatrix, IntegrationError> {
+        let mut matrix = IterationMatrix::new(p, start)?;
+        let mut grads = vec![RowGradient::default(); p.rows.len()];
+        p.gradients(start, &mut grads);
+        let lambda = vec![0.0; p.rows.len()];
+        let at = Iterate {
+            s: start,
+            v: v0,
+            grads: &grads,
+            lambda: &lambda,
+        };
+        matrix.assemble(p, &at, coefficients(PATTERN_PROBE_STEP))?;
+        Ok(matrix)
+    }
+}

@@ -1,0 +1,44 @@
+//! The check of the redundant rows during a run: a row removed as consistent must stay
+//! satisfied.
+
+use super::error::IntegrationError;
+use super::problem::Problem;
+use super::results::Failure;
+use crate::stages::verify::{report_residual, report_unit_suffix, within_tolerance};
+use crate::state::State;
+use crate::tolerances::REDUNDANT_DRIFT;
+
+/// The first redundant row (removed as consistent) that no longer holds at `s` (residual above
+/// [`REDUNDANT_DRIFT`] × `length` or radians): Adams' "consistent redundant constraint that
+/// becomes inconsistent", with element, equation, time and value. Rows whose motion cannot be
+/// evaluated are skipped. Cost: one residual per redundant row.
+pub(crate) fn redundant_violation(p: &Problem, s: &State, length: f64) -> Option<Failure> {
+    let tol = crate::tolerances::Tolerances {
+        length: REDUNDANT_DRIFT,
+        angle: REDUNDANT_DRIFT,
+        ..Default::default()
+    };
+    for &r in p.redundant {
+        let row = &p.sys.rows[r];
+        let drive = if row.driven {
+            p.drivers.value(row.element, p.time(s.time))
+        } else {
+            Some(0.0)
+        };
+        let Some(drive) = drive else { continue };
+        let val = p.sys.residual(r, s, drive);
+        if !within_tolerance(row.unit, val, &tol, length) {
+            let c = &p.model.constraints[row.element];
+            return Some(Failure::new(
+                s.time,
+                IntegrationError::RedundantViolated {
+                    equation: row.label,
+                    element: c.origin.name.clone(),
+                    residual: report_residual(row.unit, val),
+                    unit: report_unit_suffix(row.unit),
+                },
+            ));
+        }
+    }
+    None
+}

@@ -1,0 +1,49 @@
+//! What a dynamic or kinematic run returns.
+
+use super::error::IntegrationError;
+use super::output::Output;
+
+/// Why a simulation stopped early.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Failure {
+    pub time: f64,
+    /// The sentence the reports print: `cause`'s message.
+    pub message: String,
+    /// What failed, as a value.
+    pub cause: IntegrationError,
+}
+
+impl Failure {
+    /// The failure `cause` at `time`.
+    pub fn new(time: f64, cause: IntegrationError) -> Failure {
+        Failure {
+            time,
+            message: cause.to_string(),
+            cause,
+        }
+    }
+}
+
+/// Result of a simulation.
+#[derive(Clone, Debug)]
+pub struct Simulation {
+    pub outputs: Vec<Output>,
+    pub failure: Option<Failure>,
+    pub steps: usize,
+    pub rejected: usize,
+    /// The model has no degrees of freedom: it was run kinematically.
+    pub kinematic: bool,
+}
+
+impl Simulation {
+    /// A run that has not started: no outputs, no steps.
+    pub(crate) fn empty(kinematic: bool) -> Simulation {
+        Simulation {
+            outputs: Vec::new(),
+            failure: None,
+            steps: 0,
+            rejected: 0,
+            kinematic,
+        }
+    }
+}
