@@ -121,4 +121,9 @@ pub const ATAN2_DEGENERATE: f64 = 1e-300;
 /// only stable, and the Newton polish settles the final configuration to EQUILIBRIUM ERROR.
 pub const SETTLING_INTEGRATOR_ERROR: f64 = 1e-4;
 
+/// The acceleration IC holds its equations to at least this (acceleration units), whatever a
+/// tighter IC AERROR asks: the residual of a direct sparse solve is rounding of the
+/// accelerations, which a tiny AERROR would report as non-convergence.
+pub const ACCELERATION_IC_FLOOR: f64 = 1e-9;
+
 // ---- Explain (stages/explain/) ----

@@ -40,7 +40,7 @@ fn reaction<'a>(
     m: &Model,
     ic: &'a InitialConditions,
     name: &str,
-) -> &'a linkage_solve::stages::ic::Reaction {
+) -> &'a linkage_solve::physics::reactions::Reaction {
     let acc = ic.acceleration.as_ref().unwrap().as_ref().unwrap();
     acc.reactions
         .iter()

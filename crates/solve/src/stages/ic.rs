@@ -15,13 +15,14 @@
 use crate::constraints::drivers::ExpressionDrivers;
 use crate::constraints::rows::RowGradient;
 use crate::constraints::system::System;
-use crate::linalg::linear::{LinearError, SparseLu};
+use crate::linalg::linear::SparseLu;
 use crate::physics::applied::{AppliedForces, ForceError};
-pub use crate::physics::reactions::{element_reactions, Reaction};
+use crate::physics::reactions::Reaction;
 use crate::stages::assemble::{assemble, hard_rows, Assembly, HardRow};
+use crate::stages::dynamics::{consistent_output, IntegrationError, Problem, SingularSolve};
 use crate::stages::verify::{report_residual, residuals, verify, verify_at, Verification};
 use crate::state::State;
-use crate::tolerances::Tolerances;
+use crate::tolerances::{Tolerances, ACCELERATION_IC_FLOOR};
 use glam::DVec3;
 use linkage_model::{ConstraintKind, Model};
 
@@ -240,16 +241,6 @@ fn analysis_repairs(
     out
 }
 
-/// `Q̇ = ∇Q·v` for a gradient and part velocities.
-fn rate(g: &RowGradient, v: &[(DVec3, DVec3)]) -> f64 {
-    g.blocks
-        .iter()
-        .map(|(k, b)| {
-            DVec3::new(b[0], b[1], b[2]).dot(v[*k].0) + DVec3::new(b[3], b[4], b[5]).dot(v[*k].1)
-        })
-        .sum()
-}
-
 fn push_gradient(entries: &mut Vec<(usize, usize, f64)>, row: usize, g: &RowGradient) {
     for (body, v) in &g.blocks {
         for (c, x) in v.iter().enumerate() {
@@ -408,7 +399,7 @@ pub fn velocity_ic(
     };
     let max_error = eqs
         .iter()
-        .map(|(grad, b)| (rate(grad, &velocities) - b).abs())
+        .map(|(grad, b)| (grad.rate(&velocities) - b).abs())
         .fold(0.0, f64::max);
     VelocityIc {
         converged: solved.is_ok() && max_error <= model.ic.verror && motion_errors.is_empty(),
@@ -436,9 +427,10 @@ pub enum AccelerationError {
         "{element}: the second time derivative of the constraint cannot be evaluated: {cause}"
     )]
     ConstraintBias { element: String, cause: String },
-    /// The saddle-point matrix cannot be factorised.
+    /// The shared consistent solve failed otherwise (its matrix could not be set up or
+    /// factorised, the velocity projection is singular).
     #[error(transparent)]
-    Factor(#[from] LinearError),
+    Solve(IntegrationError),
     /// The matrix is singular.
     #[error(
         "the acceleration equations are singular: a massless part or a part without inertia \
@@ -447,7 +439,12 @@ pub enum AccelerationError {
     Singular,
 }
 
-/// Acceleration and force IC.
+/// Acceleration and force IC: `M a + UCF·Jᵀλ = UCF·Q` (gravity, applied forces, gyroscopic
+/// terms) with `J a = f̈ − γ` on the kept rows `rows`, by the consistent-output solve every
+/// analysis shares ([`consistent_output`]), at the assembled positions `s` with the IC
+/// velocities `v`. Before solving, the IC names in its own words what cannot be evaluated
+/// there: a force element, a motion's acceleration, a general constraint's second time
+/// derivative.
 pub fn acceleration_ic(
     model: &Model,
     sys: &System,
@@ -460,8 +457,9 @@ pub fn acceleration_ic(
     let n = model.parts.len();
     let mut applied = vec![0.0; 6 * n];
     forces.add_forces(s, v, &mut applied)?;
+    // The acceleration equations `∇Φ·a = f̈ − γ` of the rows, to measure the solution by.
     let mut g = RowGradient::default();
-    let mut eqs: Vec<(usize, RowGradient, f64)> = Vec::new();
+    let mut eqs: Vec<(RowGradient, f64)> = Vec::new();
     for &r in rows {
         let row = &sys.rows[r];
         let fdd = if row.driven {
@@ -486,66 +484,37 @@ pub fn acceleration_ic(
                     cause: e.to_string(),
                 })?;
         sys.gradient(r, s, &mut g);
-        eqs.push((r, g.clone(), fdd - bias));
+        eqs.push((g.clone(), fdd - bias));
     }
-    let m = eqs.len();
-    let dim = 6 * n + m;
-    let mut entries = Vec::new();
-    let mut rhs = vec![0.0; dim];
-    for (k, p) in model.parts.iter().enumerate() {
-        let r = s.poses[k].r;
-        let ig = r * p.inertia * r.transpose();
-        for c in 0..3 {
-            entries.push((6 * k + c, 6 * k + c, p.mass));
-            for d in 0..3 {
-                let x = ig.col(d)[c];
-                if x != 0.0 {
-                    entries.push((6 * k + 3 + c, 6 * k + 3 + d, x));
-                }
-            }
-        }
-        let w = v[k].1;
-        let gyro = -w.cross(ig * w);
-        for c in 0..3 {
-            rhs[6 * k + c] = p.mass * model.gravity[c] + model.ucf() * applied[6 * k + c];
-            rhs[6 * k + 3 + c] = gyro[c] + model.ucf() * applied[6 * k + 3 + c];
-        }
-    }
-    for (e, (_, grad, b)) in eqs.iter().enumerate() {
-        push_gradient(&mut entries, 6 * n + e, grad);
-        rhs[6 * n + e] = *b;
-    }
-    let lu = SparseLu::factor(dim, &entries)?;
-    lu.solve(&mut rhs)
-        .map_err(|_| AccelerationError::Singular)?;
-    let acc: Vec<(DVec3, DVec3)> = (0..n)
-        .map(|k| {
-            (
-                DVec3::new(rhs[6 * k], rhs[6 * k + 1], rhs[6 * k + 2]),
-                DVec3::new(rhs[6 * k + 3], rhs[6 * k + 4], rhs[6 * k + 5]),
-            )
-        })
-        .collect();
+    // Velocity and acceleration motions without ICDISP take their displacement from the
+    // assembled configuration, as in every later stage.
+    let anchored = drivers.anchored(sys, rows, s);
+    let problem = Problem {
+        model,
+        sys,
+        rows,
+        redundant: &[],
+        drivers: &anchored,
+        forces,
+        damping: None,
+        frozen_time: None,
+    };
+    let solved = consistent_output(&problem, s, v).map_err(|e| match e {
+        IntegrationError::Singular(SingularSolve::Acceleration) => AccelerationError::Singular,
+        other => AccelerationError::Solve(other),
+    })?;
+    let acc = solved.output.accelerations;
     let max_error = eqs
         .iter()
-        .map(|(_, grad, b)| (rate(grad, &acc) - b).abs())
+        .map(|(grad, b)| (grad.rate(&acc) - b).abs())
         .fold(0.0, f64::max);
-
-    // Multipliers in mass × acceleration units; reactions in force units.
-    let ucf = model.ucf();
-    let rows_grads: Vec<(usize, &RowGradient)> = eqs.iter().map(|(r, g, _)| (*r, g)).collect();
-    let lambda: Vec<f64> = (0..eqs.len()).map(|e| rhs[6 * n + e] / ucf).collect();
-    let reactions = element_reactions(model, sys, &rows_grads, &lambda, s);
-    let multipliers = eqs
-        .iter()
-        .zip(&lambda)
-        .map(|((r, _, _), l)| (*r, *l))
-        .collect();
+    let multipliers = rows.iter().copied().zip(solved.lambda).collect();
+    let reactions = solved.output.reactions;
     Ok(AccelerationIc {
         accelerations: acc,
         reactions,
         multipliers,
         max_error,
-        converged: max_error <= model.ic.aerror.max(1e-9),
+        converged: max_error <= model.ic.aerror.max(ACCELERATION_IC_FLOOR),
     })
 }
