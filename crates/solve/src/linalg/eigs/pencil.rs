@@ -4,7 +4,7 @@
 use super::arnoldi::largest_ritz_pairs;
 use super::krylov::Wanted;
 use super::metric::MassMetric;
-use super::shift_invert::{lu_is_complex, LinearShiftInvert, QuadraticShiftInvert};
+use super::shift_invert::{LinearShiftInvert, PencilView, QuadraticShiftInvert};
 use super::vectors::orthonormal_columns;
 use super::{EigenError, SparseMatrix};
 use crate::linalg::linear::SparseLu;
@@ -30,7 +30,7 @@ pub struct ConstrainedPencil {
     pub stiffness: SparseMatrix,
     /// Independent rows only (`r × n`).
     pub jacobian: SparseMatrix,
-    pub(super) metric: MassMetric,
+    metric: MassMetric,
 }
 
 /// Result of [`ConstrainedPencil::nearest`].
@@ -58,6 +58,16 @@ impl ConstrainedPencil {
             stiffness,
             jacobian,
             metric,
+        }
+    }
+
+    /// What the shift-invert operators read.
+    fn view(&self) -> PencilView<'_> {
+        PencilView {
+            coordinates: self.coordinates(),
+            constraints: self.jacobian.nrows(),
+            metric: &self.metric,
+            damping: &self.damping,
         }
     }
 
@@ -154,14 +164,15 @@ impl ConstrainedPencil {
             ],
             &[(si, &self.damping), (2.0 * sr * si, &self.mass)],
         )?;
-        let complex = lu_is_complex(&lu, self);
+        // Whether the factorised KKT matrix is the complex (doubled) one.
+        let complex = lu.dim() == 2 * (self.coordinates() + self.jacobian.nrows());
         let scale = if scale > 0.0 && scale.is_finite() {
             scale
         } else {
             1.0
         };
         let op = QuadraticShiftInvert {
-            pencil: self,
+            pencil: self.view(),
             lu,
             sigma: (sr, if complex { si } else { 0.0 }),
             scale,
@@ -258,7 +269,10 @@ impl ConstrainedPencil {
             &self.stiffness
         };
         let lu = self.factor_kkt(&[(1.0, k), (-tau, &self.mass)])?;
-        let op = LinearShiftInvert { pencil: self, lu };
+        let op = LinearShiftInvert {
+            pencil: self.view(),
+            lu,
+        };
         let ritz = largest_ritz_pairs(&op, self.free_motions(), wanted)?;
         let pairs = ritz
             .pairs

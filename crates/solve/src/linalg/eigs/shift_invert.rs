@@ -1,19 +1,23 @@
 //! The shift-invert operators the Arnoldi iteration applies (one sparse KKT solve each).
 
 use super::krylov::KrylovOperator;
-use super::pencil::ConstrainedPencil;
-use super::EigenError;
+use super::metric::MassMetric;
+use super::{EigenError, SparseMatrix};
 use crate::linalg::linear::SparseLu;
 
-/// Whether the factorised KKT matrix is the complex (doubled) one.
-pub(super) fn lu_is_complex(lu: &SparseLu, p: &ConstrainedPencil) -> bool {
-    lu.dim() == 2 * (p.coordinates() + p.jacobian.nrows())
+/// What the operators read of the pencil: `n` coordinates, `r` constraint rows, the mass
+/// metric and the damping matrix.
+pub(super) struct PencilView<'a> {
+    pub(super) coordinates: usize,
+    pub(super) constraints: usize,
+    pub(super) metric: &'a MassMetric,
+    pub(super) damping: &'a SparseMatrix,
 }
 
 /// `T = (A − σB)⁻¹B` (real `σ`) or `Re (A − σB)⁻¹B` (complex `σ`) on the balanced state
-/// `(a·x, v)`, `a = scale` (see [`ConstrainedPencil::nearest`]).
+/// `(a·x, v)`, `a = scale` (see [`super::ConstrainedPencil::nearest`]).
 pub(super) struct QuadraticShiftInvert<'a> {
-    pub(super) pencil: &'a ConstrainedPencil,
+    pub(super) pencil: PencilView<'a>,
     pub(super) lu: SparseLu,
     pub(super) sigma: (f64, f64),
     pub(super) scale: f64,
@@ -21,16 +25,16 @@ pub(super) struct QuadraticShiftInvert<'a> {
 
 impl KrylovOperator for QuadraticShiftInvert<'_> {
     fn dim(&self) -> usize {
-        2 * self.pencil.coordinates()
+        2 * self.pencil.coordinates
     }
 
     /// `(a x̃₀, ṽ₀) ↦ (a Lᵀx, Lᵀ Re v)` with x from the KKT solve and `v = x₀ + σx`.
     fn apply(&self, w: &[f64], out: &mut [f64]) -> Result<(), EigenError> {
-        let n = self.pencil.coordinates();
-        let r = self.pencil.jacobian.nrows();
+        let n = self.pencil.coordinates;
+        let r = self.pencil.constraints;
         let (sr, si) = self.sigma;
         let a = self.scale;
-        let metric = &self.pencil.metric;
+        let metric = self.pencil.metric;
         let xt0: Vec<f64> = w[..n].iter().map(|x| x / a).collect();
         let vt0 = &w[n..];
         let mut x0 = vec![0.0; n];
@@ -63,19 +67,19 @@ impl KrylovOperator for QuadraticShiftInvert<'_> {
 
 /// `x ↦ y` with `(K̂ − τM) y + Jᵀμ = M x`, `J y = 0`, in the metric coordinates.
 pub(super) struct LinearShiftInvert<'a> {
-    pub(super) pencil: &'a ConstrainedPencil,
+    pub(super) pencil: PencilView<'a>,
     pub(super) lu: SparseLu,
 }
 
 impl KrylovOperator for LinearShiftInvert<'_> {
     fn dim(&self) -> usize {
-        self.pencil.coordinates()
+        self.pencil.coordinates
     }
 
     /// `x̃ ↦ Lᵀ y`, `(K̂ − τM) y + Jᵀμ = L x̃` (`= M x`).
     fn apply(&self, xt: &[f64], out: &mut [f64]) -> Result<(), EigenError> {
-        let n = self.pencil.coordinates();
-        let mut rhs = vec![0.0; n + self.pencil.jacobian.nrows()];
+        let n = self.pencil.coordinates;
+        let mut rhs = vec![0.0; n + self.pencil.constraints];
         self.pencil.metric.weigh(xt, &mut rhs[..n]);
         self.lu.solve(&mut rhs).map_err(EigenError::Shift)?;
         self.pencil.metric.metric_of(&rhs[..n], out);
