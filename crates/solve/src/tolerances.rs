@@ -67,10 +67,59 @@ pub const STATIC_ROUNDING_IMBALANCE: f64 = 1e-10;
 
 // ---- Linear algebra and eigen solutions (linalg/, stages/linearize.rs) ----
 
+/// A diagonal entry of R (QR of Jᵀ) counts towards the rank of J when above this fraction of
+/// the largest: the rows the analyses keep are independent at the rank tolerance (1e-6 on the
+/// row-normalised Jacobian), so a kept row's pivot is far above it, while a dependent
+/// direction leaves rounding (≈ 1e-15 relative), far below.
+pub const NULL_SPACE_RANK: f64 = 1e-9;
+
 // ---- Dynamics and kinematics (stages/dynamics/, stages/kinematics.rs) ----
 
 // ---- Forces, measures and requests (physics/) ----
 
 // ---- Assembly, initial conditions and settling (stages/assemble.rs, ic.rs, settle.rs) ----
 
+/// The least-change assembly's residual tolerance is never below this × L (lengths) or this
+/// (radians), whatever IC ERROR says: rounding of coordinates of order L, which no Newton step
+/// can reduce.
+pub const ASSEMBLY_ROUNDING: f64 = 1e-13;
+/// Levenberg–Marquardt `μ` of the assembly after its KKT matrix proved singular (then ×100 per
+/// failure): small against the unit weights of W, so a regular direction is barely changed.
+pub const ASSEMBLY_SINGULAR_REGULARISATION: f64 = 1e-8;
+/// `μ` after a step that backtracking could not make decrease the residual (then ×10).
+pub const ASSEMBLY_STEP_REGULARISATION: f64 = 1e-6;
+/// A trial assembly step is accepted when its squared residual norm grows by at most this
+/// fraction: rounding of the norm, not an increase.
+pub const ASSEMBLY_BACKTRACK_SLACK: f64 = 1e-12;
+/// A squared (scaled) residual norm below this is zero: any step is accepted.
+pub const ASSEMBLY_SATISFIED: f64 = 1e-30;
+
 // ---- Explain (stages/explain/) ----
+
+/// An entry of a left null vector from the SVD (unit vectors on the row-normalised Jacobian)
+/// below this is rounding and left out of the basis.
+pub const NULL_VECTOR_ENTRY: f64 = 1e-13;
+/// Null-vector entries below this fraction of the vector's largest are rounding: they neither
+/// make a reaction indeterminate nor name an element as involved in the redundancy.
+pub const NULL_VECTOR_ROUNDING: f64 = 1e-10;
+/// A reaction component is determinate when a null vector changes it by at most this fraction
+/// of the sum of the contributions' magnitudes (they cancel to rounding).
+pub const DETERMINATE_CANCELLATION: f64 = 1e-7;
+/// An axis is constrained by an element when its projection onto the span of the element's
+/// force (torque) directions has squared length above this.
+pub const CONSTRAINED_AXIS: f64 = 1e-6;
+/// A force or torque direction assembled from a row's terms shorter than this is no direction
+/// (the row is reported as a scalar equation).
+pub const ZERO_DIRECTION: f64 = 1e-12;
+/// A direction joins the span of an element's directions when its part orthogonal to the
+/// others is above this fraction of its length.
+pub const SPAN_INDEPENDENCE: f64 = 1e-9;
+/// A pose found by the random moves is admissible when every non-motion row holds to this
+/// (lengths relative to L): well inside the verify tolerances (1e-6).
+pub const ADMISSIBLE_RESIDUAL: f64 = 1e-8;
+/// IC ERROR of the re-assemblies onto the constraints, × L clamped to [1, 100]: tight, so the
+/// ranks compared across poses are not blurred by assembly residuals.
+pub const TIGHT_ASSEMBLY: f64 = 1e-11;
+/// A part's size (for the random moves) is at least this × L (a part whose markers all sit
+/// at its centre of mass still moves).
+pub const SMALLEST_PART_SIZE: f64 = 1e-3;

@@ -10,15 +10,21 @@
 //! [ J  −μI ] [λ] = [ −Φ   ]
 //! ```
 //!
-//! with the step limited per iteration (TLIMIT, ALIMIT), the Jacobian refreshed by PATTERN,
+//! (assembled and factorised by [`crate::linalg::kkt::SaddlePoint`]) with the step limited
+//! per iteration (TLIMIT, ALIMIT), the Jacobian refreshed by PATTERN,
 //! backtracking when the residual grows, and `μ` (Levenberg–Marquardt) raised when a step fails.
 
 use crate::constraints::rank::{greedy_rank, RankSettings, SparseRows};
 use crate::constraints::rows::{BodyDir, BodyFrame, BodyPoint, EulerSeq, Quantity, RowGradient};
 use crate::constraints::system::{wrap_angle, RowUnit, System};
+use crate::linalg::kkt::{scaled_row, SaddlePoint};
 use crate::linalg::linear::SparseLu;
 use crate::stages::verify::Drivers;
 use crate::state::State;
+use crate::tolerances::{
+    ASSEMBLY_BACKTRACK_SLACK, ASSEMBLY_ROUNDING, ASSEMBLY_SATISFIED,
+    ASSEMBLY_SINGULAR_REGULARISATION, ASSEMBLY_STEP_REGULARISATION,
+};
 use glam::{DMat3, DVec3};
 use linkage_adm::ExactCoord;
 use linkage_model::{Body, ConstraintKind, JointInitial, Model};
@@ -321,8 +327,8 @@ pub fn assemble(
     let m = prob.m();
     let dim = 6 * n + m;
     let w_t = 1.0 / (length * length);
-    let tol_len = settings.error.max(1e-13 * length);
-    let tol_ang = settings.error.max(1e-13);
+    let tol_len = settings.error.max(ASSEMBLY_ROUNDING * length);
+    let tol_ang = settings.error.max(ASSEMBLY_ROUNDING);
     let is_len = |k: usize| -> bool {
         match prob.equation(k) {
             Equation::Row(r) => matches!(sys.rows[r].unit, RowUnit::Length | RowUnit::Mixed),
@@ -350,7 +356,7 @@ pub fn assemble(
     let mut mu = 0.0;
     let mut iterations = 0;
     let mut converged = scaled_max(&phi) <= 1.0;
-    let mut entries: Vec<(usize, usize, f64)> = Vec::new();
+    let mut kkt = SaddlePoint::new(6 * n, m);
     while !converged && iterations < settings.maxit {
         let refresh = lu.is_none()
             || settings
@@ -359,29 +365,11 @@ pub fn assemble(
                 .copied()
                 .unwrap_or(true);
         if refresh {
-            entries.clear();
-            for k in 0..n {
-                for c in 0..6 {
-                    let w = if c < 3 { w_t } else { 1.0 };
-                    entries.push((6 * k + c, 6 * k + c, w));
-                }
-            }
-            prob.jacobian(&s, &mut g, |row, grad| {
-                for (body, v) in &grad.blocks {
-                    for (c, x) in v.iter().enumerate() {
-                        if *x != 0.0 {
-                            entries.push((6 * n + row, 6 * body + c, *x));
-                            entries.push((6 * body + c, 6 * n + row, *x));
-                        }
-                    }
-                }
-            });
-            if mu > 0.0 {
-                for k in 0..m {
-                    entries.push((6 * n + k, 6 * n + k, -mu));
-                }
-            }
-            lu = SparseLu::factor(dim, &entries).ok();
+            kkt.clear();
+            kkt.add_coordinate_weights(|c| if c % 6 < 3 { w_t } else { 1.0 });
+            prob.jacobian(&s, &mut g, |row, grad| kkt.add_constraint_row(row, grad));
+            kkt.add_multiplier_regularisation(mu);
+            lu = kkt.factor().ok();
         }
         let Some(f) = &lu else { break };
         let mut rhs = vec![0.0; dim];
@@ -397,7 +385,11 @@ pub fn assemble(
         }
         if f.solve(&mut rhs).is_err() {
             // Singular: regularise and retry with a fresh factorisation.
-            mu = if mu == 0.0 { 1e-8 } else { mu * 100.0 };
+            mu = if mu == 0.0 {
+                ASSEMBLY_SINGULAR_REGULARISATION
+            } else {
+                mu * 100.0
+            };
             lu = None;
             iterations += 1;
             continue;
@@ -438,7 +430,10 @@ pub fn assemble(
                 t.increment(k, dx, dth);
             }
             prob.residual(&t, &mut trial_phi);
-            if norm(&trial_phi) <= before * (1.0 + 1e-12) || before < 1e-30 || !refresh {
+            if norm(&trial_phi) <= before * (1.0 + ASSEMBLY_BACKTRACK_SLACK)
+                || before < ASSEMBLY_SATISFIED
+                || !refresh
+            {
                 s = t;
                 std::mem::swap(&mut phi, &mut trial_phi);
                 accepted = true;
@@ -448,7 +443,11 @@ pub fn assemble(
         }
         iterations += 1;
         if !accepted {
-            mu = if mu == 0.0 { 1e-6 } else { mu * 10.0 };
+            mu = if mu == 0.0 {
+                ASSEMBLY_STEP_REGULARISATION
+            } else {
+                mu * 10.0
+            };
             lu = None;
             continue;
         }
@@ -491,15 +490,7 @@ fn independent_equations(
     let mut g = RowGradient::default();
     let push = |g: &RowGradient, m: &mut SparseRows| {
         let mut e: Vec<(usize, f64)> = Vec::with_capacity(12);
-        for (body, v) in &g.blocks {
-            for (c, x) in v.iter().enumerate() {
-                let x = if c < 3 { x * length } else { *x };
-                if x != 0.0 {
-                    e.push((6 * body + c, x));
-                }
-            }
-        }
-        let norm = e.iter().map(|(_, x)| x * x).sum::<f64>().sqrt();
+        let norm = scaled_row(g, length, &mut e);
         m.push_row(
             e.into_iter()
                 .map(|(c, x)| (c, if norm > 0.0 { x / norm } else { 0.0 })),
