@@ -73,6 +73,51 @@ pub const STATIC_ROUNDING_IMBALANCE: f64 = 1e-10;
 /// direction leaves rounding (≈ 1e-15 relative), far below.
 pub const NULL_SPACE_RANK: f64 = 1e-9;
 
+/// A massless part is given this fraction of the smallest nonzero part mass (and, without
+/// inertia, of the smallest nonzero principal moment), as Adams does: small enough not to move
+/// the other modes, large enough to keep M regular.
+pub const MASSLESS_FRACTION: f64 = 1e-8;
+/// An eigenvalue is zero (a rigid-body mode) when `|λ|` is at or below this × the model's
+/// frequency scale `ω_ref`.
+pub const ZERO_EIGENVALUE: f64 = 1e-6;
+/// A free motion carries no stiffness when its eigenvalue of the symmetric part of the
+/// (reduced) stiffness is at or below this × `‖K‖` (`ω_ref²` on the shift-invert path).
+pub const FREE_MOTION: f64 = 1e-10;
+/// An eigenvalue whose imaginary part is below this × the largest `|λ|` (at least 1) is real:
+/// the imaginary part is round-off.
+pub const REAL_PAIR: f64 = 1e-12;
+/// Around a frequency `ω_F` the undamped shift is `(ω_F (1 − SHIFT_OFFSET))²`: an eigenvalue
+/// on the shift makes the KKT matrix singular, one too near makes its θ dwarf the others'.
+pub const SHIFT_OFFSET: f64 = 1e-3;
+/// A shift that hit an eigenvalue moves by `3.7 · SHIFT_MOVE · (1 + tries)` of its magnitude.
+pub const SHIFT_MOVE: f64 = 1e-3;
+/// K is symmetric when the largest entry of `K − Kᵀ` is at or below this × its largest entry
+/// (rounding of the assembled second derivatives).
+pub const SYMMETRIC_STIFFNESS: f64 = 1e-12;
+
+/// Relative residual `‖T u − θ u‖ / |θ|` a wanted Ritz pair of the shift-invert Arnoldi must
+/// reach: it bounds the backward error of `λ − σ` relative to `|λ − σ|`, a few digits above
+/// the rounding of the sparse solves.
+pub const RITZ_RESIDUAL: f64 = 1e-10;
+/// A new Krylov direction whose norm after orthogonalisation falls below this fraction of its
+/// norm before is dependent (the basis spans an invariant subspace).
+pub const KRYLOV_BREAKDOWN: f64 = 1e-11;
+/// A direction of a thick restart's discarded part below this × the largest Ritz value is
+/// rounding and not kept in the frontier.
+pub const RESTART_DIRECTION: f64 = 1e-14;
+/// A frontier vector whose row of B is below this × the largest Ritz value carries no residual
+/// and is dropped.
+pub const RESTART_FRONTIER: f64 = 1e-15;
+/// Gram–Schmidt drops a vector whose norm falls below this fraction of its norm before
+/// (dependent on the ones kept).
+pub const ORTHONORMAL_DEPENDENT: f64 = 1e-10;
+/// A validation round accepts the wanted eigenvalues when their `|θ|` agree with the previous
+/// round's to this relative difference.
+pub const VALIDATION_AGREEMENT: f64 = 1e-6;
+/// With a complex shift, the eigenvector's velocity part must be `λ` times its position part to
+/// this (squared, relative): otherwise two eigenvalues are equally near the shift.
+pub const MIXED_EIGENVECTOR: f64 = 1e-12;
+
 // ---- Dynamics and kinematics (stages/dynamics/, stages/kinematics.rs) ----
 
 // ---- Forces, measures and requests (physics/) ----

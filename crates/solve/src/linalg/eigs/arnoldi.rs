@@ -5,6 +5,7 @@ use super::krylov::*;
 use super::ritz::{ritz_pairs, Pair};
 use super::vectors::{dot, norm, orthonormal_columns, pseudo_random};
 use super::EigenError;
+use crate::tolerances::VALIDATION_AGREEMENT;
 
 /// How a check of the wanted pairs came out.
 enum Check {
@@ -219,7 +220,7 @@ pub fn largest_ritz_pairs(
                     a.len() == signature.len()
                         && a.iter()
                             .zip(&signature)
-                            .all(|(x, y)| (x - y).abs() <= 1e-6 * x.abs())
+                            .all(|(x, y)| (x - y).abs() <= VALIDATION_AGREEMENT * x.abs())
                 });
                 if same {
                     return Ok(finish(k));

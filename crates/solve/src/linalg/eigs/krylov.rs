@@ -53,11 +53,9 @@ pub struct RitzPairs {
     pub applications: usize,
 }
 
-/// Relative residual a wanted Ritz pair must reach.
-pub const RESIDUAL_TOLERANCE: f64 = 1e-10;
-/// A new direction whose norm falls below this fraction of its vector's norm is dependent
-/// (the basis spans an invariant subspace).
-pub(super) const BREAKDOWN: f64 = 1e-11;
+pub(super) use crate::tolerances::KRYLOV_BREAKDOWN as BREAKDOWN;
+pub use crate::tolerances::RITZ_RESIDUAL as RESIDUAL_TOLERANCE;
+use crate::tolerances::{RESTART_DIRECTION, RESTART_FRONTIER};
 /// Smallest basis before a restart.
 pub(super) const MIN_BASIS: usize = 40;
 /// Basis size before a restart: `BASIS_PER_MODE · wanted + MIN_BASIS`.
@@ -238,7 +236,7 @@ impl Basis {
                 }
             }
             let size = norm(&col);
-            if size > 1e-14 * scale {
+            if size > RESTART_DIRECTION * scale {
                 col.iter_mut().for_each(|x| *x /= size);
                 p.push(col);
             }
@@ -261,7 +259,11 @@ impl Basis {
             self.add_frontier(dv, row);
         }
         // Frontier directions no residual depends on are dropped.
-        let keep: Vec<bool> = self.b.iter().map(|row| norm(row) > 1e-15 * scale).collect();
+        let keep: Vec<bool> = self
+            .b
+            .iter()
+            .map(|row| norm(row) > RESTART_FRONTIER * scale)
+            .collect();
         let mut k = 0;
         self.f.retain(|_| {
             k += 1;

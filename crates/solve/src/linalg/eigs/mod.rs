@@ -126,8 +126,15 @@ pub enum EigenError {
     Input,
     #[error("the shifted KKT matrix cannot be solved (the shift is an eigenvalue or the constraint rows are dependent): {0}")]
     Shift(LinearError),
+    /// The projected matrix `G` has a non-finite entry.
+    #[error("the small projected eigenproblem failed: non-finite projected matrix")]
+    NonFiniteProjection,
+    /// The dense eigen solver failed on `G` (its message).
     #[error("the small projected eigenproblem failed: {0}")]
     Projected(String),
+    /// With a complex shift, two eigenvalues have the same `ψ`: the eigenvector mixes them.
+    #[error("the small projected eigenproblem failed: two eigenvalues are equally near the shift; choose another")]
+    AmbiguousShift,
     #[error("shift-invert Arnoldi did not converge: {converged} of {wanted} wanted eigenvalues after {applications} solves")]
     NotConverged {
         converged: usize,

@@ -8,6 +8,7 @@ use super::shift_invert::{LinearShiftInvert, PencilView, QuadraticShiftInvert};
 use super::vectors::orthonormal_columns;
 use super::{EigenError, SparseMatrix};
 use crate::linalg::linear::SparseLu;
+use crate::tolerances::MIXED_EIGENVECTOR;
 
 /// One eigenvalue of the constrained quadratic problem (a complex pair given once, with
 /// `Im λ ≥ 0`) and the position part `x` of its eigenvector.
@@ -213,10 +214,8 @@ impl ConstrainedPencil {
                     miss += dr * dr + di * di;
                     size += v_re[k] * v_re[k] + v_im[k] * v_im[k];
                 }
-                if miss > 1e-12 * size.max(1e-300) {
-                    return Err(EigenError::Projected(
-                        "two eigenvalues are equally near the shift; choose another".into(),
-                    ));
+                if miss > MIXED_EIGENVECTOR * size.max(1e-300) {
+                    return Err(EigenError::AmbiguousShift);
                 }
                 if li < 0.0 {
                     x_im.iter_mut().for_each(|v| *v = -*v);

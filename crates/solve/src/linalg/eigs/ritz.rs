@@ -105,7 +105,7 @@ pub(super) fn ritz_pairs(g: &[Vec<f64>], locked: usize) -> Result<Vec<Pair>, Eig
 pub(super) fn rayleigh_ritz(g: &[Vec<f64>]) -> Result<Vec<Ritz>, EigenError> {
     let m = g.len();
     if g.iter().flatten().any(|x| !x.is_finite()) {
-        return Err(EigenError::Projected("non-finite projected matrix".into()));
+        return Err(EigenError::NonFiniteProjection);
     }
     let gm = Mat::<f64>::from_fn(m, m, |i, j| g[i][j]);
     let eig = gm

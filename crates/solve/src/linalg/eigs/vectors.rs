@@ -1,5 +1,7 @@
 //! Small dense vector helpers of the Krylov iteration.
 
+use crate::tolerances::ORTHONORMAL_DEPENDENT;
+
 pub(super) fn dot(a: &[f64], b: &[f64]) -> f64 {
     a.iter().zip(b).map(|(x, y)| x * y).sum()
 }
@@ -39,7 +41,7 @@ pub(super) fn orthonormal_columns(vs: Vec<Vec<f64>>) -> Vec<Vec<f64>> {
             }
         }
         let after = norm(&v);
-        if after > 1e-10 * before {
+        if after > ORTHONORMAL_DEPENDENT * before {
             v.iter_mut().for_each(|x| *x /= after);
             out.push(v);
         }
