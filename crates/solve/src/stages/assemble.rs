@@ -29,12 +29,56 @@ use glam::{DMat3, DVec3};
 use linkage_adm::ExactCoord;
 use linkage_model::{Body, ConstraintKind, JointInitial, Model};
 
+/// What a hard equation holds. Hard rows are not rows of the [`System`]: EXACT conditions
+/// belong to parts, while a system row's `element` indexes the model's constraints (reports
+/// read `model.constraints[row.element]`), so they keep their own type; this names them
+/// without comparing label strings.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum HardKind {
+    /// One of the three dot products holding a part's orientation when all of PSI, THETA, PHI
+    /// are EXACT: `Zb·X0`, `Zb·Y0`, `Xb·Y0` (0, 1, 2).
+    ExactOrientation(usize),
+    /// One EXACT coordinate of a part.
+    Exact(ExactCoord),
+    /// A joint's initial rotation (IC, ICROT).
+    IcRotation,
+    /// A joint's initial translation (IC, ICTRAN).
+    IcTranslation,
+    /// A joint coordinate driven to a target by the explanations' moves.
+    Driven,
+}
+
+impl HardKind {
+    /// The label reports print.
+    pub fn label(self) -> &'static str {
+        match self {
+            HardKind::ExactOrientation(k) => [
+                "EXACT orientation (Zb·X0)",
+                "EXACT orientation (Zb·Y0)",
+                "EXACT orientation (Xb·Y0)",
+            ][k.min(2)],
+            HardKind::Exact(c) => match c {
+                ExactCoord::X => "EXACT X",
+                ExactCoord::Y => "EXACT Y",
+                ExactCoord::Z => "EXACT Z",
+                ExactCoord::Psi => "EXACT PSI",
+                ExactCoord::Theta => "EXACT THETA",
+                ExactCoord::Phi => "EXACT PHI",
+            },
+            HardKind::IcRotation => "IC rotation",
+            HardKind::IcTranslation => "IC translation",
+            HardKind::Driven => "explain: driven",
+        }
+    }
+}
+
 /// A hard equation of the initial conditions: `Q(q) = target`.
 #[derive(Clone, Debug, PartialEq)]
 pub struct HardRow {
     /// Element the condition belongs to (`PART_2`, `JOINT_1`).
     pub name: String,
-    /// `EXACT X`, `IC rotation`, …
+    pub kind: HardKind,
+    /// `kind.label()`: `EXACT X`, `IC rotation`, …
     pub label: String,
     pub quantity: Quantity,
     pub target: f64,
@@ -85,26 +129,19 @@ pub fn hard_rows(model: &Model) -> Vec<HardRow> {
                 body: Body::Ground,
                 v_b: v,
             };
-            for (label, a, b) in [
-                (
-                    "EXACT orientation (Zb·X0)",
-                    body(DVec3::Z),
-                    fixed(r0.x_axis),
-                ),
-                (
-                    "EXACT orientation (Zb·Y0)",
-                    body(DVec3::Z),
-                    fixed(r0.y_axis),
-                ),
-                (
-                    "EXACT orientation (Xb·Y0)",
-                    body(DVec3::X),
-                    fixed(r0.y_axis),
-                ),
-            ] {
+            for (i, (a, b)) in [
+                (body(DVec3::Z), fixed(r0.x_axis)),
+                (body(DVec3::Z), fixed(r0.y_axis)),
+                (body(DVec3::X), fixed(r0.y_axis)),
+            ]
+            .into_iter()
+            .enumerate()
+            {
+                let kind = HardKind::ExactOrientation(i);
                 out.push(HardRow {
                     name: p.origin.name.clone(),
-                    label: label.into(),
+                    kind,
+                    label: kind.label().into(),
                     quantity: Quantity::Dot(a, b),
                     target: 0.0,
                     unit: RowUnit::Direction,
@@ -125,7 +162,7 @@ pub fn hard_rows(model: &Model) -> Vec<HardRow> {
             if all_angles && matches!(e, ExactCoord::Psi | ExactCoord::Theta | ExactCoord::Phi) {
                 continue;
             }
-            let (label, quantity, unit) = match e {
+            let (quantity, unit) = match e {
                 ExactCoord::X | ExactCoord::Y | ExactCoord::Z => {
                     let axis = match e {
                         ExactCoord::X => 0,
@@ -146,7 +183,7 @@ pub fn hard_rows(model: &Model) -> Vec<HardRow> {
                             v_b: DMat3::IDENTITY.col(axis),
                         },
                     };
-                    (["EXACT X", "EXACT Y", "EXACT Z"][axis], q, RowUnit::Length)
+                    (q, RowUnit::Length)
                 }
                 ExactCoord::Psi | ExactCoord::Theta | ExactCoord::Phi => {
                     let k3 = match e {
@@ -160,17 +197,15 @@ pub fn hard_rows(model: &Model) -> Vec<HardRow> {
                         seq: EulerSeq::Body313,
                         k: k3,
                     };
-                    (
-                        ["EXACT PSI", "EXACT THETA", "EXACT PHI"][k3],
-                        q,
-                        RowUnit::Angle,
-                    )
+                    (q, RowUnit::Angle)
                 }
             };
             let target = quantity.value(&input);
+            let kind = HardKind::Exact(*e);
             out.push(HardRow {
                 name: p.origin.name.clone(),
-                label: label.into(),
+                kind,
+                label: kind.label().into(),
                 quantity,
                 target,
                 unit,
@@ -197,7 +232,8 @@ pub fn hard_rows(model: &Model) -> Vec<HardRow> {
             };
             out.push(HardRow {
                 name: con.origin.name.clone(),
-                label: "IC rotation".into(),
+                kind: HardKind::IcRotation,
+                label: HardKind::IcRotation.label().into(),
                 quantity: q,
                 target: d,
                 unit: RowUnit::Angle,
@@ -211,7 +247,8 @@ pub fn hard_rows(model: &Model) -> Vec<HardRow> {
             };
             out.push(HardRow {
                 name: con.origin.name.clone(),
-                label: "IC translation".into(),
+                kind: HardKind::IcTranslation,
+                label: HardKind::IcTranslation.label().into(),
                 quantity: q,
                 target: d,
                 unit: RowUnit::Length,

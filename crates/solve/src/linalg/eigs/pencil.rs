@@ -7,6 +7,7 @@ use super::metric::MassMetric;
 use super::shift_invert::{LinearShiftInvert, PencilView, QuadraticShiftInvert};
 use super::vectors::orthonormal_columns;
 use super::{EigenError, SparseMatrix};
+use crate::linalg::kkt::{ConstraintBlocks, CoordinateScale, SaddlePoint, Zeros};
 use crate::linalg::linear::SparseLu;
 use crate::tolerances::MIXED_EIGENVECTOR;
 
@@ -117,30 +118,34 @@ impl ConstrainedPencil {
         };
         let complex = im.iter().any(|(c, a)| *c != 0.0 && a.max_abs() > 0.0);
         let copies = if complex { 2 } else { 1 };
-        let mut e = Vec::new();
+        // Both constraint blocks scaled by α, explicit zeros of J kept.
+        let mut kkt = SaddlePoint::new(copies * n, copies * r).with_blocks(ConstraintBlocks {
+            scale: CoordinateScale::IDENTITY,
+            row_factor: alpha,
+            transpose_factor: alpha,
+            zeros: Zeros::Keep,
+        });
         for b in 0..copies {
             for (c, a) in re {
                 if *c != 0.0 {
-                    e.extend(a.entries().map(|(i, j, v)| (b * n + i, b * n + j, c * v)));
+                    kkt.add_triplets(a.entries().map(|(i, j, v)| (b * n + i, b * n + j, c * v)));
                 }
             }
             for (i, j, v) in self.jacobian.entries() {
-                let row = copies * n + b * r + i;
-                e.push((row, b * n + j, alpha * v));
-                e.push((b * n + j, row, alpha * v));
+                kkt.add_constraint_entry(b * r + i, b * n + j, v);
             }
         }
         if complex {
             for (c, a) in im {
                 if *c != 0.0 {
                     for (i, j, v) in a.entries() {
-                        e.push((i, n + j, -c * v));
-                        e.push((n + i, j, c * v));
+                        kkt.add(i, n + j, -c * v);
+                        kkt.add(n + i, j, c * v);
                     }
                 }
             }
         }
-        SparseLu::factor(copies * (n + r), &e).map_err(EigenError::Shift)
+        kkt.factor().map_err(EigenError::Shift)
     }
 
     /// The eigenvalues nearest the shift `σ = shift.0 + i·shift.1` (radians per time unit), as

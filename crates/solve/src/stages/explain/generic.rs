@@ -41,7 +41,7 @@ use super::dense::analyse;
 use crate::constraints::graph::Topology;
 use crate::constraints::rows::Quantity;
 use crate::constraints::system::{RowUnit, System, Tier};
-use crate::stages::assemble::{assemble, HardRow};
+use crate::stages::assemble::{assemble, HardKind, HardRow};
 use crate::stages::verify::{rank_analysis, NoDrivers};
 use crate::state::State;
 use crate::tolerances::Tolerances;
@@ -324,7 +324,8 @@ pub fn generic_mobility(
         let sign = if rng.next() < 0.0 { -1.0 } else { 1.0 };
         let hard = HardRow {
             name: model.constraints[e].origin.name.clone(),
-            label: "explain: driven".into(),
+            kind: HardKind::Driven,
+            label: HardKind::Driven.label().into(),
             quantity,
             target: quantity.value(&cur) + sign * step,
             unit: if rotation {
