@@ -40,6 +40,26 @@
 //!   each refresh is a numeric refactorisation, allocation-free (the integrator's iteration
 //!   matrix and output projection).
 //!
+//! Entries at distinct positions may be added in any order without changing the result (the
+//! matrix is sorted into compressed columns before it is factorised); only entries at the same
+//! position are summed in the order added. So a stage keeps its results bit for bit when it
+//! adds its triplets (force Jacobians, then second derivatives, …) in the order it did.
+//!
+//! # How each analysis writes its matrix with it
+//!
+//! | analysis | form | `A` | constraint blocks |
+//! |---|---|---|---|
+//! | assembly Newton (`stages/assemble.rs`) | [`SaddlePoint`] | [`SaddlePoint::add_coordinate_weights`] `W = diag(1/L², 1)` | [`SaddlePoint::add_constraint_row`], [`SaddlePoint::add_multiplier_regularisation`] `μ` |
+//! | statics Newton | [`SaddlePoint`] | [`SaddlePoint::add_triplets`] `−∂Q/∂q`, `Σλ∇²Φ`, then [`SaddlePoint::add_part_mass`] `STABILITY·M/UCF` | [`SaddlePoint::add_constraint_row`] |
+//! | statics projection / initial multipliers | [`SaddlePoint`] | [`SaddlePoint::add_coordinate_weights`] `diag(1/L², 1)` / `diag(1, L²)` | [`SaddlePoint::add_constraint_row`] |
+//! | ic velocity | [`SaddlePoint`] | translations by [`SaddlePoint::add`], [`SaddlePoint::add_rotational_block`] `R D Rᵀ` with [`Zeros::Keep`] | [`SaddlePoint::add_constraint_row`] |
+//! | ic acceleration / force | [`SaddlePoint`] | [`SaddlePoint::add_part_mass`] `diag(m, I_g)`, [`Zeros::Skip`] | [`SaddlePoint::add_constraint_row`] |
+//! | dynamics iteration matrix | [`FixedSaddlePoint`] (or [`assemble_growing`] on its own [`FixedPatternLu`]) | [`add_part_mass_blocks`], [`FixedPatternLu::add`] / `add_block` for `βh²K`, `γhC` | [`add_constraint_row_blocks`] with `t = (1+α)·UCF` |
+//! | dynamics output projection | as above | [`add_part_mass_blocks`] with the regularisation of `physics::mass` | [`add_constraint_row_blocks`], `t = 1` |
+//! | kinematics (zero DOF: `J` square) | [`jacobian_entries`] into [`SparseLu::factor`] | — | [`CoordinateScale::IDENTITY`], [`Zeros::Skip`] |
+//! | linearize | [`jacobian_entries`] (`S = L` on translations, [`Zeros::Keep`]), [`null_space`]; the eigen solver's complex form by [`SaddlePoint::add_constraint_entry`] with `ρ = t = α` | | |
+//! | explain, assembly rank | [`scaled_row`] | | |
+//!
 //! Beside the solve, the pieces linearize and explain need from the same Jacobian:
 //! [`jacobian_entries`] (the `m × n` matrix `J S` on its own), [`scaled_row`] (a row scaled as
 //! in the rank analysis, translations × L, and its norm) and [`null_space`] (an orthonormal
@@ -193,6 +213,20 @@ impl SaddlePoint {
                 let x = inertia.col(d)[c];
                 if zeros == Zeros::Keep || x != 0.0 {
                     self.entries.push((o + 3 + c, o + 3 + d, x));
+                }
+            }
+        }
+    }
+
+    /// Adds part `k`'s 3 × 3 rotational block (row by row; zero entries left out with
+    /// [`Zeros::Skip`]).
+    pub fn add_rotational_block(&mut self, k: usize, block: &glam::DMat3, zeros: Zeros) {
+        let o = PART_COORDINATES * k + 3;
+        for c in 0..3 {
+            for d in 0..3 {
+                let x = block.col(d)[c];
+                if zeros == Zeros::Keep || x != 0.0 {
+                    self.entries.push((o + c, o + d, x));
                 }
             }
         }

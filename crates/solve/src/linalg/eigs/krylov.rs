@@ -44,7 +44,7 @@ impl RitzPair {
     }
 }
 
-/// Result of [`largest_ritz_pairs`].
+/// Result of [`super::largest_ritz_pairs`].
 #[derive(Clone, Debug, PartialEq)]
 pub struct RitzPairs {
     /// Largest `|θ|` first.
