@@ -11,7 +11,7 @@ use linkage_solve::constraints::drivers::ExpressionDrivers;
 use linkage_solve::generate::{parallelogram_chain, pendulum_chain};
 use linkage_solve::physics::applied::NoForces;
 use linkage_solve::pipeline::Assembled;
-use linkage_solve::stages::linearize::{linearize, EigenMethod, LinearOptions};
+use linkage_solve::stages::linearize::{linearize, EigenMethod, LinearOptions, OperatingPoint};
 use linkage_solve::tolerances::Tolerances;
 use std::sync::Arc;
 
@@ -56,17 +56,12 @@ fn bench_linearize(bencher: divan::Bencher, text: &str, method: EigenMethod, exp
         method,
     };
     bencher.bench_local(|| {
-        let l = linearize(
-            &m,
-            sys,
-            rows,
-            &NoForces,
-            &ic.assembly.state,
-            &v,
-            &lambda,
-            opts,
-        )
-        .expect("linearization");
+        let at = OperatingPoint {
+            state: &ic.assembly.state,
+            velocities: &v,
+            multipliers: &lambda,
+        };
+        let l = linearize(&m, sys, rows, &NoForces, at, opts).expect("linearization");
         assert_eq!(l.modes.len(), expect);
         l.modes.len()
     });

@@ -67,6 +67,57 @@ pub const STATIC_ROUNDING_IMBALANCE: f64 = 1e-10;
 
 // ---- Linear algebra and eigen solutions (linalg/, stages/linearize.rs) ----
 
+/// A diagonal entry of R (QR of Jᵀ) counts towards the rank of J when above this fraction of
+/// the largest: the rows the analyses keep are independent at the rank tolerance (1e-6 on the
+/// row-normalised Jacobian), so a kept row's pivot is far above it, while a dependent
+/// direction leaves rounding (≈ 1e-15 relative), far below.
+pub const NULL_SPACE_RANK: f64 = 1e-9;
+
+/// A massless part is given this fraction of the smallest nonzero part mass (and, without
+/// inertia, of the smallest nonzero principal moment), as Adams does: small enough not to move
+/// the other modes, large enough to keep M regular.
+pub const MASSLESS_FRACTION: f64 = 1e-8;
+/// An eigenvalue is zero (a rigid-body mode) when `|λ|` is at or below this × the model's
+/// frequency scale `ω_ref`.
+pub const ZERO_EIGENVALUE: f64 = 1e-6;
+/// A free motion carries no stiffness when its eigenvalue of the symmetric part of the
+/// (reduced) stiffness is at or below this × `‖K‖` (`ω_ref²` on the shift-invert path).
+pub const FREE_MOTION: f64 = 1e-10;
+/// An eigenvalue whose imaginary part is below this × the largest `|λ|` (at least 1) is real:
+/// the imaginary part is round-off.
+pub const REAL_PAIR: f64 = 1e-12;
+/// Around a frequency `ω_F` the undamped shift is `(ω_F (1 − SHIFT_OFFSET))²`: an eigenvalue
+/// on the shift makes the KKT matrix singular, one too near makes its θ dwarf the others'.
+pub const SHIFT_OFFSET: f64 = 1e-3;
+/// A shift that hit an eigenvalue moves by `3.7 · SHIFT_MOVE · (1 + tries)` of its magnitude.
+pub const SHIFT_MOVE: f64 = 1e-3;
+/// K is symmetric when the largest entry of `K − Kᵀ` is at or below this × its largest entry
+/// (rounding of the assembled second derivatives).
+pub const SYMMETRIC_STIFFNESS: f64 = 1e-12;
+
+/// Relative residual `‖T u − θ u‖ / |θ|` a wanted Ritz pair of the shift-invert Arnoldi must
+/// reach: it bounds the backward error of `λ − σ` relative to `|λ − σ|`, a few digits above
+/// the rounding of the sparse solves.
+pub const RITZ_RESIDUAL: f64 = 1e-10;
+/// A new Krylov direction whose norm after orthogonalisation falls below this fraction of its
+/// norm before is dependent (the basis spans an invariant subspace).
+pub const KRYLOV_BREAKDOWN: f64 = 1e-11;
+/// A direction of a thick restart's discarded part below this × the largest Ritz value is
+/// rounding and not kept in the frontier.
+pub const RESTART_DIRECTION: f64 = 1e-14;
+/// A frontier vector whose row of B is below this × the largest Ritz value carries no residual
+/// and is dropped.
+pub const RESTART_FRONTIER: f64 = 1e-15;
+/// Gram–Schmidt drops a vector whose norm falls below this fraction of its norm before
+/// (dependent on the ones kept).
+pub const ORTHONORMAL_DEPENDENT: f64 = 1e-10;
+/// A validation round accepts the wanted eigenvalues when their `|θ|` agree with the previous
+/// round's to this relative difference.
+pub const VALIDATION_AGREEMENT: f64 = 1e-6;
+/// With a complex shift, the eigenvector's velocity part must be `λ` times its position part to
+/// this (squared, relative): otherwise two eigenvalues are equally near the shift.
+pub const MIXED_EIGENVECTOR: f64 = 1e-12;
+
 // ---- Dynamics and kinematics (stages/dynamics/, stages/kinematics.rs) ----
 
 /// The corrector refreshes its iteration matrix when a correction is more than this fraction
@@ -126,4 +177,47 @@ pub const SETTLING_INTEGRATOR_ERROR: f64 = 1e-4;
 /// accelerations, which a tiny AERROR would report as non-convergence.
 pub const ACCELERATION_IC_FLOOR: f64 = 1e-9;
 
+/// The least-change assembly's residual tolerance is never below this × L (lengths) or this
+/// (radians), whatever IC ERROR says: rounding of coordinates of order L, which no Newton step
+/// can reduce.
+pub const ASSEMBLY_ROUNDING: f64 = 1e-13;
+/// Levenberg–Marquardt `μ` of the assembly after its KKT matrix proved singular (then ×100 per
+/// failure): small against the unit weights of W, so a regular direction is barely changed.
+pub const ASSEMBLY_SINGULAR_REGULARISATION: f64 = 1e-8;
+/// `μ` after a step that backtracking could not make decrease the residual (then ×10).
+pub const ASSEMBLY_STEP_REGULARISATION: f64 = 1e-6;
+/// A trial assembly step is accepted when its squared residual norm grows by at most this
+/// fraction: rounding of the norm, not an increase.
+pub const ASSEMBLY_BACKTRACK_SLACK: f64 = 1e-12;
+/// A squared (scaled) residual norm below this is zero: any step is accepted.
+pub const ASSEMBLY_SATISFIED: f64 = 1e-30;
+
 // ---- Explain (stages/explain/) ----
+
+/// An entry of a left null vector from the SVD (unit vectors on the row-normalised Jacobian)
+/// below this is rounding and left out of the basis.
+pub const NULL_VECTOR_ENTRY: f64 = 1e-13;
+/// Null-vector entries below this fraction of the vector's largest are rounding: they neither
+/// make a reaction indeterminate nor name an element as involved in the redundancy.
+pub const NULL_VECTOR_ROUNDING: f64 = 1e-10;
+/// A reaction component is determinate when a null vector changes it by at most this fraction
+/// of the sum of the contributions' magnitudes (they cancel to rounding).
+pub const DETERMINATE_CANCELLATION: f64 = 1e-7;
+/// An axis is constrained by an element when its projection onto the span of the element's
+/// force (torque) directions has squared length above this.
+pub const CONSTRAINED_AXIS: f64 = 1e-6;
+/// A force or torque direction assembled from a row's terms shorter than this is no direction
+/// (the row is reported as a scalar equation).
+pub const ZERO_DIRECTION: f64 = 1e-12;
+/// A direction joins the span of an element's directions when its part orthogonal to the
+/// others is above this fraction of its length.
+pub const SPAN_INDEPENDENCE: f64 = 1e-9;
+/// A pose found by the random moves is admissible when every non-motion row holds to this
+/// (lengths relative to L): well inside the verify tolerances (1e-6).
+pub const ADMISSIBLE_RESIDUAL: f64 = 1e-8;
+/// IC ERROR of the re-assemblies onto the constraints, × L clamped to [1, 100]: tight, so the
+/// ranks compared across poses are not blurred by assembly residuals.
+pub const TIGHT_ASSEMBLY: f64 = 1e-11;
+/// A part's size (for the random moves) is at least this × L (a part whose markers all sit
+/// at its centre of mass still moves).
+pub const SMALLEST_PART_SIZE: f64 = 1e-3;

@@ -35,6 +35,25 @@ pub struct SparseLu {
 /// Why a linear solve failed.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 pub enum LinearError {
+    /// An entry outside the `n × n` matrix, or one that is not finite.
+    #[error("the matrix could not be factorised: an entry is out of range or not finite")]
+    BadEntry,
+    /// A pattern coordinate outside the matrix.
+    #[error("the matrix could not be factorised: an entry is out of range")]
+    OutOfRange,
+    /// A value that is not finite.
+    #[error("the matrix could not be factorised: an entry is not finite")]
+    NotFinite,
+    /// A right-hand side whose length is not the matrix order.
+    #[error("the matrix could not be factorised: right-hand side of the wrong length")]
+    RhsLength,
+    /// The scratch memory could not be allocated.
+    #[error("the matrix could not be factorised: out of memory")]
+    OutOfMemory,
+    /// A solve before a successful factorisation.
+    #[error("the matrix could not be factorised: the matrix is not factorised")]
+    NotFactorised,
+    /// The sparse solver's own failure (its message).
     #[error("the matrix could not be factorised: {0}")]
     Factor(String),
     #[error("the matrix is singular (the solution is not finite)")]
@@ -48,9 +67,7 @@ impl SparseLu {
             .iter()
             .any(|(r, c, v)| *r >= n || *c >= n || !v.is_finite())
         {
-            return Err(LinearError::Factor(
-                "an entry is out of range or not finite".into(),
-            ));
+            return Err(LinearError::BadEntry);
         }
         let trip: Vec<Triplet<usize, usize, f64>> = entries
             .iter()
@@ -72,9 +89,7 @@ impl SparseLu {
     /// Solves `A x = b` in place (`b` becomes `x`).
     pub fn solve(&self, b: &mut [f64]) -> Result<(), LinearError> {
         if b.len() != self.n {
-            return Err(LinearError::Factor(
-                "right-hand side of the wrong length".into(),
-            ));
+            return Err(LinearError::RhsLength);
         }
         let mut m = Mat::from_fn(self.n, 1, |i, _| b[i]);
         self.lu.solve_in_place(m.as_mut());
@@ -151,7 +166,7 @@ impl FixedPatternLu {
     ) -> Result<FixedPatternLu, LinearError> {
         let mut coords: Vec<(usize, usize)> = coordinates.into_iter().collect();
         if coords.iter().any(|&(r, c)| r >= n || c >= n) {
-            return Err(LinearError::Factor("an entry is out of range".into()));
+            return Err(LinearError::OutOfRange);
         }
         // Column-major order.
         coords.sort_unstable_by_key(|&(r, c)| (c, r));
@@ -171,9 +186,9 @@ impl FixedPatternLu {
         let factor_scratch = MemBuffer::try_new(
             symbolic.factorize_numeric_lu_scratch::<f64>(Par::Seq, Default::default()),
         )
-        .map_err(|_| LinearError::Factor("out of memory".into()))?;
+        .map_err(|_| LinearError::OutOfMemory)?;
         let solve_scratch = MemBuffer::try_new(symbolic.solve_in_place_scratch::<f64>(1, Par::Seq))
-            .map_err(|_| LinearError::Factor("out of memory".into()))?;
+            .map_err(|_| LinearError::OutOfMemory)?;
         Ok(FixedPatternLu {
             n,
             pattern,
@@ -201,7 +216,7 @@ impl FixedPatternLu {
 
     /// A matrix with the same pattern (and symbolic analysis), values zero.
     pub fn same_pattern(&self) -> Result<FixedPatternLu, LinearError> {
-        let oom = |_| LinearError::Factor("out of memory".into());
+        let oom = |_| LinearError::OutOfMemory;
         Ok(FixedPatternLu {
             n: self.n,
             pattern: self.pattern.clone(),
@@ -371,7 +386,7 @@ impl FixedPatternLu {
     pub fn factor(&mut self) -> Result<(), LinearError> {
         self.factored = false;
         if self.values.iter().any(|v| !v.is_finite()) {
-            return Err(LinearError::Factor("an entry is not finite".into()));
+            return Err(LinearError::NotFinite);
         }
         let a = SparseColMatRef::new(self.pattern.as_ref(), &self.values);
         self.symbolic
@@ -390,12 +405,10 @@ impl FixedPatternLu {
     /// Solves `A x = b` in place with the last factorisation (`b` becomes `x`).
     pub fn solve_in_place(&mut self, b: &mut [f64]) -> Result<(), LinearError> {
         if !self.factored {
-            return Err(LinearError::Factor("the matrix is not factorised".into()));
+            return Err(LinearError::NotFactorised);
         }
         if b.len() != self.n {
-            return Err(LinearError::Factor(
-                "right-hand side of the wrong length".into(),
-            ));
+            return Err(LinearError::RhsLength);
         }
         let lu = LuRef::new_unchecked(&self.symbolic, &self.numeric);
         lu.solve_in_place_with_conj(

@@ -1,5 +1,7 @@
 //! Linear algebra: sparse LU (one-off from triplets, and refactorised in place on a fixed
-//! pattern) and the shift-invert Arnoldi eigen solver.
+//! pattern), the one constrained (saddle-point) solve built on it ([`kkt`]), and the
+//! shift-invert Arnoldi eigen solver.
 
 pub mod eigs;
+pub mod kkt;
 pub mod linear;

@@ -10,25 +10,75 @@
 //! [ J  −μI ] [λ] = [ −Φ   ]
 //! ```
 //!
-//! with the step limited per iteration (TLIMIT, ALIMIT), the Jacobian refreshed by PATTERN,
+//! (assembled and factorised by [`crate::linalg::kkt::SaddlePoint`]) with the step limited
+//! per iteration (TLIMIT, ALIMIT), the Jacobian refreshed by PATTERN,
 //! backtracking when the residual grows, and `μ` (Levenberg–Marquardt) raised when a step fails.
 
 use crate::constraints::rank::{greedy_rank, RankSettings, SparseRows};
 use crate::constraints::rows::{BodyDir, BodyFrame, BodyPoint, EulerSeq, Quantity, RowGradient};
 use crate::constraints::system::{wrap_angle, RowUnit, System};
+use crate::linalg::kkt::{scaled_row, SaddlePoint};
 use crate::linalg::linear::SparseLu;
 use crate::stages::verify::Drivers;
 use crate::state::State;
+use crate::tolerances::{
+    ASSEMBLY_BACKTRACK_SLACK, ASSEMBLY_ROUNDING, ASSEMBLY_SATISFIED,
+    ASSEMBLY_SINGULAR_REGULARISATION, ASSEMBLY_STEP_REGULARISATION,
+};
 use glam::{DMat3, DVec3};
 use linkage_adm::ExactCoord;
 use linkage_model::{Body, ConstraintKind, JointInitial, Model};
+
+/// What a hard equation holds. Hard rows are not rows of the [`System`]: EXACT conditions
+/// belong to parts, while a system row's `element` indexes the model's constraints (reports
+/// read `model.constraints[row.element]`), so they keep their own type; this names them
+/// without comparing label strings.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum HardKind {
+    /// One of the three dot products holding a part's orientation when all of PSI, THETA, PHI
+    /// are EXACT: `Zb·X0`, `Zb·Y0`, `Xb·Y0` (0, 1, 2).
+    ExactOrientation(usize),
+    /// One EXACT coordinate of a part.
+    Exact(ExactCoord),
+    /// A joint's initial rotation (IC, ICROT).
+    IcRotation,
+    /// A joint's initial translation (IC, ICTRAN).
+    IcTranslation,
+    /// A joint coordinate driven to a target by the explanations' moves.
+    Driven,
+}
+
+impl HardKind {
+    /// The label reports print.
+    pub fn label(self) -> &'static str {
+        match self {
+            HardKind::ExactOrientation(k) => [
+                "EXACT orientation (Zb·X0)",
+                "EXACT orientation (Zb·Y0)",
+                "EXACT orientation (Xb·Y0)",
+            ][k.min(2)],
+            HardKind::Exact(c) => match c {
+                ExactCoord::X => "EXACT X",
+                ExactCoord::Y => "EXACT Y",
+                ExactCoord::Z => "EXACT Z",
+                ExactCoord::Psi => "EXACT PSI",
+                ExactCoord::Theta => "EXACT THETA",
+                ExactCoord::Phi => "EXACT PHI",
+            },
+            HardKind::IcRotation => "IC rotation",
+            HardKind::IcTranslation => "IC translation",
+            HardKind::Driven => "explain: driven",
+        }
+    }
+}
 
 /// A hard equation of the initial conditions: `Q(q) = target`.
 #[derive(Clone, Debug, PartialEq)]
 pub struct HardRow {
     /// Element the condition belongs to (`PART_2`, `JOINT_1`).
     pub name: String,
-    /// `EXACT X`, `IC rotation`, …
+    pub kind: HardKind,
+    /// `kind.label()`: `EXACT X`, `IC rotation`, …
     pub label: String,
     pub quantity: Quantity,
     pub target: f64,
@@ -79,26 +129,19 @@ pub fn hard_rows(model: &Model) -> Vec<HardRow> {
                 body: Body::Ground,
                 v_b: v,
             };
-            for (label, a, b) in [
-                (
-                    "EXACT orientation (Zb·X0)",
-                    body(DVec3::Z),
-                    fixed(r0.x_axis),
-                ),
-                (
-                    "EXACT orientation (Zb·Y0)",
-                    body(DVec3::Z),
-                    fixed(r0.y_axis),
-                ),
-                (
-                    "EXACT orientation (Xb·Y0)",
-                    body(DVec3::X),
-                    fixed(r0.y_axis),
-                ),
-            ] {
+            for (i, (a, b)) in [
+                (body(DVec3::Z), fixed(r0.x_axis)),
+                (body(DVec3::Z), fixed(r0.y_axis)),
+                (body(DVec3::X), fixed(r0.y_axis)),
+            ]
+            .into_iter()
+            .enumerate()
+            {
+                let kind = HardKind::ExactOrientation(i);
                 out.push(HardRow {
                     name: p.origin.name.clone(),
-                    label: label.into(),
+                    kind,
+                    label: kind.label().into(),
                     quantity: Quantity::Dot(a, b),
                     target: 0.0,
                     unit: RowUnit::Direction,
@@ -119,7 +162,7 @@ pub fn hard_rows(model: &Model) -> Vec<HardRow> {
             if all_angles && matches!(e, ExactCoord::Psi | ExactCoord::Theta | ExactCoord::Phi) {
                 continue;
             }
-            let (label, quantity, unit) = match e {
+            let (quantity, unit) = match e {
                 ExactCoord::X | ExactCoord::Y | ExactCoord::Z => {
                     let axis = match e {
                         ExactCoord::X => 0,
@@ -140,7 +183,7 @@ pub fn hard_rows(model: &Model) -> Vec<HardRow> {
                             v_b: DMat3::IDENTITY.col(axis),
                         },
                     };
-                    (["EXACT X", "EXACT Y", "EXACT Z"][axis], q, RowUnit::Length)
+                    (q, RowUnit::Length)
                 }
                 ExactCoord::Psi | ExactCoord::Theta | ExactCoord::Phi => {
                     let k3 = match e {
@@ -154,17 +197,15 @@ pub fn hard_rows(model: &Model) -> Vec<HardRow> {
                         seq: EulerSeq::Body313,
                         k: k3,
                     };
-                    (
-                        ["EXACT PSI", "EXACT THETA", "EXACT PHI"][k3],
-                        q,
-                        RowUnit::Angle,
-                    )
+                    (q, RowUnit::Angle)
                 }
             };
             let target = quantity.value(&input);
+            let kind = HardKind::Exact(*e);
             out.push(HardRow {
                 name: p.origin.name.clone(),
-                label: label.into(),
+                kind,
+                label: kind.label().into(),
                 quantity,
                 target,
                 unit,
@@ -191,7 +232,8 @@ pub fn hard_rows(model: &Model) -> Vec<HardRow> {
             };
             out.push(HardRow {
                 name: con.origin.name.clone(),
-                label: "IC rotation".into(),
+                kind: HardKind::IcRotation,
+                label: HardKind::IcRotation.label().into(),
                 quantity: q,
                 target: d,
                 unit: RowUnit::Angle,
@@ -205,7 +247,8 @@ pub fn hard_rows(model: &Model) -> Vec<HardRow> {
             };
             out.push(HardRow {
                 name: con.origin.name.clone(),
-                label: "IC translation".into(),
+                kind: HardKind::IcTranslation,
+                label: HardKind::IcTranslation.label().into(),
                 quantity: q,
                 target: d,
                 unit: RowUnit::Length,
@@ -321,8 +364,8 @@ pub fn assemble(
     let m = prob.m();
     let dim = 6 * n + m;
     let w_t = 1.0 / (length * length);
-    let tol_len = settings.error.max(1e-13 * length);
-    let tol_ang = settings.error.max(1e-13);
+    let tol_len = settings.error.max(ASSEMBLY_ROUNDING * length);
+    let tol_ang = settings.error.max(ASSEMBLY_ROUNDING);
     let is_len = |k: usize| -> bool {
         match prob.equation(k) {
             Equation::Row(r) => matches!(sys.rows[r].unit, RowUnit::Length | RowUnit::Mixed),
@@ -350,7 +393,7 @@ pub fn assemble(
     let mut mu = 0.0;
     let mut iterations = 0;
     let mut converged = scaled_max(&phi) <= 1.0;
-    let mut entries: Vec<(usize, usize, f64)> = Vec::new();
+    let mut kkt = SaddlePoint::new(6 * n, m);
     while !converged && iterations < settings.maxit {
         let refresh = lu.is_none()
             || settings
@@ -359,29 +402,11 @@ pub fn assemble(
                 .copied()
                 .unwrap_or(true);
         if refresh {
-            entries.clear();
-            for k in 0..n {
-                for c in 0..6 {
-                    let w = if c < 3 { w_t } else { 1.0 };
-                    entries.push((6 * k + c, 6 * k + c, w));
-                }
-            }
-            prob.jacobian(&s, &mut g, |row, grad| {
-                for (body, v) in &grad.blocks {
-                    for (c, x) in v.iter().enumerate() {
-                        if *x != 0.0 {
-                            entries.push((6 * n + row, 6 * body + c, *x));
-                            entries.push((6 * body + c, 6 * n + row, *x));
-                        }
-                    }
-                }
-            });
-            if mu > 0.0 {
-                for k in 0..m {
-                    entries.push((6 * n + k, 6 * n + k, -mu));
-                }
-            }
-            lu = SparseLu::factor(dim, &entries).ok();
+            kkt.clear();
+            kkt.add_coordinate_weights(|c| if c % 6 < 3 { w_t } else { 1.0 });
+            prob.jacobian(&s, &mut g, |row, grad| kkt.add_constraint_row(row, grad));
+            kkt.add_multiplier_regularisation(mu);
+            lu = kkt.factor().ok();
         }
         let Some(f) = &lu else { break };
         let mut rhs = vec![0.0; dim];
@@ -397,7 +422,11 @@ pub fn assemble(
         }
         if f.solve(&mut rhs).is_err() {
             // Singular: regularise and retry with a fresh factorisation.
-            mu = if mu == 0.0 { 1e-8 } else { mu * 100.0 };
+            mu = if mu == 0.0 {
+                ASSEMBLY_SINGULAR_REGULARISATION
+            } else {
+                mu * 100.0
+            };
             lu = None;
             iterations += 1;
             continue;
@@ -438,7 +467,10 @@ pub fn assemble(
                 t.increment(k, dx, dth);
             }
             prob.residual(&t, &mut trial_phi);
-            if norm(&trial_phi) <= before * (1.0 + 1e-12) || before < 1e-30 || !refresh {
+            if norm(&trial_phi) <= before * (1.0 + ASSEMBLY_BACKTRACK_SLACK)
+                || before < ASSEMBLY_SATISFIED
+                || !refresh
+            {
                 s = t;
                 std::mem::swap(&mut phi, &mut trial_phi);
                 accepted = true;
@@ -448,7 +480,11 @@ pub fn assemble(
         }
         iterations += 1;
         if !accepted {
-            mu = if mu == 0.0 { 1e-6 } else { mu * 10.0 };
+            mu = if mu == 0.0 {
+                ASSEMBLY_STEP_REGULARISATION
+            } else {
+                mu * 10.0
+            };
             lu = None;
             continue;
         }
@@ -491,15 +527,7 @@ fn independent_equations(
     let mut g = RowGradient::default();
     let push = |g: &RowGradient, m: &mut SparseRows| {
         let mut e: Vec<(usize, f64)> = Vec::with_capacity(12);
-        for (body, v) in &g.blocks {
-            for (c, x) in v.iter().enumerate() {
-                let x = if c < 3 { x * length } else { *x };
-                if x != 0.0 {
-                    e.push((6 * body + c, x));
-                }
-            }
-        }
-        let norm = e.iter().map(|(_, x)| x * x).sum::<f64>().sqrt();
+        let norm = scaled_row(g, length, &mut e);
         m.push_row(
             e.into_iter()
                 .map(|(c, x)| (c, if norm > 0.0 { x / norm } else { 0.0 })),

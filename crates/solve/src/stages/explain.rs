@@ -29,7 +29,6 @@ pub mod generic;
 pub mod reactions;
 pub mod repair;
 
-use crate::constraints::rows::RowGradient;
 use crate::stages::verify::{Drivers, Verification};
 use crate::state::State;
 use crate::tolerances::Tolerances;
@@ -82,19 +81,4 @@ pub fn explain(
         suggestions_at_regular_configuration: regular,
         conflicts,
     }
-}
-
-/// The row gradient scaled as in the rank analysis (translation columns × `length`) as
-/// `(6·part + coordinate, value)` entries, and its 2-norm (the row normalisation).
-pub(crate) fn scaled_entries(g: &RowGradient, length: f64, out: &mut Vec<(usize, f64)>) -> f64 {
-    out.clear();
-    for (body, v) in &g.blocks {
-        for (c, x) in v.iter().enumerate() {
-            let x = if c < 3 { x * length } else { *x };
-            if x != 0.0 {
-                out.push((6 * body + c, x));
-            }
-        }
-    }
-    out.iter().map(|(_, x)| x * x).sum::<f64>().sqrt()
 }

@@ -23,15 +23,22 @@
 //!
 //! [`EigenMethod::Auto`] solves densely up to [`DENSE_MAX_DOF`] free motions and
 //! [`DENSE_MAX_COORDINATES`] coordinates, and otherwise computes the [`DEFAULT_MODES`] lowest
-//! modes by shift-invert. Massless parts get 1e-8 × the smallest non-zero mass, as Adams does.
+//! modes by shift-invert. Massless parts get [`MASSLESS_FRACTION`] × the smallest non-zero mass,
+//! as Adams does.
 
 use crate::constraints::hessian::HessianBlocks;
 use crate::constraints::rows::{RowGradient, Velocities};
 use crate::constraints::system::System;
 use crate::linalg::eigs::{zero_eigenvectors, ConstrainedPencil, EigenError, SparseMatrix, Wanted};
-use crate::physics::applied::AppliedForces;
+use crate::linalg::kkt::{jacobian_entries, null_space, CoordinateScale, Zeros};
+use crate::physics::applied::{AppliedForces, ForceError};
+use crate::physics::mass::ground_inertia;
 use crate::pipeline::Assembled;
 use crate::state::State;
+use crate::tolerances::{
+    FREE_MOTION, MASSLESS_FRACTION, REAL_PAIR, SHIFT_MOVE, SHIFT_OFFSET, SYMMETRIC_STIFFNESS,
+    ZERO_EIGENVALUE,
+};
 use faer::linalg::solvers::DenseSolveCore;
 use faer::Mat;
 use linkage_model::Model;
@@ -136,26 +143,34 @@ pub struct Linearization {
     pub solution: Solution,
 }
 
-fn cplx_abs(re: f64, im: f64) -> f64 {
-    re.hypot(im)
+/// Why a linearization failed.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum LinearizeError {
+    /// A force element's Jacobian could not be evaluated.
+    #[error(transparent)]
+    Force(#[from] ForceError),
+    /// The shift-invert eigen solution failed.
+    #[error(transparent)]
+    Eigen(#[from] EigenError),
+    /// `NᵀMN` cannot be inverted (dense path).
+    #[error("the reduced mass matrix is singular")]
+    SingularReducedMass,
+    /// The dense eigen decomposition failed (the solver's message).
+    #[error("the eigen solution failed: {0}")]
+    DenseEigen(String),
 }
 
-/// Orthonormal basis of the null space of `a` (rows × cols), via QR of `aᵀ`.
-fn null_space(a: &Mat<f64>) -> Mat<f64> {
-    let (rows, cols) = (a.nrows(), a.ncols());
-    if rows == 0 {
-        return Mat::<f64>::identity(cols, cols);
-    }
-    let at = a.transpose().to_owned();
-    let qr = at.qr();
-    let q = qr.compute_Q();
-    let r = qr.R();
-    let d = rows.min(cols);
-    let rmax = (0..d).map(|i| r[(i, i)].abs()).fold(0.0, f64::max);
-    let rank = (0..d)
-        .filter(|&i| r[(i, i)].abs() > 1e-9 * rmax.max(1e-300))
-        .count();
-    q.subcols(rank, cols - rank).to_owned()
+/// The operating point of a linearization: positions, velocities, and the constraint
+/// multipliers `(row, value in model force units)` of the kept rows.
+#[derive(Clone, Copy, Debug)]
+pub struct OperatingPoint<'a> {
+    pub state: &'a State,
+    pub velocities: &'a Velocities,
+    pub multipliers: &'a [(usize, f64)],
+}
+
+fn cplx_abs(re: f64, im: f64) -> f64 {
+    re.hypot(im)
 }
 
 /// The linearised equations at an operating point, as sparse `(row, col, value)` triplets
@@ -182,13 +197,10 @@ pub struct LinearEquations {
 }
 
 impl LinearEquations {
-    /// `s_c`: the characteristic length for translations, 1 for rotations.
-    pub fn scale(&self, c: usize) -> f64 {
-        if c % 6 < 3 {
-            self.characteristic_length
-        } else {
-            1.0
-        }
+    /// `s_c`, the model units of one unit of scaled coordinate `c`: the characteristic length
+    /// L for translations, 1 for rotations (a scaled translation times this is a length).
+    pub fn coordinate_unit(&self, c: usize) -> f64 {
+        CoordinateScale::lengths(self.characteristic_length).of(c)
     }
 
     fn pencil(&self) -> Result<ConstrainedPencil, EigenError> {
@@ -203,22 +215,24 @@ impl LinearEquations {
 }
 
 /// Assembles M, C (zero without `damping`), K (with the geometric stiffness `Σλ∇²Φ`) and J at
-/// positions `s`, velocities `v`, with constraint multipliers `lambda` (row, value in model
-/// force units) on the independent rows `rows`. Cost `O(parts + rows)`.
-#[allow(clippy::too_many_arguments)]
+/// the operating point `at` on the independent rows `rows`. Cost `O(parts + rows)`.
 pub fn assemble(
     model: &Model,
     sys: &System,
     rows: &[usize],
     forces: &dyn AppliedForces,
-    s: &State,
-    v: &Velocities,
-    lambda: &[(usize, f64)],
+    at: OperatingPoint,
     damping: bool,
-) -> Result<LinearEquations, String> {
+) -> Result<LinearEquations, ForceError> {
+    let OperatingPoint {
+        state: s,
+        velocities: v,
+        multipliers: lambda,
+    } = at;
     let l = model.characteristic_length;
     let ucf = model.ucf();
-    let sc = |c: usize| if c % 6 < 3 { l } else { 1.0 };
+    let scale = CoordinateScale::lengths(l);
+    let sc = |c: usize| scale.of(c);
 
     // Mass matrix (scaled), with Adams' small mass for massless parts.
     let min_mass = model
@@ -234,12 +248,12 @@ pub fn assemble(
         .filter(|x| *x > 0.0)
         .fold(f64::INFINITY, f64::min);
     let small_mass = if min_mass.is_finite() {
-        1e-8 * min_mass
+        MASSLESS_FRACTION * min_mass
     } else {
-        1e-8
+        MASSLESS_FRACTION
     };
     let small_inertia = if min_inertia.is_finite() {
-        1e-8 * min_inertia
+        MASSLESS_FRACTION * min_inertia
     } else {
         small_mass * l * l
     };
@@ -250,8 +264,7 @@ pub fn assemble(
         if p.mass <= 0.0 {
             massless_parts += 1;
         }
-        let r = s.poses[k].r;
-        let mut ig = r * p.inertia * r.transpose();
+        let mut ig = ground_inertia(p, &s.poses[k]);
         if linkage_model::inertia::symmetric_eigenvalues(&ig)[0] <= 0.0 {
             ig += glam::DMat3::IDENTITY * small_inertia;
         }
@@ -281,8 +294,7 @@ pub fn assemble(
             if w == glam::DVec3::ZERO {
                 continue;
             }
-            let r = s.poses[k].r;
-            let ig = r * p.inertia * r.transpose();
+            let ig = ground_inertia(p, &s.poses[k]);
             let gmat = linkage_model::frames::skew(w) * ig - linkage_model::frames::skew(ig * w);
             for c in 0..3 {
                 for d in 0..3 {
@@ -307,11 +319,7 @@ pub fn assemble(
     let mut g = RowGradient::default();
     for (k, &r) in rows.iter().enumerate() {
         sys.gradient(r, s, &mut g);
-        for (body, b) in &g.blocks {
-            for (c, bc) in b.iter().enumerate() {
-                jac.push((k, 6 * body + c, bc * sc(c)));
-            }
-        }
+        jacobian_entries(&mut jac, k, &g, scale, Zeros::Keep);
     }
     Ok(LinearEquations {
         coordinates: 6 * model.parts.len(),
@@ -325,20 +333,17 @@ pub fn assemble(
     })
 }
 
-/// Linearises at positions `s`, velocities `v`, with constraint multipliers `lambda` (row,
-/// value in model force units) on the independent rows `rows`, by the method `opts` chooses.
-#[allow(clippy::too_many_arguments)]
+/// Linearises at the operating point `at` on the independent rows `rows`, by the method `opts`
+/// chooses.
 pub fn linearize(
     model: &Model,
     sys: &System,
     rows: &[usize],
     forces: &dyn AppliedForces,
-    s: &State,
-    v: &Velocities,
-    lambda: &[(usize, f64)],
+    at: OperatingPoint,
     opts: LinearOptions,
-) -> Result<Linearization, String> {
-    let eq = assemble(model, sys, rows, forces, s, v, lambda, opts.damping)?;
+) -> Result<Linearization, LinearizeError> {
+    let eq = assemble(model, sys, rows, forces, at, opts.damping)?;
     let dof = eq.coordinates.saturating_sub(eq.constraints);
     match opts.method {
         EigenMethod::Dense => solve_dense(&eq, opts.vectors),
@@ -421,7 +426,7 @@ fn expected_zeros(free: usize, pc: &Mat<f64>) -> usize {
 }
 
 /// The dense solution: every eigenvalue of the problem reduced to the null space of J.
-fn solve_dense(eq: &LinearEquations, vectors: bool) -> Result<Linearization, String> {
+fn solve_dense(eq: &LinearEquations, vectors: bool) -> Result<Linearization, LinearizeError> {
     let dim = eq.coordinates;
     let m = dense(dim, dim, &eq.mass);
     let kmat = dense(dim, dim, &eq.stiffness);
@@ -456,11 +461,11 @@ fn solve_dense(eq: &LinearEquations, vectors: bool) -> Result<Linearization, Str
         }
     }
     if (0..2 * f).any(|i| (0..2 * f).any(|j| !a[(i, j)].is_finite())) {
-        return Err("the reduced mass matrix is singular".into());
+        return Err(LinearizeError::SingularReducedMass);
     }
     let eig = a
         .eigen()
-        .map_err(|e| format!("the eigen solution failed: {e:?}"))?;
+        .map_err(|e| LinearizeError::DenseEigen(format!("{e:?}")))?;
     let vals = eig.S();
     let vecs = eig.U();
     let lmax = (0..2 * f)
@@ -473,7 +478,7 @@ fn solve_dense(eq: &LinearEquations, vectors: bool) -> Result<Linearization, Str
             .fold(0.0, f64::max)
     };
     let (kn, cn, mn) = (norm_max(&kmat), norm_max(&cmat), norm_max(&m));
-    let zero_tol = 1e-6 * frequency_scale(kn, cn, mn);
+    let zero_tol = ZERO_EIGENVALUE * frequency_scale(kn, cn, mn);
     let zero_eigenvalues = (0..2 * f)
         .filter(|&i| cplx_abs(vals[i].re, vals[i].im) <= zero_tol)
         .count();
@@ -488,7 +493,7 @@ fn solve_dense(eq: &LinearEquations, vectors: bool) -> Result<Linearization, Str
             let s_vals = e.S();
             let u = e.U();
             let free: Vec<usize> = (0..f)
-                .filter(|&i| s_vals[i].abs() <= 1e-10 * kmax.max(kn).max(1e-300))
+                .filter(|&i| s_vals[i].abs() <= FREE_MOTION * kmax.max(kn).max(1e-300))
                 .collect();
             let p = Mat::<f64>::from_fn(f, free.len(), |i, j| u[(i, free[j])]);
             let pc = p.transpose() * &cr * &p;
@@ -499,7 +504,7 @@ fn solve_dense(eq: &LinearEquations, vectors: bool) -> Result<Linearization, Str
     let mut modes = Vec::new();
     for i in 0..2 * f {
         let (re, im) = (vals[i].re, vals[i].im);
-        if im < -1e-12 * lmax.max(1.0) {
+        if im < -REAL_PAIR * lmax.max(1.0) {
             continue;
         }
         let shape = vectors.then(|| {
@@ -512,7 +517,7 @@ fn solve_dense(eq: &LinearEquations, vectors: bool) -> Result<Linearization, Str
                     sr += nb[(row, j)] * z.re;
                     si += nb[(row, j)] * z.im;
                 }
-                *c = (sr * eq.scale(row), si * eq.scale(row));
+                *c = (sr * eq.coordinate_unit(row), si * eq.coordinate_unit(row));
             }
             part_shapes(&coords)
         });
@@ -535,7 +540,12 @@ fn solve_dense(eq: &LinearEquations, vectors: bool) -> Result<Linearization, Str
 fn shape_coords(eq: &LinearEquations, x_re: &[f64], x_im: &[f64], conj: bool) -> Vec<(f64, f64)> {
     let sign = if conj { -1.0 } else { 1.0 };
     (0..eq.coordinates)
-        .map(|i| (x_re[i] * eq.scale(i), sign * x_im[i] * eq.scale(i)))
+        .map(|i| {
+            (
+                x_re[i] * eq.coordinate_unit(i),
+                sign * x_im[i] * eq.coordinate_unit(i),
+            )
+        })
         .collect()
 }
 
@@ -559,6 +569,23 @@ fn csqrt(re: f64, im: f64) -> (f64, f64) {
     (a, if im < 0.0 { -b } else { b })
 }
 
+/// What one shift-invert solution looks for, and the model's scales.
+#[derive(Clone, Copy, Debug)]
+struct Search {
+    /// Modes wanted.
+    modes: usize,
+    /// The frequency scale `ω_ref` (1 when the model has none).
+    omega: f64,
+    /// The frequency searched around (0: the lowest modes).
+    omega_f: f64,
+    /// `|λ|` at or below this is a zero eigenvalue.
+    zero_tol: f64,
+    /// `|ν|` at or below this is a free motion without stiffness.
+    free_tol: f64,
+    /// Compute mode shapes.
+    vectors: bool,
+}
+
 /// Modes, eigenvalue counts and solves of one shift-invert solution.
 struct SparseModes {
     modes: Vec<Mode>,
@@ -573,17 +600,19 @@ struct SparseModes {
 /// shifted at `τ = −ε²` (lowest modes) or `τ = ω_F²` (around `ω_F`). Each real `ν ≥ 0` is the
 /// mode `λ = ±i√ν`, each `ν < 0` the two real modes `±√(−ν)`, each complex pair `(ν, ν̄)` the
 /// four eigenvalues `±√(−ν)`, `±√(−ν̄)` (two modes with `Im λ ≥ 0`).
-#[allow(clippy::too_many_arguments)]
 fn undamped_modes(
     eq: &LinearEquations,
     pencil: &ConstrainedPencil,
-    modes: usize,
-    omega: f64,
-    omega_f: f64,
-    zero_tol: f64,
-    free_tol: f64,
-    vectors: bool,
-) -> Result<SparseModes, String> {
+    search: Search,
+) -> Result<SparseModes, EigenError> {
+    let Search {
+        modes,
+        omega,
+        omega_f,
+        zero_tol,
+        free_tol,
+        vectors,
+    } = search;
     let lowest = omega_f == 0.0;
     let eps = DEFAULT_SHIFT_FRACTION * omega;
     // Around a frequency, 0.1 % below it: a shift on an eigenvalue makes the KKT matrix
@@ -591,7 +620,7 @@ fn undamped_modes(
     let mut tau = if lowest {
         -eps * eps
     } else {
-        (omega_f * (1.0 - 1e-3)).powi(2)
+        (omega_f * (1.0 - SHIFT_OFFSET)).powi(2)
     };
     // With the lowest modes, every ν in the zero window |ν| ≤ max(zero_tol², free_tol) too.
     let window = (zero_tol * zero_tol).max(free_tol);
@@ -605,10 +634,10 @@ fn undamped_modes(
             Ok(r) => break r,
             // The shift hit an eigenvalue: move it.
             Err(EigenError::Shift(_)) if tries < 3 => {
-                tau -= 3.7 * tau.abs().max(eps * eps) * 1e-3 * (1 + tries) as f64;
+                tau -= 3.7 * tau.abs().max(eps * eps) * SHIFT_MOVE * (1 + tries) as f64;
                 tries += 1;
             }
-            Err(e) => return Err(e.to_string()),
+            Err(e) => return Err(e),
         }
     };
     let mut out = Vec::new();
@@ -649,7 +678,7 @@ fn undamped_modes(
         .flat_map(|(i, j, v)| [(i, j, v), (j, i, -v)])
         .collect();
     let symmetric = SparseMatrix::from_triplets(n, n, &asym)
-        .is_ok_and(|d| d.max_abs() <= 1e-12 * pencil.stiffness.max_abs());
+        .is_ok_and(|d| d.max_abs() <= SYMMETRIC_STIFFNESS * pencil.stiffness.max_abs());
     let free = (lowest && symmetric).then(|| zero_eigenvectors(&found.pairs, free_tol));
     Ok(SparseModes {
         modes: out,
@@ -666,12 +695,16 @@ fn undamped_modes(
 fn damped_modes(
     eq: &LinearEquations,
     pencil: &ConstrainedPencil,
-    modes: usize,
-    omega: f64,
-    omega_f: f64,
-    zero_tol: f64,
-    vectors: bool,
-) -> Result<SparseModes, String> {
+    search: Search,
+) -> Result<SparseModes, EigenError> {
+    let Search {
+        modes,
+        omega,
+        omega_f,
+        zero_tol,
+        vectors,
+        ..
+    } = search;
     let lowest = omega_f == 0.0;
     let eps = DEFAULT_SHIFT_FRACTION * omega;
     let mut sigma_re = -eps;
@@ -694,7 +727,7 @@ fn damped_modes(
                 sigma_re *= 3.7;
                 tries += 1;
             }
-            Err(e) => return Err(e.to_string()),
+            Err(e) => return Err(e),
         }
     };
     let lmax = found
@@ -713,7 +746,7 @@ fn damped_modes(
         let shape =
             |conj: bool| vectors.then(|| part_shapes(&shape_coords(eq, &p.x_re, &p.x_im, conj)));
         // As in the dense path, a pair whose imaginary part is round-off is two real modes.
-        if count == 2 && im <= 1e-12 * lmax.max(1.0) {
+        if count == 2 && im <= REAL_PAIR * lmax.max(1.0) {
             out.push(mode(re, 0.0, shape(true)));
         }
         out.push(mode(re, im, shape(false)));
@@ -737,8 +770,8 @@ fn solve_shift_invert(
     modes: usize,
     shift: Option<f64>,
     vectors: bool,
-) -> Result<Linearization, String> {
-    let pencil = eq.pencil().map_err(|e| e.to_string())?;
+) -> Result<Linearization, LinearizeError> {
+    let pencil = eq.pencil()?;
     let f = pencil.free_motions();
     let (kn, cn, mn) = (
         pencil.stiffness.max_abs(),
@@ -748,10 +781,11 @@ fn solve_shift_invert(
     let omega_ref = frequency_scale(kn, cn, mn);
     // Without stiffness or damping every eigenvalue is zero; any scale will do.
     let omega = if omega_ref > 1e-300 { omega_ref } else { 1.0 };
-    let zero_tol = 1e-6 * omega;
+    let zero_tol = ZERO_EIGENVALUE * omega;
     let omega2 = omega * omega;
-    // Free motions: |ν| ≤ 1e-10 ω_ref² (the dense path: 1e-10 ‖K‖ on K_r's eigenvalues).
-    let free_tol = 1e-10 * omega2;
+    // Free motions: |ν| ≤ FREE_MOTION ω_ref² (the dense path: FREE_MOTION ‖K‖ on K_r's
+    // eigenvalues).
+    let free_tol = FREE_MOTION * omega2;
     let omega_f = shift.map_or(0.0, f64::abs);
     let lowest = omega_f == 0.0;
     if f == 0 {
@@ -769,12 +803,18 @@ fn solve_shift_invert(
             },
         });
     }
+    let search = Search {
+        modes,
+        omega,
+        omega_f,
+        zero_tol,
+        free_tol,
+        vectors,
+    };
     let mut sm = if cn == 0.0 {
-        undamped_modes(
-            eq, &pencil, modes, omega, omega_f, zero_tol, free_tol, vectors,
-        )?
+        undamped_modes(eq, &pencil, search)?
     } else {
-        damped_modes(eq, &pencil, modes, omega, omega_f, zero_tol, vectors)?
+        damped_modes(eq, &pencil, search)?
     };
     sort_modes(&mut sm.modes);
     let mut solves = sm.solves;
@@ -847,16 +887,15 @@ pub fn run(a: &Assembled, static_first: bool, opts: LinearOptions) -> LinearRun 
             .next()
             .map(|(_, e)| e);
         let result = match &eq {
-            Some(Ok(e)) if e.converged => linearize(
-                model,
-                &a.system,
-                &a.kept,
-                a.forces,
-                &e.state,
-                &a.rest(),
-                &e.multipliers,
-                opts,
-            ),
+            Some(Ok(e)) if e.converged => {
+                let rest = a.rest();
+                let at = OperatingPoint {
+                    state: &e.state,
+                    velocities: &rest,
+                    multipliers: &e.multipliers,
+                };
+                linearize(model, &a.system, &a.kept, a.forces, at, opts).map_err(|e| e.to_string())
+            }
             Some(Ok(_)) => Err("static equilibrium did not converge; no operating point".into()),
             Some(Err(e)) => Err(e.clone()),
             None => no_operating_point("the model could not be assembled".into()),
@@ -867,16 +906,14 @@ pub fn run(a: &Assembled, static_first: bool, opts: LinearOptions) -> LinearRun 
         };
     }
     let result = match (&a.ic.velocity, &a.ic.acceleration) {
-        (Some(v), Some(Ok(acc))) => linearize(
-            model,
-            &a.system,
-            &a.kept,
-            a.forces,
-            a.state(),
-            &v.velocities,
-            &acc.multipliers,
-            opts,
-        ),
+        (Some(v), Some(Ok(acc))) => {
+            let at = OperatingPoint {
+                state: a.state(),
+                velocities: &v.velocities,
+                multipliers: &acc.multipliers,
+            };
+            linearize(model, &a.system, &a.kept, a.forces, at, opts).map_err(|e| e.to_string())
+        }
         (_, Some(Err(e))) => Err(e.to_string()),
         _ => no_operating_point("the model could not be assembled".into()),
     };

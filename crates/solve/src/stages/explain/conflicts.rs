@@ -10,10 +10,10 @@
 //! reported in the row's units (length, or degrees). When a motion cannot be evaluated the
 //! kind is unknown.
 
-use super::scaled_entries;
 use crate::constraints::rank::{greedy_rank, RankSettings, SparseRows};
 use crate::constraints::rows::RowGradient;
 use crate::constraints::system::{RowUnit, System, Tier};
+use crate::linalg::kkt::scaled_row;
 use crate::stages::assemble::hard_rows;
 use crate::stages::verify::{report_residual, Drivers};
 use crate::state::State;
@@ -102,7 +102,7 @@ pub fn driver_conflicts(
                 values.push(Some(hard[*h].residual(s)));
             }
         }
-        let n = scaled_entries(&g, length, &mut entries);
+        let n = scaled_row(&g, length, &mut entries);
         let n = if n > 0.0 { n } else { 1.0 };
         norms.push(n);
         m.push_row(entries.iter().map(|&(c, x)| (c, x / n)));

@@ -10,13 +10,14 @@
 //! the remaining left singular vectors. Larger blocks use the greedy analysis (rank, and the
 //! null vectors `e_r − Σ c_k e_k` of its redundant rows).
 
-use super::scaled_entries;
 use crate::constraints::graph::{Block, Topology};
 use crate::constraints::rows::RowGradient;
 use crate::constraints::system::System;
+use crate::linalg::kkt::scaled_row;
 use crate::stages::verify::rank_analysis;
 use crate::state::State;
 use crate::tolerances::Tolerances;
+use crate::tolerances::NULL_VECTOR_ENTRY;
 
 /// Largest block (Jacobian columns, 6 per part) analysed densely.
 pub const DENSE_LIMIT: usize = 150;
@@ -94,7 +95,7 @@ fn dense_block(
     let mut entries = Vec::new();
     for (k, &r) in rows.iter().enumerate() {
         sys.gradient(r, s, &mut g);
-        let norm = scaled_entries(&g, length, &mut entries);
+        let norm = scaled_row(&g, length, &mut entries);
         if norm <= 0.0 || !norm.is_finite() {
             continue;
         }
@@ -119,7 +120,7 @@ fn dense_block(
     for k in rank..m {
         let col: Vec<(usize, f64)> = (0..m)
             .map(|i| (rows[i], u[(i, k)]))
-            .filter(|(_, x)| x.abs() > 1e-13)
+            .filter(|(_, x)| x.abs() > NULL_VECTOR_ENTRY)
             .collect();
         null.push(col);
     }

@@ -41,10 +41,11 @@ use super::dense::analyse;
 use crate::constraints::graph::Topology;
 use crate::constraints::rows::Quantity;
 use crate::constraints::system::{RowUnit, System, Tier};
-use crate::stages::assemble::{assemble, HardRow};
+use crate::stages::assemble::{assemble, HardKind, HardRow};
 use crate::stages::verify::{rank_analysis, NoDrivers};
 use crate::state::State;
 use crate::tolerances::Tolerances;
+use crate::tolerances::{ADMISSIBLE_RESIDUAL, SMALLEST_PART_SIZE, TIGHT_ASSEMBLY};
 use glam::DVec3;
 use linkage_adm::JointType;
 use linkage_model::{Body, ConstraintKind, Model};
@@ -116,7 +117,8 @@ impl Rng {
     }
 }
 
-/// Whether every non-motion row holds at `s` to 10⁻⁸ (lengths relative to `length`).
+/// Whether every non-motion row holds at `s` to [`ADMISSIBLE_RESIDUAL`] (lengths relative to
+/// `length`).
 fn admissible(sys: &System, s: &State, length: f64) -> bool {
     sys.rows.iter().enumerate().all(|(r, row)| {
         if row.tier == Tier::Motion {
@@ -127,7 +129,7 @@ fn admissible(sys: &System, s: &State, length: f64) -> bool {
             RowUnit::Length | RowUnit::Mixed => length,
             RowUnit::Direction | RowUnit::Angle => 1.0,
         };
-        v.is_finite() && v.abs() <= 1e-8 * scale
+        v.is_finite() && v.abs() <= ADMISSIBLE_RESIDUAL * scale
     })
 }
 
@@ -221,7 +223,7 @@ pub fn generic_mobility(
         rows
     };
     let mut tight = model.clone();
-    tight.ic.error = 1e-11 * length.clamp(1.0, 100.0);
+    tight.ic.error = TIGHT_ASSEMBLY * length.clamp(1.0, 100.0);
     tight.ic.maxit = tight.ic.maxit.max(50);
     // Assemble from `from` towards `reference` with the hard rows `hard`, enforcing the rows
     // admitted at the admissible pose `origin`; re-analyse and assemble again while a newly
@@ -254,7 +256,10 @@ pub fn generic_mobility(
             size[k] = size[k].max(mk.p_bm.length());
         }
     }
-    let size: Vec<f64> = size.iter().map(|x| x.max(1e-3 * length)).collect();
+    let size: Vec<f64> = size
+        .iter()
+        .map(|x| x.max(SMALLEST_PART_SIZE * length))
+        .collect();
     let mut results: Vec<(Mobility, State)> = Vec::new();
     // Random moves.
     for t in 0..TRIALS {
@@ -290,7 +295,7 @@ pub fn generic_mobility(
                 } else {
                     let (i, j) = model.constraints[e].markers()?;
                     let part = |m: usize| model.markers[m].body.part().map_or(0.0, |k| size[k]);
-                    STEP * part(i).max(part(j)).max(1e-3 * length)
+                    STEP * part(i).max(part(j)).max(SMALLEST_PART_SIZE * length)
                 };
                 Some((e, rotation, q, step))
             })
@@ -319,7 +324,8 @@ pub fn generic_mobility(
         let sign = if rng.next() < 0.0 { -1.0 } else { 1.0 };
         let hard = HardRow {
             name: model.constraints[e].origin.name.clone(),
-            label: "explain: driven".into(),
+            kind: HardKind::Driven,
+            label: HardKind::Driven.label().into(),
             quantity,
             target: quantity.value(&cur) + sign * step,
             unit: if rotation {

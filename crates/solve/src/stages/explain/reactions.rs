@@ -17,11 +17,15 @@
 //! length above 10⁻⁶ (a revolute constrains the three forces and the torques about Xj and Yj,
 //! not the torque about its axis).
 
-use super::scaled_entries;
 use crate::constraints::rows::{Quantity, RowGradient};
 use crate::constraints::system::System;
+use crate::linalg::kkt::scaled_row;
 use crate::stages::verify::Dependency;
 use crate::state::State;
+use crate::tolerances::{
+    CONSTRAINED_AXIS, DETERMINATE_CANCELLATION, NULL_VECTOR_ROUNDING, SPAN_INDEPENDENCE,
+    ZERO_DIRECTION,
+};
 use glam::DVec3;
 use std::collections::HashMap;
 
@@ -107,8 +111,8 @@ fn row_kind(sys: &System, r: usize, s: &State) -> RowKind {
         }
     }
     match (nf, nt) {
-        (_, 0) if force.length() > 1e-12 => RowKind::Force(force),
-        (0, _) if torque.length() > 1e-12 => RowKind::Torque(torque),
+        (_, 0) if force.length() > ZERO_DIRECTION => RowKind::Force(force),
+        (0, _) if torque.length() > ZERO_DIRECTION => RowKind::Torque(torque),
         _ => RowKind::Scalar(row.label),
     }
 }
@@ -125,7 +129,7 @@ fn span(v: &[DVec3]) -> Vec<DVec3> {
             w -= *b * b.dot(w);
         }
         let n = w.length();
-        if n > 1e-9 * x.length().max(1e-300) && out.len() < 3 {
+        if n > SPAN_INDEPENDENCE * x.length().max(1e-300) && out.len() < 3 {
             out.push(w / n);
         }
     }
@@ -133,7 +137,7 @@ fn span(v: &[DVec3]) -> Vec<DVec3> {
 }
 
 fn constrained(basis: &[DVec3], u: DVec3) -> bool {
-    basis.iter().map(|b| b.dot(u).powi(2)).sum::<f64>() > 1e-6
+    basis.iter().map(|b| b.dot(u).powi(2)).sum::<f64>() > CONSTRAINED_AXIS
 }
 
 #[derive(Default, Clone, Copy)]
@@ -160,7 +164,7 @@ pub fn determinacy(
     for r in 0..nrows {
         kinds.push(row_kind(sys, r, s));
         sys.gradient(r, s, &mut g);
-        let n = scaled_entries(&g, length, &mut scratch);
+        let n = scaled_row(&g, length, &mut scratch);
         norms.push(if n > 0.0 { n } else { 1.0 });
     }
     // Indeterminate directions per element.
@@ -178,7 +182,7 @@ pub fn determinacy(
         let max = vector.iter().map(|(_, c)| c.abs()).fold(0.0, f64::max);
         let mut acc: HashMap<usize, Acc> = HashMap::new();
         for &(r, c) in vector {
-            if r >= nrows || c.abs() <= 1e-10 * max {
+            if r >= nrows || c.abs() <= NULL_VECTOR_ROUNDING * max {
                 continue;
             }
             let e = sys.rows[r].element;
@@ -206,13 +210,17 @@ pub fn determinacy(
             let axes = axes_of(e);
             let list = bad.entry(e).or_default();
             for (k, u) in axes.iter().enumerate() {
-                if a.force_scale > 0.0 && u.dot(a.force).abs() > 1e-7 * a.force_scale {
+                if a.force_scale > 0.0
+                    && u.dot(a.force).abs() > DETERMINATE_CANCELLATION * a.force_scale
+                {
                     let d = Direction::Force(k);
                     if !list.contains(&d) {
                         list.push(d);
                     }
                 }
-                if a.torque_scale > 0.0 && u.dot(a.torque).abs() > 1e-7 * a.torque_scale {
+                if a.torque_scale > 0.0
+                    && u.dot(a.torque).abs() > DETERMINATE_CANCELLATION * a.torque_scale
+                {
                     let d = Direction::Torque(k);
                     if !list.contains(&d) {
                         list.push(d);

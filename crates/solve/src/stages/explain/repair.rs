@@ -68,6 +68,7 @@ use crate::constraints::system::System;
 use crate::stages::verify::{rank_analysis, Verification};
 use crate::state::State;
 use crate::tolerances::Tolerances;
+use crate::tolerances::NULL_VECTOR_ROUNDING;
 use glam::{DMat3, DVec3};
 use linkage_adm::edit::{Edit, MarkerKey};
 use linkage_adm::{JointType, JprimType};
@@ -679,7 +680,7 @@ pub fn propose(
         let max = vector.iter().map(|(_, c)| c.abs()).fold(0.0, f64::max);
         let mut touched: Vec<usize> = vector
             .iter()
-            .filter(|(_, c)| c.abs() > 1e-10 * max)
+            .filter(|(_, c)| c.abs() > NULL_VECTOR_ROUNDING * max)
             .map(|(r, _)| v.system.rows[*r].element)
             .collect();
         touched.sort_unstable();
