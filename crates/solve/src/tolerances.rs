@@ -177,6 +177,11 @@ pub const SETTLING_INTEGRATOR_ERROR: f64 = 1e-4;
 /// accelerations, which a tiny AERROR would report as non-convergence.
 pub const ACCELERATION_IC_FLOOR: f64 = 1e-9;
 
+/// Relative weight, in the least-change velocity IC, of a velocity the dataset does not give
+/// (an "inexact zero" the solve may change): small enough that the given velocities and the
+/// constraints decide, large enough to keep the solve well posed along free motions.
+pub const UNGIVEN_VELOCITY_WEIGHT: f64 = 1e-8;
+
 /// The least-change assembly's residual tolerance is never below this × L (lengths) or this
 /// (radians), whatever IC ERROR says: rounding of coordinates of order L, which no Newton step
 /// can reduce.

@@ -15,14 +15,14 @@
 use crate::constraints::drivers::ExpressionDrivers;
 use crate::constraints::rows::RowGradient;
 use crate::constraints::system::System;
-use crate::linalg::linear::SparseLu;
+use crate::linalg::kkt::{SaddlePoint, Zeros};
 use crate::physics::applied::{AppliedForces, ForceError};
 use crate::physics::reactions::Reaction;
-use crate::stages::assemble::{assemble, hard_rows, Assembly, HardRow};
+use crate::stages::assemble::{assemble, hard_rows, Assembly, HardKind, HardRow};
 use crate::stages::dynamics::{consistent_output, IntegrationError, Problem, SingularSolve};
 use crate::stages::verify::{report_residual, residuals, verify, verify_at, Verification};
 use crate::state::State;
-use crate::tolerances::{Tolerances, ACCELERATION_IC_FLOOR};
+use crate::tolerances::{Tolerances, ACCELERATION_IC_FLOOR, UNGIVEN_VELOCITY_WEIGHT};
 use glam::DVec3;
 use linkage_model::{ConstraintKind, Model};
 
@@ -241,17 +241,6 @@ fn analysis_repairs(
     out
 }
 
-fn push_gradient(entries: &mut Vec<(usize, usize, f64)>, row: usize, g: &RowGradient) {
-    for (body, v) in &g.blocks {
-        for (c, x) in v.iter().enumerate() {
-            if *x != 0.0 {
-                entries.push((row, 6 * body + c, *x));
-                entries.push((6 * body + c, row, *x));
-            }
-        }
-    }
-}
-
 /// Input velocity targets: PART VX, VY, VZ (ground) and WX, WY, WZ (CM marker axes).
 fn velocity_targets(model: &Model, s: &State) -> Vec<(DVec3, DVec3)> {
     model
@@ -307,18 +296,18 @@ pub fn velocity_ic(
         eqs.push((g.clone(), rhs));
     }
     // Joints' initial velocities (IC = disp, vel).
-    for (c, con) in model.constraints.iter().enumerate() {
+    for con in &model.constraints {
         let ConstraintKind::Joint { initial, .. } = &con.kind else {
             continue;
         };
-        for (want, label) in [
-            (initial.rotation.1, "IC rotation"),
-            (initial.translation.1, "IC translation"),
+        for (want, kind) in [
+            (initial.rotation.1, HardKind::IcRotation),
+            (initial.translation.1, HardKind::IcTranslation),
         ] {
             let Some(vel) = want else { continue };
             let q = hard
                 .iter()
-                .find(|h| h.name == con.origin.name && h.label == label)
+                .find(|h| h.name == con.origin.name && h.kind == kind)
                 .map(|h| h.quantity)
                 .or_else(|| {
                     let (i, j) = con.markers()?;
@@ -328,7 +317,7 @@ pub fn velocity_ic(
                         r_b: model.markers[m].r_bm,
                     };
                     let (fi, fj) = (f(i), f(j));
-                    Some(if label == "IC rotation" {
+                    Some(if kind == HardKind::IcRotation {
                         crate::constraints::rows::Quantity::Angle {
                             x: fi.axis(0),
                             x_ref: fj.axis(0),
@@ -347,44 +336,41 @@ pub fn velocity_ic(
                 q.gradient(s, 1.0, &mut g);
                 eqs.push((g.clone(), vel));
             }
-            let _ = c;
         }
     }
-    let m = eqs.len();
-    let dim = 6 * n + m;
-    let mut entries = Vec::new();
-    let mut rhs = vec![0.0; dim];
-    // Given velocities are targets; the others are "inexact zeros" the solve may change freely
-    // (a small weight keeps the problem well posed). WX, WY, WZ are in the CM marker's axes.
-    const FREE: f64 = 1e-8;
+    // `[W Jᵀ; J 0] [v; μ] = [W v₀; ḟ]`: given velocities are targets; the others are "inexact
+    // zeros" the solve may change freely (weight UNGIVEN_VELOCITY_WEIGHT keeps the problem
+    // well posed). WX, WY, WZ are in the CM marker's axes.
+    let mut kkt = SaddlePoint::new(6 * n, eqs.len());
+    let mut rhs = vec![0.0; kkt.dim()];
+    let weight = |given: Option<f64>| {
+        if given.is_some() {
+            1.0
+        } else {
+            UNGIVEN_VELOCITY_WEIGHT
+        }
+    };
     for (k, p) in model.parts.iter().enumerate() {
         for c in 0..3 {
-            let w = w_t * if p.velocity[c].is_some() { 1.0 } else { FREE };
-            entries.push((6 * k + c, 6 * k + c, w));
+            let w = w_t * weight(p.velocity[c]);
+            kkt.add(6 * k + c, 6 * k + c, w);
             rhs[6 * k + c] = w * target[k].0[c];
         }
         let r_cm = s.poses[k].r * p.r_b_cm;
-        let d = glam::DMat3::from_diagonal(DVec3::from_array([3, 4, 5].map(|i| {
-            if p.velocity[i].is_some() {
-                1.0
-            } else {
-                FREE
-            }
-        })));
+        let d =
+            glam::DMat3::from_diagonal(DVec3::from_array([3, 4, 5].map(|i| weight(p.velocity[i]))));
         let w_rot = r_cm * d * r_cm.transpose();
         let b = w_rot * target[k].1;
+        kkt.add_rotational_block(k, &w_rot, Zeros::Keep);
         for c in 0..3 {
-            for e in 0..3 {
-                entries.push((6 * k + 3 + c, 6 * k + 3 + e, w_rot.col(e)[c]));
-            }
             rhs[6 * k + 3 + c] = b[c];
         }
     }
     for (e, (grad, b)) in eqs.iter().enumerate() {
-        push_gradient(&mut entries, 6 * n + e, grad);
-        rhs[6 * n + e] = *b;
+        kkt.add_constraint_row(e, grad);
+        rhs[kkt.multiplier(e)] = *b;
     }
-    let solved = SparseLu::factor(dim, &entries).and_then(|lu| lu.solve(&mut rhs));
+    let solved = kkt.solve(&mut rhs);
     let velocities: Vec<(DVec3, DVec3)> = if solved.is_ok() {
         (0..n)
             .map(|k| {
