@@ -43,7 +43,7 @@ fn request_columns(
             Ok(v) => v,
             Err(e) => {
                 if failed == 0 {
-                    errors.push(e);
+                    errors.push(e.to_string());
                 }
                 failed += 1;
                 vec![f64::NAN; names.len()]

@@ -226,7 +226,9 @@ pub fn settle_assembled(
     });
     let equilibrium = match &stop {
         SettleStop::Failed(_) => None,
-        _ => Some(equilibrium(model, &sys, &rows, drivers, forces, &state, eq)),
+        _ => Some(
+            equilibrium(model, &sys, &rows, drivers, forces, &state, eq).map_err(|e| e.to_string()),
+        ),
     };
     SettleOutcome {
         stop,

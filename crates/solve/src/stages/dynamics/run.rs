@@ -125,15 +125,18 @@ pub fn run(
                     |elapsed| progress(RunProgress::Settling { elapsed, limit }),
                 ))
             } else {
-                StartingEquilibrium::Newton(crate::stages::statics::equilibrium(
-                    model,
-                    &sys,
-                    &rows,
-                    &anchored,
-                    forces,
-                    &ic.assembly.state,
-                    &model.equilibrium,
-                ))
+                StartingEquilibrium::Newton(
+                    crate::stages::statics::equilibrium(
+                        model,
+                        &sys,
+                        &rows,
+                        &anchored,
+                        forces,
+                        &ic.assembly.state,
+                        &model.equilibrium,
+                    )
+                    .map_err(|e| e.to_string()),
+                )
             };
             let Some(e) = found.equilibrium() else {
                 let why = found
