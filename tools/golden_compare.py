@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
 """Compares two recordings made by tools/golden.sh: OLD NEW [--rtol R] [--atol A].
 
-Every run must have the same exit code and the same text apart from numbers; numbers agree when
+Every run must have the same exit code and the same text apart from numbers (and the width of
+the spaces around them); numbers agree when
 |a − b| ≤ rtol·max(|a|, |b|) + atol, or when they differ by at most one unit in the last digit
 printed (a report rounds to a few digits, so a change of rounding may flip that digit). Runs
 that timed out in either recording are listed and skipped. Exit 0 when everything agrees."""
@@ -25,13 +26,19 @@ def agree(a, b, rtol, atol):
     return abs(x - y) <= 1.0001 * max(last_digit_unit(a), last_digit_unit(b))
 
 
+def texts(line):
+    """The text between the numbers of `line`, runs of spaces collapsed (a number printed
+    wider or narrower shifts a right-aligned column)."""
+    return [re.sub(r"[ \t]+", " ", t) for t in NUM.split(line)]
+
+
 def compare_text(old, new, rtol, atol):
     """First difference between two texts (None when they agree)."""
-    ot, nt = NUM.split(old), NUM.split(new)
+    ot, nt = texts(old), texts(new)
     on, nn = NUM.findall(old), NUM.findall(new)
     if ot != nt or len(on) != len(nn):
         for k, (a, b) in enumerate(zip(old.splitlines(), new.splitlines())):
-            if NUM.split(a) != NUM.split(b) or len(NUM.findall(a)) != len(NUM.findall(b)):
+            if texts(a) != texts(b) or len(NUM.findall(a)) != len(NUM.findall(b)):
                 return f"line {k + 1}: text differs:\n    - {a[:200]}\n    + {b[:200]}"
         return "text differs (line count)"
     for a, b in zip(on, nn):

@@ -3,8 +3,9 @@
 //! `parallelogram_chain(N)`: one closed-loop block of 2N + 1 parts, 15N + 5 rows, 3N redundant.
 //! `pendulum_chain(N)`: a tree (N blocks of one joint each).
 
+use linkage_solve::constraints::drivers::NoDrivers;
 use linkage_solve::generate::{parallelogram_chain, pendulum_chain};
-use linkage_solve::stages::verify::{verify, NoDrivers};
+use linkage_solve::stages::verify::verify;
 use linkage_solve::tolerances::Tolerances;
 use std::sync::Arc;
 

@@ -65,6 +65,37 @@ pub const CORRECTOR_ERROR_FRACTION: f64 = 1e-3;
 /// hinges).
 pub const STATIC_ROUNDING_IMBALANCE: f64 = 1e-10;
 
+// ---- Statics internals (stages/statics.rs, stages/statics/) ----
+
+/// Floor of the constraint tolerance of static equilibrium: the rows are held to IC ERROR, but
+/// never tighter than this × L (lengths) or this (angles, dot products): a few units of
+/// rounding of coordinates of order L, below which no Newton step can go.
+pub const STATIC_CONSTRAINT_FLOOR: f64 = 1e-13;
+
+/// Added to the translational diagonal of the static Newton matrix, × (1 + m): keeps a
+/// massless part's block regular when STABILITY × M vanishes, far below any physical
+/// stiffness (relative rounding of an entry of order 1).
+pub const STATIC_MASS_FLOOR: f64 = 1e-14;
+
+/// After a step cut by TLIMIT/ALIMIT the configuration is projected back onto the constraints
+/// to this × max(L, 1): rounding level, so that the next Newton step starts from an assembled
+/// pose.
+pub const STATIC_CUT_PROJECTION: f64 = 1e-12;
+
+/// A static imbalance is reported among the largest only above this fraction of the largest
+/// (a free body's other balance equations hold to rounding of the largest).
+pub const STATIC_REPORTED_IMBALANCE: f64 = 1e-9;
+
+/// Rank of the scaled constraint Jacobian in the stability test: `|R_ii|` of its QR above this
+/// fraction of the largest (dependent rows of a redundant but consistent model leave rounding
+/// of order 1e-15 relative; a real constraint direction is far above).
+pub const STABILITY_RANK: f64 = 1e-9;
+
+/// An equilibrium is stable when the smallest eigenvalue of the reduced stiffness is above
+/// −this × the largest in magnitude: a neutral direction (a free rotation about a vertical axis)
+/// computes to rounding of either sign.
+pub const STABILITY_EIGENVALUE: f64 = 1e-9;
+
 // ---- Linear algebra and eigen solutions (linalg/, stages/linearize.rs) ----
 
 /// A diagonal entry of R (QR of Jᵀ) counts towards the rank of J when above this fraction of
@@ -165,6 +196,30 @@ pub const EULER_RATE_SINGULAR: f64 = 1e-12;
 pub const ATAN2_DEGENERATE: f64 = 1e-300;
 
 // ---- Forces, measures and requests (physics/) ----
+
+// ---- Constraints and rank (constraints/, stages/verify.rs) ----
+
+/// Motion quadrature (`∫f` of velocity and acceleration motions, adaptive Simpson): relative
+/// accuracy of the integral, a few hundred units of rounding (motion functions are smooth).
+pub const MOTION_QUADRATURE: f64 = 1e-12;
+
+/// A misaligned joint's J frame is turned onto the I frame's constrained direction only when
+/// that direction (a component of a unit vector orthogonal to another) is longer than this;
+/// below it the frames already agree to rounding and there is no direction to turn to.
+pub const ALIGNMENT_DIRECTION: f64 = 1e-12;
+
+/// Default rank tolerance of the sparse elimination (`RankSettings`): a row is dependent when
+/// its remainder is below this, relative to its norm.
+pub const RANK_DEFAULT: f64 = 1e-9;
+
+/// A redundant row is attributed to one row of its element with a dependency coefficient above
+/// 1 + this (a coefficient of exactly one, up to rounding, is a plain duplicate).
+pub const DEPENDENCY_COEFFICIENT: f64 = 1e-9;
+
+/// An angle row's `sin² + cos²` below this is undefined (the measured axis is parallel to the
+/// reference plane's normal): its second derivatives are taken as zero instead of dividing by
+/// it. A guard against division by zero, not an accuracy.
+pub const UNDEFINED_ANGLE: f64 = 1e-300;
 
 // ---- Assembly, initial conditions and settling (stages/assemble.rs, ic.rs, settle.rs) ----
 

@@ -4,7 +4,7 @@
 use glam::{DMat3, DVec3};
 use linkage_expr::{evaluate_with_gradient, parse, Env, SplineData, SplineMethod};
 use linkage_model::Model;
-use linkage_solve::physics::applied::AppliedForces;
+use linkage_solve::physics::applied::{AppliedForces, LawError};
 use linkage_solve::physics::forces::data::DataElements;
 use linkage_solve::physics::forces::ForceSet;
 use linkage_solve::physics::measures::{MarkerFrames, StateEnv};
@@ -546,8 +546,12 @@ fn varval_cycle_is_an_evaluation_error_naming_the_cycle() {
     let err = f.add_forces(&s, &velocities(), &mut out).unwrap_err();
     assert_eq!(err.element, "SFORCE_1 (SFORCE/1, line 16)");
     assert_eq!(err.time, s.time);
+    let LawError::Expression { argument, cause } = &err.cause else {
+        panic!("an expression error: {err}");
+    };
+    assert_eq!(*argument, "FUNCTION");
     assert!(
-        err.cause.contains("cycle") && err.cause.contains("1 → 2 → 1"),
+        cause.contains("cycle") && cause.contains("1 → 2 → 1"),
         "{err}"
     );
 }
@@ -565,10 +569,8 @@ fn accelerations_and_element_forces_are_unavailable() {
         let err = f
             .add_forces(&state(&m), &velocities(), &mut out)
             .unwrap_err();
-        assert!(
-            err.cause.contains(name) && err.cause.contains("not"),
-            "{err}"
-        );
+        let cause = err.cause.to_string();
+        assert!(cause.contains(name) && cause.contains("not"), "{err}");
     }
 }
 
@@ -667,10 +669,9 @@ fn coincident_points_with_a_non_zero_force_are_an_error() {
     let err = f
         .add_forces(&state(&m), &velocities(), &mut out)
         .unwrap_err();
-    assert!(
-        err.element.starts_with("SFORCE_1") && err.cause.contains("coincide"),
-        "{err}"
-    );
+    assert!(err.element.starts_with("SFORCE_1"), "{err}");
+    assert_eq!(err.cause, LawError::CoincidentPoints { force: 5.0 });
+    assert!(err.to_string().contains("coincide"), "{err}");
 }
 
 #[test]

@@ -380,7 +380,7 @@ fn evaluation_errors_name_request_time_and_function() {
         accelerations: vec![(DVec3::ZERO, DVec3::ZERO)],
         reactions: Vec::new(),
     };
-    let e = set.evaluate(&model, &o).unwrap_err();
+    let e = set.evaluate(&model, &o).unwrap_err().to_string();
     assert!(
         e.starts_with("REQUEST_9 (REQUEST/9, line 6) at time 0.25: F2 = DIF(4): "),
         "{e}"

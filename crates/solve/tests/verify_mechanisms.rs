@@ -2,7 +2,8 @@
 //! `mechanisms/check.py`): Gruebler count, DOF, redundancy, consistency, misalignment.
 
 use linkage_model::Model;
-use linkage_solve::stages::verify::{verify, NoDrivers, Verification};
+use linkage_solve::constraints::drivers::NoDrivers;
+use linkage_solve::stages::verify::{verify, Verification};
 use linkage_solve::tolerances::Tolerances;
 use std::path::Path;
 

@@ -5,11 +5,91 @@
 //! value is unknown (a warning; analyses that need it report it as such).
 
 use crate::physics::measures::{MarkerFrames, PositionEnv};
-use crate::stages::verify::Drivers;
 use crate::state::State;
+use crate::tolerances::MOTION_QUADRATURE;
 use linkage_adm::{Diagnostic, Diagnostics, MotionLevel};
 use linkage_expr::{evaluate, evaluate_time_series, parse, Expr, TimeEnv};
 use linkage_model::{ConstraintKind, Model};
+
+/// Supplies motion functions `f(t)` (and whether they can be evaluated) to the analyses.
+pub trait Drivers {
+    /// `f(t)` of the motion element `element`; `None` when it cannot be evaluated.
+    fn value(&self, element: usize, t: f64) -> Option<f64>;
+
+    /// Displacement and its first two time derivatives; `None` when unknown.
+    fn rates(&self, element: usize, t: f64) -> Option<[f64; 3]> {
+        let _ = (element, t);
+        None
+    }
+
+    /// Why `value(element, t)` is `None`, for messages (e.g. the expression's domain error).
+    fn why_unknown(&self, element: usize, t: f64) -> DriveError {
+        let _ = (element, t);
+        DriveError::Unknown
+    }
+}
+
+/// Drivers that cannot evaluate anything (motion residuals unknown).
+pub struct NoDrivers;
+impl Drivers for NoDrivers {
+    fn value(&self, _: usize, _: f64) -> Option<f64> {
+        None
+    }
+}
+
+/// Why a motion's value (or rate) is unknown at a time.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum DriveError {
+    /// Nothing says why (drivers that evaluate nothing).
+    #[error("its value is unknown")]
+    Unknown,
+    /// A USER subroutine, or no FUNCTION at all.
+    #[error("its FUNCTION is a USER subroutine (or absent), which linkage cannot run")]
+    NotRunnable,
+    /// A velocity or acceleration motion whose start displacement is free.
+    #[error("a {} motion without ICDISP has no known displacement", level_name(.level))]
+    NoStartDisplacement { level: MotionLevel },
+    /// The expression cannot be evaluated at the requested time.
+    #[error("FUNCTION: {cause}")]
+    Function { cause: String },
+    /// The expression cannot be evaluated at `time`, inside the quadrature of a velocity or
+    /// acceleration motion.
+    #[error("FUNCTION at time {time}: {cause}")]
+    FunctionAt { time: f64, cause: String },
+    /// The quadrature of a velocity or acceleration motion does not converge.
+    #[error("the integral of FUNCTION does not converge")]
+    IntegralDiverges,
+}
+
+fn level_name(level: &MotionLevel) -> &'static str {
+    match level {
+        MotionLevel::Displacement => "displacement",
+        MotionLevel::Velocity => "velocity",
+        MotionLevel::Acceleration => "acceleration",
+    }
+}
+
+/// A motion whose displacement cannot be evaluated at a time:
+/// `NAME (MOTION/id, line N): the motion's displacement cannot be evaluated at time t: why`.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+#[error("{element}: the motion's displacement cannot be evaluated at time {time}: {cause}")]
+pub struct MotionError {
+    /// The motion's label (name, statement and line).
+    pub element: String,
+    pub time: f64,
+    pub cause: DriveError,
+}
+
+impl MotionError {
+    /// Motion element `element` of `model` at time `t`, with the drivers' cause.
+    pub fn at(model: &Model, drivers: &dyn Drivers, element: usize, t: f64) -> MotionError {
+        MotionError {
+            element: model.constraints[element].origin.label(),
+            time: t,
+            cause: drivers.why_unknown(element, t),
+        }
+    }
+}
 
 /// Parsed motion functions of a model.
 #[derive(Clone)]
@@ -20,8 +100,9 @@ pub struct ExpressionDrivers {
     warnings: Vec<Diagnostic>,
 }
 
-/// `∫ₐᵇ f` by adaptive Simpson quadrature to a relative accuracy of about 1e-12 (motion
-/// functions are smooth functions of time); `None` when `f` cannot be evaluated.
+/// `∫ₐᵇ f` by adaptive Simpson quadrature to a relative accuracy of about
+/// [`MOTION_QUADRATURE`] (motion functions are smooth functions of time); `None` when `f`
+/// cannot be evaluated.
 pub fn integrate(f: &dyn Fn(f64) -> Option<f64>, a: f64, b: f64) -> Option<f64> {
     #[allow(clippy::too_many_arguments)]
     fn simpson(
@@ -56,8 +137,8 @@ pub fn integrate(f: &dyn Fn(f64) -> Option<f64>, a: f64, b: f64) -> Option<f64> 
     let m = (a + b) / 2.0;
     let fm = f(m)?;
     let whole = (b - a) / 6.0 * (fa + 4.0 * fm + fb);
-    let tol =
-        1e-12 * (whole.abs() + (b - a).abs() * (fa.abs() + fb.abs() + fm.abs()) / 3.0).max(1e-300);
+    let tol = MOTION_QUADRATURE
+        * (whole.abs() + (b - a).abs() * (fa.abs() + fb.abs() + fm.abs()) / 3.0).max(1e-300);
     simpson(f, a, fa, b, fb, whole, m, fm, tol, 40)
 }
 
@@ -174,11 +255,11 @@ impl ExpressionDrivers {
     /// displacement `(ḟ, f̈)`, velocity `(f, ḟ)`, acceleration `(ICVEL + ∫₀ᵗ f, f)`.
     /// `None` for a motion without a function linkage can run; `Some(Err)` with the cause when
     /// the expression cannot be evaluated.
-    pub fn motion_rates(&self, element: usize, t: f64) -> Option<Result<(f64, f64), String>> {
+    pub fn motion_rates(&self, element: usize, t: f64) -> Option<Result<(f64, f64), DriveError>> {
         let (e, level, _) = self.functions.get(element)?.as_ref()?;
         let series = match evaluate_time_series(e, &TimeEnv { time: t, mode: 0 }) {
             Ok(s) => s,
-            Err(err) => return Some(Err(format!("FUNCTION: {}", err.message))),
+            Err(err) => return Some(Err(DriveError::Function { cause: err.message })),
         };
         Some(match level {
             MotionLevel::Displacement => Ok((series[1], series[2])),
@@ -240,12 +321,15 @@ impl ExpressionDrivers {
     }
 
     /// `[f, ḟ, f̈]` of a displacement-level motion at time `t`.
-    pub fn series(&self, element: usize, t: f64) -> Option<Result<[f64; 3], String>> {
+    pub fn series(&self, element: usize, t: f64) -> Option<Result<[f64; 3], DriveError>> {
         let (e, level, _) = self.functions.get(element)?.as_ref()?;
         if *level != MotionLevel::Displacement {
             return None;
         }
-        Some(evaluate_time_series(e, &TimeEnv { time: t, mode: 0 }).map_err(|err| err.message))
+        Some(
+            evaluate_time_series(e, &TimeEnv { time: t, mode: 0 })
+                .map_err(|err| DriveError::Function { cause: err.message }),
+        )
     }
 }
 
@@ -259,23 +343,15 @@ impl Drivers for ExpressionDrivers {
 
     /// The cause of an unknown value: the USER subroutine, the missing ICDISP, or the
     /// expression's error at `t` (or inside the quadrature of a velocity/acceleration motion).
-    fn why_unknown(&self, element: usize, t: f64) -> String {
+    fn why_unknown(&self, element: usize, t: f64) -> DriveError {
         let Some(Some((e, level, icdisp))) = self.functions.get(element) else {
-            return "its FUNCTION is a USER subroutine (or absent), which linkage cannot run"
-                .into();
+            return DriveError::NotRunnable;
         };
         if *level != MotionLevel::Displacement && icdisp.is_none() {
-            return format!(
-                "a {} motion without ICDISP has no known displacement",
-                if *level == MotionLevel::Velocity {
-                    "velocity"
-                } else {
-                    "acceleration"
-                }
-            );
+            return DriveError::NoStartDisplacement { level: *level };
         }
         if let Err(err) = evaluate_time_series(e, &TimeEnv { time: t, mode: 0 }) {
-            return format!("FUNCTION: {}", err.message);
+            return DriveError::Function { cause: err.message };
         }
         // The quadrature failed somewhere in [0, t]: find the first failing sample.
         let samples = 64;
@@ -284,9 +360,12 @@ impl Drivers for ExpressionDrivers {
             .find_map(|x| {
                 evaluate_time_series(e, &TimeEnv { time: x, mode: 0 })
                     .err()
-                    .map(|err| format!("FUNCTION at time {x}: {}", err.message))
+                    .map(|err| DriveError::FunctionAt {
+                        time: x,
+                        cause: err.message,
+                    })
             })
-            .unwrap_or_else(|| "the integral of FUNCTION does not converge".into())
+            .unwrap_or(DriveError::IntegralDiverges)
     }
 
     /// Displacement motions: `f(t)`. Velocity and acceleration motions: their ICDISP at t = 0

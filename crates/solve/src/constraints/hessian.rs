@@ -36,6 +36,7 @@ use crate::constraints::rows::{BodyDir, BodyPoint, Quantity, RowGradient, Veloci
 use crate::constraints::system::System;
 use crate::physics::measures::{add_dual_gradient, referenced_markers, PathEnv, PositionEnv};
 use crate::state::State;
+use crate::tolerances::UNDEFINED_ANGLE;
 use glam::{DMat3, DVec3};
 use linkage_expr::{evaluate_path_series, evaluate_with_gradient, Expr};
 use linkage_model::frames::skew;
@@ -309,7 +310,7 @@ impl Quantity {
                 let (vx, vxr, vyr) = (x.eval(s), x_ref.eval(s), y_ref.eval(s));
                 let (sn, cs) = (vx.dot(vyr), vx.dot(vxr));
                 let rho = sn * sn + cs * cs;
-                if rho <= 1e-300 {
+                if rho <= UNDEFINED_ANGLE {
                     return true;
                 }
                 let (mut gs, mut gc) = (RowGradient::default(), RowGradient::default());

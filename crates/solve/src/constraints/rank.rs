@@ -79,6 +79,7 @@
 //! admit nothing, are listed as redundant with `residual = NaN` and empty
 //! `depends_on`; all-zero rows are redundant with residual `0`.
 
+use crate::tolerances::RANK_DEFAULT;
 use std::cmp::Reverse;
 use std::collections::BinaryHeap;
 
@@ -196,7 +197,7 @@ pub struct RankSettings {
 impl Default for RankSettings {
     fn default() -> Self {
         Self {
-            tolerance: 1e-9,
+            tolerance: RANK_DEFAULT,
             near_tie_factor: 1e3,
         }
     }

@@ -7,6 +7,7 @@
 use crate::constraints::rows::{BodyDir, BodyFrame, EulerSeq, Quantity, RowGradient, Velocities};
 use crate::physics::measures::{add_dual_gradient, MarkerFrames, PathEnv, PositionEnv};
 use crate::state::State;
+use crate::tolerances::ALIGNMENT_DIRECTION;
 use glam::{DMat3, DQuat, DVec3};
 use linkage_adm::{CouplerDof, JointType, JprimType, MotionAxis};
 use linkage_expr::{
@@ -733,7 +734,7 @@ pub fn ideal_j_frame(
     } else if m.perpendicular {
         let zi = ri.z_axis;
         let target = zj - zi * zj.dot(zi);
-        if target.length() > 1e-12 {
+        if target.length() > ALIGNMENT_DIRECTION {
             turn(zj, target) * rj
         } else {
             rj
@@ -742,7 +743,7 @@ pub fn ideal_j_frame(
         let xi = ri.x_axis;
         let yj = rj.y_axis;
         let target = yj - xi * yj.dot(xi);
-        if target.length() > 1e-12 {
+        if target.length() > ALIGNMENT_DIRECTION {
             turn(yj, target) * rj
         } else {
             rj

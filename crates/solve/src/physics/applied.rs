@@ -19,7 +19,29 @@ pub struct ForceError {
     pub element: String,
     pub time: f64,
     /// What failed, from the element's law or expression.
-    pub cause: String,
+    pub cause: LawError,
+}
+
+/// Why a force law cannot be evaluated at a state.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum LawError {
+    /// An expression argument (`FUNCTION`, `FX`, …) cannot be evaluated: the evaluator's
+    /// message (a domain error, a data element that cannot be evaluated, a VARIABLE cycle).
+    #[error("{argument}: {cause}")]
+    Expression {
+        argument: &'static str,
+        cause: String,
+    },
+    /// A rotation angle (`AX(I,J)`, `AY(I,J)`, `AZ(I,J)`) about an axis perpendicular to the
+    /// plane it is measured in.
+    #[error(
+        "{angle}: the rotation angle is undefined (axis perpendicular to the plane of \
+         measurement)"
+    )]
+    UndefinedAngle { angle: &'static str },
+    /// I and J coincide while the force along their line is not zero.
+    #[error("I and J coincide, so the direction of the force {force} is undefined")]
+    CoincidentPoints { force: f64 },
 }
 
 /// A set of applied force elements.
@@ -54,13 +76,5 @@ impl AppliedForces for NoForces {
         _: Option<&mut Vec<(usize, usize, f64)>>,
     ) -> Result<(), ForceError> {
         Ok(())
-    }
-}
-
-/// Bridge for analyses whose errors are still text (removed once every stage has its own
-/// error type).
-impl From<ForceError> for String {
-    fn from(e: ForceError) -> String {
-        e.to_string()
     }
 }

@@ -40,7 +40,7 @@ pub mod six_dof;
 pub mod vector;
 
 use crate::constraints::rows::{BodyFrame, Velocities};
-use crate::physics::applied::{AppliedForces, ForceError};
+use crate::physics::applied::{AppliedForces, ForceError, LawError};
 use crate::physics::measures::{MarkerFrames, StateEnv};
 use crate::state::State;
 use algebra::{Kinematics, Real, V3};
@@ -125,7 +125,7 @@ pub enum Law {
 }
 
 impl Law {
-    fn loads<R: Real>(&self, cx: &Context) -> Result<Loads<R>, String> {
+    fn loads<R: Real>(&self, cx: &Context) -> Result<Loads<R>, LawError> {
         match self {
             Law::Scalar(l) => l.loads(cx),
             Law::SixDof(l) => l.loads(cx),

@@ -43,6 +43,7 @@ use crate::constraints::system::System;
 use crate::physics::applied::AppliedForces;
 use crate::physics::forces::data::{ArrayData, DataElements};
 use crate::physics::forces::{parse_function, ForceSet};
+use crate::physics::mass::{ground_inertia, gyroscopic};
 use crate::physics::measures::{MarkerFrames, StateEnv};
 use crate::stages::dynamics::Output;
 use glam::{DMat3, DVec3};
@@ -84,6 +85,36 @@ struct Compiled {
     what: What,
 }
 
+/// A REQUEST that cannot be evaluated at an output.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum RequestError {
+    /// A standard request's quantity (displacement, velocity, acceleration, force).
+    #[error("{request} at time {time}: {cause}")]
+    Quantity {
+        /// The request's label (`REQUEST_9 (REQUEST/9, line 6)`).
+        request: String,
+        time: f64,
+        cause: EvalError,
+    },
+    /// A function request's expression `F{component} = {text}`.
+    #[error("{request} at time {time}: F{component} = {text}: {cause}")]
+    Function {
+        request: String,
+        time: f64,
+        component: usize,
+        text: String,
+        cause: EvalError,
+    },
+}
+
+/// Why the model's force elements cannot be evaluated by requests: the first input error of
+/// the force set.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+#[error("the model's force elements cannot be evaluated ({first})")]
+struct ForcesUnavailable {
+    first: String,
+}
+
 /// The REQUESTs of a dataset, ready to evaluate at outputs.
 #[derive(Clone, Debug)]
 pub struct RequestSet {
@@ -92,7 +123,7 @@ pub struct RequestSet {
     data: DataElements,
     /// The model's applied force elements (`None` when it has none), or why they cannot be
     /// evaluated.
-    forces: Option<Result<ForceSet, String>>,
+    forces: Option<Result<ForceSet, ForcesUnavailable>>,
     /// The constraint rows, when the model has GCON, COUPLER or GEAR elements (to find the
     /// parts they act on).
     system: Option<System>,
@@ -192,9 +223,8 @@ impl RequestSet {
             return Err(Diagnostics(errors));
         }
         let forces = (!model.forces.is_empty()).then(|| {
-            ForceSet::new(model).map_err(|d| {
-                let first = d.0.first().map_or(String::new(), |e| e.message.clone());
-                format!("the model's force elements cannot be evaluated ({first})")
+            ForceSet::new(model).map_err(|d| ForcesUnavailable {
+                first: d.0.first().map_or(String::new(), |e| e.message.clone()),
             })
         });
         // Data elements that cannot be built (bad SPLINE data, …) are the force set's input
@@ -244,22 +274,30 @@ impl RequestSet {
 
     /// The values of every column at `output`. An error names the request, the time and the
     /// function (or quantity) that failed.
-    pub fn evaluate(&self, model: &Model, output: &Output) -> Result<Vec<f64>, String> {
+    pub fn evaluate(&self, model: &Model, output: &Output) -> Result<Vec<f64>, RequestError> {
         let env = OutputEnv::new(self, model, output);
         let t = output.time;
         let mut out = Vec::new();
         for r in &self.requests {
             match &r.what {
                 What::Standard { kind, i, j, rm } => {
-                    let six = env
-                        .standard(*kind, *i, *j, *rm)
-                        .map_err(|e| format!("{} at time {t}: {}", r.label, e.message))?;
+                    let six = env.standard(*kind, *i, *j, *rm).map_err(|cause| {
+                        RequestError::Quantity {
+                            request: r.label.clone(),
+                            time: t,
+                            cause,
+                        }
+                    })?;
                     out.extend(six);
                 }
                 What::Functions(list) => {
                     for (n, e, text) in list {
-                        let v = evaluate(e, &env).map_err(|err| {
-                            format!("{} at time {t}: F{n} = {text}: {}", r.label, err.message)
+                        let v = evaluate(e, &env).map_err(|cause| RequestError::Function {
+                            request: r.label.clone(),
+                            time: t,
+                            component: *n,
+                            text: text.clone(),
+                            cause,
                         })?;
                         out.push(v);
                     }
@@ -423,7 +461,7 @@ impl<'a> OutputEnv<'a> {
     fn applied_forces(&self) -> Result<Option<&'a ForceSet>, EvalError> {
         match &self.set.forces {
             Some(Ok(fs)) => Ok(Some(fs)),
-            Some(Err(why)) => Err(EvalError::unavailable(why.clone())),
+            Some(Err(why)) => Err(EvalError::unavailable(why.to_string())),
             None => Ok(None),
         }
     }
@@ -444,10 +482,10 @@ impl<'a> OutputEnv<'a> {
             let pose = o.state.poses[k];
             let (_, w) = self.twist(Body::Part(k))?;
             let (a, al) = self.acceleration(Body::Part(k))?;
-            let ig = pose.r * part.inertia * pose.r.transpose();
+            let ig = ground_inertia(part, &pose);
             let q = &applied[6 * k..6 * k + 6];
             let f = (part.mass * (a - model.gravity)) / ucf - DVec3::new(q[0], q[1], q[2]);
-            let t = (ig * al + w.cross(ig * w)) / ucf - DVec3::new(q[3], q[4], q[5]);
+            let t = (ig * al - gyroscopic(&ig, w)) / ucf - DVec3::new(q[3], q[4], q[5]);
             out.push((f, t));
         }
         for r in &o.reactions {

@@ -14,12 +14,12 @@
 //! per iteration (TLIMIT, ALIMIT), the Jacobian refreshed by PATTERN,
 //! backtracking when the residual grows, and `μ` (Levenberg–Marquardt) raised when a step fails.
 
+use crate::constraints::drivers::Drivers;
 use crate::constraints::rank::{greedy_rank, RankSettings, SparseRows};
 use crate::constraints::rows::{BodyDir, BodyFrame, BodyPoint, EulerSeq, Quantity, RowGradient};
 use crate::constraints::system::{wrap_angle, RowUnit, System};
 use crate::linalg::kkt::{scaled_row, SaddlePoint};
 use crate::linalg::linear::SparseLu;
-use crate::stages::verify::Drivers;
 use crate::state::State;
 use crate::tolerances::{
     ASSEMBLY_BACKTRACK_SLACK, ASSEMBLY_ROUNDING, ASSEMBLY_SATISFIED,

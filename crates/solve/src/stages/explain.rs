@@ -29,7 +29,8 @@ pub mod generic;
 pub mod reactions;
 pub mod repair;
 
-use crate::stages::verify::{Drivers, Verification};
+use crate::constraints::drivers::Drivers;
+use crate::stages::verify::Verification;
 use crate::state::State;
 use crate::tolerances::Tolerances;
 use linkage_model::Model;

@@ -12,14 +12,15 @@
 //!    included ([`System::acceleration_bias`]); reactions `−Jᵀμ / UCF` on each element's I
 //!    marker. Redundant rows are not in J, so their reactions are zero, as in Adams.
 
-use crate::constraints::drivers::ExpressionDrivers;
+use crate::constraints::drivers::{Drivers, ExpressionDrivers, MotionError};
 use crate::constraints::rows::RowGradient;
 use crate::constraints::system::System;
 use crate::linalg::kkt::{SaddlePoint, Zeros};
+use crate::linalg::linear::LinearError;
 use crate::physics::applied::{AppliedForces, ForceError};
-use crate::physics::reactions::Reaction;
+use crate::physics::mass;
+use crate::physics::reactions::{element_reactions, Reaction};
 use crate::stages::assemble::{assemble, hard_rows, Assembly, HardKind, HardRow};
-use crate::stages::dynamics::{consistent_output, IntegrationError, Problem, SingularSolve};
 use crate::stages::verify::{report_residual, residuals, verify, verify_at, Verification};
 use crate::state::State;
 use crate::tolerances::{Tolerances, ACCELERATION_IC_FLOOR, UNGIVEN_VELOCITY_WEIGHT};
@@ -165,11 +166,8 @@ pub fn initial_conditions(
         .into_iter()
         .filter(|&r| sys.rows[r].driven)
         .map(|r| sys.rows[r].element)
-        .filter(|&e| {
-            crate::stages::verify::Drivers::value(drivers, e, input.time).is_none()
-                && !drivers.free_start(e)
-        })
-        .map(|e| crate::stages::verify::motion_error(model, drivers, e, input.time))
+        .filter(|&e| Drivers::value(drivers, e, input.time).is_none() && !drivers.free_start(e))
+        .map(|e| MotionError::at(model, drivers, e, input.time).to_string())
         .collect();
     let after = residuals(sys, &asm.state, drivers);
     let repaired = analysis_repairs(sys, &before, &after, model, tol);
@@ -413,10 +411,9 @@ pub enum AccelerationError {
         "{element}: the second time derivative of the constraint cannot be evaluated: {cause}"
     )]
     ConstraintBias { element: String, cause: String },
-    /// The shared consistent solve failed otherwise (its matrix could not be set up or
-    /// factorised, the velocity projection is singular).
+    /// The saddle-point matrix cannot be factorised.
     #[error(transparent)]
-    Solve(IntegrationError),
+    Factor(#[from] LinearError),
     /// The matrix is singular.
     #[error(
         "the acceleration equations are singular: a massless part or a part without inertia \
@@ -425,12 +422,13 @@ pub enum AccelerationError {
     Singular,
 }
 
-/// Acceleration and force IC: `M a + UCF·Jᵀλ = UCF·Q` (gravity, applied forces, gyroscopic
-/// terms) with `J a = f̈ − γ` on the kept rows `rows`, by the consistent-output solve every
-/// analysis shares ([`consistent_output`]), at the assembled positions `s` with the IC
-/// velocities `v`. Before solving, the IC names in its own words what cannot be evaluated
-/// there: a force element, a motion's acceleration, a general constraint's second time
-/// derivative.
+/// Acceleration and force IC: `M a + UCF·Jᵀμ = M g + UCF·Q` (gravity, applied forces,
+/// gyroscopic terms) with `J a = f̈ − γ` (the exact velocity-product terms γ of every kept row,
+/// general constraints included) at the assembled positions `s` with the IC velocities `v`, as
+/// one [`SaddlePoint`] solve; reactions `−Jᵀλ` on each element's I marker (λ = μ/UCF). Unlike
+/// the integrator's consistent-output solve, the mass matrix is not regularised: a massless
+/// part or a part without inertia that the constraints leave free is reported
+/// ([`AccelerationError::Singular`]), as Adams does before a dynamic run.
 pub fn acceleration_ic(
     model: &Model,
     sys: &System,
@@ -441,11 +439,11 @@ pub fn acceleration_ic(
     v: &[(DVec3, DVec3)],
 ) -> Result<AccelerationIc, AccelerationError> {
     let n = model.parts.len();
+    let ucf = model.ucf();
     let mut applied = vec![0.0; 6 * n];
     forces.add_forces(s, v, &mut applied)?;
-    // The acceleration equations `∇Φ·a = f̈ − γ` of the rows, to measure the solution by.
     let mut g = RowGradient::default();
-    let mut eqs: Vec<(RowGradient, f64)> = Vec::new();
+    let mut eqs: Vec<(usize, RowGradient, f64)> = Vec::new();
     for &r in rows {
         let row = &sys.rows[r];
         let fdd = if row.driven {
@@ -470,32 +468,49 @@ pub fn acceleration_ic(
                     cause: e.to_string(),
                 })?;
         sys.gradient(r, s, &mut g);
-        eqs.push((g.clone(), fdd - bias));
+        eqs.push((r, g.clone(), fdd - bias));
     }
-    // Velocity and acceleration motions without ICDISP take their displacement from the
-    // assembled configuration, as in every later stage.
-    let anchored = drivers.anchored(sys, rows, s);
-    let problem = Problem {
-        model,
-        sys,
-        rows,
-        redundant: &[],
-        drivers: &anchored,
-        forces,
-        damping: None,
-        frozen_time: None,
-    };
-    let solved = consistent_output(&problem, s, v).map_err(|e| match e {
-        IntegrationError::Singular(SingularSolve::Acceleration) => AccelerationError::Singular,
-        other => AccelerationError::Solve(other),
-    })?;
-    let acc = solved.output.accelerations;
+    let mut kkt = SaddlePoint::new(6 * n, eqs.len());
+    let mut rhs = vec![0.0; kkt.dim()];
+    for (k, p) in model.parts.iter().enumerate() {
+        let ig = mass::ground_inertia(p, &s.poses[k]);
+        kkt.add_part_mass(k, p.mass, &ig, Zeros::Skip);
+        let gyro = mass::gyroscopic(&ig, v[k].1);
+        for c in 0..3 {
+            rhs[6 * k + c] = p.mass * model.gravity[c] + ucf * applied[6 * k + c];
+            rhs[6 * k + 3 + c] = gyro[c] + ucf * applied[6 * k + 3 + c];
+        }
+    }
+    for (e, (_, grad, b)) in eqs.iter().enumerate() {
+        kkt.add_constraint_row(e, grad);
+        rhs[kkt.multiplier(e)] = *b;
+    }
+    kkt.factor()?
+        .solve(&mut rhs)
+        .map_err(|_| AccelerationError::Singular)?;
+    let acc: Vec<(DVec3, DVec3)> = (0..n)
+        .map(|k| {
+            (
+                DVec3::new(rhs[6 * k], rhs[6 * k + 1], rhs[6 * k + 2]),
+                DVec3::new(rhs[6 * k + 3], rhs[6 * k + 4], rhs[6 * k + 5]),
+            )
+        })
+        .collect();
     let max_error = eqs
         .iter()
-        .map(|(grad, b)| (grad.rate(&acc) - b).abs())
+        .map(|(_, grad, b)| (grad.rate(&acc) - b).abs())
         .fold(0.0, f64::max);
-    let multipliers = rows.iter().copied().zip(solved.lambda).collect();
-    let reactions = solved.output.reactions;
+    // Multipliers in force units; reactions on the I markers.
+    let rows_grads: Vec<(usize, &RowGradient)> = eqs.iter().map(|(r, g, _)| (*r, g)).collect();
+    let lambda: Vec<f64> = (0..eqs.len())
+        .map(|e| rhs[kkt.multiplier(e)] / ucf)
+        .collect();
+    let reactions = element_reactions(model, sys, &rows_grads, &lambda, s);
+    let multipliers = eqs
+        .iter()
+        .zip(&lambda)
+        .map(|((r, _, _), l)| (*r, *l))
+        .collect();
     Ok(AccelerationIc {
         accelerations: acc,
         reactions,

@@ -290,7 +290,11 @@ mod tests {
         let f = sim.failure.expect("stops");
         assert_eq!(f.time, 1.0);
         match &f.cause {
-            IntegrationError::Motion { element, time, .. } => {
+            IntegrationError::Motion(crate::constraints::drivers::MotionError {
+                element,
+                time,
+                ..
+            }) => {
                 assert!(element.starts_with("MOTION_1"), "{element}");
                 assert_eq!(*time, 1.0);
             }

@@ -33,7 +33,9 @@ use crate::linalg::eigs::{zero_eigenvectors, ConstrainedPencil, EigenError, Spar
 use crate::linalg::kkt::{jacobian_entries, null_space, CoordinateScale, Zeros};
 use crate::physics::applied::{AppliedForces, ForceError};
 use crate::physics::mass::ground_inertia;
-use crate::pipeline::Assembled;
+use crate::pipeline::{Assembled, NotAssembled};
+use crate::stages::ic::AccelerationError;
+use crate::stages::statics::{Equilibrium, StaticsError};
 use crate::state::State;
 use crate::tolerances::{
     FREE_MOTION, MASSLESS_FRACTION, REAL_PAIR, SHIFT_MOVE, SHIFT_OFFSET, SYMMETRIC_STIFFNESS,
@@ -859,13 +861,36 @@ fn solve_shift_invert(
     })
 }
 
+/// Why a linear analysis has no result.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum LinearRunError {
+    /// The model could not be assembled.
+    #[error("{0}; no operating point")]
+    NotAssembled(NotAssembled),
+    /// The initial conditions left no operating point (no velocities or forces were solved).
+    #[error("the model could not be assembled; no operating point")]
+    NoOperatingPoint,
+    /// `--static-first`: the Newton iteration did not converge.
+    #[error("static equilibrium did not converge; no operating point")]
+    EquilibriumNotConverged,
+    /// `--static-first`: the equilibrium could not be computed.
+    #[error(transparent)]
+    Statics(#[from] StaticsError),
+    /// The acceleration/force IC (the multipliers of the operating point) failed.
+    #[error(transparent)]
+    Acceleration(#[from] AccelerationError),
+    /// The linearization or its eigen solution failed.
+    #[error(transparent)]
+    Linearize(#[from] LinearizeError),
+}
+
 /// A linear analysis of an assembled model: optionally static equilibrium, then the eigen
 /// solution about that operating point.
 #[derive(Clone, Debug)]
 pub struct LinearRun {
     /// The static equilibrium used as operating point (with `--static-first`).
-    pub equilibrium: Option<Result<crate::stages::statics::Equilibrium, String>>,
-    pub result: Result<Linearization, String>,
+    pub equilibrium: Option<Result<Equilibrium, StaticsError>>,
+    pub result: Result<Linearization, LinearRunError>,
 }
 
 /// Linearizes an assembled model about its operating point: with `static_first`, static
@@ -873,32 +898,31 @@ pub struct LinearRun {
 /// configuration with the IC velocities and the constraint forces of the acceleration/force IC.
 pub fn run(a: &Assembled, static_first: bool, opts: LinearOptions) -> LinearRun {
     let model = a.model;
-    let no_operating_point = |why: String| Err(format!("{why}; no operating point"));
     if let Some(why) = a.failure() {
         return LinearRun {
             equilibrium: None,
-            result: no_operating_point(why.to_string()),
+            result: Err(LinearRunError::NotAssembled(why.clone())),
         };
     }
+    let about = |at: OperatingPoint| {
+        linearize(model, &a.system, &a.kept, a.forces, at, opts).map_err(LinearRunError::from)
+    };
     if static_first {
         let eq = crate::stages::statics::run(a, &[0.0])
             .steps
             .into_iter()
             .next()
             .map(|(_, e)| e);
+        let rest = a.rest();
         let result = match &eq {
-            Some(Ok(e)) if e.converged => {
-                let rest = a.rest();
-                let at = OperatingPoint {
-                    state: &e.state,
-                    velocities: &rest,
-                    multipliers: &e.multipliers,
-                };
-                linearize(model, &a.system, &a.kept, a.forces, at, opts).map_err(|e| e.to_string())
-            }
-            Some(Ok(_)) => Err("static equilibrium did not converge; no operating point".into()),
-            Some(Err(e)) => Err(e.clone()),
-            None => no_operating_point("the model could not be assembled".into()),
+            Some(Ok(e)) if e.converged => about(OperatingPoint {
+                state: &e.state,
+                velocities: &rest,
+                multipliers: &e.multipliers,
+            }),
+            Some(Ok(_)) => Err(LinearRunError::EquilibriumNotConverged),
+            Some(Err(e)) => Err(e.clone().into()),
+            None => Err(LinearRunError::NoOperatingPoint),
         };
         return LinearRun {
             equilibrium: eq,
@@ -906,16 +930,13 @@ pub fn run(a: &Assembled, static_first: bool, opts: LinearOptions) -> LinearRun 
         };
     }
     let result = match (&a.ic.velocity, &a.ic.acceleration) {
-        (Some(v), Some(Ok(acc))) => {
-            let at = OperatingPoint {
-                state: a.state(),
-                velocities: &v.velocities,
-                multipliers: &acc.multipliers,
-            };
-            linearize(model, &a.system, &a.kept, a.forces, at, opts).map_err(|e| e.to_string())
-        }
-        (_, Some(Err(e))) => Err(e.to_string()),
-        _ => no_operating_point("the model could not be assembled".into()),
+        (Some(v), Some(Ok(acc))) => about(OperatingPoint {
+            state: a.state(),
+            velocities: &v.velocities,
+            multipliers: &acc.multipliers,
+        }),
+        (_, Some(Err(e))) => Err(e.clone().into()),
+        _ => Err(LinearRunError::NoOperatingPoint),
     };
     LinearRun {
         equilibrium: None,

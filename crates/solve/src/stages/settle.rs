@@ -13,7 +13,7 @@
 use crate::constraints::system::System;
 use crate::pipeline::{Assembled, NotAssembled};
 use crate::stages::dynamics::{simulate_with, AfterOutput, ExtraDamping, IntegratorSettings};
-use crate::stages::statics::{equilibrium, Equilibrium};
+use crate::stages::statics::{equilibrium, Equilibrium, StaticsError};
 use crate::state::State;
 use crate::tolerances::SETTLING_INTEGRATOR_ERROR;
 use linkage_model::settings::shown;
@@ -49,7 +49,7 @@ pub struct SettleOutcome {
     pub state: State,
     /// The static Newton polish from the settled configuration (time reset to the start);
     /// `None` when the integration failed.
-    pub equilibrium: Option<Result<Equilibrium, String>>,
+    pub equilibrium: Option<Result<Equilibrium, StaticsError>>,
 }
 
 impl SettleOutcome {

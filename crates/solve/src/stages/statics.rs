@@ -17,19 +17,26 @@
 //! After convergence, stability is judged from the smallest eigenvalue of the stiffness reduced
 //! to the free motions (`Nᵀ K_T N`, N a basis of the null space of J).
 
+mod newton;
+mod triplet_lu;
+
+use crate::constraints::drivers::{Drivers, MotionError};
 use crate::constraints::hessian::HessianBlocks;
-use crate::constraints::rows::{RowGradient, Velocities};
+use crate::constraints::rows::RowGradient;
 use crate::constraints::system::{RowUnit, System};
-use crate::linalg::linear::SparseLu;
-use crate::physics::applied::AppliedForces;
+use crate::linalg::linear::LinearError;
+use crate::physics::applied::{AppliedForces, ForceError};
 use crate::physics::reactions::{element_reactions, Reaction};
 use crate::pipeline::Assembled;
-use crate::stages::verify::Drivers;
 use crate::state::State;
-use crate::tolerances::STATIC_ROUNDING_IMBALANCE;
+use crate::tolerances::{
+    STABILITY_EIGENVALUE, STABILITY_RANK, STATIC_CONSTRAINT_FLOOR, STATIC_CUT_PROJECTION,
+    STATIC_REPORTED_IMBALANCE, STATIC_ROUNDING_IMBALANCE,
+};
 use glam::DVec3;
 use linkage_model::settings::EquilibriumSettings;
 use linkage_model::Model;
+use newton::{Problem, Workspace};
 
 /// Which equation an imbalance belongs to.
 #[derive(Clone, Debug, PartialEq)]
@@ -137,31 +144,66 @@ const UNBOUNDED_NOTE: &str = ": these loads act along free motions that nothing 
 /// Largest dense reduced problem for which stability is evaluated.
 const MAX_DENSE_DOF_COLUMNS: usize = 1800;
 
-fn zero_velocities(n: usize) -> Vec<(DVec3, DVec3)> {
-    vec![(DVec3::ZERO, DVec3::ZERO); n]
+/// Why a static equilibrium solve failed (as opposed to not converging, which is an
+/// [`Equilibrium`] with `converged == false`).
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum StaticsError {
+    /// A motion's displacement cannot be evaluated at the solve's time.
+    #[error(transparent)]
+    Motion(#[from] MotionError),
+    /// A force element cannot be evaluated at an iterate.
+    #[error(transparent)]
+    Force(#[from] ForceError),
+    /// The forces or constraint residuals are no longer finite.
+    #[error(
+        "the static iteration diverged at iteration {iteration}: the forces or constraint \
+         residuals are no longer finite"
+    )]
+    NotFinite { iteration: usize },
+    /// The Newton matrix cannot be set up or factorised (an entry that is not finite, a
+    /// structurally singular matrix).
+    #[error("the static Newton matrix cannot be factorised: {0}")]
+    Factor(LinearError),
+    /// The Newton correction is not finite.
+    #[error(
+        "the static Newton matrix is singular: the model has free motions with no stiffness \
+         (consider STABILITY, or check forces)"
+    )]
+    Singular,
 }
 
-/// Generalised applied forces including gravity (`m g / UCF` at each centre of mass).
-fn applied(
+/// The rows `rows` with their drive values at `t` (motions' displacements, 0 for the others).
+fn drive_values(
     model: &Model,
-    forces: &dyn AppliedForces,
-    s: &State,
-    v: &Velocities,
-) -> Result<Vec<f64>, String> {
-    let n = model.parts.len();
-    let mut q = vec![0.0; 6 * n];
-    let ucf = model.ucf();
-    for (k, p) in model.parts.iter().enumerate() {
-        for c in 0..3 {
-            q[6 * k + c] = p.mass * model.gravity[c] / ucf;
-        }
-    }
-    forces.add_forces(s, v, &mut q)?;
-    Ok(q)
+    sys: &System,
+    rows: &[usize],
+    drivers: &dyn Drivers,
+    t: f64,
+) -> Result<Vec<(usize, f64)>, MotionError> {
+    rows.iter()
+        .map(|&r| {
+            let row = &sys.rows[r];
+            if !row.driven {
+                return Ok((r, 0.0));
+            }
+            drivers
+                .value(row.element, t)
+                .map(|f| (r, f))
+                .ok_or_else(|| MotionError::at(model, drivers, row.element, t))
+        })
+        .collect()
 }
+
+/// Iterations with a runaway correction are unbounded when the imbalance is not below 0.99×
+/// its value this many Newton iterations before.
+const RUNAWAY_WINDOW: usize = 3;
 
 /// Solves for static equilibrium at time `start.time` from `start` (assembled), enforcing the
 /// constraint rows `rows` (the independent rows of verify/IC).
+///
+/// Memory: the buffers and both sparse matrices are sized before the first iteration
+/// ([`newton::Workspace`]); an iteration without a cut step allocates nothing itself (force
+/// elements and expressions may, see [`crate::stages::dynamics::Integrator`]).
 pub fn equilibrium(
     model: &Model,
     sys: &System,
@@ -170,82 +212,50 @@ pub fn equilibrium(
     forces: &dyn AppliedForces,
     start: &State,
     settings: &EquilibriumSettings,
-) -> Result<Equilibrium, String> {
-    let n = model.parts.len();
+) -> Result<Equilibrium, StaticsError> {
+    let p = Problem {
+        model,
+        sys,
+        used: drive_values(model, sys, rows, drivers, start.time)?,
+        forces,
+        settings,
+    };
+    let (n, m) = (p.parts(), p.used.len());
     let length = model.characteristic_length;
-    let vel = zero_velocities(n);
-    let mut used: Vec<(usize, f64)> = Vec::with_capacity(rows.len());
-    for &r in rows {
-        let row = &sys.rows[r];
-        if row.driven {
-            match drivers.value(row.element, start.time) {
-                Some(f) => used.push((r, f)),
-                None => {
-                    return Err(crate::stages::verify::motion_error(
-                        model,
-                        drivers,
-                        row.element,
-                        start.time,
-                    ))
-                }
-            }
-        } else {
-            used.push((r, 0.0));
-        }
-    }
-    let m = used.len();
-    // Rows whose second derivatives could not be evaluated at the last Newton matrix.
-    let mut approximate = vec![false; m];
     let kinematic = m >= 6 * n;
+    let mut w = Workspace::new(&p);
     let mut s = start.clone();
-    let mut lambda = initial_multipliers(model, sys, &used, forces, &s, &vel)?;
-    let mut grads: Vec<RowGradient> = vec![RowGradient::default(); m];
-    let mut hb = HessianBlocks::default();
-    let mut lu: Option<SparseLu> = None;
+    let mut lambda = vec![0.0; m];
+    w.initial_multipliers(&p, &s, &mut lambda)?;
     let mut iterations = 0;
     let mut converged = false;
-    let (mut last_imbalance, mut last_f, mut last_phi);
-    let dim = 6 * n + m;
-    let ucf = model.ucf();
+    let mut last_imbalance;
     // Constraints are held to the assembly accuracy (IC ERROR), not to the looser EQUILIBRIUM
     // ERROR, so that positions are as accurate as the initial conditions.
-    let phi_length = model.ic.error.max(1e-13 * length);
-    let phi_angle = model.ic.error.max(1e-13);
+    let phi_length = model.ic.error.max(STATIC_CONSTRAINT_FLOOR * length);
+    let phi_angle = model.ic.error.max(STATIC_CONSTRAINT_FLOOR);
     let mut projected = false;
     let mut unbounded = false;
-    let mut history: Vec<f64> = Vec::new();
+    // The imbalances of the last iterations (a ring), and how many were recorded.
+    let mut history = [0.0; RUNAWAY_WINDOW];
+    let mut recorded = 0usize;
     loop {
-        // Residuals.
-        for (k, (r, _)) in used.iter().enumerate() {
-            sys.gradient(*r, &s, &mut grads[k]);
+        let load = w.residuals(&p, &s, &lambda)?;
+        if w.force.iter().chain(&w.phi).any(|x| !x.is_finite()) {
+            return Err(StaticsError::NotFinite {
+                iteration: iterations,
+            });
         }
-        let mut f = applied(model, forces, &s, &vel)?;
-        let load = f.iter().map(|x| x.abs()).fold(0.0, f64::max);
-        for (k, g) in grads.iter().enumerate() {
-            for (body, b) in &g.blocks {
-                for c in 0..6 {
-                    f[6 * body + c] -= lambda[k] * b[c];
-                }
-            }
-        }
-        let phi: Vec<f64> = used.iter().map(|(r, d)| sys.residual(*r, &s, *d)).collect();
-        if f.iter().chain(&phi).any(|x| !x.is_finite()) {
-            return Err(format!(
-                "the static iteration diverged at iteration {iterations}: the forces or \
-                 constraint residuals are no longer finite"
-            ));
-        }
-        let imbalance = f.iter().map(|x| x.abs()).fold(0.0, f64::max);
-        let phi_ok = used
+        let imbalance = w.force.iter().map(|x| x.abs()).fold(0.0, f64::max);
+        let phi_ok = p
+            .used
             .iter()
-            .zip(&phi)
+            .zip(&w.phi)
             .all(|((r, _), v)| match sys.rows[*r].unit {
                 RowUnit::Length | RowUnit::Mixed => v.abs() <= phi_length,
                 _ => v.abs() <= phi_angle,
             });
         last_imbalance = imbalance;
-        last_f = f.clone();
-        last_phi = phi.clone();
         // Balanced to rounding: no Newton correction can improve the forces, and along a
         // free motion without stiffness (a part spinning about a vertical hinge) the
         // correction is that rounding divided by STABILITY × inertia, a drift of the pose
@@ -262,103 +272,44 @@ pub fn equilibrium(
         // Settle the constraints alone, once; should rounding keep them above their tolerance,
         // the next iteration takes a Newton step as usual.
         if balanced && !projected {
-            project_onto_constraints(model, sys, &used, &mut s, phi_length.min(phi_angle));
+            w.project_onto_constraints(&p, &mut s, phi_length.min(phi_angle));
             projected = true;
             iterations += 1;
             continue;
         }
         projected = false;
-        // Newton matrix.
-        let refresh = lu.is_none()
+        // Newton matrix: refreshed as PATTERN says (always the first time).
+        let refresh = !w.has_newton_matrix()
             || settings
                 .pattern
                 .get(iterations % settings.pattern.len().max(1))
                 .copied()
                 .unwrap_or(true);
         if refresh {
-            let mut e: Vec<(usize, usize, f64)> = Vec::new();
-            let mut dq = Vec::new();
-            forces.add_jacobians(&s, &vel, &mut dq, None)?;
-            e.extend(dq.into_iter().map(|(i, j, v)| (i, j, -v)));
-            for (k, (r, _)) in used.iter().enumerate() {
-                if lambda[k] == 0.0 {
-                    continue;
-                }
-                hb.clear();
-                approximate[k] = !sys.hessian(*r, &s, 1.0, &mut hb);
-                hb.triplets(lambda[k], &mut e);
-            }
-            // STABILITY × M (scaled to the stiffness units of each coordinate).
-            for (k, p) in model.parts.iter().enumerate() {
-                let ig = s.poses[k].r * p.inertia * s.poses[k].r.transpose();
-                let mass_scale = settings.stability / ucf;
-                for c in 0..3 {
-                    e.push((
-                        6 * k + c,
-                        6 * k + c,
-                        mass_scale * p.mass + 1e-14 * (1.0 + p.mass),
-                    ));
-                    for d in 0..3 {
-                        let x = ig.col(d)[c] * mass_scale;
-                        if x != 0.0 {
-                            e.push((6 * k + 3 + c, 6 * k + 3 + d, x));
-                        }
-                    }
-                }
-            }
-            for (k, g) in grads.iter().enumerate() {
-                for (body, b) in &g.blocks {
-                    for (c, x) in b.iter().enumerate() {
-                        if *x != 0.0 {
-                            e.push((6 * n + k, 6 * body + c, *x));
-                            e.push((6 * body + c, 6 * n + k, *x));
-                        }
-                    }
-                }
-            }
-            lu =
-                Some(SparseLu::factor(dim, &e).map_err(|err| {
-                    format!("the static Newton matrix cannot be factorised: {err}")
-                })?);
+            w.refresh_newton_matrix(&p, &s, &lambda)?;
         }
-        let Some(factor) = &lu else { break };
-        let mut rhs = vec![0.0; dim];
-        rhs[..6 * n].copy_from_slice(&f);
-        for (k, v) in phi.iter().enumerate() {
-            rhs[6 * n + k] = -v;
-        }
-        if factor.solve(&mut rhs).is_err() {
-            return Err("the static Newton matrix is singular: the model has free motions with no stiffness (consider STABILITY, or check forces)".into());
-        }
+        w.newton_correction()?;
         // Step limits: the whole step is scaled so that no part moves by more than TLIMIT or
         // turns by more than ALIMIT, except parts whose correction runs away (beyond
         // `RUNAWAY_CORRECTION`: a free motion without stiffness, where the correction is a
         // load divided by STABILITY × a tiny inertia). Those are cut to the limits on their
         // own, so that they do not stall everything else, and say nothing about convergence
         // (the forces, IMBALANCE, judge those parts).
-        let steps: Vec<(DVec3, DVec3)> = (0..n)
-            .map(|k| {
-                (
-                    DVec3::new(rhs[6 * k], rhs[6 * k + 1], rhs[6 * k + 2]),
-                    DVec3::new(rhs[6 * k + 3], rhs[6 * k + 4], rhs[6 * k + 5]),
-                )
-            })
-            .collect();
+        for (k, (step, away)) in w.steps.iter_mut().zip(&mut w.runaway).enumerate() {
+            let x = &w.rhs[6 * k..6 * k + 6];
+            *step = (DVec3::new(x[0], x[1], x[2]), DVec3::new(x[3], x[4], x[5]));
+            *away = step.0.length() > RUNAWAY_CORRECTION * length
+                || step.1.length() > RUNAWAY_CORRECTION;
+        }
         let limit_scale = |(dx, dth): (DVec3, DVec3)| -> f64 {
             (settings.tlimit / dx.length())
                 .min(settings.alimit / dth.length())
                 .min(1.0)
         };
-        let runaway: Vec<bool> = steps
-            .iter()
-            .map(|(dx, dth)| {
-                dx.length() > RUNAWAY_CORRECTION * length || dth.length() > RUNAWAY_CORRECTION
-            })
-            .collect();
-        let cut = runaway.contains(&true);
+        let cut = w.runaway.contains(&true);
         let mut scale: f64 = 1.0;
         let mut correction: f64 = 0.0;
-        for (&(dx, dth), &away) in steps.iter().zip(&runaway) {
+        for (&(dx, dth), &away) in w.steps.iter().zip(&w.runaway) {
             if !away {
                 scale = scale.min(limit_scale((dx, dth)));
                 correction = correction.max(dx.length() / length).max(dth.length());
@@ -370,19 +321,23 @@ pub fn equilibrium(
         // where the position changes no force worth the name (a symmetric link turning about
         // its own axis: 17 rad of correction for 3e-5 N·m). Such a configuration is an
         // equilibrium; Newton would only walk the part round by ALIMIT per iteration.
-        let work: f64 = (0..6 * n).map(|i| rhs[i] * last_f[i]).sum::<f64>().abs();
+        let work: f64 = (0..6 * n).map(|i| w.rhs[i] * w.force[i]).sum::<f64>().abs();
         let soft = (scale < 1.0 || cut) && work <= settings.error * load * length;
         let done =
             imbalance <= settings.imbalance && phi_ok && (correction <= settings.error || soft);
-        history.push(imbalance);
-        unbounded = cut && history.len() > 3 && imbalance >= 0.99 * history[history.len() - 4];
+        // Unbounded: a runaway step, and the imbalance not reduced over the last three.
+        let slot = recorded % RUNAWAY_WINDOW;
+        let before = history[slot];
+        history[slot] = imbalance;
+        unbounded = cut && recorded >= RUNAWAY_WINDOW && imbalance >= 0.99 * before;
+        recorded += 1;
         if done && correction > settings.error {
             // Converged by the soft-direction test: the step would only walk parts along
             // motions that change no force; the configuration stays as it is.
             converged = true;
             break;
         }
-        for (k, (&(dx, dth), &away)) in steps.iter().zip(&runaway).enumerate() {
+        for (k, (&(dx, dth), &away)) in w.steps.iter().zip(&w.runaway).enumerate() {
             let f = match (away, done) {
                 (false, _) => scale,
                 (true, false) => limit_scale((dx, dth)),
@@ -392,24 +347,19 @@ pub fn equilibrium(
             s.increment(k, dx * f, dth * f);
         }
         for (k, l) in lambda.iter_mut().enumerate() {
-            *l += rhs[6 * n + k] * scale;
+            *l += w.rhs[6 * n + k] * scale;
         }
         if scale < 1.0 || cut {
             // A step cut by TLIMIT/ALIMIT leaves the second-order constraint error of a large
             // move: bring the configuration back onto the constraints (least change) so the
             // next Newton step starts from an assembled pose.
-            project_onto_constraints(
-                model,
-                sys,
-                &used,
-                &mut s,
-                1e-12 * model.characteristic_length.max(1.0),
-            );
+            let tolerance = STATIC_CUT_PROJECTION * model.characteristic_length.max(1.0);
+            w.project_onto_constraints(&p, &mut s, tolerance);
         }
         if cut {
             // The multipliers' Newton update shares the runaway direction: start them afresh
             // (least squares) at the new configuration.
-            lambda = initial_multipliers(model, sys, &used, forces, &s, &vel)?;
+            w.initial_multipliers(&p, &s, &mut lambda)?;
         }
         if done {
             // The last (small) correction is applied: the result is one Newton step better
@@ -419,41 +369,22 @@ pub fn equilibrium(
         }
         iterations += 1;
     }
-    // Largest imbalances.
-    let mut worst: Vec<(Imbalance, f64)> = last_f
+    let worst = largest_imbalances(&p, &w);
+    let rows_grads: Vec<(usize, &RowGradient)> = p
+        .used
         .iter()
-        .enumerate()
-        .map(|(i, v)| {
-            (
-                Imbalance::Part {
-                    part: i / 6,
-                    component: i % 6,
-                },
-                *v,
-            )
-        })
-        .chain(
-            used.iter()
-                .zip(&last_phi)
-                .map(|((r, _), v)| (Imbalance::Row(*r), *v)),
-        )
+        .zip(&w.grads)
+        .map(|((r, _), g)| (*r, g))
         .collect();
-    worst.sort_by(|a, b| b.1.abs().total_cmp(&a.1.abs()));
-    // The five largest, leaving out those negligible beside the largest (a free body's other
-    // five balance equations hold exactly).
-    let largest = worst.first().map_or(0.0, |w| w.1.abs());
-    worst.retain(|w| w.1.abs() > 1e-9 * largest);
-    worst.truncate(5);
-    let rows_grads: Vec<(usize, &RowGradient)> =
-        used.iter().zip(&grads).map(|((r, _), g)| (*r, g)).collect();
     let reactions = element_reactions(model, sys, &rows_grads, &lambda, &s);
-    let multipliers = used
+    let multipliers = p
+        .used
         .iter()
         .zip(&lambda)
         .map(|((r, _), l)| (*r, *l))
         .collect();
     let stability = if converged && !kinematic {
-        reduced_stability(model, sys, &used, &lambda, forces, &s)
+        reduced_stability(model, sys, &p.used, &lambda, forces, &s)
     } else {
         None
     };
@@ -468,106 +399,39 @@ pub fn equilibrium(
         worst,
         kinematic,
         unbounded: unbounded && !converged,
-        approximate_rows: approximate.iter().filter(|a| **a).count(),
+        approximate_rows: w.approximate.iter().filter(|a| **a).count(),
     })
 }
 
-/// A few minimum-change Gauss–Newton corrections of the positions onto `Φ = 0`:
-/// `[W Jᵀ; J 0][δ; μ] = [0; −Φ]`, `W = diag(1/L², 1)` per part.
-fn project_onto_constraints(
-    model: &Model,
-    sys: &System,
-    used: &[(usize, f64)],
-    s: &mut State,
-    tolerance: f64,
-) {
-    let n = model.parts.len();
-    let m = used.len();
-    let l2 = model.characteristic_length.powi(2);
-    let mut g = RowGradient::default();
-    for _ in 0..4 {
-        let phi: Vec<f64> = used.iter().map(|(r, d)| sys.residual(*r, s, *d)).collect();
-        if phi.iter().all(|v| v.abs() <= tolerance) {
-            return;
-        }
-        let mut e = Vec::new();
-        for k in 0..6 * n {
-            e.push((k, k, if k % 6 < 3 { 1.0 / l2 } else { 1.0 }));
-        }
-        for (k, (r, _)) in used.iter().enumerate() {
-            sys.gradient(*r, s, &mut g);
-            for (body, b) in &g.blocks {
-                for (c, x) in b.iter().enumerate() {
-                    if *x != 0.0 {
-                        e.push((6 * n + k, 6 * body + c, *x));
-                        e.push((6 * body + c, 6 * n + k, *x));
-                    }
-                }
-            }
-        }
-        let mut rhs = vec![0.0; 6 * n + m];
-        for (k, v) in phi.iter().enumerate() {
-            rhs[6 * n + k] = -v;
-        }
-        if SparseLu::factor(6 * n + m, &e)
-            .and_then(|lu| lu.solve(&mut rhs))
-            .is_err()
-        {
-            return;
-        }
-        for k in 0..n {
-            s.increment(
-                k,
-                DVec3::new(rhs[6 * k], rhs[6 * k + 1], rhs[6 * k + 2]),
-                DVec3::new(rhs[6 * k + 3], rhs[6 * k + 4], rhs[6 * k + 5]),
-            );
-        }
-    }
-}
-
-/// Least-squares multipliers at the start, `min |Q − Jᵀλ|_W` (torques weighted by 1/L²), so
-/// that the first Newton matrix already holds the geometric stiffness.
-fn initial_multipliers(
-    model: &Model,
-    sys: &System,
-    used: &[(usize, f64)],
-    forces: &dyn AppliedForces,
-    s: &State,
-    vel: &Velocities,
-) -> Result<Vec<f64>, String> {
-    let n = model.parts.len();
-    let m = used.len();
-    if m == 0 {
-        return Ok(Vec::new());
-    }
-    let l2 = model.characteristic_length.powi(2);
-    let q = applied(model, forces, s, vel)?;
-    let mut e = Vec::new();
-    for k in 0..6 * n {
-        e.push((k, k, if k % 6 < 3 { 1.0 } else { l2 }));
-    }
-    let mut g = RowGradient::default();
-    for (k, (r, _)) in used.iter().enumerate() {
-        sys.gradient(*r, s, &mut g);
-        for (body, b) in &g.blocks {
-            for (c, x) in b.iter().enumerate() {
-                if *x != 0.0 {
-                    e.push((6 * n + k, 6 * body + c, *x));
-                    e.push((6 * body + c, 6 * n + k, *x));
-                }
-            }
-        }
-    }
-    let mut rhs = vec![0.0; 6 * n + m];
-    for k in 0..6 * n {
-        rhs[k] = q[k] * if k % 6 < 3 { 1.0 } else { l2 };
-    }
-    let ok = SparseLu::factor(6 * n + m, &e).and_then(|lu| lu.solve(&mut rhs));
-    Ok(if ok.is_ok() {
-        rhs[6 * n..].to_vec()
-    } else {
-        vec![0.0; m]
-    })
+/// The five equations with the largest residuals at the last evaluation (largest first),
+/// leaving out those negligible beside the largest ([`STATIC_REPORTED_IMBALANCE`]: a free
+/// body's other five balance equations hold exactly).
+fn largest_imbalances(p: &Problem, w: &Workspace) -> Vec<(Imbalance, f64)> {
+    let mut worst: Vec<(Imbalance, f64)> = w
+        .force
+        .iter()
+        .enumerate()
+        .map(|(i, v)| {
+            (
+                Imbalance::Part {
+                    part: i / 6,
+                    component: i % 6,
+                },
+                *v,
+            )
+        })
+        .chain(
+            p.used
+                .iter()
+                .zip(&w.phi)
+                .map(|((r, _), v)| (Imbalance::Row(*r), *v)),
+        )
+        .collect();
+    worst.sort_by(|a, b| b.1.abs().total_cmp(&a.1.abs()));
+    let largest = worst.first().map_or(0.0, |w| w.1.abs());
+    worst.retain(|w| w.1.abs() > STATIC_REPORTED_IMBALANCE * largest);
+    worst.truncate(5);
+    worst
 }
 
 /// Smallest eigenvalue of the stiffness reduced to the free motions, coordinates scaled so
@@ -607,7 +471,7 @@ fn reduced_stability(
         .map(|i| r[(i, i)].abs())
         .fold(0.0, f64::max);
     let rank = (0..r.nrows().min(r.ncols()))
-        .filter(|&i| r[(i, i)].abs() > 1e-9 * rmax.max(1e-300))
+        .filter(|&i| r[(i, i)].abs() > STABILITY_RANK * rmax.max(f64::MIN_POSITIVE))
         .count();
     let rank = if m == 0 { 0 } else { rank };
     let free = dim - rank;
@@ -617,9 +481,8 @@ fn reduced_stability(
     // K_T (scaled), dense.
     let mut kt = faer::Mat::<f64>::zeros(dim, dim);
     let mut dq = Vec::new();
-    forces
-        .add_jacobians(s, &zero_velocities(n), &mut dq, None)
-        .ok()?;
+    let rest = vec![(DVec3::ZERO, DVec3::ZERO); n];
+    forces.add_jacobians(s, &rest, &mut dq, None).ok()?;
     for (i, j, v) in dq {
         kt[(i, j)] -= v * scale(i) * scale(j);
     }
@@ -640,7 +503,10 @@ fn reduced_stability(
     let eig = sym.self_adjoint_eigenvalues(faer::Side::Lower).ok()?;
     let min = eig.iter().copied().fold(f64::INFINITY, f64::min);
     let max = eig.iter().map(|x| x.abs()).fold(0.0, f64::max);
-    Some((min > -1e-9 * max.max(1e-300), min))
+    Some((
+        min > -STABILITY_EIGENVALUE * max.max(f64::MIN_POSITIVE),
+        min,
+    ))
 }
 
 /// Distinguishes length rows for reporting.
@@ -654,7 +520,7 @@ pub fn is_length(unit: RowUnit) -> bool {
 pub struct StaticRun {
     /// `(time, equilibrium)` at every output time; stops at the first failure; empty when the
     /// model could not be assembled.
-    pub steps: Vec<(f64, Result<Equilibrium, String>)>,
+    pub steps: Vec<(f64, Result<Equilibrium, StaticsError>)>,
 }
 
 impl StaticRun {

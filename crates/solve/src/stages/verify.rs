@@ -9,48 +9,11 @@ use crate::constraints::rank::{greedy_rank, RankSettings, SparseRows};
 use crate::constraints::rows::RowGradient;
 use crate::constraints::system::{RowUnit, System, Tier};
 use crate::state::State;
-use crate::tolerances::Tolerances;
+use crate::tolerances::{Tolerances, DEPENDENCY_COEFFICIENT};
 use linkage_model::{ConstraintKind, Model};
 
-/// Supplies motion functions `f(t)` (and whether they can be evaluated) to the analyses.
-pub trait Drivers {
-    /// `f(t)` of the motion element `element`; `None` when it cannot be evaluated.
-    fn value(&self, element: usize, t: f64) -> Option<f64>;
-
-    /// Displacement and its first two time derivatives; `None` when unknown.
-    fn rates(&self, element: usize, t: f64) -> Option<[f64; 3]> {
-        let _ = (element, t);
-        None
-    }
-
-    /// Why `value(element, t)` is `None`, for messages (e.g. the expression's domain error).
-    fn why_unknown(&self, element: usize, t: f64) -> String {
-        let _ = (element, t);
-        "its value is unknown".into()
-    }
-}
-
-/// `NAME (MOTION/id, line N): the motion's displacement cannot be evaluated at time t: why`.
-pub fn motion_error(
-    model: &linkage_model::Model,
-    drivers: &dyn Drivers,
-    element: usize,
-    t: f64,
-) -> String {
-    format!(
-        "{}: the motion's displacement cannot be evaluated at time {t}: {}",
-        model.constraints[element].origin.label(),
-        drivers.why_unknown(element, t)
-    )
-}
-
-/// Drivers that cannot evaluate anything (motion residuals unknown).
-pub struct NoDrivers;
-impl Drivers for NoDrivers {
-    fn value(&self, _: usize, _: f64) -> Option<f64> {
-        None
-    }
-}
+// The motion drivers live with the constraints; re-exported for the analyses' paths.
+use crate::constraints::drivers::Drivers;
 
 /// One equation another depends on, with its coefficient: `r ≈ Σ c_k a_k`.
 #[derive(Clone, Debug, PartialEq)]
@@ -289,7 +252,7 @@ fn prefer_well_conditioned_rows(sys: &System, ra: &mut RankAnalysis) {
             .filter(|d| {
                 sys.rows[d.row].element == el
                     && sys.rows[d.row].tier == tier
-                    && d.coefficient.abs() > 1.0 + 1e-9
+                    && d.coefficient.abs() > 1.0 + DEPENDENCY_COEFFICIENT
             })
             .max_by(|x, y| x.coefficient.abs().total_cmp(&y.coefficient.abs()))
             .cloned();

@@ -50,16 +50,20 @@ pub fn stiffness(b: &Beam) -> [[f64; 6]; 6] {
     k
 }
 
+/// A BEAM linkage cannot model.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, thiserror::Error)]
+pub enum BeamError {
+    /// A formulation other than LINEAR (`STRING`, `NONLINEAR`).
+    #[error("FORMULATION = {0} is not supported (linkage implements the LINEAR Timoshenko beam)")]
+    Formulation(&'static str),
+}
+
 /// The law of a BEAM between frames I and J; an error for a formulation other than LINEAR.
-pub fn law(i: BodyFrame, j: BodyFrame, b: &Beam) -> Result<SixDofLaw, String> {
+pub fn law(i: BodyFrame, j: BodyFrame, b: &Beam) -> Result<SixDofLaw, BeamError> {
     match b.formulation {
         BeamFormulation::Linear => {}
-        BeamFormulation::String => {
-            return Err("FORMULATION = STRING is not supported (linkage implements the LINEAR Timoshenko beam)".into())
-        }
-        BeamFormulation::Nonlinear => {
-            return Err("FORMULATION = NONLINEAR is not supported (linkage implements the LINEAR Timoshenko beam)".into())
-        }
+        BeamFormulation::String => return Err(BeamError::Formulation("STRING")),
+        BeamFormulation::Nonlinear => return Err(BeamError::Formulation("NONLINEAR")),
     }
     let k = stiffness(b);
     let damping = match &b.damping {

@@ -21,6 +21,7 @@
 use super::algebra::{Real, V3};
 use super::{Context, Load, Loads};
 use crate::constraints::rows::BodyFrame;
+use crate::physics::applied::LawError;
 use linkage_adm::ForceDof;
 use linkage_expr::Expr;
 use linkage_model::forces::{Sforce, SpringDamper};
@@ -60,14 +61,17 @@ pub(crate) fn wrap_offset(a: f64) -> f64 {
     }
 }
 
-/// `atan2(x·y_ref, x·x_ref)`; an error when `x` is perpendicular to both references.
-pub(crate) fn angle<R: Real>(x: &V3<R>, x_ref: &V3<R>, y_ref: &V3<R>) -> Result<R, String> {
+/// `atan2(x·y_ref, x·x_ref)`, the angle `name` (`AZ(I,J)`); an error when `x` is
+/// perpendicular to both references.
+pub(crate) fn angle<R: Real>(
+    name: &'static str,
+    x: &V3<R>,
+    x_ref: &V3<R>,
+    y_ref: &V3<R>,
+) -> Result<R, LawError> {
     let (s, c) = (x.dot(y_ref), x.dot(x_ref));
     if s.value() == 0.0 && c.value() == 0.0 {
-        return Err(
-            "the rotation angle is undefined (axis perpendicular to the plane of measurement)"
-                .into(),
-        );
+        return Err(LawError::UndefinedAngle { angle: name });
     }
     Ok(R::atan2(&s, &c))
 }
@@ -98,16 +102,21 @@ impl ScalarLaw {
         }
     }
 
-    fn expression<R: Real>(&self, cx: &Context) -> Result<Option<R>, String> {
+    fn expression<R: Real>(&self, cx: &Context) -> Result<Option<R>, LawError> {
         match &self.magnitude {
-            Magnitude::Expression(e) => R::evaluate(e, cx.env)
-                .map(Some)
-                .map_err(|err| format!("FUNCTION: {}", err.message)),
+            Magnitude::Expression(e) => {
+                R::evaluate(e, cx.env)
+                    .map(Some)
+                    .map_err(|err| LawError::Expression {
+                        argument: "FUNCTION",
+                        cause: err.message,
+                    })
+            }
             Magnitude::Spring { .. } => Ok(None),
         }
     }
 
-    pub fn loads<R: Real>(&self, cx: &Context) -> Result<Loads<R>, String> {
+    pub fn loads<R: Real>(&self, cx: &Context) -> Result<Loads<R>, LawError> {
         let kin = &cx.kin;
         let (bi, bj) = (self.i.body, self.j.body);
         match self.dof {
@@ -153,9 +162,7 @@ impl ScalarLaw {
                     if f == 0.0 {
                         return Ok([None, None]);
                     }
-                    return Err(format!(
-                        "I and J coincide, so the direction of the force {f} is undefined"
-                    ));
+                    return Err(LawError::CoincidentPoints { force: f });
                 }
                 let len = len2.sqrt();
                 let u = V3 {
@@ -194,7 +201,7 @@ impl ScalarLaw {
     }
 
     /// `−CT·WZ(I,J,J) − KT·wrap(AZ(I,J) − ANGLE) + TORQUE`.
-    fn spring_torque<R: Real>(&self, cx: &Context, zj: &V3<R>) -> Result<R, String> {
+    fn spring_torque<R: Real>(&self, cx: &Context, zj: &V3<R>) -> Result<R, LawError> {
         let Magnitude::Spring {
             stiffness,
             damping,
@@ -207,7 +214,7 @@ impl ScalarLaw {
         let kin = &cx.kin;
         let xi = kin.dir::<R>(&self.i.axis(0));
         let (xj, yj) = (kin.dir::<R>(&self.j.axis(0)), kin.dir::<R>(&self.j.axis(1)));
-        let az = angle(&xi, &xj, &yj).map_err(|e| format!("AZ(I,J): {e}"))?;
+        let az = angle("AZ(I,J)", &xi, &xj, &yj)?;
         let twist = az.shift(-free);
         let twist = twist.shift(wrap_offset(twist.value()));
         let wz = kin

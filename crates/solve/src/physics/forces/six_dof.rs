@@ -30,6 +30,7 @@ use super::algebra::{Real, V3};
 use super::scalar::{angle, wrap_offset};
 use super::{Context, Load, Loads};
 use crate::constraints::rows::BodyFrame;
+use crate::physics::applied::LawError;
 use linkage_model::forces::{Bushing, Field};
 
 /// `F = −K·(q − q₀) − C·q̇ + F₀` between frames I and J.
@@ -95,7 +96,7 @@ impl SixDofLaw {
     }
 
     /// The coordinates `q − q₀`, their rates `q̇`, J's axes and I's origin.
-    pub fn coordinates<R: Real>(&self, cx: &Context) -> Result<Coordinates<R>, String> {
+    pub fn coordinates<R: Real>(&self, cx: &Context) -> Result<Coordinates<R>, LawError> {
         let kin = &cx.kin;
         let (pi_b, pj_b) = (self.i.origin(), self.j.origin());
         let ej = [0, 1, 2].map(|k| kin.dir::<R>(&self.j.axis(k)));
@@ -109,9 +110,9 @@ impl SixDofLaw {
             .sub(&wj.cross(&d));
         let w_rel = kin.omega::<R>(self.i.body).sub(&wj);
         let [xj, yj, zj] = &ej;
-        let a = angle(&zi, zj, &yj.neg()).map_err(|e| format!("AX(I,J): {e}"))?;
-        let b = angle(&zi, zj, xj).map_err(|e| format!("AY(I,J): {e}"))?;
-        let c = angle(&xi, xj, yj).map_err(|e| format!("AZ(I,J): {e}"))?;
+        let a = angle("AX(I,J)", &zi, zj, &yj.neg())?;
+        let b = angle("AY(I,J)", &zi, zj, xj)?;
+        let c = angle("AZ(I,J)", &xi, xj, yj)?;
         let q = [d.dot(xj), d.dot(yj), d.dot(zj), a, b, c];
         let mut dq: [R; 6] = std::array::from_fn(|r| q[r].shift(-self.reference[r]));
         for x in dq.iter_mut().skip(3) {
@@ -133,7 +134,7 @@ impl SixDofLaw {
         })
     }
 
-    pub fn loads<R: Real>(&self, cx: &Context) -> Result<Loads<R>, String> {
+    pub fn loads<R: Real>(&self, cx: &Context) -> Result<Loads<R>, LawError> {
         let Coordinates {
             deflection: dq,
             rates,

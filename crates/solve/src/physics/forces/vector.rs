@@ -13,6 +13,7 @@
 use super::algebra::{Real, V3};
 use super::{Context, Load, Loads};
 use crate::constraints::rows::BodyFrame;
+use crate::physics::applied::LawError;
 use linkage_expr::Expr;
 use linkage_model::Body;
 
@@ -35,21 +36,24 @@ impl VectorLaw {
     fn components<R: Real>(
         cx: &Context,
         exprs: &[Option<Expr>; 3],
-        names: &[&str],
-    ) -> Result<Option<[R; 3]>, String> {
+        names: &[&'static str],
+    ) -> Result<Option<[R; 3]>, LawError> {
         if exprs.iter().all(Option::is_none) {
             return Ok(None);
         }
         let mut out = [R::cst(0.0), R::cst(0.0), R::cst(0.0)];
         for ((slot, e), name) in out.iter_mut().zip(exprs).zip(names) {
             if let Some(e) = e {
-                *slot = R::evaluate(e, cx.env).map_err(|err| format!("{name}: {}", err.message))?;
+                *slot = R::evaluate(e, cx.env).map_err(|err| LawError::Expression {
+                    argument: name,
+                    cause: err.message,
+                })?;
             }
         }
         Ok(Some(out))
     }
 
-    pub fn loads<R: Real>(&self, cx: &Context) -> Result<Loads<R>, String> {
+    pub fn loads<R: Real>(&self, cx: &Context) -> Result<Loads<R>, LawError> {
         let kin = &cx.kin;
         let axes = [0, 1, 2].map(|k| kin.dir::<R>(&self.rm.axis(k)));
         let force =

@@ -2,6 +2,7 @@
 //! tells a corrector that did not converge from a force that cannot be evaluated without
 //! reading text. Each variant's message is the sentence the run prints.
 
+use crate::constraints::drivers::MotionError;
 use crate::linalg::linear::LinearError;
 use crate::physics::applied::ForceError;
 
@@ -81,13 +82,9 @@ pub enum IntegrationError {
         step: f64,
         cause: Box<IntegrationError>,
     },
-    /// A motion's displacement cannot be evaluated (`element`: the motion's label).
-    #[error("{element}: the motion's displacement cannot be evaluated at time {time}: {cause}")]
-    Motion {
-        element: String,
-        time: f64,
-        cause: String,
-    },
+    /// A motion's displacement cannot be evaluated.
+    #[error(transparent)]
+    Motion(#[from] MotionError),
     /// A constraint's explicit time derivatives (general constraints) cannot be evaluated.
     #[error("{element}: the constraint's time derivatives cannot be evaluated: {cause}")]
     ConstraintRate {

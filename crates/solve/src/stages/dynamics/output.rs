@@ -256,9 +256,9 @@ pub fn consistent_output(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::constraints::drivers::NoDrivers;
     use crate::constraints::system::System;
     use crate::physics::applied::NoForces;
-    use crate::stages::verify::NoDrivers;
 
     /// A 2 kg link hanging from a revolute about ground's z at its end, held horizontal with
     /// its centre of mass 1 m along x; gravity −9.80665 along y; inertia 0.1 kg m² about z.

@@ -3,11 +3,12 @@
 //! the generalized forces `Q` and the rows' drive values at a state.
 
 use super::error::IntegrationError;
+use crate::constraints::drivers::Drivers;
+use crate::constraints::drivers::MotionError;
 use crate::constraints::rows::{RowGradient, Velocities};
 use crate::constraints::system::System;
 use crate::physics::applied::AppliedForces;
 use crate::physics::mass;
-use crate::stages::verify::Drivers;
 use crate::state::State;
 use glam::DVec3;
 use linkage_model::Model;
@@ -127,11 +128,7 @@ impl Problem<'_> {
 
     /// The motion `element` cannot be evaluated at `t`: its label and the drivers' reason.
     fn motion_error(&self, element: usize, t: f64) -> IntegrationError {
-        IntegrationError::Motion {
-            element: self.model.constraints[element].origin.label(),
-            time: t,
-            cause: self.drivers.why_unknown(element, t),
-        }
+        MotionError::at(self.model, self.drivers, element, t).into()
     }
 
     /// `[f, ḟ, f̈]` of a motion at time t (frozen time gives zero rates).

@@ -34,7 +34,7 @@ pub enum Start {
 #[derive(Clone, Debug)]
 pub enum StartingEquilibrium {
     /// Newton statics at the start time.
-    Newton(Result<crate::stages::statics::Equilibrium, String>),
+    Newton(Result<crate::stages::statics::Equilibrium, crate::stages::statics::StaticsError>),
     /// Damped dynamics with frozen time, then the Newton polish.
     Settled(crate::stages::settle::SettleOutcome),
 }

@@ -10,12 +10,13 @@
 //! reported in the row's units (length, or degrees). When a motion cannot be evaluated the
 //! kind is unknown.
 
+use crate::constraints::drivers::Drivers;
 use crate::constraints::rank::{greedy_rank, RankSettings, SparseRows};
 use crate::constraints::rows::RowGradient;
 use crate::constraints::system::{RowUnit, System, Tier};
 use crate::linalg::kkt::scaled_row;
 use crate::stages::assemble::hard_rows;
-use crate::stages::verify::{report_residual, Drivers};
+use crate::stages::verify::report_residual;
 use crate::state::State;
 use crate::tolerances::Tolerances;
 use linkage_model::Model;

@@ -38,11 +38,12 @@
 //! at DOF 1, one of 100 is not (its generic DOF is then over-estimated).
 
 use super::dense::analyse;
+use crate::constraints::drivers::NoDrivers;
 use crate::constraints::graph::Topology;
 use crate::constraints::rows::Quantity;
 use crate::constraints::system::{RowUnit, System, Tier};
 use crate::stages::assemble::{assemble, HardKind, HardRow};
-use crate::stages::verify::{rank_analysis, NoDrivers};
+use crate::stages::verify::rank_analysis;
 use crate::state::State;
 use crate::tolerances::Tolerances;
 use crate::tolerances::{ADMISSIBLE_RESIDUAL, SMALLEST_PART_SIZE, TIGHT_ASSEMBLY};

@@ -1,0 +1,349 @@
+//! The static Newton iteration's problem (read-only) and workspace (buffers and matrices sized
+//! once per solve, like the integrator's): an iteration allocates nothing itself.
+//!
+//! Two sparse matrices, each a [`TripletLu`] refactorised in place:
+//!
+//! ```text
+//! Newton matrix        [K_T + STABILITY·M   Jᵀ]      K_T = −∂Q/∂q + Σ_r λ_r ∂²Φ_r/∂q²
+//!                      [J                   0 ]
+//! constraint KKT       [W   Jᵀ]                     W diagonal (per-coordinate weights)
+//!                      [J   0 ]
+//! ```
+//!
+//! Each is assembled as triplets into a list whose capacity is kept; while the coordinates
+//! repeat (the usual case), the column ordering and symbolic analysis are reused and a refresh
+//! is a numeric refactorisation, giving the same bits as a fresh factorisation. The KKT matrix
+//! serves the least-change projection onto the constraints and the least-squares multipliers.
+
+use super::triplet_lu::TripletLu;
+use super::StaticsError;
+use crate::constraints::hessian::HessianBlocks;
+use crate::constraints::rows::RowGradient;
+use crate::constraints::system::System;
+use crate::linalg::linear::LinearError;
+use crate::physics::applied::{AppliedForces, ForceError};
+use crate::physics::mass::ground_inertia;
+use crate::state::State;
+use crate::tolerances::STATIC_MASS_FLOOR;
+use glam::DVec3;
+use linkage_model::settings::EquilibriumSettings;
+use linkage_model::Model;
+
+/// What one equilibrium solve works on, read-only.
+pub(super) struct Problem<'a> {
+    pub model: &'a Model,
+    pub sys: &'a System,
+    /// The constraint rows in the solve with their drive values.
+    pub used: Vec<(usize, f64)>,
+    pub forces: &'a dyn AppliedForces,
+    pub settings: &'a EquilibriumSettings,
+}
+
+impl Problem<'_> {
+    /// Number of parts n.
+    pub fn parts(&self) -> usize {
+        self.model.parts.len()
+    }
+
+    /// Order of the Newton and KKT matrices, `6n + m`.
+    pub fn dim(&self) -> usize {
+        6 * self.parts() + self.used.len()
+    }
+}
+
+/// Buffers of one static solve, sized once ([`Workspace::new`]).
+pub(super) struct Workspace {
+    /// Velocities the force elements see: the parts are at rest (n).
+    pub rest: Vec<(DVec3, DVec3)>,
+    /// Gradients of the rows in the solve at the current iterate (m).
+    pub grads: Vec<RowGradient>,
+    /// Force residual `F = Q + Q_gravity − Jᵀλ` (6n).
+    pub force: Vec<f64>,
+    /// Constraint residuals `Φ` (m).
+    pub phi: Vec<f64>,
+    /// Right-hand side `[F; −Φ]`, then the Newton correction `[δ; δλ]` (6n + m).
+    pub rhs: Vec<f64>,
+    /// Each part's correction `(δx, δθ)` (n) and whether it runs away (n).
+    pub steps: Vec<(DVec3, DVec3)>,
+    pub runaway: Vec<bool>,
+    /// Rows whose second derivatives could not be evaluated at the last Newton matrix (m).
+    pub approximate: Vec<bool>,
+    /// Applied load for the least-squares multipliers (6n).
+    load: Vec<f64>,
+    hessian: HessianBlocks,
+    /// Force Jacobian `∂Q/∂q` as triplets.
+    dq: Vec<(usize, usize, f64)>,
+    /// Gradient scratch of the KKT assembly.
+    gradient: RowGradient,
+    /// The Newton matrix and whether it has been factorised.
+    newton: TripletLu,
+    newton_factored: bool,
+    kkt: TripletLu,
+    /// Right-hand side and solution of the KKT solves (6n + m).
+    kkt_rhs: Vec<f64>,
+}
+
+impl Workspace {
+    /// Buffers for `p`.
+    pub fn new(p: &Problem) -> Workspace {
+        let (n, m, dim) = (p.parts(), p.used.len(), p.dim());
+        Workspace {
+            rest: vec![(DVec3::ZERO, DVec3::ZERO); n],
+            grads: vec![RowGradient::default(); m],
+            force: vec![0.0; 6 * n],
+            phi: vec![0.0; m],
+            rhs: vec![0.0; dim],
+            steps: vec![(DVec3::ZERO, DVec3::ZERO); n],
+            runaway: vec![false; n],
+            approximate: vec![false; m],
+            load: vec![0.0; 6 * n],
+            hessian: HessianBlocks::default(),
+            dq: Vec::new(),
+            gradient: RowGradient::default(),
+            newton: TripletLu::new(dim),
+            newton_factored: false,
+            kkt: TripletLu::new(dim),
+            kkt_rhs: vec![0.0; dim],
+        }
+    }
+
+    /// The residuals at `s`, `λ`: the rows' gradients, `F` and `Φ`. Returns the largest applied
+    /// load component `max |Q + Q_gravity|`.
+    pub fn residuals(&mut self, p: &Problem, s: &State, lambda: &[f64]) -> Result<f64, ForceError> {
+        for (k, (r, _)) in p.used.iter().enumerate() {
+            p.sys.gradient(*r, s, &mut self.grads[k]);
+        }
+        applied(p, s, &self.rest, &mut self.force)?;
+        let load = self.force.iter().map(|x| x.abs()).fold(0.0, f64::max);
+        for (k, g) in self.grads.iter().enumerate() {
+            for (body, b) in &g.blocks {
+                for (f, x) in self.force[6 * body..6 * body + 6].iter_mut().zip(b) {
+                    *f -= lambda[k] * x;
+                }
+            }
+        }
+        for (phi, (r, d)) in self.phi.iter_mut().zip(&p.used) {
+            *phi = p.sys.residual(*r, s, *d);
+        }
+        Ok(load)
+    }
+
+    /// Whether a Newton matrix has been factorised.
+    pub fn has_newton_matrix(&self) -> bool {
+        self.newton_factored
+    }
+
+    /// Assembles and factorises the Newton matrix at `s`, `λ` (gradients from the last
+    /// [`Workspace::residuals`]).
+    pub fn refresh_newton_matrix(
+        &mut self,
+        p: &Problem,
+        s: &State,
+        lambda: &[f64],
+    ) -> Result<(), StaticsError> {
+        self.dq.clear();
+        p.forces.add_jacobians(s, &self.rest, &mut self.dq, None)?;
+        let mut second = SecondDerivatives {
+            hessian: &mut self.hessian,
+            approximate: &mut self.approximate,
+        };
+        self.newton.clear();
+        fill_newton(
+            p,
+            s,
+            lambda,
+            &self.dq,
+            &self.grads,
+            &mut second,
+            &mut self.newton.entries,
+        );
+        self.newton.factor().map_err(StaticsError::Factor)?;
+        self.newton_factored = true;
+        Ok(())
+    }
+
+    /// The Newton correction: `rhs = [F; −Φ]` solved with the last Newton matrix.
+    pub fn newton_correction(&mut self) -> Result<(), StaticsError> {
+        let n6 = self.force.len();
+        self.rhs[..n6].copy_from_slice(&self.force);
+        for (x, v) in self.rhs[n6..].iter_mut().zip(&self.phi) {
+            *x = -v;
+        }
+        self.newton
+            .solve_in_place(&mut self.rhs)
+            .map_err(|_| StaticsError::Singular)
+    }
+
+    /// A few minimum-change Gauss–Newton corrections of the positions onto `Φ = 0` (each row
+    /// within `tolerance`): `[W Jᵀ; J 0][δ; μ] = [0; −Φ]`, `W = diag(1/L², 1)` per part. Stops
+    /// quietly when the KKT matrix is singular.
+    pub fn project_onto_constraints(&mut self, p: &Problem, s: &mut State, tolerance: f64) {
+        let n = p.parts();
+        let l2 = p.model.characteristic_length.powi(2);
+        for _ in 0..4 {
+            self.kkt_rhs[..6 * n].fill(0.0);
+            let mut within = true;
+            for (x, (r, d)) in self.kkt_rhs[6 * n..].iter_mut().zip(&p.used) {
+                let phi = p.sys.residual(*r, s, *d);
+                within &= phi.abs() <= tolerance;
+                *x = -phi;
+            }
+            if within {
+                return;
+            }
+            let weight = |k: usize| if k % 6 < 3 { 1.0 / l2 } else { 1.0 };
+            if self.solve_kkt(p, s, weight).is_err() {
+                return;
+            }
+            for k in 0..n {
+                let x = &self.kkt_rhs[6 * k..6 * k + 6];
+                s.increment(
+                    k,
+                    DVec3::new(x[0], x[1], x[2]),
+                    DVec3::new(x[3], x[4], x[5]),
+                );
+            }
+        }
+    }
+
+    /// Least-squares multipliers, `min |Q − Jᵀλ|_W` (torques weighted by 1/L²), written to
+    /// `lambda` (zero when the KKT matrix is singular), so that the first Newton matrix already
+    /// holds the geometric stiffness.
+    pub fn initial_multipliers(
+        &mut self,
+        p: &Problem,
+        s: &State,
+        lambda: &mut [f64],
+    ) -> Result<(), ForceError> {
+        let n = p.parts();
+        if p.used.is_empty() {
+            return Ok(());
+        }
+        let l2 = p.model.characteristic_length.powi(2);
+        let weight = |k: usize| if k % 6 < 3 { 1.0 } else { l2 };
+        applied(p, s, &self.rest, &mut self.load)?;
+        for (k, (x, q)) in self.kkt_rhs.iter_mut().zip(&self.load).enumerate() {
+            *x = q * weight(k);
+        }
+        self.kkt_rhs[6 * n..].fill(0.0);
+        match self.solve_kkt(p, s, weight) {
+            Ok(()) => lambda.copy_from_slice(&self.kkt_rhs[6 * n..]),
+            Err(_) => lambda.fill(0.0),
+        }
+        Ok(())
+    }
+
+    /// Solves `[W Jᵀ; J 0] x = kkt_rhs` in place, `W = diag(weight(k))`, J at `s`.
+    fn solve_kkt(
+        &mut self,
+        p: &Problem,
+        s: &State,
+        weight: impl Fn(usize) -> f64,
+    ) -> Result<(), LinearError> {
+        let n = p.parts();
+        self.kkt.clear();
+        let e = &mut self.kkt.entries;
+        for k in 0..6 * n {
+            e.push((k, k, weight(k)));
+        }
+        for (k, (r, _)) in p.used.iter().enumerate() {
+            p.sys.gradient(*r, s, &mut self.gradient);
+            add_gradient(n, k, &self.gradient, e);
+        }
+        self.kkt.factor()?;
+        self.kkt.solve_in_place(&mut self.kkt_rhs)
+    }
+}
+
+/// Scratch and bookkeeping of the rows' second derivatives.
+struct SecondDerivatives<'w> {
+    hessian: &'w mut HessianBlocks,
+    approximate: &'w mut [bool],
+}
+
+/// The entries of the Newton matrix at `s`, `λ`, in a fixed order (the sums of duplicates are
+/// those of a triplet assembly): `−∂Q/∂q`, the geometric stiffness `λ_r ∂²Φ_r/∂q²` of every
+/// row with a nonzero multiplier (marking rows whose second derivatives cannot be evaluated),
+/// `STABILITY·M` (mass in the model's force units, `R I Rᵀ` for rotations) with a floor of
+/// [`STATIC_MASS_FLOOR`] on the translational diagonal, then `J` and `Jᵀ`.
+fn fill_newton(
+    p: &Problem,
+    s: &State,
+    lambda: &[f64],
+    dq: &[(usize, usize, f64)],
+    grads: &[RowGradient],
+    second: &mut SecondDerivatives,
+    out: &mut Vec<(usize, usize, f64)>,
+) {
+    let n = p.parts();
+    for &(i, j, v) in dq {
+        out.push((i, j, -v));
+    }
+    for (k, (r, _)) in p.used.iter().enumerate() {
+        if lambda[k] == 0.0 {
+            continue;
+        }
+        second.hessian.clear();
+        second.approximate[k] = !p.sys.hessian(*r, s, 1.0, second.hessian);
+        for &(br, rs, bc, cs, m) in &second.hessian.blocks {
+            for i in 0..3 {
+                for j in 0..3 {
+                    let v = m.col(j)[i] * lambda[k];
+                    if v != 0.0 {
+                        out.push((6 * br + 3 * rs + i, 6 * bc + 3 * cs + j, v));
+                    }
+                }
+            }
+        }
+    }
+    let mass_scale = p.settings.stability / p.model.ucf();
+    for (k, part) in p.model.parts.iter().enumerate() {
+        let ig = ground_inertia(part, &s.poses[k]);
+        for c in 0..3 {
+            out.push((
+                6 * k + c,
+                6 * k + c,
+                mass_scale * part.mass + STATIC_MASS_FLOOR * (1.0 + part.mass),
+            ));
+            for d in 0..3 {
+                let x = ig.col(d)[c] * mass_scale;
+                if x != 0.0 {
+                    out.push((6 * k + 3 + c, 6 * k + 3 + d, x));
+                }
+            }
+        }
+    }
+    for (k, g) in grads.iter().enumerate() {
+        add_gradient(n, k, g, out);
+    }
+}
+
+/// Row `k`'s gradient as row `6n + k` and column `6n + k` (nonzero entries only).
+fn add_gradient(n: usize, k: usize, g: &RowGradient, out: &mut Vec<(usize, usize, f64)>) {
+    for (body, b) in &g.blocks {
+        for (c, x) in b.iter().enumerate() {
+            if *x != 0.0 {
+                out.push((6 * n + k, 6 * body + c, *x));
+                out.push((6 * body + c, 6 * n + k, *x));
+            }
+        }
+    }
+}
+
+/// Generalised applied forces including gravity (`m g / UCF` at each centre of mass) into
+/// `out` (6n).
+fn applied(
+    p: &Problem,
+    s: &State,
+    rest: &[(DVec3, DVec3)],
+    out: &mut [f64],
+) -> Result<(), ForceError> {
+    out.fill(0.0);
+    let ucf = p.model.ucf();
+    for (k, part) in p.model.parts.iter().enumerate() {
+        for c in 0..3 {
+            out[6 * k + c] = part.mass * p.model.gravity[c] / ucf;
+        }
+    }
+    p.forces.add_forces(s, rest, out)
+}
