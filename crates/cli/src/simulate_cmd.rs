@@ -30,7 +30,7 @@ const MAX_STEPS: f64 = 1e9;
 /// every request column; the first such error is reported (the run then exits with 1).
 fn request_columns(
     requests: &RequestSet,
-    model: &linkage_model::Model,
+    assembled: &Assembled,
     run: &DynamicRun,
     errors: &mut Vec<String>,
 ) -> ExtraColumns {
@@ -39,16 +39,18 @@ fn request_columns(
     let mut failed = 0usize;
     let values = outputs
         .iter()
-        .map(|o| match requests.evaluate(model, o) {
-            Ok(v) => v,
-            Err(e) => {
-                if failed == 0 {
-                    errors.push(e.to_string());
+        .map(
+            |o| match requests.evaluate(assembled.model, &assembled.system, o) {
+                Ok(v) => v,
+                Err(e) => {
+                    if failed == 0 {
+                        errors.push(e.to_string());
+                    }
+                    failed += 1;
+                    vec![f64::NAN; names.len()]
                 }
-                failed += 1;
-                vec![f64::NAN; names.len()]
-            }
-        })
+            },
+        )
         .collect();
     if failed > 1 {
         errors.push(format!(
@@ -123,7 +125,7 @@ pub fn run_simulate(args: &SimulateArgs) -> ExitCode {
         let extra = requests
             .as_ref()
             .filter(|r| !r.is_empty())
-            .map(|r| request_columns(r, &loaded.model, &result, &mut report.errors));
+            .map(|r| request_columns(r, &assembled, &result, &mut report.errors));
         let csv = linkage_report::simulate::to_csv(&loaded.model, &result, extra.as_ref());
         if let Err(e) = linkage_adm::writer::write_atomically(out, &csv) {
             report

@@ -413,7 +413,7 @@ impl Case {
             .iter()
             .map(|o| {
                 self.requests
-                    .evaluate(&self.model, o)
+                    .evaluate(&self.model, &assembled.system, o)
                     .unwrap_or_else(|e| panic!("{e}"))
             })
             .collect();

@@ -2,6 +2,7 @@
 
 use glam::{DMat3, DVec3};
 use linkage_model::Model;
+use linkage_solve::constraints::system::System;
 use linkage_solve::physics::reactions::Reaction;
 use linkage_solve::physics::requests::RequestSet;
 use linkage_solve::stages::dynamics::Output;
@@ -105,7 +106,9 @@ fn close3(a: DVec3, b: DVec3, tol: f64, what: &str) {
 }
 
 fn values(set: &RequestSet, model: &Model, o: &Output) -> Vec<(String, f64)> {
-    let v = set.evaluate(model, o).unwrap_or_else(|e| panic!("{e}"));
+    let v = set
+        .evaluate(model, &System::new(model), o)
+        .unwrap_or_else(|e| panic!("{e}"));
     set.columns().into_iter().zip(v).collect()
 }
 
@@ -380,7 +383,10 @@ fn evaluation_errors_name_request_time_and_function() {
         accelerations: vec![(DVec3::ZERO, DVec3::ZERO)],
         reactions: Vec::new(),
     };
-    let e = set.evaluate(&model, &o).unwrap_err().to_string();
+    let e = set
+        .evaluate(&model, &System::new(&model), &o)
+        .unwrap_err()
+        .to_string();
     assert!(
         e.starts_with("REQUEST_9 (REQUEST/9, line 6) at time 0.25: F2 = DIF(4): "),
         "{e}"
@@ -389,6 +395,9 @@ fn evaluation_errors_name_request_time_and_function() {
     let (ds, model) = model_of(&format!("{SMALL}REQUEST/9, F1=TIME*2\\F5=FZ(20)\nEND\n"));
     let set = RequestSet::new(&model, &ds).unwrap_or_else(|e| panic!("{e}"));
     // Nothing connects part 2 to ground: zero force.
-    assert_eq!(set.evaluate(&model, &o), Ok(vec![0.5, 0.0]));
+    assert_eq!(
+        set.evaluate(&model, &System::new(&model), &o),
+        Ok(vec![0.5, 0.0])
+    );
     assert_eq!(set.columns(), ["REQUEST_9.f1", "REQUEST_9.f5"]);
 }

@@ -333,11 +333,11 @@ impl System {
         Self::compile(model, frames)
     }
 
-    /// Compiles with the J frames of `elements` replaced by their idealised frames at state `s`
-    /// ([`ideal_j_frame`]): the broken joints are analysed as what they are meant to be.
-    pub fn with_idealized(model: &Model, s: &State, elements: &[usize]) -> System {
-        let base = System::new(model);
-        let mut frames = base.frames.clone();
+    /// This system recompiled with the J frames of `elements` replaced by their idealised
+    /// frames at state `s` ([`ideal_j_frame`]): the broken joints are analysed as what they are
+    /// meant to be.
+    pub fn idealized(&self, model: &Model, s: &State, elements: &[usize]) -> System {
+        let mut frames = self.frames.clone();
         for &e in elements {
             let kind = match &model.constraints[e].kind {
                 ConstraintKind::Joint { kind, .. } => ConstraintKindRef::Joint(*kind),

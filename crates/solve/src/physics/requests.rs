@@ -124,9 +124,6 @@ pub struct RequestSet {
     /// The model's applied force elements (`None` when it has none), or why they cannot be
     /// evaluated.
     forces: Option<Result<ForceSet, ForcesUnavailable>>,
-    /// The constraint rows, when the model has GCON, COUPLER or GEAR elements (to find the
-    /// parts they act on).
-    system: Option<System>,
 }
 
 fn request_origin(r: &Request) -> Origin {
@@ -230,17 +227,11 @@ impl RequestSet {
         // Data elements that cannot be built (bad SPLINE data, …) are the force set's input
         // errors; a request that reads one reports it when evaluated.
         let (data, _) = DataElements::new(model);
-        let system = model
-            .constraints
-            .iter()
-            .any(|c| c.markers().is_none())
-            .then(|| System::new(model));
         Ok(RequestSet {
             requests,
             frames,
             data,
             forces,
-            system,
         })
     }
 
@@ -272,10 +263,17 @@ impl RequestSet {
         out
     }
 
-    /// The values of every column at `output`. An error names the request, the time and the
-    /// function (or quantity) that failed.
-    pub fn evaluate(&self, model: &Model, output: &Output) -> Result<Vec<f64>, RequestError> {
-        let env = OutputEnv::new(self, model, output);
+    /// The values of every column at `output` of a run of `model`, whose compiled constraint
+    /// rows are `sys` (the run's: GCON, COUPLER and GEAR rows tell which parts those elements
+    /// act on). An error names the request, the time and the function (or quantity) that
+    /// failed.
+    pub fn evaluate(
+        &self,
+        model: &Model,
+        sys: &System,
+        output: &Output,
+    ) -> Result<Vec<f64>, RequestError> {
+        let env = OutputEnv::new(self, model, sys, output);
         let t = output.time;
         let mut out = Vec::new();
         for r in &self.requests {
@@ -427,6 +425,8 @@ pub struct OutputEnv<'a> {
     set: &'a RequestSet,
     model: &'a Model,
     output: &'a Output,
+    /// The run's compiled constraint rows.
+    sys: &'a System,
     inner: StateEnv<'a>,
     memo: RefCell<Memo>,
     /// Per moving part, the constraint wrench the output's reactions do not explain (force at
@@ -447,10 +447,16 @@ fn pick(v: DVec3, axis: usize) -> f64 {
 }
 
 impl<'a> OutputEnv<'a> {
-    pub fn new(set: &'a RequestSet, model: &'a Model, output: &'a Output) -> OutputEnv<'a> {
+    pub fn new(
+        set: &'a RequestSet,
+        model: &'a Model,
+        sys: &'a System,
+        output: &'a Output,
+    ) -> OutputEnv<'a> {
         OutputEnv {
             set,
             model,
+            sys,
             output,
             inner: StateEnv::new(&set.frames, &output.state, &output.velocities, &set.data),
             memo: RefCell::new(Memo::default()),
@@ -518,9 +524,7 @@ impl<'a> OutputEnv<'a> {
 
     /// GCON, COUPLER and GEAR elements with the moving parts their rows act on (sorted).
     fn other_constraints(&self) -> Vec<(usize, Vec<usize>)> {
-        let Some(sys) = &self.set.system else {
-            return Vec::new();
-        };
+        let sys = self.sys;
         let mut g = RowGradient::default();
         let mut out = Vec::new();
         for (c, con) in self.model.constraints.iter().enumerate() {

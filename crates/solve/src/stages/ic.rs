@@ -21,7 +21,7 @@ use crate::physics::applied::{AppliedForces, ForceError};
 use crate::physics::mass;
 use crate::physics::reactions::{element_reactions, Reaction};
 use crate::stages::assemble::{assemble, hard_rows, Assembly, HardKind, HardRow};
-use crate::stages::verify::{report_residual, residuals, verify, verify_at, Verification};
+use crate::stages::verify::{report_residual, residuals, verify_at, Verification};
 use crate::state::State;
 use crate::tolerances::{Tolerances, ACCELERATION_IC_FLOOR, UNGIVEN_VELOCITY_WEIGHT};
 use glam::DVec3;
@@ -131,7 +131,7 @@ pub fn initial_conditions(
 ) -> InitialConditions {
     let input = State::input(model);
     let hard = hard_rows(model);
-    let mut analysis = verify(model, drivers, tol);
+    let mut analysis = verify_at(model, sys, &input, drivers, tol);
     let before = residuals(sys, &input, drivers);
     let mut asm = assemble(
         model,
@@ -146,7 +146,7 @@ pub fn initial_conditions(
         if !asm.converged {
             break;
         }
-        let next = verify_at(model, &asm.state, drivers, tol);
+        let next = verify_at(model, sys, &asm.state, drivers, tol);
         let again = !next.assembled;
         analysis = next;
         if !again {

@@ -280,23 +280,37 @@ fn prefer_well_conditioned_rows(sys: &System, ra: &mut RankAnalysis) {
     }
 }
 
-/// Verifies `model` at its input configuration.
-pub fn verify(model: &Model, drivers: &dyn Drivers, tol: &Tolerances) -> Verification {
-    verify_at(model, &State::input(model), drivers, tol)
+/// Compiles the constraint rows of a model for verification, with the joints `idealized`
+/// analysed as intended at `s` (see [`System::idealized`]): the verify stage's compilation,
+/// also used by explain for the candidate models it checks. (The analyses share the one
+/// compiled in [`crate::pipeline::Assembled`].)
+pub fn compile(model: &Model, s: &State, idealized: &[usize]) -> System {
+    let sys = System::new(model);
+    if idealized.is_empty() {
+        sys
+    } else {
+        sys.idealized(model, s, idealized)
+    }
 }
 
-/// Verifies `model` at configuration `state` (e.g. after assembly). "Misaligned" rows are the
-/// rows violated at that configuration.
+/// Verifies `model` at its input configuration.
+pub fn verify(model: &Model, drivers: &dyn Drivers, tol: &Tolerances) -> Verification {
+    let input = State::input(model);
+    verify_at(model, &compile(model, &input, &[]), &input, drivers, tol)
+}
+
+/// Verifies `model`, whose compiled rows are `sys`, at configuration `state` (e.g. after
+/// assembly). "Misaligned" rows are the rows violated at that configuration.
 pub fn verify_at(
     model: &Model,
+    sys: &System,
     state: &State,
     drivers: &dyn Drivers,
     tol: &Tolerances,
 ) -> Verification {
     let state = state.clone();
     let length = model.characteristic_length;
-    let sys = System::new(model);
-    let res = residuals(&sys, &state, drivers);
+    let res = residuals(sys, &state, drivers);
 
     // Misaligned (broken) joints and primitives: violated rows at the input configuration.
     let mut misaligned = Vec::new();
@@ -324,17 +338,11 @@ pub fn verify_at(
     let rank_sys = if broken.is_empty() {
         None
     } else {
-        Some(System::with_idealized(model, &state, &broken))
+        Some(sys.idealized(model, &state, &broken))
     };
     let all: Vec<usize> = (0..model.constraints.len()).collect();
     let topo = topology(model, &all);
-    let ra = rank_analysis(
-        rank_sys.as_ref().unwrap_or(&sys),
-        &state,
-        &topo,
-        length,
-        tol,
-    );
+    let ra = rank_analysis(rank_sys.as_ref().unwrap_or(sys), &state, &topo, length, tol);
 
     // Assembled when every admitted row with a known residual holds.
     let assembled = ra.admitted.iter().all(|&r| match res[r] {
@@ -365,7 +373,7 @@ pub fn verify_at(
     let n = model.parts.len();
     let rows = sys.rows.len();
     let massless_parts: Vec<usize> = (0..n).filter(|&k| model.parts[k].mass <= 0.0).collect();
-    let massless_free = massless_freedom(model, &sys, &state, &massless_parts, length, tol);
+    let massless_free = massless_freedom(model, sys, &state, &massless_parts, length, tol);
     let mut counts: Vec<(String, usize)> = Vec::new();
     for c in &model.constraints {
         let d = c.description();
@@ -393,7 +401,7 @@ pub fn verify_at(
         massless_free,
         near_tie_admitted: ra.near_tie_admitted,
         topology: topo,
-        system: rank_sys.unwrap_or(sys),
+        system: rank_sys.unwrap_or_else(|| sys.clone()),
     }
 }
 

@@ -64,8 +64,7 @@
 use super::dense::analyse;
 use super::reactions::{determinacy, Direction, ElementReactions};
 use crate::constraints::graph::{topology, Block, Topology};
-use crate::constraints::system::System;
-use crate::stages::verify::{rank_analysis, Verification};
+use crate::stages::verify::{compile, rank_analysis, Verification};
 use crate::state::State;
 use crate::tolerances::Tolerances;
 use crate::tolerances::NULL_VECTOR_ROUNDING;
@@ -583,11 +582,7 @@ impl Search<'_> {
                 ideal.push(new);
             }
         }
-        let sys = if ideal.is_empty() {
-            System::new(m2)
-        } else {
-            System::with_idealized(m2, &self.input, &ideal)
-        };
+        let sys = compile(m2, &self.input, &ideal);
         let mut blocks: Vec<usize> = changes
             .iter()
             .filter_map(|c| self.element_block.get(c.element).copied().flatten())
@@ -887,11 +882,7 @@ fn check(
             ideal.push(new);
         }
     }
-    let sys = if ideal.is_empty() {
-        System::new(m2)
-    } else {
-        System::with_idealized(m2, input, &ideal)
-    };
+    let sys = compile(m2, input, &ideal);
     let all: Vec<usize> = (0..m2.constraints.len()).collect();
     let topo = topology(m2, &all);
     let an = analyse(&sys, state, &topo, length, tol);
