@@ -19,6 +19,7 @@
 
 use crate::constraints::rows::RowGradient;
 use crate::constraints::system::RowUnit;
+use crate::linalg::kkt::{jacobian_entries, CoordinateScale, Zeros};
 use crate::linalg::linear::SparseLu;
 use crate::stages::dynamics::{
     flat, redundant_violation, Failure, IntegrationError, OutputSolver, Problem, Simulation,
@@ -154,13 +155,7 @@ fn positions(p: &Problem, mut s: State) -> Result<State, IntegrationError> {
         let mut entries = Vec::new();
         for (k, &r) in p.rows.iter().enumerate() {
             p.sys.gradient(r, &s, &mut g);
-            for (body, b) in &g.blocks {
-                for (c, x) in b.iter().enumerate() {
-                    if *x != 0.0 {
-                        entries.push((k, 6 * body + c, *x));
-                    }
-                }
-            }
+            jacobian_entries(&mut entries, k, &g, CoordinateScale::IDENTITY, Zeros::Skip);
         }
         let mut rhs: Vec<f64> = phi.iter().map(|v| -v).collect();
         let solved = (m == 6 * n)

@@ -5,6 +5,7 @@ use super::error::{IntegrationError, MatrixRole};
 use super::problem::{ExtraDamping, Problem};
 use crate::constraints::hessian::HessianBlocks;
 use crate::constraints::rows::{RowGradient, Velocities};
+use crate::linalg::kkt::{self, PatternError};
 use crate::linalg::linear::FixedPatternLu;
 use crate::physics::mass;
 use crate::state::State;
@@ -17,35 +18,28 @@ pub(super) fn diagonal(dim: usize) -> Result<FixedPatternLu, IntegrationError> {
     })
 }
 
-/// Assembles `a` with `fill` until no entry falls outside its pattern: the pattern starts
-/// as the diagonal, the first assembly grows it to the entries that are nonzero there, and
-/// an entry that becomes nonzero later grows it once more ([`FixedPatternLu::grow`]); a
-/// planar mechanism thus keeps a planar pattern. Returns whether the pattern grew.
+/// Assembles `a` with `fill` until no entry falls outside its pattern
+/// ([`kkt::assemble_growing`]): the pattern starts as the diagonal, the first assembly grows
+/// it to the entries that are nonzero there, and an entry that becomes nonzero later grows it
+/// once more; a planar mechanism thus keeps a planar pattern. Returns whether the pattern
+/// grew; a failure names the matrix `what`.
 pub(super) fn assemble_growing(
     a: &mut FixedPatternLu,
     what: MatrixRole,
-    mut fill: impl FnMut(&mut FixedPatternLu),
+    fill: impl FnMut(&mut FixedPatternLu),
 ) -> Result<bool, IntegrationError> {
-    let mut grew = false;
-    // The values do not change between passes, so the second one finds every entry.
-    for _ in 0..3 {
-        a.clear();
-        fill(a);
-        if !a.has_missing() {
-            return Ok(grew);
-        }
-        a.grow().map_err(|cause| IntegrationError::Setup {
+    kkt::assemble_growing(a, fill).map_err(|e| match e {
+        PatternError::Grow(cause) => IntegrationError::Setup {
             matrix: what,
             cause,
-        })?;
-        grew = true;
-    }
-    Err(IntegrationError::PatternUnsettled(what))
+        },
+        PatternError::Unsettled => IntegrationError::PatternUnsettled(what),
+    })
 }
 
 /// Adds the mass blocks `m·𝟙` and `I_g = R I Rᵀ` ([`mass::ground_inertia`]) of every part to
-/// `matrix`; `rotational(k)` is added to the diagonal of part k's rotational block
-/// (regularisation of the projection).
+/// `matrix` ([`kkt::add_part_mass_blocks`]); `rotational(k)` is added to the diagonal of part
+/// k's rotational block (regularisation of the projection).
 pub(super) fn add_mass(
     p: &Problem,
     s: &State,
@@ -54,12 +48,7 @@ pub(super) fn add_mass(
 ) {
     for (k, part) in p.model.parts.iter().enumerate() {
         let ig = mass::ground_inertia(part, &s.poses[k]);
-        let reg = rotational(k);
-        let diagonal = |x: f64| move |i: usize, j: usize| if i == j { x } else { 0.0 };
-        matrix.add_block((6 * k, 6 * k), (3, 3), 1.0, diagonal(part.mass));
-        matrix.add_block((6 * k + 3, 6 * k + 3), (3, 3), 1.0, |i, j| {
-            ig.col(j)[i] + diagonal(reg)(i, j)
-        });
+        kkt::add_part_mass_blocks(matrix, k, part.mass, &ig, rotational(k));
     }
 }
 
@@ -170,12 +159,7 @@ impl IterationMatrix {
                         m.col(j)[i]
                     });
                 }
-                for (body, b) in &at.grads[k].blocks {
-                    a.add_block((6 * body, 6 * n + k), (6, 1), c.multiplier * ucf, |i, _| {
-                        b[i]
-                    });
-                    a.add_block((6 * n + k, 6 * body), (1, 6), 1.0, |_, j| b[j]);
-                }
+                kkt::add_constraint_row_blocks(a, 6 * n, k, &at.grads[k], c.multiplier * ucf);
             }
         })?;
         if grew {

@@ -8,6 +8,7 @@ use super::hht::Hht;
 use super::matrix::{add_mass, assemble_growing, diagonal, IterationMatrix};
 use super::problem::{flat, padded, unflat, Problem};
 use crate::constraints::rows::{RowGradient, Velocities};
+use crate::linalg::kkt;
 use crate::linalg::linear::FixedPatternLu;
 use crate::physics::mass;
 use crate::physics::reactions::{element_reactions, Reaction};
@@ -119,10 +120,7 @@ impl ConsistentSolve {
         assemble_growing(lu, MatrixRole::Consistent, |a| {
             add_mass(p, s, a, reg);
             for (k, g) in grads.iter().enumerate() {
-                for (body, b) in &g.blocks {
-                    a.add_block((6 * body, 6 * n + k), (6, 1), 1.0, |i, _| b[i]);
-                    a.add_block((6 * n + k, 6 * body), (1, 6), 1.0, |_, j| b[j]);
-                }
+                kkt::add_constraint_row_blocks(a, 6 * n, k, g, 1.0);
             }
         })?;
         lu.factor()
