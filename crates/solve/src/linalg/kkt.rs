@@ -236,23 +236,12 @@ impl SaddlePoint {
     /// and `t(s x)` at `(col, n + k)` (skipped when zero with [`Zeros::Skip`]).
     #[inline]
     pub fn add_constraint_entry(&mut self, k: usize, col: usize, x: f64) {
-        if self.blocks.zeros == Zeros::Skip && x == 0.0 {
-            return;
-        }
-        let row = self.coordinates + k;
-        let b = &self.blocks;
-        let sx = b.scale.of(col) * x;
-        self.entries.push((row, col, b.row_factor * sx));
-        self.entries.push((col, row, b.transpose_factor * sx));
+        push_constraint_entry(&mut self.entries, self.coordinates, &self.blocks, k, col, x);
     }
 
     /// Adds constraint row `k` from its gradient (6 columns per part, in the gradient's order).
     pub fn add_constraint_row(&mut self, k: usize, g: &RowGradient) {
-        for (body, v) in &g.blocks {
-            for (c, x) in v.iter().enumerate() {
-                self.add_constraint_entry(k, PART_COORDINATES * body + c, *x);
-            }
-        }
+        push_constraint_row(&mut self.entries, self.coordinates, &self.blocks, k, g);
     }
 
     /// Adds `−μ` on the diagonal of every multiplier (nothing for `μ = 0`).
@@ -273,6 +262,45 @@ impl SaddlePoint {
     /// Factorises and solves in place: `rhs = [f; g]` becomes `[x; λ]`.
     pub fn solve(&self, rhs: &mut [f64]) -> Result<(), LinearError> {
         self.factor()?.solve(rhs)
+    }
+}
+
+/// Appends entry `x = ∂Φ_k/∂q_col` of the constraint blocks to a triplet list whose first
+/// `coordinates` unknowns are `x`: `ρ(s x)` at `(coordinates + k, col)`, then `t(s x)` at
+/// `(col, coordinates + k)` (nothing for a zero with [`Zeros::Skip`]). [`SaddlePoint`] writes
+/// its constraint blocks with this; a stage that keeps its own triplet list (statics, whose
+/// refactorisation reuses the list's ordering) writes them with it too.
+#[inline]
+pub fn push_constraint_entry(
+    out: &mut Vec<(usize, usize, f64)>,
+    coordinates: usize,
+    blocks: &ConstraintBlocks,
+    k: usize,
+    col: usize,
+    x: f64,
+) {
+    if blocks.zeros == Zeros::Skip && x == 0.0 {
+        return;
+    }
+    let row = coordinates + k;
+    let sx = blocks.scale.of(col) * x;
+    out.push((row, col, blocks.row_factor * sx));
+    out.push((col, row, blocks.transpose_factor * sx));
+}
+
+/// Appends constraint row `k` from its gradient (6 columns per part, in the gradient's order)
+/// by [`push_constraint_entry`].
+pub fn push_constraint_row(
+    out: &mut Vec<(usize, usize, f64)>,
+    coordinates: usize,
+    blocks: &ConstraintBlocks,
+    k: usize,
+    g: &RowGradient,
+) {
+    for (body, v) in &g.blocks {
+        for (c, x) in v.iter().enumerate() {
+            push_constraint_entry(out, coordinates, blocks, k, PART_COORDINATES * body + c, *x);
+        }
     }
 }
 

@@ -5,3 +5,4 @@
 pub mod eigs;
 pub mod kkt;
 pub mod linear;
+pub mod triplet_lu;

@@ -18,7 +18,6 @@
 //! to the free motions (`Nᵀ K_T N`, N a basis of the null space of J).
 
 mod newton;
-mod triplet_lu;
 
 use crate::constraints::drivers::{Drivers, MotionError};
 use crate::constraints::hessian::HessianBlocks;

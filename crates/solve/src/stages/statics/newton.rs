@@ -15,12 +15,13 @@
 //! is a numeric refactorisation, giving the same bits as a fresh factorisation. The KKT matrix
 //! serves the least-change projection onto the constraints and the least-squares multipliers.
 
-use super::triplet_lu::TripletLu;
 use super::StaticsError;
 use crate::constraints::hessian::HessianBlocks;
 use crate::constraints::rows::RowGradient;
 use crate::constraints::system::System;
+use crate::linalg::kkt::{push_constraint_row, ConstraintBlocks, CoordinateScale, Zeros};
 use crate::linalg::linear::LinearError;
+use crate::linalg::triplet_lu::TripletLu;
 use crate::physics::applied::{AppliedForces, ForceError};
 use crate::physics::mass::ground_inertia;
 use crate::state::State;
@@ -248,7 +249,7 @@ impl Workspace {
         }
         for (k, (r, _)) in p.used.iter().enumerate() {
             p.sys.gradient(*r, s, &mut self.gradient);
-            add_gradient(n, k, &self.gradient, e);
+            push_constraint_row(e, 6 * n, &UNIT_BLOCKS, k, &self.gradient);
         }
         self.kkt.factor()?;
         self.kkt.solve_in_place(&mut self.kkt_rhs)
@@ -314,21 +315,17 @@ fn fill_newton(
         }
     }
     for (k, g) in grads.iter().enumerate() {
-        add_gradient(n, k, g, out);
+        push_constraint_row(out, 6 * n, &UNIT_BLOCKS, k, g);
     }
 }
 
-/// Row `k`'s gradient as row `6n + k` and column `6n + k` (nonzero entries only).
-fn add_gradient(n: usize, k: usize, g: &RowGradient, out: &mut Vec<(usize, usize, f64)>) {
-    for (body, b) in &g.blocks {
-        for (c, x) in b.iter().enumerate() {
-            if *x != 0.0 {
-                out.push((6 * n + k, 6 * body + c, *x));
-                out.push((6 * body + c, 6 * n + k, *x));
-            }
-        }
-    }
-}
+/// The constraint blocks of both statics matrices: `J` and `Jᵀ` unscaled, zeros left out.
+const UNIT_BLOCKS: ConstraintBlocks = ConstraintBlocks {
+    scale: CoordinateScale::IDENTITY,
+    row_factor: 1.0,
+    transpose_factor: 1.0,
+    zeros: Zeros::Skip,
+};
 
 /// Generalised applied forces including gravity (`m g / UCF` at each centre of mass) into
 /// `out` (6n).

@@ -12,7 +12,7 @@
 use crate::linalg::linear::{FixedPatternLu, LinearError};
 
 /// A square sparse matrix given by triplets (see the module docs).
-pub(super) struct TripletLu {
+pub struct TripletLu {
     n: usize,
     /// The triplets of the current assembly (duplicates summed); capacity is kept.
     pub entries: Vec<(usize, usize, f64)>,
