@@ -1,6 +1,7 @@
 //! Linear algebra: sparse LU (one-off from triplets, and refactorised in place on a fixed
-//! pattern), the one constrained (saddle-point) solve built on it ([`kkt`]), and the
-//! shift-invert Arnoldi eigen solver.
+//! pattern, [`linear`]; refactorised in place on a repeating triplet list, bit for bit a fresh
+//! factorisation, [`triplet_lu`]), the one constrained (saddle-point) solve built on it
+//! ([`kkt`]), and the shift-invert Arnoldi eigen solver ([`eigs`]).
 
 pub mod eigs;
 pub mod kkt;
