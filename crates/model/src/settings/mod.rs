@@ -10,6 +10,15 @@ pub use integrator::{
 use linkage_adm::{Dataset, Diagnostic, Statement, Value};
 use std::sync::Arc;
 
+/// Whether a Newton iteration re-evaluates its Jacobian at `iteration` (from 0) under the
+/// PATTERN argument of IC or EQUILIBRIUM: the pattern repeats; an empty one means always.
+pub fn refresh_at(pattern: &[bool], iteration: usize) -> bool {
+    pattern
+        .get(iteration % pattern.len().max(1))
+        .copied()
+        .unwrap_or(true)
+}
+
 /// `IC/` settings (ADM-REFERENCE §9.2).
 #[derive(Clone, Debug, PartialEq)]
 pub struct IcSettings {
@@ -285,6 +294,14 @@ pub fn shown(x: f64) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_pattern_repeats_and_an_empty_one_always_refreshes() {
+        let pattern = [true, false, false];
+        let got: Vec<bool> = (0..7).map(|k| refresh_at(&pattern, k)).collect();
+        assert_eq!(got, [true, false, false, true, false, false, true]);
+        assert!((0..4).all(|k| refresh_at(&[], k)));
+    }
 
     fn ds(text: &str) -> Dataset {
         linkage_adm::parse_dataset(Arc::from("t.adm"), text).unwrap()

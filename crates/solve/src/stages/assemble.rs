@@ -27,6 +27,7 @@ use crate::tolerances::{
 };
 use glam::{DMat3, DVec3};
 use linkage_adm::ExactCoord;
+use linkage_model::settings::refresh_at;
 use linkage_model::{Body, ConstraintKind, JointInitial, Model};
 
 /// What a hard equation holds. Hard rows are not rows of the [`System`]: EXACT conditions
@@ -395,12 +396,7 @@ pub fn assemble(
     let mut converged = scaled_max(&phi) <= 1.0;
     let mut kkt = SaddlePoint::new(6 * n, m);
     while !converged && iterations < settings.maxit {
-        let refresh = lu.is_none()
-            || settings
-                .pattern
-                .get(iterations % settings.pattern.len().max(1))
-                .copied()
-                .unwrap_or(true);
+        let refresh = lu.is_none() || refresh_at(&settings.pattern, iterations);
         if refresh {
             kkt.clear();
             kkt.add_coordinate_weights(|c| if c % 6 < 3 { w_t } else { 1.0 });

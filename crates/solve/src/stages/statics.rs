@@ -33,6 +33,7 @@ use crate::tolerances::{
     STATIC_REPORTED_IMBALANCE, STATIC_ROUNDING_IMBALANCE,
 };
 use glam::DVec3;
+use linkage_model::settings::refresh_at;
 use linkage_model::settings::EquilibriumSettings;
 use linkage_model::Model;
 use newton::{Problem, Workspace};
@@ -278,12 +279,7 @@ pub fn equilibrium(
         }
         projected = false;
         // Newton matrix: refreshed as PATTERN says (always the first time).
-        let refresh = !w.has_newton_matrix()
-            || settings
-                .pattern
-                .get(iterations % settings.pattern.len().max(1))
-                .copied()
-                .unwrap_or(true);
+        let refresh = !w.has_newton_matrix() || refresh_at(&settings.pattern, iterations);
         if refresh {
             w.refresh_newton_matrix(&p, &s, &lambda)?;
         }
