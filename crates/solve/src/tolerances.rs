@@ -98,6 +98,15 @@ pub const STABILITY_EIGENVALUE: f64 = 1e-9;
 
 // ---- Linear algebra and eigen solutions (linalg/, stages/linearize.rs) ----
 
+/// The default shift is `σ = −DEFAULT_SHIFT_FRACTION · ω_ref` (just below zero; `ω_ref` the
+/// model's frequency scale), so zero (rigid-body) eigenvalues and the lowest frequencies come
+/// first.
+pub const DEFAULT_SHIFT_FRACTION: f64 = 1e-3;
+
+/// Floor of a divisor or norm that may vanish (a zero vector, a model without inertia): far
+/// below any physical magnitude, it only keeps a quotient finite.
+pub const UNDERFLOW_FLOOR: f64 = 1e-300;
+
 /// A diagonal entry of R (QR of Jᵀ) counts towards the rank of J when above this fraction of
 /// the largest: the rows the analyses keep are independent at the rank tolerance (1e-6 on the
 /// row-normalised Jacobian), so a kept row's pivot is far above it, while a dependent
@@ -197,7 +206,28 @@ pub const ATAN2_DEGENERATE: f64 = 1e-300;
 
 // ---- Forces, measures and requests (physics/) ----
 
+/// Two points closer than this (relative to the model's characteristic length) coincide: the
+/// line of action of a translational SFORCE or SPRINGDAMPER between them is undefined.
+pub const COINCIDENT_POINTS: f64 = 1e-12;
+
 // ---- Constraints and rank (constraints/, stages/verify.rs) ----
+
+/// Entries of a working row with `|v| ≤ DROP_RELATIVE · ‖r‖₂` are treated as
+/// rounding noise and dropped (never stored, never eliminated with).
+pub const DROP_RELATIVE: f64 = 1e-15;
+/// Reported terms with `|α_i|·‖a_i‖₂ < ALPHA_DROP · max_j |α_j|·‖a_j‖₂` are
+/// omitted (for unit-norm rows: `|α| < 1e-9 · max|α|`).
+pub const ALPHA_DROP: f64 = 1e-9;
+/// ... but only as long as the dropped terms together stay below
+/// `DROP_BUDGET · ‖r‖₂` (`Σ |α_i|·‖a_i‖₂`), so that dropping never degrades
+/// the reconstruction noticeably (matters for ill-conditioned dependencies,
+/// where genuine coefficients can be 1e-9 times smaller than the largest).
+pub const DROP_BUDGET: f64 = 1e-12;
+/// Back-substitution does not expand a pending term `c_i u_i` with
+/// `|c_i| · max|u_i| ≤ PRUNE_RELATIVE · ‖r‖₂` (rounding noise of a
+/// coefficient that is zero in exact arithmetic); this bounds the work of
+/// recovering coefficients by the size of the true dependency.
+pub const PRUNE_RELATIVE: f64 = 1e-14;
 
 /// Motion quadrature (`∫f` of velocity and acceleration motions, adaptive Simpson): relative
 /// accuracy of the integral, a few hundred units of rounding (motion functions are smooth).

@@ -7,6 +7,7 @@
 use crate::physics::measures::{MarkerFrames, PositionEnv};
 use crate::state::State;
 use crate::tolerances::MOTION_QUADRATURE;
+use crate::tolerances::UNDERFLOW_FLOOR;
 use linkage_adm::{Diagnostic, Diagnostics, MotionLevel};
 use linkage_expr::{evaluate, evaluate_time_series, parse, Expr, TimeEnv};
 use linkage_model::{ConstraintKind, Model};
@@ -138,7 +139,8 @@ pub fn integrate(f: &dyn Fn(f64) -> Option<f64>, a: f64, b: f64) -> Option<f64> 
     let fm = f(m)?;
     let whole = (b - a) / 6.0 * (fa + 4.0 * fm + fb);
     let tol = MOTION_QUADRATURE
-        * (whole.abs() + (b - a).abs() * (fa.abs() + fb.abs() + fm.abs()) / 3.0).max(1e-300);
+        * (whole.abs() + (b - a).abs() * (fa.abs() + fb.abs() + fm.abs()) / 3.0)
+            .max(UNDERFLOW_FLOOR);
     simpson(f, a, fa, b, fb, whole, m, fm, tol, 40)
 }
 

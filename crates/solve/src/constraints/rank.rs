@@ -80,6 +80,7 @@
 //! `depends_on`; all-zero rows are redundant with residual `0`.
 
 use crate::tolerances::RANK_DEFAULT;
+use crate::tolerances::{ALPHA_DROP, DROP_BUDGET, DROP_RELATIVE, PRUNE_RELATIVE};
 use std::cmp::Reverse;
 use std::collections::BinaryHeap;
 
@@ -87,22 +88,6 @@ use std::collections::BinaryHeap;
 const NONE: usize = usize::MAX;
 /// Threshold pivoting: a pivot must have `|v| ≥ PIVOT_THRESHOLD · max|v|`.
 const PIVOT_THRESHOLD: f64 = 0.7;
-/// Entries of a working row with `|v| ≤ DROP_RELATIVE · ‖r‖₂` are treated as
-/// rounding noise and dropped (never stored, never eliminated with).
-const DROP_RELATIVE: f64 = 1e-15;
-/// Reported terms with `|α_i|·‖a_i‖₂ < ALPHA_DROP · max_j |α_j|·‖a_j‖₂` are
-/// omitted (for unit-norm rows: `|α| < 1e-9 · max|α|`).
-const ALPHA_DROP: f64 = 1e-9;
-/// ... but only as long as the dropped terms together stay below
-/// `DROP_BUDGET · ‖r‖₂` (`Σ |α_i|·‖a_i‖₂`), so that dropping never degrades
-/// the reconstruction noticeably (matters for ill-conditioned dependencies,
-/// where genuine coefficients can be 1e-9 times smaller than the largest).
-const DROP_BUDGET: f64 = 1e-12;
-/// Back-substitution does not expand a pending term `c_i u_i` with
-/// `|c_i| · max|u_i| ≤ PRUNE_RELATIVE · ‖r‖₂` (rounding noise of a
-/// coefficient that is zero in exact arithmetic); this bounds the work of
-/// recovering coefficients by the size of the true dependency.
-const PRUNE_RELATIVE: f64 = 1e-14;
 
 /// A sparse matrix given row by row: row `k` has entries `(column, value)`
 /// stored in `cols[row_start[k]..row_start[k + 1]]` and the same range of

@@ -68,6 +68,7 @@
 use crate::constraints::rows::RowGradient;
 use crate::linalg::linear::{FixedPatternLu, LinearError, SparseLu};
 use crate::tolerances::NULL_SPACE_RANK;
+use crate::tolerances::UNDERFLOW_FLOOR;
 use faer::Mat;
 
 /// Coordinates per part.
@@ -479,7 +480,7 @@ pub fn null_space(a: &Mat<f64>) -> Mat<f64> {
     let d = rows.min(cols);
     let rmax = (0..d).map(|i| r[(i, i)].abs()).fold(0.0, f64::max);
     let rank = (0..d)
-        .filter(|&i| r[(i, i)].abs() > NULL_SPACE_RANK * rmax.max(1e-300))
+        .filter(|&i| r[(i, i)].abs() > NULL_SPACE_RANK * rmax.max(UNDERFLOW_FLOOR))
         .count();
     q.subcols(rank, cols - rank).to_owned()
 }

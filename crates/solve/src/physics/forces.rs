@@ -43,6 +43,7 @@ use crate::constraints::rows::{BodyFrame, Velocities};
 use crate::physics::applied::{AppliedForces, ForceError, LawError};
 use crate::physics::measures::{MarkerFrames, StateEnv};
 use crate::state::State;
+pub use crate::tolerances::COINCIDENT_POINTS;
 use algebra::{Kinematics, Real, V3};
 use data::{ArrayData, DataElements, VariableProblem};
 use linkage_adm::{Diagnostic, Diagnostics, Function, Located};
@@ -68,10 +69,6 @@ pub const UNMODELLED_STATEMENTS: [&str; 13] = [
     "UCON",
     "FLEX_BODY",
 ];
-
-/// Two points closer than this (relative to the model's characteristic length) coincide: the
-/// line of action of a translational SFORCE or SPRINGDAMPER between them is undefined.
-pub const COINCIDENT_POINTS: f64 = 1e-12;
 
 /// A force (at a point) and a torque acting on one body, in ground axes.
 #[derive(Clone, Debug)]

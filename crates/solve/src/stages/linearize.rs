@@ -37,6 +37,7 @@ use crate::pipeline::{Assembled, NotAssembled};
 use crate::stages::ic::AccelerationError;
 use crate::stages::statics::{Equilibrium, StaticsError};
 use crate::state::State;
+use crate::tolerances::UNDERFLOW_FLOOR;
 use crate::tolerances::{
     FREE_MOTION, MASSLESS_FRACTION, REAL_PAIR, SHIFT_MOVE, SHIFT_OFFSET, SYMMETRIC_STIFFNESS,
     ZERO_EIGENVALUE,
@@ -54,10 +55,7 @@ pub const DENSE_MAX_DOF: usize = 200;
 pub const DENSE_MAX_COORDINATES: usize = 1200;
 /// Modes the shift-invert path computes when none were asked for.
 pub const DEFAULT_MODES: usize = 20;
-/// The default shift is `σ = −DEFAULT_SHIFT_FRACTION · ω_ref` (just below zero; `ω_ref` the
-/// model's frequency scale), so zero (rigid-body) eigenvalues and the lowest frequencies come
-/// first.
-pub const DEFAULT_SHIFT_FRACTION: f64 = 1e-3;
+pub use crate::tolerances::DEFAULT_SHIFT_FRACTION;
 
 /// How the eigenvalues are computed.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -375,7 +373,7 @@ fn part_shapes(coords: &[(f64, f64)]) -> Vec<PartShape> {
         .iter()
         .map(|(r, i)| r.hypot(*i))
         .fold(0.0, f64::max)
-        .max(1e-300);
+        .max(UNDERFLOW_FLOOR);
     (0..coords.len() / 6)
         .map(|k| {
             let comp = |c: usize| {
@@ -406,8 +404,8 @@ fn sort_modes(modes: &mut [Mode]) {
 /// eigenvalues are judged against it (`|λ| ≤ 1e-6 ω_ref`), not against the other eigenvalues (a
 /// one-DOF model has no others).
 fn frequency_scale(kn: f64, cn: f64, mn: f64) -> f64 {
-    let mn = mn.max(1e-300);
-    (kn / mn).sqrt().max(cn / mn).max(1e-300)
+    let mn = mn.max(UNDERFLOW_FLOOR);
+    (kn / mn).sqrt().max(cn / mn).max(UNDERFLOW_FLOOR)
 }
 
 /// Zero eigenvalues expected from the free motions without stiffness: two per free motion,
@@ -495,7 +493,7 @@ fn solve_dense(eq: &LinearEquations, vectors: bool) -> Result<Linearization, Lin
             let s_vals = e.S();
             let u = e.U();
             let free: Vec<usize> = (0..f)
-                .filter(|&i| s_vals[i].abs() <= FREE_MOTION * kmax.max(kn).max(1e-300))
+                .filter(|&i| s_vals[i].abs() <= FREE_MOTION * kmax.max(kn).max(UNDERFLOW_FLOOR))
                 .collect();
             let p = Mat::<f64>::from_fn(f, free.len(), |i, j| u[(i, free[j])]);
             let pc = p.transpose() * &cr * &p;
@@ -782,7 +780,11 @@ fn solve_shift_invert(
     );
     let omega_ref = frequency_scale(kn, cn, mn);
     // Without stiffness or damping every eigenvalue is zero; any scale will do.
-    let omega = if omega_ref > 1e-300 { omega_ref } else { 1.0 };
+    let omega = if omega_ref > UNDERFLOW_FLOOR {
+        omega_ref
+    } else {
+        1.0
+    };
     let zero_tol = ZERO_EIGENVALUE * omega;
     let omega2 = omega * omega;
     // Free motions: |ν| ≤ FREE_MOTION ω_ref² (the dense path: FREE_MOTION ‖K‖ on K_r's

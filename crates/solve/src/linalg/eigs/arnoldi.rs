@@ -5,6 +5,7 @@ use super::krylov::*;
 use super::ritz::{ritz_pairs, Pair};
 use super::vectors::{dot, norm, orthonormal_columns, pseudo_random};
 use super::EigenError;
+use crate::tolerances::UNDERFLOW_FLOOR;
 use crate::tolerances::VALIDATION_AGREEMENT;
 
 /// How a check of the wanted pairs came out.
@@ -137,7 +138,7 @@ pub fn largest_ritz_pairs(
             .map_or(scale, |r| scale.max(r.theta.0.hypot(r.theta.1)));
         let residual = |r: &Pair| {
             let (dr, di) = basis.residual(&r.y_re, &r.y_im);
-            (dot(&dr, &dr) + dot(&di, &di)).sqrt() / r.theta.0.hypot(r.theta.1).max(1e-300)
+            (dot(&dr, &dr) + dot(&di, &di)).sqrt() / r.theta.0.hypot(r.theta.1).max(UNDERFLOW_FLOOR)
         };
         let residuals: Vec<f64> = ritz.iter().map(residual).collect();
         // At most `available` eigenvalues exist (round-off outside the space adds θ ≈ 0).

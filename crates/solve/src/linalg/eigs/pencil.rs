@@ -10,6 +10,7 @@ use super::{EigenError, SparseMatrix};
 use crate::linalg::kkt::{ConstraintBlocks, CoordinateScale, SaddlePoint, Zeros};
 use crate::linalg::linear::SparseLu;
 use crate::tolerances::MIXED_EIGENVECTOR;
+use crate::tolerances::UNDERFLOW_FLOOR;
 
 /// One eigenvalue of the constrained quadratic problem (a complex pair given once, with
 /// `Im λ ≥ 0`) and the position part `x` of its eigenvector.
@@ -209,7 +210,7 @@ impl ConstrainedPencil {
                     num_im += x_re[k] * v_im[k] - x_im[k] * v_re[k];
                     den += x_re[k] * x_re[k] + x_im[k] * x_im[k];
                 }
-                let den = den.max(1e-300);
+                let den = den.max(UNDERFLOW_FLOOR);
                 let (lr, li) = (num_re / den, num_im / den);
                 // Two eigenvalues with one ψ would give a mixed vector: v ≠ λx.
                 let (mut miss, mut size) = (0.0, 0.0);
@@ -219,7 +220,7 @@ impl ConstrainedPencil {
                     miss += dr * dr + di * di;
                     size += v_re[k] * v_re[k] + v_im[k] * v_im[k];
                 }
-                if miss > MIXED_EIGENVECTOR * size.max(1e-300) {
+                if miss > MIXED_EIGENVECTOR * size.max(UNDERFLOW_FLOOR) {
                     return Err(EigenError::AmbiguousShift);
                 }
                 if li < 0.0 {

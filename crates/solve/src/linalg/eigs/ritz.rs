@@ -2,6 +2,7 @@
 
 use super::vectors::dot;
 use super::EigenError;
+use crate::tolerances::UNDERFLOW_FLOOR;
 use faer::linalg::solvers::Solve;
 use faer::Mat;
 
@@ -82,7 +83,9 @@ pub(super) fn ritz_pairs(g: &[Vec<f64>], locked: usize) -> Result<Vec<Pair>, Eig
             y_re.extend_from_slice(&r.y_re);
             let mut y_im = c_im;
             y_im.extend_from_slice(&r.y_im);
-            let nrm = (dot(&y_re, &y_re) + dot(&y_im, &y_im)).sqrt().max(1e-300);
+            let nrm = (dot(&y_re, &y_re) + dot(&y_im, &y_im))
+                .sqrt()
+                .max(UNDERFLOW_FLOOR);
             y_re.iter_mut().for_each(|x| *x /= nrm);
             y_im.iter_mut().for_each(|x| *x /= nrm);
             out.push(Pair {
@@ -117,7 +120,9 @@ pub(super) fn rayleigh_ritz(g: &[Vec<f64>]) -> Result<Vec<Ritz>, EigenError> {
         .map(|i| {
             let mut y_re: Vec<f64> = (0..m).map(|r| u[(r, i)].re).collect();
             let mut y_im: Vec<f64> = (0..m).map(|r| u[(r, i)].im).collect();
-            let nrm = (dot(&y_re, &y_re) + dot(&y_im, &y_im)).sqrt().max(1e-300);
+            let nrm = (dot(&y_re, &y_re) + dot(&y_im, &y_im))
+                .sqrt()
+                .max(UNDERFLOW_FLOOR);
             y_re.iter_mut().for_each(|x| *x /= nrm);
             y_im.iter_mut().for_each(|x| *x /= nrm);
             Ritz {

@@ -22,6 +22,7 @@ use crate::constraints::system::System;
 use crate::linalg::kkt::scaled_row;
 use crate::stages::verify::Dependency;
 use crate::state::State;
+use crate::tolerances::UNDERFLOW_FLOOR;
 use crate::tolerances::{
     CONSTRAINED_AXIS, DETERMINATE_CANCELLATION, NULL_VECTOR_ROUNDING, SPAN_INDEPENDENCE,
     ZERO_DIRECTION,
@@ -129,7 +130,7 @@ fn span(v: &[DVec3]) -> Vec<DVec3> {
             w -= *b * b.dot(w);
         }
         let n = w.length();
-        if n > SPAN_INDEPENDENCE * x.length().max(1e-300) && out.len() < 3 {
+        if n > SPAN_INDEPENDENCE * x.length().max(UNDERFLOW_FLOOR) && out.len() < 3 {
             out.push(w / n);
         }
     }
