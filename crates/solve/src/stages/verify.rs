@@ -11,6 +11,7 @@ use crate::constraints::system::{RowUnit, System, Tier};
 use crate::state::State;
 use crate::tolerances::{Tolerances, DEPENDENCY_COEFFICIENT};
 use linkage_model::{ConstraintKind, Model};
+use std::borrow::Cow;
 
 // The motion drivers live with the constraints; re-exported for the analyses' paths.
 use crate::constraints::drivers::Drivers;
@@ -296,7 +297,8 @@ pub fn compile(model: &Model, s: &State, idealized: &[usize]) -> System {
 /// Verifies `model` at its input configuration.
 pub fn verify(model: &Model, drivers: &dyn Drivers, tol: &Tolerances) -> Verification {
     let input = State::input(model);
-    verify_at(model, &compile(model, &input, &[]), &input, drivers, tol)
+    let sys = Cow::Owned(compile(model, &input, &[]));
+    analyse(model, sys, &input, drivers, tol)
 }
 
 /// Verifies `model`, whose compiled rows are `sys`, at configuration `state` (e.g. after
@@ -308,9 +310,21 @@ pub fn verify_at(
     drivers: &dyn Drivers,
     tol: &Tolerances,
 ) -> Verification {
+    analyse(model, Cow::Borrowed(sys), state, drivers, tol)
+}
+
+/// [`verify_at`] with the system owned or borrowed (the verification keeps a copy of the
+/// system it analysed: the given one is moved in when owned).
+fn analyse(
+    model: &Model,
+    sys: Cow<System>,
+    state: &State,
+    drivers: &dyn Drivers,
+    tol: &Tolerances,
+) -> Verification {
     let state = state.clone();
     let length = model.characteristic_length;
-    let res = residuals(sys, &state, drivers);
+    let res = residuals(&sys, &state, drivers);
 
     // Misaligned (broken) joints and primitives: violated rows at the input configuration.
     let mut misaligned = Vec::new();
@@ -342,7 +356,13 @@ pub fn verify_at(
     };
     let all: Vec<usize> = (0..model.constraints.len()).collect();
     let topo = topology(model, &all);
-    let ra = rank_analysis(rank_sys.as_ref().unwrap_or(sys), &state, &topo, length, tol);
+    let ra = rank_analysis(
+        rank_sys.as_ref().unwrap_or(&sys),
+        &state,
+        &topo,
+        length,
+        tol,
+    );
 
     // Assembled when every admitted row with a known residual holds.
     let assembled = ra.admitted.iter().all(|&r| match res[r] {
@@ -373,7 +393,7 @@ pub fn verify_at(
     let n = model.parts.len();
     let rows = sys.rows.len();
     let massless_parts: Vec<usize> = (0..n).filter(|&k| model.parts[k].mass <= 0.0).collect();
-    let massless_free = massless_freedom(model, sys, &state, &massless_parts, length, tol);
+    let massless_free = massless_freedom(model, &sys, &state, &massless_parts, length, tol);
     let mut counts: Vec<(String, usize)> = Vec::new();
     for c in &model.constraints {
         let d = c.description();
@@ -401,7 +421,7 @@ pub fn verify_at(
         massless_free,
         near_tie_admitted: ra.near_tie_admitted,
         topology: topo,
-        system: rank_sys.unwrap_or_else(|| sys.clone()),
+        system: rank_sys.unwrap_or_else(|| sys.into_owned()),
     }
 }
 
