@@ -473,14 +473,18 @@ pub fn acceleration_ic(
     let mut kkt = SaddlePoint::new(6 * n, eqs.len());
     let mut rhs = vec![0.0; kkt.dim()];
     for (k, p) in model.parts.iter().enumerate() {
-        let ig = mass::ground_inertia(p, &s.poses[k]);
-        kkt.add_part_mass(k, p.mass, &ig, Zeros::Skip);
-        let gyro = mass::gyroscopic(&ig, v[k].1);
-        for c in 0..3 {
-            rhs[6 * k + c] = p.mass * model.gravity[c] + ucf * applied[6 * k + c];
-            rhs[6 * k + 3 + c] = gyro[c] + ucf * applied[6 * k + 3 + c];
-        }
+        kkt.add_part_mass(
+            k,
+            p.mass,
+            &mass::ground_inertia(p, &s.poses[k]),
+            Zeros::Skip,
+        );
     }
+    // `UCF·Q`: the applied forces, then the weights and gyroscopic torques.
+    for (r, f) in rhs.iter_mut().zip(&applied) {
+        *r = ucf * f;
+    }
+    mass::add_body_loads(model, s, v, None, &mut rhs);
     for (e, (_, grad, b)) in eqs.iter().enumerate() {
         kkt.add_constraint_row(e, grad);
         rhs[kkt.multiplier(e)] = *b;

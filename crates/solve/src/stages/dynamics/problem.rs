@@ -90,23 +90,8 @@ impl Problem<'_> {
         for x in q.iter_mut() {
             *x *= ucf;
         }
-        for (k, p) in self.model.parts.iter().enumerate() {
-            let ig = mass::ground_inertia(p, &s.poses[k]);
-            let w = v[k].1;
-            let gyro = mass::gyroscopic(&ig, w);
-            for c in 0..3 {
-                q[6 * k + c] += p.mass * self.model.gravity[c];
-                q[6 * k + 3 + c] += gyro[c];
-            }
-            if let Some(ExtraDamping(c)) = self.damping {
-                let dv = v[k].0 * (-c * p.mass);
-                let dw = ig * w * (-c);
-                for i in 0..3 {
-                    q[6 * k + i] += dv[i];
-                    q[6 * k + 3 + i] += dw[i];
-                }
-            }
-        }
+        let damping = self.damping.map(|ExtraDamping(c)| c);
+        mass::add_body_loads(self.model, s, v, damping, q);
         Ok(())
     }
 
