@@ -68,6 +68,9 @@ pub enum ConstraintKind {
     Gcon {
         i: usize,
         function: Option<Located<Function>>,
+        /// The FUNCTION parsed, once, for every analysis (the function check of the analyses
+        /// reports a parse error with its place in the text).
+        expr: Option<Result<Arc<linkage_expr::Expr>, linkage_expr::ParseError>>,
     },
 }
 

@@ -7,6 +7,7 @@ use super::lookup::MarkerTable;
 use crate::model::{Constraint, ConstraintKind, MotionCoordinate};
 use linkage_adm::{Dataset, IdRef, JointType, MotionDof, MotionTarget};
 use std::collections::{HashMap, HashSet};
+use std::sync::Arc;
 
 /// Every MOTION, appended to `constraints`. A joint motion drives the joint's rotation about
 /// or translation along z_j (a cylindrical joint's must say which); a marker motion drives one
@@ -137,6 +138,10 @@ pub(crate) fn gcons(
             origin: origin("GCON", &g.header),
             kind: ConstraintKind::Gcon {
                 i,
+                expr: g
+                    .function
+                    .as_ref()
+                    .map(|f| linkage_expr::parse(&f.value.expr.text).map(Arc::new)),
                 function: g.function.clone(),
             },
         });
@@ -178,11 +183,15 @@ mod tests {
         );
         assert_eq!(b.model.constraints[3].description(), "Rotational Motion");
         assert_eq!(b.model.constraints[6].description(), "Rotational Motion");
-        let ConstraintKind::Gcon { i, function } = &b.model.constraints[7].kind else {
+        let ConstraintKind::Gcon { i, function, expr } = &b.model.constraints[7].kind else {
             panic!("{:?}", b.model.constraints[7])
         };
         assert_eq!(b.model.markers[*i].id, 20);
         assert!(function.is_some());
+        // The FUNCTION is parsed once, here, for every analysis.
+        let parsed = expr.as_ref().expect("a FUNCTION").as_ref().expect("parses");
+        let text = &function.as_ref().unwrap().value.expr.text;
+        assert_eq!(**parsed, linkage_expr::parse(text).unwrap());
     }
 
     #[test]

@@ -154,11 +154,13 @@ impl ExpressionDrivers {
         let input = State::input(model);
         for c in &model.constraints {
             if let ConstraintKind::Gcon {
-                function: Some(f), ..
+                function: Some(f),
+                expr: Some(parsed),
+                ..
             } = &c.kind
             {
                 let text = &f.value.expr;
-                let problem = match parse(&text.text) {
+                let problem = match parsed {
                     Err(pe) => Some((
                         text.span_at(pe.offset),
                         format!("in FUNCTION: {}", pe.message),
@@ -168,7 +170,7 @@ impl ExpressionDrivers {
                         "FUNCTION is a USER subroutine, which linkage cannot run".to_string(),
                     )),
                     Ok(e) => evaluate(
-                        &e,
+                        e,
                         &PositionEnv {
                             frames: &frames,
                             state: &input,

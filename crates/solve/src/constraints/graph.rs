@@ -40,16 +40,16 @@ fn vertex(b: Body) -> usize {
 /// everything in one block, which is always correct).
 pub fn element_bodies(model: &Model, e: usize) -> Vec<Body> {
     let ConstraintKind::Gcon {
-        function: Some(f), ..
+        expr: Some(parsed), ..
     } = &model.constraints[e].kind
     else {
         return model.constraint_bodies(e);
     };
     let mut bodies = model.constraint_bodies(e);
-    let Ok(expr) = linkage_expr::parse(&f.value.expr.text) else {
+    let Ok(expr) = parsed else {
         return bodies;
     };
-    let Some(ids) = crate::physics::measures::referenced_markers(&expr) else {
+    let Some(ids) = crate::physics::measures::referenced_markers(expr) else {
         return std::iter::once(Body::Ground)
             .chain((0..model.parts.len()).map(Body::Part))
             .collect();

@@ -10,9 +10,7 @@ use crate::state::State;
 use crate::tolerances::ALIGNMENT_DIRECTION;
 use glam::{DMat3, DQuat, DVec3};
 use linkage_adm::{CouplerDof, JointType, JprimType, MotionAxis};
-use linkage_expr::{
-    evaluate, evaluate_path_series, evaluate_with_gradient, parse, EvalError, Expr,
-};
+use linkage_expr::{evaluate, evaluate_path_series, evaluate_with_gradient, EvalError, Expr};
 use linkage_model::{Body, ConstraintKind, Model, MotionCoordinate};
 use std::ops::Range;
 use std::sync::Arc;
@@ -537,12 +535,10 @@ impl System {
                         r.offset = offset;
                     }
                 }
-                ConstraintKind::Gcon { function, .. } => {
+                ConstraintKind::Gcon { expr, .. } => {
                     // Unparseable or USER functions are input errors reported by
                     // `drivers::ExpressionDrivers::new`; such a GCON gets no row here.
-                    let parsed = function
-                        .as_ref()
-                        .and_then(|f| parse(&f.value.expr.text).ok());
+                    let parsed = expr.as_ref().and_then(|e| e.as_ref().ok());
                     if let Some(expr) = parsed.filter(|e| !e.contains_user()) {
                         b.push(
                             e,
@@ -553,7 +549,7 @@ impl System {
                             Vec::new(),
                         );
                         if let Some(r) = b.rows.last_mut() {
-                            r.function = Some(Arc::new(expr));
+                            r.function = Some(Arc::clone(expr));
                         }
                     }
                 }
