@@ -8,6 +8,7 @@
 
 use crate::constraints::rows::Velocities;
 use crate::state::{Pose, State};
+use crate::tolerances::MASSLESS_FRACTION;
 use glam::{DMat3, DVec3};
 use linkage_model::{Model, Part};
 
@@ -62,6 +63,47 @@ pub fn rotational_regularisation(part: &Part, length: f64) -> f64 {
         MASSLESS_PART_MASS
     };
     INERTIA_REGULARISATION * mass * length * length
+}
+
+/// The mass and inertia given to parts that have none where a linearized model needs a regular
+/// mass matrix (Adams' rule for LINEAR): [`MASSLESS_FRACTION`] × the smallest nonzero part
+/// mass, and [`MASSLESS_FRACTION`] × the smallest nonzero principal moment (or the small mass ×
+/// L² when no part has inertia). Unlike [`rotational_regularisation`] (the integrator's
+/// consistent solve, which must not move the modes of a model it integrates), these are sized
+/// from the model so that the eigenvalues of the massless directions sit far above the others.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct MasslessSubstitute {
+    pub mass: f64,
+    pub inertia: f64,
+}
+
+impl MasslessSubstitute {
+    /// The substitute for `model`, whose characteristic length is `length`.
+    pub fn of(model: &Model, length: f64) -> MasslessSubstitute {
+        let min_mass = model
+            .parts
+            .iter()
+            .map(|p| p.mass)
+            .filter(|m| *m > 0.0)
+            .fold(f64::INFINITY, f64::min);
+        let min_inertia = model
+            .parts
+            .iter()
+            .flat_map(|p| linkage_model::inertia::symmetric_eigenvalues(&p.inertia))
+            .filter(|x| *x > 0.0)
+            .fold(f64::INFINITY, f64::min);
+        let mass = if min_mass.is_finite() {
+            MASSLESS_FRACTION * min_mass
+        } else {
+            MASSLESS_FRACTION
+        };
+        let inertia = if min_inertia.is_finite() {
+            MASSLESS_FRACTION * min_inertia
+        } else {
+            mass * length * length
+        };
+        MasslessSubstitute { mass, inertia }
+    }
 }
 
 /// Adds every part's body loads to `q` (6 per part, ground axes, model mass × acceleration
@@ -179,5 +221,24 @@ mod tests {
         let mut still = [0.0; 6];
         add_body_loads(&model, &s, &[(DVec3::ZERO, DVec3::ZERO)], None, &mut still);
         assert_eq!(still, [0.0, -2.0 * 9.80665, 0.0, 0.0, 0.0, 0.0]);
+    }
+
+    /// Adams' LINEAR rule: a massless part gets 1e-8 × the smallest part mass (2 kg) and 1e-8 ×
+    /// the smallest principal moment (1 kg m²); with no inertia anywhere, the small mass × L².
+    #[test]
+    fn massless_parts_get_a_fraction_of_the_smallest_mass_and_moment() {
+        let text = "two\nUNITS/, FORCE = NEWTON, MASS = KILOGRAM, LENGTH = METER, TIME = SECOND\n\
+                    PART/1, GROUND\nPART/2, MASS = 2, CM = 2, IP = 1, 2, 3\nMARKER/2, PART = 2\n\
+                    PART/3\nMARKER/3, PART = 3, QP = 1, 0, 0\nEND\n";
+        let ds = linkage_adm::parse_dataset(std::sync::Arc::from("t.adm"), text).expect("parses");
+        let model = linkage_model::build_model(&ds).expect("builds").model;
+        let sub = MasslessSubstitute::of(&model, 10.0);
+        assert!((sub.mass - 2e-8).abs() < 1e-22, "{sub:?}");
+        assert!((sub.inertia - 1e-8).abs() < 1e-22, "{sub:?}");
+        let text = text.replace(", IP = 1, 2, 3", "");
+        let ds = linkage_adm::parse_dataset(std::sync::Arc::from("t.adm"), &text).expect("parses");
+        let model = linkage_model::build_model(&ds).expect("builds").model;
+        let sub = MasslessSubstitute::of(&model, 10.0);
+        assert!((sub.inertia - 2e-8 * 100.0).abs() < 1e-20, "{sub:?}");
     }
 }

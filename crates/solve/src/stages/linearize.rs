@@ -23,8 +23,8 @@
 //!
 //! [`EigenMethod::Auto`] solves densely up to [`DENSE_MAX_DOF`] free motions and
 //! [`DENSE_MAX_COORDINATES`] coordinates, and otherwise computes the [`DEFAULT_MODES`] lowest
-//! modes by shift-invert. Massless parts get [`MASSLESS_FRACTION`] × the smallest non-zero mass,
-//! as Adams does.
+//! modes by shift-invert. Massless parts get a small mass and inertia sized from the model
+//! ([`crate::physics::mass::MasslessSubstitute`]), as Adams does.
 
 use crate::constraints::hessian::HessianBlocks;
 use crate::constraints::rows::{RowGradient, Velocities};
@@ -32,15 +32,14 @@ use crate::constraints::system::System;
 use crate::linalg::eigs::{zero_eigenvectors, ConstrainedPencil, EigenError, SparseMatrix, Wanted};
 use crate::linalg::kkt::{jacobian_entries, null_space, CoordinateScale, Zeros};
 use crate::physics::applied::{AppliedForces, ForceError};
-use crate::physics::mass::ground_inertia;
+use crate::physics::mass::{ground_inertia, MasslessSubstitute};
 use crate::pipeline::{Assembled, NotAssembled};
 use crate::stages::ic::AccelerationError;
 use crate::stages::statics::{Equilibrium, StaticsError};
 use crate::state::State;
 use crate::tolerances::UNDERFLOW_FLOOR;
 use crate::tolerances::{
-    FREE_MOTION, MASSLESS_FRACTION, REAL_PAIR, SHIFT_MOVE, SHIFT_OFFSET, SYMMETRIC_STIFFNESS,
-    ZERO_EIGENVALUE,
+    FREE_MOTION, REAL_PAIR, SHIFT_MOVE, SHIFT_OFFSET, SYMMETRIC_STIFFNESS, ZERO_EIGENVALUE,
 };
 use faer::linalg::solvers::DenseSolveCore;
 use faer::Mat;
@@ -235,28 +234,10 @@ pub fn assemble(
     let sc = |c: usize| scale.of(c);
 
     // Mass matrix (scaled), with Adams' small mass for massless parts.
-    let min_mass = model
-        .parts
-        .iter()
-        .map(|p| p.mass)
-        .filter(|m| *m > 0.0)
-        .fold(f64::INFINITY, f64::min);
-    let min_inertia = model
-        .parts
-        .iter()
-        .flat_map(|p| linkage_model::inertia::symmetric_eigenvalues(&p.inertia))
-        .filter(|x| *x > 0.0)
-        .fold(f64::INFINITY, f64::min);
-    let small_mass = if min_mass.is_finite() {
-        MASSLESS_FRACTION * min_mass
-    } else {
-        MASSLESS_FRACTION
-    };
-    let small_inertia = if min_inertia.is_finite() {
-        MASSLESS_FRACTION * min_inertia
-    } else {
-        small_mass * l * l
-    };
+    let MasslessSubstitute {
+        mass: small_mass,
+        inertia: small_inertia,
+    } = MasslessSubstitute::of(model, l);
     let mut massless_parts = 0;
     let mut m = Vec::with_capacity(12 * model.parts.len());
     for (k, p) in model.parts.iter().enumerate() {

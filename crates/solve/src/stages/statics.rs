@@ -202,7 +202,7 @@ const RUNAWAY_WINDOW: usize = 3;
 /// constraint rows `rows` (the independent rows of verify/IC).
 ///
 /// Memory: the buffers and both sparse matrices are sized before the first iteration
-/// ([`newton::Workspace`]); an iteration without a cut step allocates nothing itself (force
+/// (the Newton workspace of `statics/newton.rs`); an iteration without a cut step allocates nothing itself (force
 /// elements and expressions may, see [`crate::stages::dynamics::Integrator`]).
 pub fn equilibrium(
     model: &Model,
