@@ -116,8 +116,9 @@ fn axes(m: &linkage_adm::Marker, qp: DVec3, cx: &mut Ctx) -> DMat3 {
         m.xp.as_ref().map(|x| v3(x.value)),
     );
     let made = if m.usexp {
-        // USEXP: XP is on the +x axis, ZP only fixes the x-z plane.
-        frame_from_points(qp, xp, zp).map(|f| DMat3::from_cols(f.y_axis, f.z_axis, f.x_axis))
+        // USEXP: XP is on the +x axis, ZP only fixes the x-z plane. `f` has its z along XP
+        // and its x towards ZP: the marker's x is f's z, its z is f's x, and y = z × x = −f's y.
+        frame_from_points(qp, xp, zp).map(|f| DMat3::from_cols(f.z_axis, -f.y_axis, f.x_axis))
     } else {
         frame_from_points(qp, zp, xp)
     };
@@ -238,9 +239,22 @@ mod tests {
     fn zp_xp_orient_a_marker_with_or_without_usexp() {
         let b = build_text(&format!("{PARTS}MARKER/3, PART = 2, QP = 0, 0, 0, ZP = 0, 1, 0, XP = 0, 0, 1, USEXP\nMARKER/4, PART = 2, ZP = 0, 1, 0, XP = 0, 0, 1\nEND\n"))
             .unwrap_or_else(|e| panic!("{e}"));
-        // With USEXP, ZP fixes the x-z plane: z is ZP's direction square to XP's.
+        // With USEXP, XP is on +x and ZP fixes the x-z plane: z is ZP's direction square to
+        // XP's, and the axes are right-handed.
         let usexp = b.model.markers[0].r_bm;
+        assert!(close(usexp.x_axis, DVec3::Z));
         assert!(close(usexp.z_axis, DVec3::Y));
+        assert!(close(usexp.y_axis, DVec3::X));
+        assert!((usexp.determinant() - 1.0).abs() < 1e-12);
+        // ZP need not be square to XP: only its part square to x counts.
+        let b2 = build_text(&format!(
+            "{PARTS}MARKER/3, PART = 2, XP = 2, 0, 0, ZP = 1, 0, 1, USEXP\nEND\n"
+        ))
+        .unwrap_or_else(|e| panic!("{e}"));
+        let slanted = b2.model.markers[0].r_bm;
+        assert!(close(slanted.x_axis, DVec3::X));
+        assert!(close(slanted.z_axis, DVec3::Z));
+        assert!(close(slanted.y_axis, DVec3::Y));
         let plain = b.model.markers[1].r_bm;
         assert!(close(plain.z_axis, DVec3::Y));
         assert!(close(plain.x_axis, DVec3::Z));
