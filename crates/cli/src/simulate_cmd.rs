@@ -73,7 +73,7 @@ pub fn run_simulate(args: &SimulateArgs) -> ExitCode {
     // REQUESTs only shape the CSV: they are resolved (and their errors reported) only when
     // one is written.
     let requests = match args.out {
-        Some(_) => match RequestSet::new(&loaded.model, &loaded.dataset) {
+        Some(_) => match RequestSet::new(&loaded.model) {
             Ok(r) => Some(r),
             Err(d) => return input_error(&d, args.format),
         },

@@ -14,8 +14,10 @@ pub mod bodies;
 pub mod build;
 pub mod forces;
 pub mod frames;
+pub mod functions;
 pub mod inertia;
 pub mod model;
+pub mod requests;
 pub mod settings;
 pub mod units;
 

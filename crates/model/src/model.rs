@@ -162,6 +162,9 @@ pub struct Model {
     /// Characteristic length: diagonal of the bounding box of markers and centres of mass
     /// (1 if that is zero). Tolerances on lengths are relative to it.
     pub characteristic_length: f64,
+    /// The REQUESTs, resolved (their problems are reported by the analyses that write
+    /// REQUEST columns).
+    pub requests: crate::requests::Requests,
 }
 
 impl Model {

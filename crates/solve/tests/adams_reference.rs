@@ -448,7 +448,7 @@ fn load_case(dir: &Path, case: &str) -> Option<Case> {
         }
     };
     let drivers = ExpressionDrivers::new(&model).unwrap_or_else(|e| panic!("{e}"));
-    let requests = RequestSet::new(&model, &ds).unwrap_or_else(|e| panic!("{e}"));
+    let requests = RequestSet::new(&model).unwrap_or_else(|e| panic!("{e}"));
     Some(Case {
         name: case.to_string(),
         ds,

@@ -37,13 +37,12 @@ REQUEST/10, F, I=1, J=30
 END
 ";
 
-fn model_of(text: &str) -> (linkage_adm::Dataset, Model) {
+fn model_of(text: &str) -> Model {
     let ds =
         linkage_adm::parse_dataset(Arc::from("req.adm"), text).unwrap_or_else(|e| panic!("{e}"));
-    let model = linkage_model::build_model(&ds)
+    linkage_model::build_model(&ds)
         .unwrap_or_else(|e| panic!("{e}"))
-        .model;
-    (ds, model)
+        .model
 }
 
 /// Part 2 turns about z (θ(t) = 0.3 + 1.5t + t²) about its CM at the origin; part 3's CM moves
@@ -129,8 +128,8 @@ fn vec_of(vals: &[(String, f64)], prefix: &str, names: [&str; 3]) -> DVec3 {
 
 #[test]
 fn columns_name_every_component() {
-    let (ds, model) = model_of(DATASET);
-    let set = RequestSet::new(&model, &ds).unwrap_or_else(|e| panic!("{e}"));
+    let model = model_of(DATASET);
+    let set = RequestSet::new(&model).unwrap_or_else(|e| panic!("{e}"));
     let cols = set.columns();
     assert_eq!(cols.len(), 6 * 6 + 8);
     assert_eq!(
@@ -158,8 +157,8 @@ fn columns_name_every_component() {
 
 #[test]
 fn standard_requests_are_relative_kinematics_in_rm() {
-    let (ds, model) = model_of(DATASET);
-    let set = RequestSet::new(&model, &ds).unwrap_or_else(|e| panic!("{e}"));
+    let model = model_of(DATASET);
+    let set = RequestSet::new(&model).unwrap_or_else(|e| panic!("{e}"));
     let o = output(&model);
     let vals = values(&set, &model, &o);
     let [th, w, al] = theta(T);
@@ -209,8 +208,8 @@ fn standard_requests_are_relative_kinematics_in_rm() {
 
 #[test]
 fn accelerations_in_a_turning_frame_match_finite_differences() {
-    let (ds, model) = model_of(DATASET);
-    let set = RequestSet::new(&model, &ds).unwrap_or_else(|e| panic!("{e}"));
+    let model = model_of(DATASET);
+    let set = RequestSet::new(&model).unwrap_or_else(|e| panic!("{e}"));
     let vals = values(&set, &model, &output(&model));
     // (d²/dt²)_l (P30 − P20) with l = part 2: differentiate the vector seen in part 2's axes,
     // then express it in ground.
@@ -237,8 +236,8 @@ fn accelerations_in_a_turning_frame_match_finite_differences() {
 
 #[test]
 fn reactions_and_force_requests_follow_the_documented_conventions() {
-    let (ds, model) = model_of(DATASET);
-    let set = RequestSet::new(&model, &ds).unwrap_or_else(|e| panic!("{e}"));
+    let model = model_of(DATASET);
+    let set = RequestSet::new(&model).unwrap_or_else(|e| panic!("{e}"));
     let o = output(&model);
     let vals = values(&set, &model, &o);
     let th = theta(T)[0];
@@ -304,8 +303,8 @@ fn reactions_and_force_requests_follow_the_documented_conventions() {
 
 #[test]
 fn general_constraint_force_comes_from_the_equations_of_motion() {
-    let (ds, model) = model_of(DATASET);
-    let set = RequestSet::new(&model, &ds).unwrap_or_else(|e| panic!("{e}"));
+    let model = model_of(DATASET);
+    let set = RequestSet::new(&model).unwrap_or_else(|e| panic!("{e}"));
     let o = output(&model);
     let vals = values(&set, &model, &o);
     // Part 3 feels only GCON/9 (and gravity): its constraint wrench is m(a − g) and
@@ -329,8 +328,8 @@ fn general_constraint_force_comes_from_the_equations_of_motion() {
 }
 
 fn errors(text: &str) -> Vec<(u32, u32, String)> {
-    let (ds, model) = model_of(text);
-    match RequestSet::new(&model, &ds) {
+    let model = model_of(text);
+    match RequestSet::new(&model) {
         Ok(_) => panic!("no error"),
         Err(d) => {
             d.0.iter()
@@ -374,8 +373,8 @@ fn input_errors_are_located_and_name_the_request() {
 
 #[test]
 fn evaluation_errors_name_request_time_and_function() {
-    let (ds, model) = model_of(&format!("{SMALL}REQUEST/9, F1=TIME\\F2=DIF(4)\nEND\n"));
-    let set = RequestSet::new(&model, &ds).unwrap_or_else(|e| panic!("{e}"));
+    let model = model_of(&format!("{SMALL}REQUEST/9, F1=TIME\\F2=DIF(4)\nEND\n"));
+    let set = RequestSet::new(&model).unwrap_or_else(|e| panic!("{e}"));
     let o = Output {
         time: 0.25,
         state: State::input(&model),
@@ -392,8 +391,8 @@ fn evaluation_errors_name_request_time_and_function() {
         "{e}"
     );
     assert!(e.contains("DIFF"), "{e}");
-    let (ds, model) = model_of(&format!("{SMALL}REQUEST/9, F1=TIME*2\\F5=FZ(20)\nEND\n"));
-    let set = RequestSet::new(&model, &ds).unwrap_or_else(|e| panic!("{e}"));
+    let model = model_of(&format!("{SMALL}REQUEST/9, F1=TIME*2\\F5=FZ(20)\nEND\n"));
+    let set = RequestSet::new(&model).unwrap_or_else(|e| panic!("{e}"));
     // Nothing connects part 2 to ground: zero force.
     assert_eq!(
         set.evaluate(&model, &System::new(&model), &o),

@@ -85,8 +85,10 @@ pub fn build_model(ds: &Dataset) -> Result<Built, Diagnostics> {
         ic,
         equilibrium,
         integrator: crate::settings::integrator::resolve_integrator(ds),
+        requests: Default::default(),
     };
     model.characteristic_length = characteristic_length(&model);
+    model.requests = crate::requests::resolve_requests(&model, ds);
     Ok(Built {
         model,
         warnings: cx.warnings,

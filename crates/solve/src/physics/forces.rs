@@ -47,10 +47,9 @@ pub use crate::tolerances::COINCIDENT_POINTS;
 use algebra::{Kinematics, Real, V3};
 use data::{ArrayData, DataElements, VariableProblem};
 use linkage_adm::{Diagnostic, Diagnostics, Function, Located};
-use linkage_expr::{parse, Dual, Expr, Special, StateKind};
+use linkage_expr::{Dual, Expr, Special, StateKind};
 use linkage_model::forces::{ForceKind, VectorKind};
 use linkage_model::{Body, Model, Origin};
-use std::sync::Arc;
 
 /// Statements whose forces or states linkage does not model: an analysis that needs forces
 /// refuses a dataset holding one (its results would be silently wrong).
@@ -161,40 +160,7 @@ pub(crate) fn marker_frame(model: &Model, m: usize) -> BodyFrame {
     }
 }
 
-/// Parses an expression argument of element `origin` (`what` = `FUNCTION`, `FX`, …): a syntax
-/// error is located inside the expression, `USER(…)` is refused.
-pub(crate) fn parse_function(
-    file: &Arc<str>,
-    f: &Located<Function>,
-    origin: &Origin,
-    what: &str,
-) -> Result<Expr, Diagnostic> {
-    let user = || {
-        Diagnostic::error(
-            file.clone(),
-            Some(f.span),
-            format!(
-                "{} ({}, line {}): {what} calls a USER subroutine, which linkage cannot run",
-                origin.name,
-                origin.element(),
-                origin.span.line
-            ),
-        )
-        .with_hint("replace the USER(…) call by a function expression")
-    };
-    if f.value.user {
-        return Err(user());
-    }
-    match parse(&f.value.expr.text) {
-        Ok(e) if e.contains_user() => Err(user()),
-        Ok(e) => Ok(e),
-        Err(e) => Err(Diagnostic::error(
-            file.clone(),
-            Some(f.value.expr.span_at(e.offset)),
-            format!("{}: syntax error in {what}: {}", origin.name, e.message),
-        )),
-    }
-}
+pub(crate) use linkage_model::functions::parse_function;
 
 /// The label used in messages: `SFORCE_3 (SFORCE/3, line 12)`.
 fn label(o: &Origin) -> String {

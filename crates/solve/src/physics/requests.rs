@@ -1,10 +1,10 @@
 //! REQUEST outputs (ADM-REFERENCE §2.12) evaluated at the outputs of an analysis.
 //!
-//! [`RequestSet::new`] resolves every REQUEST of a dataset once: its markers against the
-//! model's, its `F1`…`F8` expressions parsed (a syntax error is located at its line and column
-//! inside the expression; `USER(…)` is refused, naming the request: linkage cannot run user
-//! subroutines). [`RequestSet::columns`] names the values and [`RequestSet::evaluate`] computes
-//! them at one [`Output`].
+//! The model resolves every REQUEST once ([`linkage_model::requests`]: markers checked,
+//! `F1`…`F8` parsed, problems kept for the analyses that write REQUEST columns);
+//! [`RequestSet::new`] makes them ready to evaluate or reports those problems.
+//! [`RequestSet::columns`] names the values and [`RequestSet::evaluate`] computes them at one
+//! [`Output`].
 //!
 //! Standard requests, six values each, I relative to J (J omitted = ground origin), vectors
 //! resolved in RM's axes (RM omitted = ground):
@@ -42,18 +42,19 @@ use crate::constraints::rows::{BodyFrame, RowGradient};
 use crate::constraints::system::System;
 use crate::physics::applied::AppliedForces;
 use crate::physics::forces::data::{ArrayData, DataElements};
-use crate::physics::forces::{parse_function, ForceSet};
+use crate::physics::forces::ForceSet;
 use crate::physics::mass::{ground_inertia, gyroscopic};
 use crate::physics::measures::{MarkerFrames, StateEnv};
 use crate::stages::dynamics::Output;
 use glam::{DMat3, DVec3};
-use linkage_adm::{Dataset, Diagnostic, Diagnostics, IdRef, Request, RequestKind};
+use linkage_adm::{Diagnostics, RequestKind};
 use linkage_expr::{
-    evaluate, Dual, ElementForce, ElementForceArgs, Env, EvalError, EvalErrorKind, Expr,
-    ForceComponent, MarkerArgs, MeasureKind, SplineData, StateRef,
+    evaluate, Dual, ElementForce, ElementForceArgs, Env, EvalError, EvalErrorKind, ForceComponent,
+    MarkerArgs, MeasureKind, SplineData, StateRef,
 };
 use linkage_model::forces::ForceKind;
-use linkage_model::{Body, ConstraintKind, Model, Origin};
+use linkage_model::requests::{RequestDef, RequestWhat};
+use linkage_model::{Body, ConstraintKind, Model};
 use std::cell::RefCell;
 use std::collections::HashMap;
 
@@ -62,28 +63,6 @@ const DISPLACEMENT: [&str; 6] = ["x", "y", "z", "psi", "theta", "phi"];
 const VELOCITY: [&str; 6] = ["vx", "vy", "vz", "wx", "wy", "wz"];
 const ACCELERATION: [&str; 6] = ["ax", "ay", "az", "wdx", "wdy", "wdz"];
 const FORCE: [&str; 6] = ["fx", "fy", "fz", "tx", "ty", "tz"];
-
-/// What one request computes.
-#[derive(Clone, Debug)]
-enum What {
-    Standard {
-        kind: RequestKind,
-        i: u32,
-        j: u32,
-        rm: u32,
-    },
-    /// `(n, expression, its text)` for each `Fn` written, n in 1..=8.
-    Functions(Vec<(usize, Expr, String)>),
-}
-
-#[derive(Clone, Debug)]
-struct Compiled {
-    /// Column prefix: `REQUEST_3` or the Adams View name.
-    name: String,
-    /// `REQUEST_3 (REQUEST/3, line 40)` for messages.
-    label: String,
-    what: What,
-}
 
 /// A REQUEST that cannot be evaluated at an output.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
@@ -118,7 +97,7 @@ struct ForcesUnavailable {
 /// The REQUESTs of a dataset, ready to evaluate at outputs.
 #[derive(Clone, Debug)]
 pub struct RequestSet {
-    requests: Vec<Compiled>,
+    requests: Vec<RequestDef>,
     frames: MarkerFrames,
     data: DataElements,
     /// The model's applied force elements (`None` when it has none), or why they cannot be
@@ -126,99 +105,15 @@ pub struct RequestSet {
     forces: Option<Result<ForceSet, ForcesUnavailable>>,
 }
 
-fn request_origin(r: &Request) -> Origin {
-    Origin {
-        statement: "REQUEST",
-        id: r.header.id,
-        name: r.header.name.clone(),
-        span: r.header.span,
-        statement_index: r.header.statement,
-    }
-}
-
 impl RequestSet {
-    /// Resolves and parses every REQUEST of `dataset` against `model` (built from it).
-    ///
-    /// Errors (every one found): a marker id (I, J, RM) that is not a marker of the model, an
-    /// expression that does not parse (located inside it), `FUNCTION = USER(…)` or any other
-    /// `FUNCTION =` (a REQUEST's FUNCTION names a user subroutine, which linkage cannot run).
-    pub fn new(model: &Model, dataset: &Dataset) -> Result<RequestSet, Diagnostics> {
+    /// The REQUESTs of `model`, ready to evaluate: `Err` with every problem the model found
+    /// resolving them ([`linkage_model::requests::Requests::issues`]).
+    pub fn new(model: &Model) -> Result<RequestSet, Diagnostics> {
+        if !model.requests.issues.is_empty() {
+            return Err(Diagnostics(model.requests.issues.clone()));
+        }
         let frames = MarkerFrames::new(model);
-        let file = &dataset.file;
-        let mut errors = Vec::new();
-        let mut requests = Vec::new();
-        for r in &dataset.requests {
-            let origin = request_origin(r);
-            let label = origin.label();
-            let mut marker = |role: &str, id: Option<IdRef>| -> u32 {
-                let Some(id) = id else { return 0 };
-                match u32::try_from(id.id) {
-                    Ok(m) if m == 0 || frames.get(m).is_ok() => m,
-                    _ => {
-                        errors.push(Diagnostic::error(
-                            file.clone(),
-                            Some(id.span),
-                            format!("{label}: {role} marker {} does not exist", id.id),
-                        ));
-                        0
-                    }
-                }
-            };
-            if let Some(f) = &r.function {
-                let what = if f.value.user {
-                    "FUNCTION calls a USER subroutine, which linkage cannot run"
-                } else {
-                    "FUNCTION of a REQUEST must be USER(…), a user subroutine, which linkage \
-                     cannot run"
-                };
-                errors.push(
-                    Diagnostic::error(file.clone(), Some(f.span), format!("{label}: {what}"))
-                        .with_hint("write the outputs as F1 … F8 function expressions"),
-                );
-                continue;
-            }
-            let what = match r.kind {
-                Some(kind) => {
-                    let i = marker("I", r.i);
-                    let j = marker("J", r.j);
-                    let rm = marker("RM", r.rm);
-                    What::Standard { kind, i, j, rm }
-                }
-                None => {
-                    let mut list = Vec::new();
-                    for (k, f) in r.functions.iter().enumerate() {
-                        let Some(f) = f else { continue };
-                        let key = format!("F{}", k + 1);
-                        match parse_function(file, f, &origin, &key) {
-                            Ok(e) => {
-                                if let Some(why) = wrong_force_component(model, &e) {
-                                    errors.push(Diagnostic::error(
-                                        file.clone(),
-                                        Some(f.span),
-                                        format!(
-                                            "{label}: illegal function expression {key} = {}: {why}",
-                                            f.value.expr.text.trim()
-                                        ),
-                                    ));
-                                }
-                                list.push((k + 1, e, f.value.expr.text.clone()))
-                            }
-                            Err(d) => errors.push(d),
-                        }
-                    }
-                    What::Functions(list)
-                }
-            };
-            requests.push(Compiled {
-                name: r.header.name.clone(),
-                label,
-                what,
-            });
-        }
-        if !errors.is_empty() {
-            errors.sort_by_key(|d| d.span);
-            return Err(Diagnostics(errors));
-        }
+        let requests = model.requests.defs.clone();
         let forces = (!model.forces.is_empty()).then(|| {
             ForceSet::new(model).map_err(|d| ForcesUnavailable {
                 first: d.0.first().map_or(String::new(), |e| e.message.clone()),
@@ -246,7 +141,7 @@ impl RequestSet {
         let mut out = Vec::new();
         for r in &self.requests {
             match &r.what {
-                What::Standard { kind, .. } => {
+                RequestWhat::Standard { kind, .. } => {
                     let names = match kind {
                         RequestKind::Displacement => DISPLACEMENT,
                         RequestKind::Velocity => VELOCITY,
@@ -255,8 +150,8 @@ impl RequestSet {
                     };
                     out.extend(names.iter().map(|c| format!("{}.{c}", r.name)));
                 }
-                What::Functions(list) => {
-                    out.extend(list.iter().map(|(n, _, _)| format!("{}.f{n}", r.name)));
+                RequestWhat::Functions(list) => {
+                    out.extend(list.iter().map(|f| format!("{}.f{}", r.name, f.component)));
                 }
             }
         }
@@ -278,7 +173,7 @@ impl RequestSet {
         let mut out = Vec::new();
         for r in &self.requests {
             match &r.what {
-                What::Standard { kind, i, j, rm } => {
+                RequestWhat::Standard { kind, i, j, rm } => {
                     let six = env.standard(*kind, *i, *j, *rm).map_err(|cause| {
                         RequestError::Quantity {
                             request: r.label.clone(),
@@ -288,15 +183,16 @@ impl RequestSet {
                     })?;
                     out.extend(six);
                 }
-                What::Functions(list) => {
-                    for (n, e, text) in list {
-                        let v = evaluate(e, &env).map_err(|cause| RequestError::Function {
-                            request: r.label.clone(),
-                            time: t,
-                            component: *n,
-                            text: text.clone(),
-                            cause,
-                        })?;
+                RequestWhat::Functions(list) => {
+                    for f in list {
+                        let v =
+                            evaluate(&f.expr, &env).map_err(|cause| RequestError::Function {
+                                request: r.label.clone(),
+                                time: t,
+                                component: f.component,
+                                text: f.text.clone(),
+                                cause,
+                            })?;
                         out.push(v);
                     }
                 }
@@ -318,55 +214,6 @@ fn force_markers(model: &Model, kind: &ForceKind) -> (usize, Option<usize>, Body
         ForceKind::Beam(b) => pair(b.i, b.j),
         ForceKind::Vector(v) => (v.i, None, v.reaction),
     }
-}
-
-/// A force component (1 FM, 2–4 FX–FZ) asked of a rotational SFORCE or SPRINGDAMPER, which
-/// applies a torque only: Adams Solver refuses such a request at input ("Illegal function
-/// expression on REQUEST/5 … SFORCE(1,0,2,101) … Wrong component: 2. No force in
-/// corresponding object.", Adams Solver C++ 2012 on Chrono's RotSpring_Case01, whose `.msg` is
-/// in the corpus). The element and component must be literal numbers to be checked here.
-fn wrong_force_component(model: &Model, e: &Expr) -> Option<String> {
-    let literal = |x: &Expr| match x {
-        Expr::Number(v) if v.fract() == 0.0 => Some(*v as u64),
-        _ => None,
-    };
-    let mut found = None;
-    e.walk(&mut |node| {
-        let Expr::Call {
-            func: linkage_expr::Function::ElementForce(kind),
-            args,
-        } = node
-        else {
-            return;
-        };
-        let statement = match kind {
-            ElementForce::Sforce => "SFORCE",
-            ElementForce::Spdp => "SPRINGDAMPER",
-            _ => return,
-        };
-        let (Some(id), Some(comp)) = (
-            args.first().and_then(literal),
-            args.get(2).and_then(literal),
-        ) else {
-            return;
-        };
-        let rotational = model.forces.iter().any(|f| {
-            f.origin.statement == statement
-                && f.origin.id == id
-                && match &f.kind {
-                    ForceKind::Sforce(s) => s.dof == linkage_adm::ForceDof::Rotational,
-                    ForceKind::SpringDamper(s) => s.dof == linkage_adm::ForceDof::Rotational,
-                    _ => false,
-                }
-        });
-        if rotational && (1..=4).contains(&comp) && found.is_none() {
-            found = Some(format!(
-                "wrong component {comp}: {statement}/{id} is rotational and applies no force \
-                 (its torque is components 5 to 8)"
-            ));
-        }
-    });
-    found
 }
 
 /// The statement of an element force function (`SPDP` is SPRINGDAMPER, `BUSH` BUSHING).
