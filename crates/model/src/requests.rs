@@ -3,10 +3,11 @@
 //! that write REQUEST columns: a model whose REQUESTs cannot be evaluated can still be
 //! verified, assembled and simulated without them.
 
+use crate::bodies::Marker;
 use crate::bodies::Origin;
+use crate::forces::ForceElement;
 use crate::forces::ForceKind;
 use crate::functions::parse_function;
-use crate::model::Model;
 use linkage_adm::{Dataset, Diagnostic, IdRef, Request, RequestKind};
 use linkage_expr::{ElementForce, Expr};
 
@@ -65,8 +66,13 @@ fn request_origin(r: &Request) -> Origin {
     }
 }
 
-/// Resolves every REQUEST of `dataset` against `model` (built from it).
-pub fn resolve_requests(model: &Model, dataset: &Dataset) -> Requests {
+/// Resolves every REQUEST of `dataset` against the model built from it: its `markers` and its
+/// force elements `forces`.
+pub fn resolve_requests(
+    markers: &[Marker],
+    forces: &[ForceElement],
+    dataset: &Dataset,
+) -> Requests {
     let file = &dataset.file;
     let mut errors = Vec::new();
     let mut defs = Vec::new();
@@ -76,7 +82,7 @@ pub fn resolve_requests(model: &Model, dataset: &Dataset) -> Requests {
         let mut marker = |role: &str, id: Option<IdRef>| -> u32 {
             let Some(id) = id else { return 0 };
             match u32::try_from(id.id) {
-                Ok(m) if m == 0 || model.markers.iter().any(|mk| mk.id == u64::from(m)) => m,
+                Ok(m) if m == 0 || markers.iter().any(|mk| mk.id == u64::from(m)) => m,
                 _ => {
                     errors.push(Diagnostic::error(
                         file.clone(),
@@ -114,7 +120,7 @@ pub fn resolve_requests(model: &Model, dataset: &Dataset) -> Requests {
                     let key = format!("F{}", k + 1);
                     match parse_function(file, f, &origin, &key) {
                         Ok(e) => {
-                            if let Some(why) = wrong_force_component(model, &e) {
+                            if let Some(why) = wrong_force_component(forces, &e) {
                                 errors.push(Diagnostic::error(
                                     file.clone(),
                                     Some(f.span),
@@ -154,7 +160,7 @@ pub fn resolve_requests(model: &Model, dataset: &Dataset) -> Requests {
 /// expression on REQUEST/5 … SFORCE(1,0,2,101) … Wrong component: 2. No force in
 /// corresponding object.", Adams Solver C++ 2012 on Chrono's RotSpring_Case01, whose `.msg` is
 /// in the corpus). The element and component must be literal numbers to be checked here.
-fn wrong_force_component(model: &Model, e: &Expr) -> Option<String> {
+fn wrong_force_component(forces: &[ForceElement], e: &Expr) -> Option<String> {
     let literal = |x: &Expr| match x {
         Expr::Number(v) if v.fract() == 0.0 => Some(*v as u64),
         _ => None,
@@ -179,7 +185,7 @@ fn wrong_force_component(model: &Model, e: &Expr) -> Option<String> {
         ) else {
             return;
         };
-        let rotational = model.forces.iter().any(|f| {
+        let rotational = forces.iter().any(|f| {
             f.origin.statement == statement
                 && f.origin.id == id
                 && match &f.kind {
@@ -202,7 +208,7 @@ fn wrong_force_component(model: &Model, e: &Expr) -> Option<String> {
 mod tests {
     use super::*;
 
-    fn build(text: &str) -> Model {
+    fn build(text: &str) -> crate::Model {
         let ds = linkage_adm::parse_dataset(std::sync::Arc::from("r.adm"), text).expect("parses");
         crate::build_model(&ds).expect("builds").model
     }

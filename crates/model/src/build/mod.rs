@@ -88,7 +88,7 @@ pub fn build_model(ds: &Dataset) -> Result<Built, Diagnostics> {
         requests: Default::default(),
     };
     model.characteristic_length = characteristic_length(&model);
-    model.requests = crate::requests::resolve_requests(&model, ds);
+    model.requests = crate::requests::resolve_requests(&model.markers, &model.forces, ds);
     Ok(Built {
         model,
         warnings: cx.warnings,
