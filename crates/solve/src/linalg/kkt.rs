@@ -31,14 +31,14 @@
 //! Two forms:
 //!
 //! * [`SaddlePoint`]: the entries as triplets, factorised once ([`SparseLu`]): a Newton step
-//!   of the assembly or of statics, a projection, a least-squares multiplier estimate. Its
+//!   of the assembly, the IC's velocity and acceleration solves, the eigen solver's KKT. Its
 //!   storage is reused across [`SaddlePoint::clear`]s. Cost: `O(nnz)` to assemble plus the
 //!   sparse LU (ordering, symbolic and numeric).
-//! * [`FixedSaddlePoint`]: the same matrix on a [`FixedPatternLu`] refactorised in place, with
-//!   its right-hand side/solution workspace: the pattern starts as the diagonal and grows on the
-//!   first assembly ([`FixedSaddlePoint::assemble`]); each later assembly replays the slots and
-//!   each refresh is a numeric refactorisation, allocation-free (the integrator's iteration
-//!   matrix and output projection).
+//! * fixed pattern: the same blocks written into a [`FixedPatternLu`] refactorised in place
+//!   ([`add_part_mass_blocks`], [`add_constraint_row_blocks`]); the pattern starts as the
+//!   diagonal and grows on the first assembly ([`assemble_growing`]); each later assembly
+//!   replays the slots and each refresh is a numeric refactorisation, allocation-free (the
+//!   integrator's iteration matrix and output projection own their `FixedPatternLu`s).
 //!
 //! Entries at distinct positions may be added in any order without changing the result (the
 //! matrix is sorted into compressed columns before it is factorised); only entries at the same
@@ -50,11 +50,11 @@
 //! | analysis | form | `A` | constraint blocks |
 //! |---|---|---|---|
 //! | assembly Newton (`stages/assemble.rs`) | [`SaddlePoint`] | [`SaddlePoint::add_coordinate_weights`] `W = diag(1/L², 1)` | [`SaddlePoint::add_constraint_row`], [`SaddlePoint::add_multiplier_regularisation`] `μ` |
-//! | statics Newton | [`SaddlePoint`] | [`SaddlePoint::add_triplets`] `−∂Q/∂q`, `Σλ∇²Φ`, then [`SaddlePoint::add_part_mass`] `STABILITY·M/UCF` | [`SaddlePoint::add_constraint_row`] |
-//! | statics projection / initial multipliers | [`SaddlePoint`] | [`SaddlePoint::add_coordinate_weights`] `diag(1/L², 1)` / `diag(1, L²)` | [`SaddlePoint::add_constraint_row`] |
+//! | statics Newton | its own triplet list, refactorised by [`crate::linalg::triplet_lu::TripletLu`] | `−∂Q/∂q`, `Σλ∇²Φ`, `STABILITY·M/UCF` | [`push_constraint_row`] |
+//! | statics projection / initial multipliers | as above | `diag(1/L², 1)` / `diag(1, L²)` | [`push_constraint_row`] |
 //! | ic velocity | [`SaddlePoint`] | translations by [`SaddlePoint::add`], [`SaddlePoint::add_rotational_block`] `R D Rᵀ` with [`Zeros::Keep`] | [`SaddlePoint::add_constraint_row`] |
 //! | ic acceleration / force | [`SaddlePoint`] | [`SaddlePoint::add_part_mass`] `diag(m, I_g)`, [`Zeros::Skip`] | [`SaddlePoint::add_constraint_row`] |
-//! | dynamics iteration matrix | [`FixedSaddlePoint`] (or [`assemble_growing`] on its own [`FixedPatternLu`]) | [`add_part_mass_blocks`], [`FixedPatternLu::add`] / `add_block` for `βh²K`, `γhC` | [`add_constraint_row_blocks`] with `t = (1+α)·UCF` |
+//! | dynamics iteration matrix | [`assemble_growing`] on its own [`FixedPatternLu`] | [`add_part_mass_blocks`], [`FixedPatternLu::add`] / `add_block` for `βh²K`, `γhC` | [`add_constraint_row_blocks`] with `t = (1+α)·UCF` |
 //! | dynamics output projection | as above | [`add_part_mass_blocks`] with the regularisation of `physics::mass` | [`add_constraint_row_blocks`], `t = 1` |
 //! | kinematics (zero DOF: `J` square) | [`jacobian_entries`] into [`SparseLu::factor`] | — | [`CoordinateScale::IDENTITY`], [`Zeros::Skip`] |
 //! | linearize | [`jacobian_entries`] (`S = L` on translations, [`Zeros::Keep`]), [`null_space`]; the eigen solver's complex form by [`SaddlePoint::add_constraint_entry`] with `ρ = t = α` | | |
@@ -315,67 +315,6 @@ pub enum PatternError {
     Unsettled,
 }
 
-/// A saddle-point matrix on a [`FixedPatternLu`] with its right-hand side/solution workspace
-/// (see the module docs).
-pub struct FixedSaddlePoint {
-    coordinates: usize,
-    rows: usize,
-    lu: FixedPatternLu,
-    rhs: Vec<f64>,
-}
-
-impl FixedSaddlePoint {
-    /// A matrix on `coordinates + rows` unknowns whose pattern is the diagonal until the first
-    /// [`FixedSaddlePoint::assemble`].
-    pub fn new(coordinates: usize, rows: usize) -> Result<FixedSaddlePoint, LinearError> {
-        let dim = coordinates + rows;
-        Ok(FixedSaddlePoint {
-            coordinates,
-            rows,
-            lu: FixedPatternLu::new(dim, (0..dim).map(|i| (i, i)))?,
-            rhs: vec![0.0; dim],
-        })
-    }
-
-    /// Order of the matrix.
-    pub fn dim(&self) -> usize {
-        self.coordinates + self.rows
-    }
-
-    /// The matrix (for [`FixedPatternLu::nnz`], [`FixedPatternLu::same_pattern`], …).
-    pub fn matrix(&self) -> &FixedPatternLu {
-        &self.lu
-    }
-
-    /// Assembles the values with `fill` (which adds through [`add_part_mass_blocks`],
-    /// [`add_constraint_row_blocks`] and [`FixedPatternLu::add`]) until no entry falls outside
-    /// the pattern: the first assembly grows the pattern to the entries nonzero there, one that
-    /// becomes nonzero later grows it once more. Returns whether the pattern grew.
-    pub fn assemble(
-        &mut self,
-        fill: impl FnMut(&mut FixedPatternLu),
-    ) -> Result<bool, PatternError> {
-        assemble_growing(&mut self.lu, fill)
-    }
-
-    /// Refactorises the assembled values in place.
-    pub fn factor(&mut self) -> Result<(), LinearError> {
-        self.lu.factor()
-    }
-
-    /// The right-hand side to fill before [`FixedSaddlePoint::solve`] (it holds the last
-    /// solution).
-    pub fn rhs_mut(&mut self) -> &mut [f64] {
-        &mut self.rhs
-    }
-
-    /// Solves with the last factorisation; the right-hand side becomes the solution `[x; λ]`.
-    pub fn solve(&mut self) -> Result<&[f64], LinearError> {
-        self.lu.solve_in_place(&mut self.rhs)?;
-        Ok(&self.rhs)
-    }
-}
-
 /// Assembles `a` with `fill` until no entry falls outside its pattern, growing it
 /// ([`FixedPatternLu::grow`]) at most twice. Returns whether the pattern grew.
 pub fn assemble_growing(
@@ -583,20 +522,19 @@ mod tests {
         assert!((want[0] - 7.0).abs() < 1e-15 && (want[5] - 8.0).abs() < 1e-15);
         assert!((want[1] - 1.0).abs() < 1e-15 && (want[4] - 5.0 / 2.0).abs() < 1e-15);
 
-        let mut fixed = FixedSaddlePoint::new(6, 2).unwrap();
+        let mut fixed = FixedPatternLu::new(8, (0..8).map(|i| (i, i))).unwrap();
         for pass in 0..2 {
-            let grew = fixed
-                .assemble(|a| {
-                    add_part_mass_blocks(a, 0, 2.0, &inertia, 0.0);
-                    for (k, g) in rows.iter().enumerate() {
-                        add_constraint_row_blocks(a, 6, k, g, 1.0);
-                    }
-                })
-                .unwrap();
+            let grew = assemble_growing(&mut fixed, |a| {
+                add_part_mass_blocks(a, 0, 2.0, &inertia, 0.0);
+                for (k, g) in rows.iter().enumerate() {
+                    add_constraint_row_blocks(a, 6, k, g, 1.0);
+                }
+            })
+            .unwrap();
             assert_eq!(grew, pass == 0);
             fixed.factor().unwrap();
-            fixed.rhs_mut().copy_from_slice(&rhs);
-            let got = fixed.solve().unwrap();
+            let mut got = rhs.clone();
+            fixed.solve_in_place(&mut got).unwrap();
             for (g, w) in got.iter().zip(&want) {
                 assert!((g - w).abs() < 1e-14, "{got:?} {want:?}");
             }
