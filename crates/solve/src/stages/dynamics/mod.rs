@@ -28,7 +28,7 @@
 //! Layout: `problem.rs` (what a step needs that does not change: generalized forces, drives),
 //! `hht.rs` (the method's coefficients), `matrix.rs` (iteration-matrix assembly),
 //! `integrator.rs` (the HHT step and its workspace), `output.rs` (the consistent-output solve,
-//! shared with the kinematic run and the initial conditions), `simulate.rs` (step-size
+//! shared with the kinematic run), `simulate.rs` (step-size
 //! control, outputs), `redundant.rs` (redundant-row checks), `results.rs` and `error.rs` (what a
 //! run returns), `run.rs` (the dataset-level run).
 //!
@@ -55,7 +55,7 @@ mod simulate;
 pub use error::{IntegrationError, MatrixRole, SingularSolve};
 pub use integrator::Integrator;
 pub use linkage_model::settings::IntegratorSettings;
-pub use output::{consistent_output, Consistent, Output, OutputSolver};
+pub use output::{Consistent, Output, OutputSolver};
 pub use problem::{flat, ExtraDamping, Problem};
 pub(crate) use redundant::redundant_violation;
 pub use results::{Failure, Simulation};

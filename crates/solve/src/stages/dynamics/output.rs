@@ -1,12 +1,14 @@
 //! The consistent-output solve: at given positions, velocities projected onto the velocity
 //! constraints, then accelerations and multipliers from the equations of motion with the
 //! acceleration constraints, then the reactions. One solve shared by the dynamic run (at every
-//! output), the kinematic run and the initial conditions ([`OutputSolver`]).
+//! output) and the kinematic run ([`OutputSolver`]). (The acceleration IC solves the same
+//! equations without the rotational regularisation, so that a free massless part is reported:
+//! `stages::ic::acceleration_ic`.)
 
 use super::error::{IntegrationError, MatrixRole, SingularSolve};
 use super::hht::Hht;
 use super::matrix::{add_mass, assemble_growing, diagonal, IterationMatrix};
-use super::problem::{flat, padded, unflat, Problem};
+use super::problem::{padded, unflat, Problem};
 use crate::constraints::rows::{RowGradient, Velocities};
 use crate::linalg::kkt;
 use crate::linalg::linear::FixedPatternLu;
@@ -193,7 +195,7 @@ impl ConsistentSolve {
 }
 
 /// The consistent-output solve on its own, without a running integrator: the output solve of
-/// the kinematic analysis, and the velocity/acceleration/force solve of the initial conditions.
+/// the kinematic analysis.
 ///
 /// Give it a [`Problem`] with the kept rows (`redundant` may be empty: it is not read here),
 /// the (anchored) drivers and the force elements; then [`OutputSolver::solve`] at any
@@ -240,23 +242,13 @@ impl OutputSolver {
     }
 }
 
-/// One consistent solve at the positions `s` from the velocity guess `v` (one pair per part;
-/// missing ones at rest), set up for this call alone: the initial conditions' velocity,
-/// acceleration and force solve. Repeated solves should keep an [`OutputSolver`].
-pub fn consistent_output(
-    p: &Problem,
-    s: &State,
-    v: &Velocities,
-) -> Result<Consistent, IntegrationError> {
-    OutputSolver::new(p, s, v)?.solve(p, s, &flat(&padded(p, v)))
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::constraints::drivers::NoDrivers;
     use crate::constraints::system::System;
     use crate::physics::applied::NoForces;
+    use crate::stages::dynamics::problem::flat;
 
     /// A 2 kg link hanging from a revolute about ground's z at its end, held horizontal with
     /// its centre of mass 1 m along x; gravity −9.80665 along y; inertia 0.1 kg m² about z.
@@ -289,7 +281,8 @@ mod tests {
         let s = State::input(&model);
         // A guess that slides the link off its hinge: the projection keeps only the swing.
         let guess = [(DVec3::new(0.3, 0.5, 0.1), DVec3::new(0.0, 0.2, 0.4))];
-        let c = consistent_output(&p, &s, &guess).expect("solves");
+        let mut solver = OutputSolver::new(&p, &s, &guess).expect("sets up");
+        let c = solver.solve(&p, &s, &flat(&guess)).expect("solves");
         let (v, w) = c.output.velocities[0];
         let mut g = RowGradient::default();
         for &r in &rows {
@@ -298,7 +291,7 @@ mod tests {
         }
         assert!((v - w.cross(DVec3::new(1.0, 0.0, 0.0))).length() < 1e-12);
         // Released from rest: α_z = −m g L / (I_zz + m L²).
-        let rest = consistent_output(&p, &s, &[]).expect("solves");
+        let rest = solver.solve(&p, &s, &[0.0; 6]).expect("solves");
         let (a, alpha) = rest.output.accelerations[0];
         let expected = -2.0 * 9.80665 / (0.1 + 2.0);
         assert!((alpha.z - expected).abs() < 1e-12, "{alpha:?}");
