@@ -206,6 +206,17 @@ pub const ATAN2_DEGENERATE: f64 = 1e-300;
 
 // ---- Forces, measures and requests (physics/) ----
 
+/// The mass a massless part is given where a regular mass matrix is needed (model mass units).
+pub const MASSLESS_PART_MASS: f64 = 1e-12;
+
+/// An inertia tensor is singular when its determinant is below this fraction of the cube of
+/// its mean principal moment (or its trace is not positive).
+pub const SINGULAR_INERTIA_RATIO: f64 = 1e-10;
+
+/// The rotational regularisation of a part with singular inertia, as a fraction of `m·L²`
+/// (L the model's characteristic length).
+pub const INERTIA_REGULARISATION: f64 = 1e-12;
+
 /// Two points closer than this (relative to the model's characteristic length) coincide: the
 /// line of action of a translational SFORCE or SPRINGDAMPER between them is undefined.
 pub const COINCIDENT_POINTS: f64 = 1e-12;

@@ -8,20 +8,11 @@
 
 use crate::constraints::rows::Velocities;
 use crate::state::{Pose, State};
-use crate::tolerances::MASSLESS_FRACTION;
+use crate::tolerances::{
+    INERTIA_REGULARISATION, MASSLESS_FRACTION, MASSLESS_PART_MASS, SINGULAR_INERTIA_RATIO,
+};
 use glam::{DMat3, DVec3};
 use linkage_model::{Model, Part};
-
-/// The mass a massless part is given where a regular mass matrix is needed (model mass units).
-pub const MASSLESS_PART_MASS: f64 = 1e-12;
-
-/// An inertia tensor is singular when its determinant is below this fraction of the cube of
-/// its mean principal moment (or its trace is not positive).
-pub const SINGULAR_INERTIA_RATIO: f64 = 1e-10;
-
-/// The rotational regularisation of a part with singular inertia, as a fraction of `m·L²`
-/// (L the model's characteristic length).
-pub const INERTIA_REGULARISATION: f64 = 1e-12;
 
 /// The inertia about the CM in ground axes: `R I Rᵀ`.
 #[inline]
