@@ -12,6 +12,7 @@
 //! (that is `linkage-model`'s job) and it never panics on user input. Every problem is a
 //! [`Diagnostic`] carrying the file, line and column it comes from.
 
+pub mod amend;
 pub mod diagnostic;
 pub mod edit;
 pub mod reqfile;

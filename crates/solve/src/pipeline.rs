@@ -20,7 +20,7 @@ use crate::constraints::drivers::ExpressionDrivers;
 use crate::constraints::system::System;
 use crate::physics::applied::AppliedForces;
 use crate::stages::dynamics::{ExtraDamping, Problem};
-use crate::stages::ic::{initial_conditions, InitialConditions};
+use crate::stages::ic::{initial_conditions_at, InitialConditions};
 use crate::stages::verify::report_unit_suffix;
 use crate::state::State;
 use crate::tolerances::Tolerances;
@@ -134,8 +134,21 @@ impl<'m> Assembled<'m> {
         forces: &'m dyn AppliedForces,
         tol: &Tolerances,
     ) -> Assembled<'m> {
+        Assembled::at_time(model, drivers, forces, tol, 0.0)
+    }
+
+    /// [`Assembled::new`] with the initial conditions at time `time` (the parts' input poses
+    /// and velocities are the model's): how a command file continues after a change of the
+    /// model.
+    pub fn at_time(
+        model: &'m Model,
+        drivers: &ExpressionDrivers,
+        forces: &'m dyn AppliedForces,
+        tol: &Tolerances,
+        time: f64,
+    ) -> Assembled<'m> {
         let system = System::new(model);
-        let ic = initial_conditions(model, &system, drivers, forces, tol);
+        let ic = initial_conditions_at(model, &system, drivers, forces, tol, time);
         let (kept, removed) = ic.kept_and_removed_rows();
         let anchored = drivers.anchored(&system, &kept, &ic.assembly.state);
         let failure = NotAssembled::judge(model, &ic);

@@ -56,6 +56,30 @@ pub fn rotational_regularisation(part: &Part, length: f64) -> f64 {
     INERTIA_REGULARISATION * mass * length * length
 }
 
+/// What a solve of the equations of motion does with a part whose inertia is singular (a
+/// massless part, a point mass, a rod): the one policy every stage follows.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SingularInertia {
+    /// Solve with the exact mass matrix: a direction the constraints leave free and that has no
+    /// inertia makes the solve singular, which the caller reports. The initial conditions do
+    /// this, as Adams does before a dynamic run.
+    Report,
+    /// Add [`rotational_regularisation`] to the rotational diagonal, so that the run goes on:
+    /// the integrator and its consistent outputs.
+    Regularise,
+}
+
+impl SingularInertia {
+    /// The amount added to each rotational diagonal entry of `part` (0 with
+    /// [`SingularInertia::Report`] and for every part with regular inertia).
+    pub fn rotational(self, part: &Part, length: f64) -> f64 {
+        match self {
+            SingularInertia::Report => 0.0,
+            SingularInertia::Regularise => rotational_regularisation(part, length),
+        }
+    }
+}
+
 /// The mass and inertia given to parts that have none where a linearized model needs a regular
 /// mass matrix (Adams' rule for LINEAR): [`MASSLESS_FRACTION`] × the smallest nonzero part
 /// mass, and [`MASSLESS_FRACTION`] × the smallest nonzero principal moment (or the small mass ×

@@ -16,11 +16,10 @@ use crate::constraints::drivers::{Drivers, ExpressionDrivers, MotionError};
 use crate::constraints::rows::RowGradient;
 use crate::constraints::system::System;
 use crate::linalg::kkt::{SaddlePoint, Zeros};
-use crate::linalg::linear::LinearError;
 use crate::physics::applied::{AppliedForces, ForceError};
-use crate::physics::mass;
-use crate::physics::reactions::{element_reactions, Reaction};
+use crate::physics::reactions::Reaction;
 use crate::stages::assemble::{assemble, hard_rows, Assembly, HardKind, HardRow};
+use crate::stages::dynamics::{flat, IntegrationError, OutputSolver, Problem, SingularSolve};
 use crate::stages::verify::{report_residual, residuals, verify_at, Verification};
 use crate::state::State;
 use crate::tolerances::{Tolerances, ACCELERATION_IC_FLOOR, UNGIVEN_VELOCITY_WEIGHT};
@@ -129,7 +128,22 @@ pub fn initial_conditions(
     forces: &dyn AppliedForces,
     tol: &Tolerances,
 ) -> InitialConditions {
-    let input = State::input(model);
+    initial_conditions_at(model, sys, drivers, forces, tol, 0.0)
+}
+
+/// [`initial_conditions`] at time `time` (motions and time-dependent constraints are
+/// evaluated there): a command file's analysis that continues a run assembles the model at
+/// the time the previous analysis left it.
+pub fn initial_conditions_at(
+    model: &Model,
+    sys: &System,
+    drivers: &ExpressionDrivers,
+    forces: &dyn AppliedForces,
+    tol: &Tolerances,
+    time: f64,
+) -> InitialConditions {
+    let mut input = State::input(model);
+    input.time = time;
     let hard = hard_rows(model);
     let mut analysis = verify_at(model, sys, &input, drivers, tol);
     let before = residuals(sys, &input, drivers);
@@ -411,9 +425,10 @@ pub enum AccelerationError {
         "{element}: the second time derivative of the constraint cannot be evaluated: {cause}"
     )]
     ConstraintBias { element: String, cause: String },
-    /// The saddle-point matrix cannot be factorised.
+    /// The shared consistent solve failed otherwise (its matrix could not be set up or
+    /// factorised, the velocity projection is singular, a row cannot be evaluated).
     #[error(transparent)]
-    Factor(#[from] LinearError),
+    Solve(Box<IntegrationError>),
     /// The matrix is singular.
     #[error(
         "the acceleration equations are singular: a massless part or a part without inertia \
@@ -424,11 +439,13 @@ pub enum AccelerationError {
 
 /// Acceleration and force IC: `M a + UCF·Jᵀμ = M g + UCF·Q` (gravity, applied forces,
 /// gyroscopic terms) with `J a = f̈ − γ` (the exact velocity-product terms γ of every kept row,
-/// general constraints included) at the assembled positions `s` with the IC velocities `v`, as
-/// one [`SaddlePoint`] solve; reactions `−Jᵀλ` on each element's I marker (λ = μ/UCF). Unlike
-/// the integrator's consistent-output solve, the mass matrix is not regularised: a massless
-/// part or a part without inertia that the constraints leave free is reported
-/// ([`AccelerationError::Singular`]), as Adams does before a dynamic run.
+/// general constraints included) at the assembled positions `s` with the IC velocities `v`,
+/// by the consistent-output solve every analysis shares ([`OutputSolver`]), with the exact
+/// mass matrix: a massless part or a part without inertia that the constraints leave free is
+/// reported ([`AccelerationError::Singular`]), as Adams does before a dynamic run. Reactions
+/// `−Jᵀλ` on each element's I marker (λ = μ/UCF). Before solving, the IC names in its own
+/// words what cannot be evaluated there: a force element, a motion's acceleration, a general
+/// constraint's second time derivative.
 pub fn acceleration_ic(
     model: &Model,
     sys: &System,
@@ -439,11 +456,11 @@ pub fn acceleration_ic(
     v: &[(DVec3, DVec3)],
 ) -> Result<AccelerationIc, AccelerationError> {
     let n = model.parts.len();
-    let ucf = model.ucf();
     let mut applied = vec![0.0; 6 * n];
     forces.add_forces(s, v, &mut applied)?;
+    // The acceleration equations `∇Φ·a = f̈ − γ` of the rows, to measure the solution by.
     let mut g = RowGradient::default();
-    let mut eqs: Vec<(usize, RowGradient, f64)> = Vec::new();
+    let mut eqs: Vec<(RowGradient, f64)> = Vec::with_capacity(rows.len());
     for &r in rows {
         let row = &sys.rows[r];
         let fdd = if row.driven {
@@ -456,7 +473,7 @@ pub fn acceleration_ic(
                         cause: e.to_string(),
                     })
                 }
-                None => continue,
+                None => 0.0,
             }
         } else {
             0.0
@@ -468,56 +485,36 @@ pub fn acceleration_ic(
                     cause: e.to_string(),
                 })?;
         sys.gradient(r, s, &mut g);
-        eqs.push((r, g.clone(), fdd - bias));
+        eqs.push((g.clone(), fdd - bias));
     }
-    let mut kkt = SaddlePoint::new(6 * n, eqs.len());
-    let mut rhs = vec![0.0; kkt.dim()];
-    for (k, p) in model.parts.iter().enumerate() {
-        kkt.add_part_mass(
-            k,
-            p.mass,
-            &mass::ground_inertia(p, &s.poses[k]),
-            Zeros::Skip,
-        );
-    }
-    // `UCF·Q`: the applied forces, then the weights and gyroscopic torques.
-    for (r, f) in rhs.iter_mut().zip(&applied) {
-        *r = ucf * f;
-    }
-    mass::add_body_loads(model, s, v, None, &mut rhs);
-    for (e, (_, grad, b)) in eqs.iter().enumerate() {
-        kkt.add_constraint_row(e, grad);
-        rhs[kkt.multiplier(e)] = *b;
-    }
-    kkt.factor()?
-        .solve(&mut rhs)
-        .map_err(|_| AccelerationError::Singular)?;
-    let acc: Vec<(DVec3, DVec3)> = (0..n)
-        .map(|k| {
-            (
-                DVec3::new(rhs[6 * k], rhs[6 * k + 1], rhs[6 * k + 2]),
-                DVec3::new(rhs[6 * k + 3], rhs[6 * k + 4], rhs[6 * k + 5]),
-            )
-        })
-        .collect();
+    // Velocity and acceleration motions without ICDISP take their displacement from the
+    // assembled configuration, as in every later stage.
+    let anchored = drivers.anchored(sys, rows, s);
+    let problem = Problem {
+        model,
+        sys,
+        rows,
+        redundant: &[],
+        drivers: &anchored,
+        forces,
+        damping: None,
+        frozen_time: None,
+    };
+    let solved = OutputSolver::exact(&problem, s, v)
+        .and_then(|mut solver| solver.solve(&problem, s, &flat(v)))
+        .map_err(|e| match e {
+            IntegrationError::Singular(SingularSolve::Acceleration) => AccelerationError::Singular,
+            other => AccelerationError::Solve(Box::new(other)),
+        })?;
+    let acc = solved.output.accelerations;
     let max_error = eqs
         .iter()
-        .map(|(_, grad, b)| (grad.rate(&acc) - b).abs())
+        .map(|(grad, b)| (grad.rate(&acc) - b).abs())
         .fold(0.0, f64::max);
-    // Multipliers in force units; reactions on the I markers.
-    let rows_grads: Vec<(usize, &RowGradient)> = eqs.iter().map(|(r, g, _)| (*r, g)).collect();
-    let lambda: Vec<f64> = (0..eqs.len())
-        .map(|e| rhs[kkt.multiplier(e)] / ucf)
-        .collect();
-    let reactions = element_reactions(model, sys, &rows_grads, &lambda, s);
-    let multipliers = eqs
-        .iter()
-        .zip(&lambda)
-        .map(|((r, _, _), l)| (*r, *l))
-        .collect();
+    let multipliers = rows.iter().copied().zip(solved.lambda).collect();
     Ok(AccelerationIc {
         accelerations: acc,
-        reactions,
+        reactions: solved.output.reactions,
         multipliers,
         max_error,
         converged: max_error <= model.ic.aerror.max(ACCELERATION_IC_FLOOR),

@@ -9,7 +9,7 @@ use super::output::{ConsistentSolve, Output};
 use super::problem::{flat, padded, unflat_into, Problem};
 use crate::constraints::rows::{RowGradient, Velocities};
 use crate::constraints::system::RowUnit;
-use crate::physics::mass;
+use crate::physics::mass::{self, SingularInertia};
 use crate::state::State;
 use crate::tolerances::{
     CORRECTOR_ACCELERATION_FLOOR, CORRECTOR_ACCELERATION_MIN, CORRECTOR_CONSTRAINT,
@@ -137,7 +137,7 @@ impl Workspace {
             grads: vec![RowGradient::default(); m],
             force_state: start.clone(),
             matrix,
-            output: ConsistentSolve::new(p, start)?,
+            output: ConsistentSolve::new(p, start, SingularInertia::Regularise)?,
         })
     }
 }

@@ -1,9 +1,9 @@
 //! The consistent-output solve: at given positions, velocities projected onto the velocity
 //! constraints, then accelerations and multipliers from the equations of motion with the
 //! acceleration constraints, then the reactions. One solve shared by the dynamic run (at every
-//! output) and the kinematic run ([`OutputSolver`]). (The acceleration IC solves the same
-//! equations without the rotational regularisation, so that a free massless part is reported:
-//! `stages::ic::acceleration_ic`.)
+//! output), the kinematic run and the acceleration IC ([`OutputSolver`]). The IC solves with
+//! the exact mass matrix ([`SingularInertia::Report`]), so that a free massless part is
+//! reported; the runs regularise ([`SingularInertia::Regularise`]).
 
 use super::error::{IntegrationError, MatrixRole, SingularSolve};
 use super::hht::Hht;
@@ -12,7 +12,7 @@ use super::problem::{padded, unflat, Problem};
 use crate::constraints::rows::{RowGradient, Velocities};
 use crate::linalg::kkt;
 use crate::linalg::linear::FixedPatternLu;
-use crate::physics::mass;
+use crate::physics::mass::{self, SingularInertia};
 use crate::physics::reactions::{element_reactions, Reaction};
 use crate::state::State;
 use glam::DVec3;
@@ -68,12 +68,19 @@ pub(super) struct ConsistentSolve {
     constrained: State,
     /// The same for the force elements.
     force_state: State,
+    /// Parts with singular inertia: regularised, or left singular for the caller to report.
+    singular: SingularInertia,
 }
 
 impl ConsistentSolve {
     /// Buffers for `p`; `like` sizes the state buffers.
-    pub(super) fn new(p: &Problem, like: &State) -> Result<ConsistentSolve, IntegrationError> {
+    pub(super) fn new(
+        p: &Problem,
+        like: &State,
+        singular: SingularInertia,
+    ) -> Result<ConsistentSolve, IntegrationError> {
         Ok(ConsistentSolve {
+            singular,
             lu: diagonal(6 * p.n() + p.rows.len())?,
             pattern: 0,
             grads: vec![RowGradient::default(); p.rows.len()],
@@ -86,9 +93,9 @@ impl ConsistentSolve {
     /// mass-weighted) and solves the accelerations and multipliers (`M a + UCF·Jᵀλ = UCF·Q`,
     /// `J a = f̈ − γ`, with the exact velocity-product terms γ of every row, general
     /// constraints included: [`crate::constraints::system::System::acceleration_bias`]) at the
-    /// positions `s`. `M` is regularised on the rotational diagonal by
-    /// [`mass::rotational_regularisation`], which is zero except for parts with singular
-    /// inertia: elsewhere the equations are exact, so that a constraint wrench recovered from
+    /// positions `s`. With [`SingularInertia::Regularise`], `M` is regularised on the
+    /// rotational diagonal by [`mass::rotational_regularisation`], which is zero except for
+    /// parts with singular inertia: elsewhere the equations are exact, so that a constraint wrench recovered from
     /// them (FORCE requests) vanishes to rounding where it should. The matrix takes
     /// `pattern_of`'s pattern. Cost: one assembly, one numeric LU, two solves.
     pub(super) fn solve(
@@ -107,7 +114,8 @@ impl ConsistentSolve {
         let se: &State = p.force_state(s, &mut self.constrained);
         p.gradients(se, &mut self.grads);
         let grads = &self.grads;
-        let reg = |k: usize| mass::rotational_regularisation(&p.model.parts[k], length);
+        let singular = self.singular;
+        let reg = |k: usize| singular.rotational(&p.model.parts[k], length);
         if self.pattern != pattern_of.pattern {
             self.lu = pattern_of
                 .lu
@@ -216,8 +224,17 @@ impl OutputSolver {
             pattern_of: IterationMatrix::with_pattern(p, start, &v0, |h| {
                 hht.matrix_coefficients(h)
             })?,
-            solve: ConsistentSolve::new(p, start)?,
+            solve: ConsistentSolve::new(p, start, SingularInertia::Regularise)?,
         })
+    }
+
+    /// [`OutputSolver::new`] with the exact mass matrix ([`SingularInertia::Report`]): a
+    /// direction without inertia that the constraints leave free makes the acceleration solve
+    /// fail with [`SingularSolve::Acceleration`] (the acceleration IC).
+    pub fn exact(p: &Problem, start: &State, v0: &Velocities) -> Result<Self, IntegrationError> {
+        let mut solver = OutputSolver::new(p, start, v0)?;
+        solver.solve.singular = SingularInertia::Report;
+        Ok(solver)
     }
 
     /// Velocities, accelerations, reactions and multipliers at positions `s` (time `s.time`),
