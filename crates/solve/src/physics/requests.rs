@@ -158,6 +158,45 @@ impl RequestSet {
         out
     }
 
+    /// [`RequestSet::evaluate`]'s values as a request file stores them: six per request, in
+    /// request order. A standard request's six components as they are; a function request's
+    /// F2, F3, F4, F6, F7, F8 (F1 and F5, the magnitudes of Adams' eight-component layout, are
+    /// not stored; a component not given is 0).
+    pub fn stored_values(&self, values: &[f64]) -> Vec<[f64; 6]> {
+        let mut at = 0;
+        let mut out = Vec::with_capacity(self.requests.len());
+        for r in &self.requests {
+            let mut six = [0.0; 6];
+            match &r.what {
+                RequestWhat::Standard { .. } => {
+                    for (slot, v) in six.iter_mut().zip(values.iter().skip(at)) {
+                        *slot = *v;
+                    }
+                    at += 6;
+                }
+                RequestWhat::Functions(list) => {
+                    for f in list {
+                        let slot = match f.component {
+                            2 => Some(0),
+                            3 => Some(1),
+                            4 => Some(2),
+                            6 => Some(3),
+                            7 => Some(4),
+                            8 => Some(5),
+                            _ => None,
+                        };
+                        if let (Some(k), Some(v)) = (slot, values.get(at)) {
+                            six[k] = *v;
+                        }
+                        at += 1;
+                    }
+                }
+            }
+            out.push(six);
+        }
+        out
+    }
+
     /// The values of every column at `output` of a run of `model`, whose compiled constraint
     /// rows are `sys` (the run's: GCON, COUPLER and GEAR rows tell which parts those elements
     /// act on). An error names the request, the time and the function (or quantity) that

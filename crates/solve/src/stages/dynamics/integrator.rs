@@ -116,6 +116,9 @@ struct Workspace {
     matrix: IterationMatrix,
     /// `[M, Jᵀ; J, 0]` of the consistent velocity and acceleration solves.
     output: ConsistentSolve,
+    /// Corrector iterations and iteration-matrix factorisations so far.
+    newton_iterations: usize,
+    factorisations: usize,
 }
 
 impl Workspace {
@@ -136,6 +139,8 @@ impl Workspace {
             q: vec![0.0; 6 * n],
             grads: vec![RowGradient::default(); m],
             force_state: start.clone(),
+            newton_iterations: 0,
+            factorisations: 0,
             matrix,
             output: ConsistentSolve::new(p, start, SingularInertia::Regularise)?,
         })
@@ -215,6 +220,11 @@ impl<'p, 'a> Integrator<'p, 'a> {
             },
             first.output,
         ))
+    }
+
+    /// Corrector iterations and iteration-matrix factorisations since the start.
+    pub fn statistics(&self) -> (usize, usize) {
+        (self.work.newton_iterations, self.work.factorisations)
     }
 
     /// Time of the current step.
@@ -305,6 +315,7 @@ impl<'p, 'a> Integrator<'p, 'a> {
         // Whether the matrix was factorised during this step.
         let mut fresh = false;
         for it in 0..settings.maxit {
+            w.newton_iterations += 1;
             trial.place(cur, h, *hht);
             trial.evaluate(p, w)?;
             // Residuals: r₁ = M a + (1+α)(Jᵀλ − Q) − α(Jᵀλ − Q)_n, r₂ = Φ/(βh²).
@@ -352,6 +363,7 @@ impl<'p, 'a> Integrator<'p, 'a> {
                 };
                 w.matrix.refresh(p, &at, hht.matrix_coefficients(h))?;
                 w.matrix.h = Some(h);
+                w.factorisations += 1;
                 fresh = true;
             }
             for x in w.rhs.iter_mut() {

@@ -31,6 +31,10 @@ pub struct Simulation {
     pub failure: Option<Failure>,
     pub steps: usize,
     pub rejected: usize,
+    /// Corrector (Newton) iterations over every step tried, rejected ones included.
+    pub newton_iterations: usize,
+    /// Factorisations of the iteration matrix.
+    pub factorisations: usize,
     /// The model has no degrees of freedom: it was run kinematically.
     pub kinematic: bool,
 }
@@ -43,6 +47,8 @@ impl Simulation {
             failure: None,
             steps: 0,
             rejected: 0,
+            newton_iterations: 0,
+            factorisations: 0,
             kinematic,
         }
     }

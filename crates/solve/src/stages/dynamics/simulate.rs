@@ -116,7 +116,9 @@ pub fn simulate_with(
             next_output += 1;
             continue;
         }
-        match integ.try_step(hs) {
+        let tried = integ.try_step(hs);
+        (sim.newton_iterations, sim.factorisations) = integ.statistics();
+        match tried {
             Ok(err) => {
                 let tol = settings.error;
                 if err > tol && !at_min_step(hs) {

@@ -1,0 +1,320 @@
+//! The analyses a command file runs, each continuing from where the last one left the model
+//! (ADM-REFERENCE §7.3): the model is assembled at the current time from the current state
+//! ([`Session::input_model`]), the analysis runs, its outputs go to the records as they come,
+//! and the session keeps the state it ends at.
+
+use crate::error::RunError;
+use crate::msg::MessageFile;
+use crate::records::Records;
+use crate::session::{Left, Session};
+use linkage_adm::commands::SimulateKind;
+use linkage_model::Model;
+use linkage_solve::pipeline::Assembled;
+use linkage_solve::stages::dynamics::{simulate_with, AfterOutput, Output};
+use linkage_solve::stages::linearize::{self, LinearOptions};
+use linkage_solve::stages::statics;
+use linkage_solve::tolerances::Tolerances;
+use std::time::Instant;
+
+/// Where a command was written and its echo, for messages.
+pub struct Place<'c> {
+    /// `file.acf:line:column`.
+    pub at: String,
+    pub command: &'c str,
+}
+
+impl Place<'_> {
+    fn failed(&self, why: impl Into<String>) -> RunError {
+        RunError::Failed {
+            place: self.at.clone(),
+            command: self.command.to_string(),
+            why: why.into(),
+        }
+    }
+
+    fn refused(&self, why: impl Into<String>) -> RunError {
+        RunError::Refused {
+            place: self.at.clone(),
+            command: self.command.to_string(),
+            why: why.into(),
+        }
+    }
+}
+
+/// Output times from the current time `t0` to `end`: every `dtout`, or `steps` equal intervals
+/// (one interval when neither is given), `t0` itself excluded.
+pub fn output_times(t0: f64, end: f64, steps: Option<u32>, dtout: Option<f64>) -> Vec<f64> {
+    let span = end - t0;
+    let count = match (steps, dtout) {
+        (Some(n), _) => n.max(1) as usize,
+        (None, Some(dt)) => ((span / dt) - crate::INTERVAL_SLACK).ceil().max(1.0) as usize,
+        (None, None) => 1,
+    };
+    (1..=count)
+        .map(|k| match (steps, dtout) {
+            (None, Some(dt)) => (t0 + dt * k as f64).min(end),
+            _ => t0 + span * k as f64 / count as f64,
+        })
+        .collect()
+}
+
+/// Everything an analysis writes to.
+pub struct Sinks<'s> {
+    pub msg: &'s mut MessageFile,
+    pub records: &'s mut Records,
+}
+
+/// The model assembled at the current time from the current state, and the summary lines of
+/// verify when the model changed since the last summary.
+fn assemble<'m>(
+    session: &'m Session,
+    model: &'m Model,
+    place: &Place,
+) -> Result<Assembled<'m>, RunError> {
+    let a = Assembled::at_time(
+        model,
+        &session.built.drivers,
+        &session.built.forces,
+        &Tolerances::default(),
+        session.time(),
+    );
+    if let Some(why) = a.failure() {
+        return Err(place.failed(why.to_string()));
+    }
+    Ok(a)
+}
+
+/// The verify summary of an assembled model: counts, DOF and redundant equations.
+pub fn model_summary(session: &Session, a: &Assembled) -> String {
+    let j = linkage_report::verify::to_json(a.model, &a.ic.analysis, &session.built.warnings);
+    linkage_report::verify::to_text(&j)
+}
+
+/// Writes one output to the records (a request that cannot be evaluated ends the run).
+fn record(
+    session: &Session,
+    a: &Assembled,
+    sinks: &mut Sinks,
+    o: &Output,
+    place: &Place,
+) -> Result<(), RunError> {
+    sinks
+        .records
+        .write(a.model, &a.system, &session.built.requests, o)
+        .map_err(|why| place.failed(why))
+}
+
+/// The output of the initial conditions of `a`.
+fn ic_output(a: &Assembled) -> Option<Output> {
+    let acc = a.ic.acceleration.as_ref()?.as_ref().ok()?;
+    Some(Output {
+        time: a.state().time,
+        state: a.state().clone(),
+        velocities: a.velocities(),
+        accelerations: acc.accelerations.clone(),
+        reactions: acc.reactions.clone(),
+    })
+}
+
+/// `SIMULATE/INITIAL_CONDITIONS`: assemble, velocities, accelerations and forces; one output.
+pub fn initial_conditions(
+    session: &mut Session,
+    sinks: &mut Sinks,
+    place: &Place,
+    summary: bool,
+) -> Result<(), RunError> {
+    let model = session.input_model();
+    let a = assemble(session, &model, place)?;
+    if summary {
+        sinks.msg.write(&model_summary(session, &a))?;
+    }
+    let j = linkage_report::ic::to_json(&model, &a.ic, &session.built.warnings);
+    sinks.msg.write(&linkage_report::ic::to_text(&j))?;
+    let Some(o) = ic_output(&a) else {
+        return Err(place.failed("the acceleration and force initial conditions failed"));
+    };
+    record(session, &a, sinks, &o, place)?;
+    let left = Left {
+        state: o.state.clone(),
+        velocities: o.velocities.clone(),
+    };
+    drop(a);
+    session.left = Some(left);
+    Ok(())
+}
+
+/// `SIMULATE/STATIC`: one equilibrium at the current time, or a quasi-static series to `end`.
+pub fn statics(
+    session: &mut Session,
+    sinks: &mut Sinks,
+    place: &Place,
+    summary: bool,
+    times: Option<Vec<f64>>,
+) -> Result<(), RunError> {
+    let model = session.input_model();
+    let a = assemble(session, &model, place)?;
+    if summary {
+        sinks.msg.write(&model_summary(session, &a))?;
+    }
+    let t0 = session.time();
+    let times = times.unwrap_or_else(|| vec![t0]);
+    let run = if model.equilibrium.dynamic && times.len() == 1 {
+        let outcome = linkage_solve::stages::settle::settle(&a, |_| {})
+            .map_err(|why| place.failed(why.to_string()))?;
+        let eq = outcome
+            .settled_equilibrium()
+            .cloned()
+            .ok_or_else(|| {
+                place.failed(
+                    outcome
+                        .failure(&model, &a.system)
+                        .unwrap_or_else(|| "the model did not settle".into()),
+                )
+            })?;
+        statics::StaticRun {
+            steps: vec![(t0, Ok(eq))],
+        }
+    } else {
+        statics::run(&a, &times)
+    };
+    let j = linkage_report::statics::to_json(&a, &run, &session.built.warnings);
+    sinks.msg.write(&linkage_report::statics::to_text(&j))?;
+    let mut last = None;
+    for (t, result) in &run.steps {
+        let eq = match result {
+            Ok(e) if e.converged => e,
+            Ok(e) => {
+                return Err(place.failed(
+                    e.failure(&model, &a.system)
+                        .unwrap_or_else(|| format!("no static equilibrium at time {t}")),
+                ))
+            }
+            Err(e) => return Err(place.failed(format!("at time {t}: {e}"))),
+        };
+        let o = Output {
+            time: *t,
+            state: eq.state.clone(),
+            velocities: a.rest(),
+            accelerations: a.rest(),
+            reactions: eq.reactions.clone(),
+        };
+        record(session, &a, sinks, &o, place)?;
+        last = Some(o);
+    }
+    let Some(o) = last else {
+        return Err(place.failed("no static equilibrium was computed"));
+    };
+    let left = Left {
+        state: o.state,
+        velocities: o.velocities,
+    };
+    drop(a);
+    session.left = Some(left);
+    Ok(())
+}
+
+/// `SIMULATE/{DYNAMIC | KINEMATIC | TRANSIENT}` to `end` with outputs at `times` (the current
+/// time excluded; the first analysis of the file also writes its initial conditions).
+pub fn dynamics(
+    session: &mut Session,
+    sinks: &mut Sinks,
+    place: &Place,
+    summary: bool,
+    kind: SimulateKind,
+    times: &[f64],
+) -> Result<(), RunError> {
+    let model = session.input_model();
+    let a = assemble(session, &model, place)?;
+    if summary {
+        sinks.msg.write(&model_summary(session, &a))?;
+    }
+    let zero_dof = a.kept.len() >= 6 * model.parts.len();
+    match kind {
+        SimulateKind::Kinematic if !zero_dof => {
+            return Err(place.refused(format!(
+                "a kinematic analysis needs a model without degrees of freedom; this one has {} \
+                 (use SIMULATE/DYNAMIC or TRANSIENT)",
+                a.ic.analysis.dof
+            )))
+        }
+        SimulateKind::Dynamic if zero_dof => {
+            sinks.msg.write(
+                " The model has no degrees of freedom: it is run kinematically (positions from \
+                 the constraints at each output).",
+            )?;
+        }
+        _ => {}
+    }
+    let first = session.left.is_none();
+    if first {
+        if let Some(o) = ic_output(&a) {
+            record(session, &a, sinks, &o, place)?;
+        }
+    }
+    let start = a.state().clone();
+    let v0 = a.velocities();
+    let problem = a.problem(None, None);
+    let settings = &model.integrator.settings;
+    let clock = Instant::now();
+    let mut last: Option<Output> = None;
+    let mut write_error: Option<RunError> = None;
+    let sim = simulate_with(&problem, &start, &v0, times, settings, |_| {}, |o| {
+        if let Err(e) = record(session, &a, sinks, &o, place) {
+            write_error = Some(e);
+            return AfterOutput::Stop;
+        }
+        last = Some(o);
+        AfterOutput::Continue
+    });
+    let seconds = clock.elapsed().as_secs_f64();
+    sinks.msg.write(&format!(
+        " {} to t = {}: {} steps ({} rejected), {} corrector iterations, {} matrix \
+         factorisations, {} outputs, {seconds:.3} s CPU",
+        if sim.kinematic { "Kinematics" } else { "Dynamics" },
+        last.as_ref().map_or(session.time(), |o| o.time),
+        sim.steps,
+        sim.rejected,
+        sim.newton_iterations,
+        sim.factorisations,
+        times.len(),
+    ))?;
+    if let Some(e) = write_error {
+        return Err(e);
+    }
+    let left = last.map(|o| Left {
+        state: o.state,
+        velocities: o.velocities,
+    });
+    let failure = sim.failure.clone();
+    drop(problem);
+    drop(a);
+    if let Some(left) = left {
+        session.left = Some(left);
+    }
+    if let Some(f) = failure {
+        return Err(place.failed(format!("at time {}: {}", f.time, f.message)));
+    }
+    Ok(())
+}
+
+/// `LINEAR/EIGENSOL`: eigenvalues (and modes) about the current operating point.
+pub fn eigensolution(
+    session: &mut Session,
+    sinks: &mut Sinks,
+    place: &Place,
+    summary: bool,
+    opts: LinearOptions,
+) -> Result<(), RunError> {
+    let model = session.input_model();
+    let a = assemble(session, &model, place)?;
+    if summary {
+        sinks.msg.write(&model_summary(session, &a))?;
+    }
+    let run = linearize::run(&a, false, opts);
+    let j = linkage_report::linear::to_json(&model, &run, false, &session.built.warnings);
+    sinks.msg.write(&linkage_report::linear::to_text(&j))?;
+    if let Err(e) = &run.result {
+        return Err(place.failed(e.to_string()));
+    }
+    Ok(())
+}

@@ -1,0 +1,41 @@
+//! Why a command file stopped.
+
+use linkage_adm::Diagnostics;
+
+/// Why a command file could not be run to its end.
+#[derive(Debug, thiserror::Error)]
+pub enum RunError {
+    /// The command file, the dataset or a command's statement does not read, type or build
+    /// (every diagnostic, with file, line and column).
+    #[error("{0}")]
+    Input(Diagnostics),
+    /// A command that linkage does not carry out, or cannot carry out on this model.
+    #[error("{place}: {command}: {why}")]
+    Refused {
+        /// `file.acf:line:column`.
+        place: String,
+        command: String,
+        why: String,
+    },
+    /// An analysis ran and failed (no assembly, no equilibrium, the integration stopped).
+    #[error("{place}: {command}: {why}")]
+    Failed {
+        place: String,
+        command: String,
+        why: String,
+    },
+    /// An output file cannot be written.
+    #[error("cannot write {path}: {cause}")]
+    Write { path: String, cause: std::io::Error },
+}
+
+impl RunError {
+    /// The exit code of `linkage run`: 2 for input errors and refused commands, 1 for an
+    /// analysis that failed or a file that cannot be written.
+    pub fn exit_code(&self) -> u8 {
+        match self {
+            RunError::Input(_) | RunError::Refused { .. } => 2,
+            RunError::Failed { .. } | RunError::Write { .. } => 1,
+        }
+    }
+}

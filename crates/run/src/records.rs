@@ -1,0 +1,230 @@
+//! The time histories of a command file, written as the run goes: `<name>.req` (the Adams
+//! request file: every REQUEST at every output of every analysis, in order) and `<name>.csv`
+//! (the columns of `linkage simulate --out`: each part's CM position, 3-1-3 angles in degrees
+//! and velocities, each constraint element's reaction on its I marker, then the request
+//! components).
+//!
+//! Contract:
+//! - The columns and requests are those of the model at the first output; an element
+//!   deactivated later writes zeros (it carries no load); a part cannot come or go.
+//! - Each output is written whole and flushed before the next one is computed: a run that stops
+//!   leaves complete rows and blocks.
+
+use crate::error::RunError;
+use linkage_adm::reqwriter::{
+    Precision, RequestDescription, RequestFileHeader, RequestFileWriter,
+};
+use linkage_adm::reqfile::VALUES_PER_REQUEST;
+use linkage_adm::Dataset;
+use linkage_model::Model;
+use linkage_solve::constraints::system::System;
+use linkage_solve::physics::requests::RequestSet;
+use linkage_solve::stages::dynamics::Output;
+use std::fs::File;
+use std::io::{BufWriter, Write};
+use std::path::{Path, PathBuf};
+
+/// Two-letter codes of the units word of a request file (`M_KGS_N_RACA`: length, mass, time,
+/// force, then the angle code); a unit without a code gets its first two letters.
+fn unit_code(name: &str) -> String {
+    let code = match name {
+        "METER" => "M_",
+        "MILLIMETER" => "MM",
+        "CENTIMETER" => "CM",
+        "KILOMETER" => "KM",
+        "INCH" => "IN",
+        "FOOT" => "FT",
+        "KILOGRAM" => "KG",
+        "GRAM" => "G_",
+        "TONNE" => "MG",
+        "POUND_MASS" => "LB",
+        "SLUG" => "SL",
+        "SECOND" => "S_",
+        "MILLISECOND" => "MS",
+        "MINUTE" => "MI",
+        "HOUR" => "H_",
+        "NEWTON" => "N_",
+        "KNEWTON" => "KN",
+        "MILLINEWTON" => "MN",
+        "DYNE" => "DY",
+        "POUND_FORCE" => "LB",
+        "KILOGRAM_FORCE" => "KF",
+        other => return format!("{:_<2}", other.chars().take(2).collect::<String>()),
+    };
+    code.to_string()
+}
+
+/// The units word and scale of line 3 of a request file for `model`.
+fn units_word(model: &Model) -> (String, f64) {
+    let [force, mass, length, time] = model.units.names;
+    let word = format!(
+        "{}{}{}{}RACA",
+        unit_code(length),
+        unit_code(mass),
+        unit_code(time),
+        unit_code(force)
+    );
+    (word, 1.0 / model.units.length)
+}
+
+/// The header records of every REQUEST of the dataset `ds`, in order.
+fn descriptions(ds: &Dataset) -> Vec<RequestDescription> {
+    ds.requests
+        .iter()
+        .map(|r| RequestDescription {
+            id: r.header.id,
+            type_code: match r.kind {
+                Some(linkage_adm::RequestKind::Displacement) => 1,
+                Some(linkage_adm::RequestKind::Velocity) => 2,
+                Some(linkage_adm::RequestKind::Acceleration) => 3,
+                Some(linkage_adm::RequestKind::Force) => 4,
+                None => 5,
+            },
+            i: r.i.as_ref().map_or(0, |m| m.id),
+            j: r.j.as_ref().map_or(0, |m| m.id),
+            comment: r.comment.as_ref().map_or(String::new(), |c| c.value.clone()),
+        })
+        .collect()
+}
+
+/// The streams of a run's time histories.
+pub struct Records {
+    csv_path: PathBuf,
+    csv: BufWriter<File>,
+    req_path: PathBuf,
+    req: RequestFileWriter<BufWriter<File>>,
+    /// Column layout, fixed at the first output.
+    layout: Option<Layout>,
+    /// Outputs written.
+    pub written: usize,
+}
+
+struct Layout {
+    /// Constraint elements with reaction columns, by name.
+    elements: Vec<String>,
+    /// Request columns of [`RequestSet::columns`].
+    request_columns: Vec<String>,
+}
+
+fn write_error(path: &Path) -> impl Fn(std::io::Error) -> RunError + '_ {
+    move |cause| RunError::Write {
+        path: path.display().to_string(),
+        cause,
+    }
+}
+
+impl Records {
+    /// Creates `<stem>.csv` and `<stem>.req` and writes the request-file header for the
+    /// REQUESTs of `ds`, built into `model`.
+    pub fn create(stem: &Path, ds: &Dataset, model: &Model) -> Result<Records, RunError> {
+        let csv_path = stem.with_extension("csv");
+        let req_path = stem.with_extension("req");
+        let csv = File::create(&csv_path).map_err(write_error(&csv_path))?;
+        let req_file = File::create(&req_path).map_err(write_error(&req_path))?;
+        let (units, scale) = units_word(model);
+        let header = RequestFileHeader::now(ds.title.clone(), units, scale);
+        let req = RequestFileWriter::new(
+            BufWriter::new(req_file),
+            &header,
+            &descriptions(ds),
+            Precision::Adams,
+        )
+        .map_err(|e| RunError::Write {
+            path: req_path.display().to_string(),
+            cause: std::io::Error::other(e.to_string()),
+        })?;
+        Ok(Records {
+            csv_path,
+            csv: BufWriter::new(csv),
+            req_path,
+            req,
+            layout: None,
+            written: 0,
+        })
+    }
+
+    /// Writes one output of a run of `model` (compiled constraints `sys`): a CSV row and a
+    /// request-file block. A request that cannot be evaluated is an error naming it.
+    pub fn write(
+        &mut self,
+        model: &Model,
+        sys: &System,
+        requests: &RequestSet,
+        o: &Output,
+    ) -> Result<(), String> {
+        let values = requests.evaluate(model, sys, o).map_err(|e| e.to_string())?;
+        if self.layout.is_none() {
+            let elements: Vec<String> = o
+                .reactions
+                .iter()
+                .map(|r| model.constraints[r.element].origin.name.clone())
+                .collect();
+            let layout = Layout {
+                elements,
+                request_columns: requests.columns(),
+            };
+            let mut header = String::from("time");
+            for p in &model.parts {
+                for c in [
+                    "x", "y", "z", "psi", "theta", "phi", "vx", "vy", "vz", "wx", "wy", "wz",
+                ] {
+                    header.push_str(&format!(",{}.{c}", p.origin.name));
+                }
+            }
+            for e in &layout.elements {
+                for c in ["fx", "fy", "fz", "tx", "ty", "tz"] {
+                    header.push_str(&format!(",{e}.{c}"));
+                }
+            }
+            for c in &layout.request_columns {
+                header.push_str(&format!(",{c}"));
+            }
+            header.push('\n');
+            self.csv
+                .write_all(header.as_bytes())
+                .map_err(|e| format!("cannot write {}: {e}", self.csv_path.display()))?;
+            self.layout = Some(layout);
+        }
+        let Some(layout) = &self.layout else {
+            return Ok(());
+        };
+        // Reaction columns by element name (an element deactivated since writes zeros).
+        let indices: Vec<usize> = layout
+            .elements
+            .iter()
+            .map(|name| {
+                model
+                    .constraints
+                    .iter()
+                    .position(|c| &c.origin.name == name)
+                    .unwrap_or(usize::MAX)
+            })
+            .collect();
+        let mut row = linkage_report::simulate::csv_row(o, &indices, &values);
+        row.push('\n');
+        self.csv
+            .write_all(row.as_bytes())
+            .and_then(|_| self.csv.flush())
+            .map_err(|e| format!("cannot write {}: {e}", self.csv_path.display()))?;
+        let six = requests.stored_values(&values);
+        self.req
+            .write_output(o.time, &six)
+            .map_err(|e| format!("cannot write {}: {e}", self.req_path.display()))?;
+        self.written += 1;
+        Ok(())
+    }
+
+    /// Flushes both files.
+    pub fn finish(self) -> Result<(), RunError> {
+        let mut csv = self.csv;
+        csv.flush().map_err(write_error(&self.csv_path))?;
+        self.req.finish().map_err(|e| RunError::Write {
+            path: self.req_path.display().to_string(),
+            cause: std::io::Error::other(e.to_string()),
+        })?;
+        Ok(())
+    }
+}
+
+/// Six stored values per request, as [`RequestSet::stored_values`] gives them.
+pub type Stored = Vec<[f64; VALUES_PER_REQUEST]>;

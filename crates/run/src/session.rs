@@ -1,0 +1,224 @@
+//! The model a command file works on: the dataset as read, its statements as the commands have
+//! amended them (redefinitions, deactivated elements), the model built from them, and the state
+//! the last analysis left.
+//!
+//! Contract:
+//! - [`Session::open`] reads and builds the dataset; every input error comes back at once.
+//! - [`Session::redefine`], [`Session::deactivate`] and [`Session::activate`] change the
+//!   statements and rebuild the model right away, so that an error names the command that
+//!   caused it; the state the last analysis left is kept.
+//! - [`Session::input_model`] is the model every analysis assembles: before the first analysis
+//!   the dataset's own input (joint IC, EXACT, part velocities as given); afterwards the
+//!   parts placed and moving as the last analysis left them (all velocities given, joint ICs
+//!   and EXACT spent, as in Adams, where they apply to the first assembly only).
+
+use crate::error::RunError;
+use glam::DVec3;
+use linkage_adm::amend::{self, Redefined};
+use linkage_adm::{Dataset, Diagnostic, Diagnostics, Statement};
+use linkage_model::{ConstraintKind, Model};
+use linkage_solve::constraints::drivers::ExpressionDrivers;
+use linkage_solve::physics::forces::{ForceSet, UNMODELLED_STATEMENTS};
+use linkage_solve::physics::requests::RequestSet;
+use linkage_solve::state::State;
+use std::collections::BTreeSet;
+use std::path::Path;
+
+/// Velocities of every part: CM velocity and angular velocity, ground axes.
+pub type Velocities = Vec<(DVec3, DVec3)>;
+
+/// A model built from the session's statements, with what every analysis needs.
+pub struct Built {
+    pub model: Model,
+    pub drivers: ExpressionDrivers,
+    pub forces: ForceSet,
+    pub requests: RequestSet,
+    /// Dataset, model and function warnings.
+    pub warnings: Vec<Diagnostic>,
+}
+
+/// Where the last analysis left the model.
+#[derive(Clone, Debug)]
+pub struct Left {
+    pub state: State,
+    pub velocities: Velocities,
+}
+
+/// The dataset, its amendments and the model built from them.
+pub struct Session {
+    dataset: Dataset,
+    statements: Vec<Statement>,
+    inactive: BTreeSet<(String, u64)>,
+    pub built: Built,
+    /// `None` before the first analysis.
+    pub left: Option<Left>,
+}
+
+/// Statements whose elements a force analysis cannot evaluate, as input errors.
+fn unmodelled(ds: &Dataset) -> Vec<Diagnostic> {
+    ds.statements
+        .iter()
+        .filter(|st| UNMODELLED_STATEMENTS.contains(&st.keyword.as_str()))
+        .map(|st| {
+            let name = st
+                .view_name
+                .clone()
+                .unwrap_or_else(|| format!("{}_{}", st.keyword, st.id.unwrap_or(0)));
+            Diagnostic::error(
+                ds.file.clone(),
+                Some(st.span),
+                format!(
+                    "{name}: linkage does not model {} elements (DEACTIVATE/{}, ID = {} runs \
+                     the rest of the model)",
+                    st.keyword,
+                    st.keyword,
+                    st.id.unwrap_or(0)
+                ),
+            )
+        })
+        .collect()
+}
+
+/// Builds the model of a typed dataset with its drivers, forces and requests.
+fn build(ds: &Dataset) -> Result<Built, Diagnostics> {
+    let built = linkage_model::build_model(ds)?;
+    let drivers = ExpressionDrivers::new(&built.model)?;
+    let missing = unmodelled(ds);
+    if !missing.is_empty() {
+        return Err(Diagnostics(missing));
+    }
+    let forces = ForceSet::new(&built.model)?;
+    let requests = RequestSet::new(&built.model)?;
+    let mut warnings = built.warnings;
+    warnings.extend(drivers.warnings().iter().cloned());
+    Ok(Built {
+        model: built.model,
+        drivers,
+        forces,
+        requests,
+        warnings,
+    })
+}
+
+impl Session {
+    /// Reads and builds the dataset at `path`.
+    pub fn open(path: &Path) -> Result<Session, RunError> {
+        let dataset = linkage_adm::read_dataset(path).map_err(RunError::Input)?;
+        let built = build(&dataset).map_err(RunError::Input)?;
+        Ok(Session {
+            statements: dataset.statements.clone(),
+            dataset,
+            inactive: BTreeSet::new(),
+            built,
+            left: None,
+        })
+    }
+
+    /// The dataset's file name.
+    pub fn file(&self) -> &str {
+        &self.dataset.file
+    }
+
+    /// The time the last analysis left the model at (0 before the first).
+    pub fn time(&self) -> f64 {
+        self.left.as_ref().map_or(0.0, |l| l.state.time)
+    }
+
+    /// Rebuilds the model from the amended statements, keeping the old one when that fails.
+    fn rebuild(&mut self, statements: Vec<Statement>, inactive: BTreeSet<(String, u64)>) -> Result<(), Diagnostics> {
+        let ds = amend::retype(&self.dataset, &statements, &inactive)?;
+        let built = build(&ds)?;
+        if built.model.parts.len() != self.built.model.parts.len() {
+            return Err(Diagnostics(vec![Diagnostic::error(
+                self.dataset.file.clone(),
+                None,
+                "a command may not add or remove parts".to_string(),
+            )]));
+        }
+        self.statements = statements;
+        self.inactive = inactive;
+        self.built = built;
+        Ok(())
+    }
+
+    /// Applies a statement given as a command (`VARIABLE/9105, FUNCTION = …`,
+    /// `EQUILIBRIUM/STABILITY = 1e-3`) and rebuilds the model.
+    pub fn redefine(&mut self, change: &Statement) -> Result<Redefined, Diagnostics> {
+        let mut statements = self.statements.clone();
+        let done = amend::redefine(&mut statements, change).map_err(|e| {
+            Diagnostics(vec![Diagnostic::error(
+                self.dataset.file.clone(),
+                None,
+                e.to_string(),
+            )])
+        })?;
+        self.rebuild(statements, self.inactive.clone())?;
+        Ok(done)
+    }
+
+    /// Deactivates (or with `active`, activates again) the statements `keyword/id` of `ids`
+    /// and rebuilds the model. An id the dataset does not have is an error.
+    pub fn set_active(&mut self, keyword: &str, ids: &[u64], active: bool) -> Result<(), Diagnostics> {
+        let mut inactive = self.inactive.clone();
+        let mut missing = Vec::new();
+        for &id in ids {
+            let exists = self
+                .statements
+                .iter()
+                .any(|s| s.keyword == keyword && s.id == Some(id));
+            if !exists {
+                missing.push(id);
+                continue;
+            }
+            if active {
+                inactive.remove(&(keyword.to_string(), id));
+            } else {
+                inactive.insert((keyword.to_string(), id));
+            }
+        }
+        if !missing.is_empty() {
+            let list: Vec<String> = missing.iter().map(u64::to_string).collect();
+            return Err(Diagnostics(vec![Diagnostic::error(
+                self.dataset.file.clone(),
+                None,
+                format!("the dataset has no {keyword} with id {}", list.join(", ")),
+            )]));
+        }
+        self.rebuild(self.statements.clone(), inactive)
+    }
+
+    /// How many statements are inactive.
+    pub fn inactive(&self) -> usize {
+        self.inactive.len()
+    }
+
+    /// The model the next analysis assembles (see the module documentation).
+    pub fn input_model(&self) -> Model {
+        match &self.left {
+            None => self.built.model.clone(),
+            Some(left) => placed(&self.built.model, left),
+        }
+    }
+}
+
+/// `model` with its parts where `left` has them and moving as it has them, every velocity
+/// given, and the joint initial conditions and EXACT coordinates spent.
+pub fn placed(model: &Model, left: &Left) -> Model {
+    let mut m = model.clone();
+    for (k, p) in m.parts.iter_mut().enumerate() {
+        let pose = left.state.poses[k];
+        p.p_gb = pose.p;
+        p.r_gb = pose.r;
+        let (v, w) = left.velocities[k];
+        let w_cm = (pose.r * p.r_b_cm).transpose() * w;
+        p.velocity = [v.x, v.y, v.z, w_cm.x, w_cm.y, w_cm.z].map(Some);
+        p.exact.clear();
+    }
+    for c in &mut m.constraints {
+        if let ConstraintKind::Joint { initial, .. } = &mut c.kind {
+            initial.translation = (None, None);
+            initial.rotation = (None, None);
+        }
+    }
+    m
+}
