@@ -7,7 +7,18 @@
 //! - Commands follow the dataset's lexical rules (continuations, `&`, comments, abbreviations:
 //!   `sim/dyn`, `equil/stab=…`) and are matched against the command table; reading stops at
 //!   `STOP`. Unknown commands are warnings, malformed ones errors.
-//! - Nothing is typed: the caller interprets the generic statements.
+//! - [`parse_commands`] / [`read_commands`] give the generic statements; [`type_commands`]
+//!   turns them into [`Command`]s ([`typed`]), every unknown or malformed command an error.
+//!   [`read_typed_commands`] / [`parse_typed_commands`] do both.
+
+mod args;
+mod settings;
+mod tables;
+pub mod typed;
+mod typing;
+
+pub use typed::*;
+pub use typing::type_commands;
 
 use crate::diagnostic::{Diagnostic, Diagnostics};
 use crate::lexer::split_lines;
@@ -46,6 +57,16 @@ pub fn read_commands(path: &Path) -> Result<CommandFile, Diagnostics> {
     }
 }
 
+/// Reads and types a command file: every error of reading or typing ([`type_commands`]).
+pub fn read_typed_commands(path: &Path) -> Result<TypedCommandFile, Diagnostics> {
+    type_commands(&read_commands(path)?)
+}
+
+/// Parses and types command-file text. `file` is the name used in diagnostics.
+pub fn parse_typed_commands(file: Arc<str>, text: &str) -> Result<TypedCommandFile, Diagnostics> {
+    type_commands(&parse_commands(file, text)?)
+}
+
 /// Parses command-file text. `file` is the name used in diagnostics.
 pub fn parse_commands(file: Arc<str>, text: &str) -> Result<CommandFile, Diagnostics> {
     let lines = split_lines(text);
@@ -81,6 +102,9 @@ pub fn parse_commands(file: Arc<str>, text: &str) -> Result<CommandFile, Diagnos
         warnings,
     })
 }
+
+#[cfg(test)]
+mod typing_tests;
 
 #[cfg(test)]
 mod tests {

@@ -760,6 +760,22 @@ const FILE_ARGS: &[ArgDef] = &[
     arg("OUTPUT_PREFIX", Text),
 ];
 
+/// SAVE and RELOAD: file names keep their case.
+const STATE_FILE_ARGS: &[ArgDef] = &[
+    arg("SYSTEM", Flag),
+    arg("STATES", Flag),
+    arg("FILE", Text),
+    arg("OUTPUT_PREFIX", Text),
+];
+
+/// ENVIRONMENT: names and values keep their case.
+const ENVIRONMENT_ARGS: &[ArgDef] = &[
+    arg("NAME", Text),
+    arg("VALUE", Text),
+    arg("UNSET", Flag),
+    arg("LIST", Flag),
+];
+
 const ACTIVATION_ARGS: &[ArgDef] = &[arg("ID", Any), arg("RANGE", Any)];
 
 const LINEAR_ARGS: &[ArgDef] = &[
@@ -782,7 +798,7 @@ pub(crate) static COMMANDS: &[StatementDef] = &[
     stmt("CONTROL", Absent, FUNCTION_ARGS, false),
     stmt("DEACTIVATE", Absent, ACTIVATION_ARGS, false),
     stmt("DEBUG", Absent, NO_ARGS, false),
-    stmt("ENVIRONMENT", Absent, NO_ARGS, false),
+    stmt("ENVIRONMENT", Absent, ENVIRONMENT_ARGS, false),
     stmt("EQUILIBRIUM", Absent, EQUILIBRIUM_ARGS, false),
     stmt("FIELD", Required, NO_ARGS, false),
     stmt("FILE", Absent, FILE_ARGS, false),
@@ -804,9 +820,9 @@ pub(crate) static COMMANDS: &[StatementDef] = &[
     stmt("OUTPUT", Absent, OUTPUT_ARGS, false),
     stmt("PART", Required, PART_ARGS, false),
     stmt("PREFERENCES", Absent, NO_ARGS, false),
-    stmt("RELOAD", Absent, FILE_ARGS, false),
+    stmt("RELOAD", Absent, STATE_FILE_ARGS, false),
     stmt("REQUEST", Required, REQUEST_ARGS, false),
-    stmt("SAVE", Absent, FILE_ARGS, false),
+    stmt("SAVE", Absent, STATE_FILE_ARGS, false),
     stmt("SENSOR", Required, SENSOR_ARGS, false),
     stmt("SFORCE", Required, SFORCE_ARGS, false),
     stmt("SHOW", Absent, NO_ARGS, false),

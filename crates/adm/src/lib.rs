@@ -6,6 +6,7 @@
 //! text ──lexer──▶ logical statements (continuations joined, comments captured, spans kept)
 //!      ──parse──▶ [`Statement`] (generic: keyword, id, arguments with spans)
 //!      ──typing─▶ [`Dataset`] (typed PART, MARKER, JOINT, JPRIM, MOTION, COUPLER, GEAR, GCON, …)
+//! command text ──lexer, parse──▶ [`CommandFile`] ──typing─▶ [`TypedCommandFile`] ([`Command`]s)
 //! ```
 //!
 //! The crate knows nothing about mechanics: it does not resolve references between elements
@@ -13,6 +14,7 @@
 //! [`Diagnostic`] carrying the file, line and column it comes from.
 
 pub mod amend;
+pub mod commands;
 pub mod diagnostic;
 pub mod edit;
 pub mod reqfile;
@@ -20,13 +22,15 @@ pub mod statement;
 pub mod typed;
 pub mod writer;
 
-mod commands;
 mod keywords;
 mod lexer;
 mod parse;
 mod typing;
 
-pub use commands::{parse_commands, read_commands, CommandFile};
+pub use commands::{
+    parse_commands, parse_typed_commands, read_commands, read_typed_commands, type_commands,
+    Command, CommandFile, TypedCommandFile,
+};
 pub use diagnostic::{Diagnostic, Diagnostics, Severity, Span};
 pub use statement::{Argument, ExprText, Statement, Value};
 pub use typed::*;

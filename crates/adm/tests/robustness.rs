@@ -1,7 +1,7 @@
 //! The reader never panics: random texts built from the language's significant pieces, and
 //! every prefix-truncation of a real-shaped dataset, must give a value or diagnostics.
 
-use linkage_adm::{parse_commands, parse_dataset};
+use linkage_adm::{parse_commands, parse_dataset, parse_typed_commands};
 use std::sync::Arc;
 
 /// Small deterministic generator (64-bit LCG), so failures reproduce.
@@ -129,5 +129,89 @@ fn every_truncation_of_a_dataset_is_handled() {
     for (k, _) in SAMPLE.char_indices() {
         let _ = parse_dataset(Arc::from("sample.adm"), &SAMPLE[..k]);
         let _ = parse_dataset(Arc::from("sample.adm"), &SAMPLE[k..]);
+    }
+}
+
+/// Pieces of command files, for [`random_command_files_never_panic`].
+const COMMAND_PIECES: &[&str] = &[
+    "\n",
+    "\r\n",
+    ",",
+    "=",
+    "/",
+    "&",
+    "!",
+    " ",
+    ":",
+    "SIMULATE/",
+    "sim/dyn",
+    "sim/stat",
+    "INITIAL_CONDITIONS",
+    "VEL",
+    "END",
+    "DURATION",
+    "STEPS",
+    "DTOUT",
+    "DEACTIVATE/",
+    "ACTIVATE/",
+    "JOINT",
+    "S",
+    "RANGE",
+    "ID",
+    "LINEAR/",
+    "EIGENSOL",
+    "STATEMAT",
+    "COORDS",
+    "FILE",
+    "FORMAT",
+    "equil/",
+    "int/",
+    "IC/",
+    "KIN/",
+    "alim",
+    "PATTERN",
+    "T:F",
+    "METHOD",
+    "ADV",
+    "VARIABLE/1",
+    "MARKER/2",
+    "FUNC",
+    "STEP(TIME,0,0,1,1)",
+    "ENVIRONMENT/",
+    "NAME",
+    "VALUE",
+    "UNSET",
+    "DEBUG/",
+    "EPRINT",
+    "OUTPUT/",
+    "PREF/",
+    "NTHREADS",
+    "FILE/",
+    "MODEL",
+    "COMMAND",
+    "SAVE/",
+    "SYSTEM",
+    "accg/",
+    "kgrav",
+    "STOP",
+    "1",
+    "-1",
+    "0",
+    "2.5",
+    "1D",
+    "1e400",
+    "99999999999999999999",
+    "\"x\"",
+];
+
+#[test]
+fn random_command_files_never_panic() {
+    let mut rng = Lcg(0xacf);
+    for _ in 0..20_000 {
+        let n = rng.next() % 40;
+        let text: String = (0..n)
+            .map(|_| COMMAND_PIECES[rng.next() % COMMAND_PIECES.len()])
+            .collect();
+        let _ = parse_typed_commands(Arc::from("fuzz.acf"), &text);
     }
 }
