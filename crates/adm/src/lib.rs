@@ -12,12 +12,16 @@
 //! The crate knows nothing about mechanics: it does not resolve references between elements
 //! (that is `linkage-model`'s job) and it never panics on user input. Every problem is a
 //! [`Diagnostic`] carrying the file, line and column it comes from.
+//!
+//! Beside the dataset language: Adams request files, read ([`reqfile`]) and written
+//! ([`reqwriter`], streamed one output block at a time).
 
 pub mod amend;
 pub mod commands;
 pub mod diagnostic;
 pub mod edit;
 pub mod reqfile;
+pub mod reqwriter;
 pub mod statement;
 pub mod typed;
 pub mod writer;
