@@ -6,6 +6,7 @@
 mod common;
 mod ic_cmd;
 mod linear_cmd;
+mod run_cmd;
 mod simulate_cmd;
 mod static_cmd;
 mod verify_cmd;
@@ -109,6 +110,19 @@ enum Command {
         #[arg(long, value_name = "F", allow_negative_numbers = true)]
         shift: Option<f64>,
     },
+    /// Run an Adams command file (.acf): its dataset (line 1), output name (line 2) and
+    /// commands, writing <name>.msg, <name>.req and <name>.csv as the run goes.
+    Run {
+        /// The command file (.acf).
+        command_file: PathBuf,
+        /// Directory of the output files (default: the working directory, as Adams).
+        #[arg(long, value_name = "DIR")]
+        out_dir: Option<PathBuf>,
+        /// The dataset to run, in place of the one the command file names (or for a command
+        /// file that names none).
+        #[arg(long, value_name = "MODEL.adm")]
+        model: Option<PathBuf>,
+    },
     /// Dynamic simulation to --end with output every --dtout or in --steps intervals.
     Simulate {
         /// The dataset (.adm).
@@ -142,6 +156,11 @@ enum Command {
 
 fn main() -> ExitCode {
     match Cli::parse().command {
+        Command::Run {
+            command_file,
+            out_dir,
+            model,
+        } => run_cmd::run(&command_file, out_dir.as_deref(), model.as_deref()),
         Command::Verify {
             model,
             format,

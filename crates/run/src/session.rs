@@ -156,35 +156,43 @@ impl Session {
         Ok(done)
     }
 
-    /// Deactivates (or with `active`, activates again) the statements `keyword/id` of `ids`
-    /// and rebuilds the model. An id the dataset does not have is an error.
-    pub fn set_active(&mut self, keyword: &str, ids: &[u64], active: bool) -> Result<(), Diagnostics> {
+    /// Deactivates (or with `active`, activates again) the `keyword` statements whose ids
+    /// `selects` accepts, and rebuilds the model. Selecting none is an error.
+    pub fn set_active(
+        &mut self,
+        keyword: &str,
+        selects: impl Fn(u64) -> bool,
+        active: bool,
+    ) -> Result<(), Diagnostics> {
         let mut inactive = self.inactive.clone();
-        let mut missing = Vec::new();
-        for &id in ids {
-            let exists = self
-                .statements
-                .iter()
-                .any(|s| s.keyword == keyword && s.id == Some(id));
-            if !exists {
-                missing.push(id);
-                continue;
-            }
+        let mut found = 0;
+        for id in self
+            .statements
+            .iter()
+            .filter(|s| s.keyword == keyword)
+            .filter_map(|s| s.id)
+            .filter(|&id| selects(id))
+        {
+            found += 1;
             if active {
                 inactive.remove(&(keyword.to_string(), id));
             } else {
                 inactive.insert((keyword.to_string(), id));
             }
         }
-        if !missing.is_empty() {
-            let list: Vec<String> = missing.iter().map(u64::to_string).collect();
+        if found == 0 {
             return Err(Diagnostics(vec![Diagnostic::error(
                 self.dataset.file.clone(),
                 None,
-                format!("the dataset has no {keyword} with id {}", list.join(", ")),
+                format!("the dataset has no {keyword} with the ids given"),
             )]));
         }
         self.rebuild(self.statements.clone(), inactive)
+    }
+
+    /// The dataset as read.
+    pub fn dataset(&self) -> &Dataset {
+        &self.dataset
     }
 
     /// How many statements are inactive.

@@ -1,0 +1,473 @@
+//! # linkage-run — Adams command files
+//!
+//! Runs a command file (`.acf`) as Adams Solver does (`adams ru-s model.acf`): line 1 names the
+//! dataset (relative to the command file; `.adm` added when it has no extension), line 2 the
+//! output name, then the commands in order (ADM-REFERENCE §7). Every analysis continues from
+//! where the previous one left the model; settings commands, redefinitions and
+//! DEACTIVATE/ACTIVATE amend the dataset and rebuild the model ([`session`]).
+//!
+//! ```text
+//! .acf ──type_commands──▶ commands ──▶ Session (dataset + amendments → model, state left)
+//!                                        └─▶ analyses (IC, static, dynamic, linear)
+//!                                              └─▶ <name>.msg, <name>.req, <name>.csv
+//! ```
+//!
+//! Outputs are written as the run goes (each line or output flushed): `<name>.msg` (the
+//! message file: each command echoed, the model summary of verify before the first analysis
+//! and after every change of the model, the IC, static and linear reports, integrator
+//! statistics per run, errors), `<name>.req` (every REQUEST at every output, Adams' layout)
+//! and `<name>.csv`. A command linkage does not carry out stops the run with an error naming
+//! it; nothing is skipped silently.
+
+pub mod analyses;
+pub mod error;
+pub mod msg;
+pub mod records;
+pub mod session;
+
+pub use error::RunError;
+
+use analyses::{Place, Sinks};
+use linkage_adm::commands::{Command, CommandEntry, Linear, SimulateKind, TypedCommandFile};
+use linkage_adm::{CommandFile, Statement};
+use msg::MessageFile;
+use records::Records;
+use session::Session;
+use std::path::{Path, PathBuf};
+
+/// Slack on the number of DTOUT intervals in a run (a count, so relative to one interval): an
+/// END that is a multiple of DTOUT up to rounding gets no extra sliver interval.
+pub const INTERVAL_SLACK: f64 = 1e-9;
+
+/// Deepest nesting of `FILE/COMMAND` (a command file that reads itself is an error, not a
+/// loop).
+pub const MAX_NESTING: usize = 8;
+
+/// Where the outputs go.
+#[derive(Clone, Debug, Default)]
+pub struct RunOptions {
+    /// Directory of the output files (the working directory when `None`, as Adams).
+    pub out_dir: Option<PathBuf>,
+    /// The dataset to run, in place of the one the command file names (and for command files
+    /// that name none: templates whose line 1 is a comment).
+    pub model: Option<PathBuf>,
+}
+
+/// What a run wrote.
+#[derive(Clone, Debug, PartialEq)]
+pub struct RunSummary {
+    pub msg: PathBuf,
+    pub req: Option<PathBuf>,
+    pub csv: Option<PathBuf>,
+    /// Outputs written to the request and CSV files.
+    pub outputs: usize,
+    /// Commands carried out.
+    pub commands: usize,
+}
+
+/// A run that stopped: why, and what it wrote up to there.
+#[derive(Debug)]
+pub struct Stopped {
+    pub error: RunError,
+    pub summary: Option<RunSummary>,
+}
+
+/// The state of a run between commands.
+struct Runner {
+    options: RunOptions,
+    out_name: Option<String>,
+    msg: Option<MessageFile>,
+    session: Option<Session>,
+    records: Option<Records>,
+    /// The model changed since the last model summary (or none was written).
+    changed: bool,
+    commands: usize,
+}
+
+fn with_extension(name: &str, ext: &str) -> String {
+    if Path::new(name).extension().is_some() {
+        name.to_string()
+    } else {
+        format!("{name}.{ext}")
+    }
+}
+
+/// Runs the command file at `path`.
+pub fn run_command_file(path: &Path, options: &RunOptions) -> Result<RunSummary, Stopped> {
+    let stop = |error| Stopped {
+        error,
+        summary: None,
+    };
+    let (cf, typed) = read(path).map_err(stop)?;
+    let out_name = typed.output_prefix.clone().or_else(|| {
+        typed
+            .model
+            .as_ref()
+            .map(|m| Path::new(m).file_stem().map_or(m.clone(), |s| s.to_string_lossy().into()))
+    });
+    let mut runner = Runner {
+        options: options.clone(),
+        out_name,
+        msg: None,
+        session: None,
+        records: None,
+        changed: true,
+        commands: 0,
+    };
+    let result = runner.start(path, &typed).and_then(|_| runner.execute(path, &cf, &typed, 0));
+    let summary = runner.summary();
+    if let (Err(e), Some(msg)) = (&result, runner.msg.as_mut()) {
+        let _ = msg.write(&format!("\n ---- ERROR ----\n {e}"));
+    }
+    if let Some(records) = runner.records.take() {
+        if let Err(e) = records.finish() {
+            return Err(Stopped {
+                error: e,
+                summary,
+            });
+        }
+    }
+    match result {
+        Ok(()) => {
+            if let Some(msg) = runner.msg.as_mut() {
+                let _ = msg.write("\n Finished: every command was carried out.");
+            }
+            summary.ok_or_else(|| stop(RunError::Input(linkage_adm::Diagnostics(vec![]))))
+        }
+        Err(error) => Err(Stopped { error, summary }),
+    }
+}
+
+fn read(path: &Path) -> Result<(CommandFile, TypedCommandFile), RunError> {
+    let cf = linkage_adm::read_commands(path).map_err(RunError::Input)?;
+    let typed = linkage_adm::type_commands(&cf).map_err(RunError::Input)?;
+    Ok((cf, typed))
+}
+
+impl Runner {
+    fn out_path(&self, ext: &str) -> PathBuf {
+        let name = format!("{}.{ext}", self.out_name.as_deref().unwrap_or("linkage"));
+        match &self.options.out_dir {
+            Some(d) => d.join(name),
+            None => PathBuf::from(name),
+        }
+    }
+
+    fn summary(&self) -> Option<RunSummary> {
+        let msg = self.msg.as_ref()?.path().to_path_buf();
+        let have_records = self.records.is_some();
+        Some(RunSummary {
+            msg,
+            req: have_records.then(|| self.out_path("req")),
+            csv: have_records.then(|| self.out_path("csv")),
+            outputs: self.records.as_ref().map_or(0, |r| r.written),
+            commands: self.commands,
+        })
+    }
+
+    /// Opens the message file and the dataset of line 1.
+    fn start(&mut self, path: &Path, typed: &TypedCommandFile) -> Result<(), RunError> {
+        if let Some(d) = &self.options.out_dir {
+            std::fs::create_dir_all(d).map_err(|cause| RunError::Write {
+                path: d.display().to_string(),
+                cause,
+            })?;
+        }
+        if let Some(model) = self.options.model.clone() {
+            self.open_dataset(path, &model)?;
+        } else if let Some(model) = &typed.model {
+            self.open_model(path, model)?;
+        }
+        Ok(())
+    }
+
+    /// Reads the dataset `name` (relative to the command file `path`) and opens the output
+    /// files.
+    fn open_model(&mut self, path: &Path, name: &str) -> Result<(), RunError> {
+        self.open_dataset(path, &dataset_path(path, name))
+    }
+
+    /// Reads the dataset at `dataset` for the command file `path` and opens the output files.
+    fn open_dataset(&mut self, path: &Path, dataset: &Path) -> Result<(), RunError> {
+        if self.out_name.is_none() {
+            self.out_name = Some(
+                dataset
+                    .file_stem()
+                    .map_or("linkage".to_string(), |s| s.to_string_lossy().into()),
+            );
+        }
+        if self.msg.is_none() {
+            let mut msg = MessageFile::create(&self.out_path("msg"))?;
+            msg.write(&format!(
+                " linkage {} — command file {}\n dataset {}",
+                env!("CARGO_PKG_VERSION"),
+                path.display(),
+                dataset.display()
+            ))?;
+            self.msg = Some(msg);
+        }
+        let session = Session::open(dataset)?;
+        let stem = self.out_path("stem");
+        let records = Records::create(&stem, session.dataset(), &session.built.model)?;
+        self.session = Some(session);
+        self.records = Some(records);
+        self.changed = true;
+        Ok(())
+    }
+
+    fn place(file: &Path, entry: &CommandEntry) -> String {
+        format!("{}:{}:{}", file.display(), entry.span.line, entry.span.col)
+    }
+
+    /// Carries out the commands of one command file (`depth` levels of FILE/COMMAND deep).
+    fn execute(
+        &mut self,
+        path: &Path,
+        cf: &CommandFile,
+        typed: &TypedCommandFile,
+        depth: usize,
+    ) -> Result<(), RunError> {
+        let text = std::fs::read_to_string(path).unwrap_or_default();
+        let lines: Vec<&str> = text.lines().collect();
+        for entry in &typed.commands {
+            let echo: String = (entry.lines.0..=entry.lines.1)
+                .filter_map(|l| lines.get(l as usize - 1))
+                .map(|l| l.trim_end())
+                .collect::<Vec<_>>()
+                .join("\n          ");
+            if let Some(msg) = self.msg.as_mut() {
+                msg.write(&format!("\n command: {echo}"))?;
+            }
+            let place_at = Runner::place(path, entry);
+            let name = entry.command.name().to_string();
+            let place = Place {
+                at: place_at,
+                command: &name,
+            };
+            let generic = cf.commands.iter().find(|s| s.lines == entry.lines);
+            if matches!(entry.command, Command::Stop) {
+                self.commands += 1;
+                return Ok(());
+            }
+            if let Command::File(f) = &entry.command {
+                if let Some(model) = &f.model {
+                    match (&self.session, &self.options.model) {
+                        // --model replaces the dataset the command file names.
+                        (Some(_), Some(_)) => {}
+                        (Some(_), None) => {
+                            return Err(refused(
+                                &place,
+                                "FILE/MODEL after a model is loaded: linkage runs one model \
+                                 per command file (run the other from its own)",
+                            ))
+                        }
+                        (None, _) => {
+                            if let Some(prefix) = &f.output_prefix {
+                                self.out_name = Some(prefix.clone());
+                            }
+                            self.open_model(path, model)?;
+                        }
+                    }
+                }
+                if let Some(command) = &f.command {
+                    if depth >= MAX_NESTING {
+                        return Err(refused(&place, format!("FILE/COMMAND nested more than {MAX_NESTING} deep")));
+                    }
+                    let dir = path.parent().unwrap_or(Path::new("."));
+                    let nested = dir.join(with_extension(command, "acf"));
+                    let (ncf, ntyped) = read(&nested)?;
+                    self.execute(&nested, &ncf, &ntyped, depth + 1)?;
+                }
+                self.commands += 1;
+                continue;
+            }
+            self.command(entry, generic, &place)?;
+            self.commands += 1;
+        }
+        Ok(())
+    }
+
+    fn command(
+        &mut self,
+        entry: &CommandEntry,
+        generic: Option<&Statement>,
+        place: &Place,
+    ) -> Result<(), RunError> {
+        let (Some(session), Some(msg), Some(records)) =
+            (self.session.as_mut(), self.msg.as_mut(), self.records.as_mut())
+        else {
+            return Err(refused(
+                place,
+                "no dataset is loaded: line 1 of the command file or FILE/MODEL names it, or \
+                 give one with --model",
+            ));
+        };
+        let mut sinks = Sinks {
+            msg,
+            records,
+        };
+        let summary = self.changed;
+        match &entry.command {
+            Command::Simulate(sim) => {
+                let t0 = session.time();
+                let end = sim.end.or(sim.duration.map(|d| t0 + d));
+                match sim.kind {
+                    SimulateKind::InitialConditions(_) => {
+                        analyses::initial_conditions(session, &mut sinks, place, summary)?
+                    }
+                    SimulateKind::Static => {
+                        let times = end.filter(|e| *e > t0).map(|e| {
+                            analyses::output_times(t0, e, sim.steps, sim.dtout)
+                        });
+                        analyses::statics(session, &mut sinks, place, summary, times)?
+                    }
+                    kind => {
+                        let Some(end) = end.filter(|e| *e > t0) else {
+                            return Err(refused(
+                                place,
+                                format!("END (or DURATION) must lie after the current time {t0}"),
+                            ));
+                        };
+                        let times = analyses::output_times(t0, end, sim.steps, sim.dtout);
+                        analyses::dynamics(session, &mut sinks, place, summary, kind, &times)?
+                    }
+                }
+                self.changed = false;
+            }
+            Command::Linear(Linear::Eigensol(e)) => {
+                let opts = linkage_solve::stages::linearize::LinearOptions {
+                    damping: !e.nodamping,
+                    vectors: !e.novector,
+                    method: linkage_solve::stages::linearize::EigenMethod::Auto,
+                };
+                analyses::eigensolution(session, &mut sinks, place, summary, opts)?;
+                self.changed = false;
+            }
+            Command::Linear(Linear::Statemat(_) | Linear::Mkb(_)) => {
+                return Err(refused(
+                    place,
+                    "linkage does not export state or MKB matrices from a command file; \
+                     LINEAR/EIGENSOL gives the eigen solution",
+                ))
+            }
+            Command::Integrator(_)
+            | Command::Equilibrium(_)
+            | Command::Ic(_)
+            | Command::Kinematics(_)
+            | Command::Accgrav(_) => {
+                let Some(st) = generic else {
+                    return Err(refused(place, "the command's arguments could not be found"));
+                };
+                let mut st = st.clone();
+                let listed = st.args.iter().any(|a| a.key == "LIST");
+                st.args.retain(|a| a.key != "LIST");
+                if !st.args.is_empty() {
+                    session.redefine(&st).map_err(|d| failed_build(place, &d))?;
+                }
+                if listed {
+                    sinks.msg.write(&format!(" {} settings now in force:", st.keyword))?;
+                    let m = &session.built.model;
+                    let text = match st.keyword.as_str() {
+                        "EQUILIBRIUM" => format!("   {:?}", m.equilibrium),
+                        "INTEGRATOR" => format!("   {:?}", m.integrator.settings),
+                        "IC" => format!("   {:?}", m.ic),
+                        _ => format!("   gravity {:?}", m.gravity),
+                    };
+                    sinks.msg.write(&text)?;
+                }
+            }
+            Command::Redefine(r) => {
+                session
+                    .redefine(&r.statement)
+                    .map_err(|d| failed_build(place, &d))?;
+                self.changed = true;
+            }
+            Command::Activate(a) | Command::Deactivate(a) => {
+                let active = matches!(entry.command, Command::Activate(_));
+                let keyword = a.element.keyword();
+                session
+                    .set_active(keyword, |id| a.selects(id), active)
+                    .map_err(|d| failed_build(place, &d))?;
+                sinks.msg.write(&format!(
+                    " {} {keyword}: {} element(s) of the dataset are now inactive",
+                    if active { "Activated" } else { "Deactivated" },
+                    session.inactive()
+                ))?;
+                self.changed = true;
+            }
+            Command::Output(_)
+            | Command::Debug(_)
+            | Command::Preferences(_)
+            | Command::Lsolver(_)
+            | Command::Environment(_)
+            | Command::Information(_) => {
+                sinks.msg.write(&format!(
+                    " Note: {} is accepted and changes nothing in linkage (outputs are always \
+                     the .msg, .req and .csv files; one linear solver).",
+                    place.command
+                ))?;
+            }
+            Command::Save(_) | Command::Reload(_) => {
+                return Err(refused(
+                    place,
+                    "linkage does not save or reload solver states; the command file must run \
+                     without them",
+                ))
+            }
+            Command::Control(_) => {
+                return Err(refused(
+                    place,
+                    "CONTROL hands the run to a user subroutine, which linkage cannot call",
+                ))
+            }
+            Command::File(_) | Command::Stop => {}
+        }
+        Ok(())
+    }
+}
+
+/// The dataset `name` of the command file `path`: relative to the command file's folder, with
+/// `.adm` added when it has no extension. In a flattened collection, where every file of a
+/// project folder carries the folder path as a prefix (`owner__repo__dir__model.acf`), a
+/// dataset missing under its own name is looked for with the command file's prefix.
+fn dataset_path(path: &Path, name: &str) -> PathBuf {
+    let dir = path.parent().unwrap_or(Path::new("."));
+    let mut name = name.to_string();
+    // A path written on another machine (`C:\Users\…\model`): its file name, here.
+    if !dir.join(&name).exists() && !dir.join(with_extension(&name, "adm")).exists() {
+        if let Some(k) = name.rfind(['\\', '/']) {
+            name = name[k + 1..].to_string();
+        }
+    }
+    let file = with_extension(&name, "adm");
+    let direct = dir.join(&file);
+    if direct.exists() {
+        return direct;
+    }
+    let stem = path.file_name().map_or(String::new(), |f| f.to_string_lossy().into_owned());
+    match stem.rfind("__") {
+        Some(k) => {
+            let prefixed = dir.join(format!("{}__{file}", &stem[..k]));
+            if prefixed.exists() {
+                prefixed
+            } else {
+                direct
+            }
+        }
+        _ => direct,
+    }
+}
+
+fn refused(place: &Place, why: impl Into<String>) -> RunError {
+    RunError::Refused {
+        place: place.at.clone(),
+        command: place.command.to_string(),
+        why: why.into(),
+    }
+}
+
+/// A command that leaves a model that does not build: the command's place, then every
+/// problem found.
+fn failed_build(place: &Place, d: &linkage_adm::Diagnostics) -> RunError {
+    refused(place, format!("the model no longer builds:\n{d}"))
+}
