@@ -367,7 +367,7 @@ mod tests {
         assert_eq!(e(0.0, a), "  0.00000E+00");
         assert_eq!(e(-0.0, a), "  0.00000E+00");
         assert_eq!(e(2.0, a), "  2.00000E+00");
-        assert_eq!(e(-0.707_106_781, a), " -7.07107E-01");
+        assert_eq!(e(-std::f64::consts::FRAC_1_SQRT_2, a), " -7.07107E-01");
         assert_eq!(e(-4.78373e-4, a), " -4.78373E-04");
         assert_eq!(e(180.0, a), "  1.80000E+02");
         // Rounding carries into the exponent.

@@ -34,7 +34,10 @@ fn read_back(bytes: Vec<u8>) -> RequestFile {
 
 /// Requests of every type, comments of every length modulo 4 (and none), and values with
 /// negative signs, tiny and huge magnitudes and three-digit exponents.
-fn sample() -> (Vec<RequestDescription>, Vec<(f64, Vec<[f64; 6]>)>) {
+/// An output block: the time and six values per request.
+type Block = (f64, Vec<[f64; 6]>);
+
+fn sample() -> (Vec<RequestDescription>, Vec<Block>) {
     let comments = [
         "",
         "A",
@@ -106,9 +109,8 @@ fn written_files_read_back_within_their_precision() {
         for (k, (read, written)) in f.requests.iter().zip(&requests).enumerate() {
             assert_eq!(RequestDescription::from(read), *written, "{precision:?}");
             for (step, (_, values)) in blocks.iter().enumerate() {
-                for c in 0..6 {
-                    let (a, b) = (read.values[step][c], values[k][c]);
-                    assert!(relative(a, b) <= bound, "{precision:?}: {a} vs {b}");
+                for (a, b) in read.values[step].iter().zip(&values[k]) {
+                    assert!(relative(*a, *b) <= bound, "{precision:?}: {a} vs {b}");
                 }
             }
         }

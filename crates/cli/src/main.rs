@@ -2,8 +2,10 @@
 //!
 //! Exit codes: 0 when the analysis ran (whatever it found), 1 when it ran and failed (e.g. an
 //! inconsistent model or non-convergence), 2 for input errors (syntax, references, values).
+//! `compare` exits with 1 when some signal differs by more than the tolerance.
 
 mod common;
+mod compare_cmd;
 mod ic_cmd;
 mod linear_cmd;
 mod run_cmd;
@@ -152,6 +154,26 @@ enum Command {
         #[arg(long, requires = "start_at_equilibrium")]
         settle: bool,
     },
+    /// Compare two time histories signal by signal: request files (.req, Adams or linkage) or
+    /// CSV files written by `simulate --out`, matched by request id and component or by column
+    /// name, at B's output times (A interpolated linearly in time). Exit code 1 when a signal's
+    /// largest difference exceeds --tol times its range in A (at least --floor).
+    Compare {
+        /// The reference file (.req or .csv).
+        a: PathBuf,
+        /// The file compared with it (.req or .csv).
+        b: PathBuf,
+        /// Bound on max |B - A| / max(range of A, --floor), per signal.
+        #[arg(long, default_value_t = compare_cmd::DEFAULT_TOLERANCE)]
+        tol: f64,
+        /// Ranges below this (in the signal's units) count as this, so that a constant signal
+        /// is compared absolutely.
+        #[arg(long, default_value_t = compare_cmd::DEFAULT_RANGE_FLOOR)]
+        floor: f64,
+        /// Output format.
+        #[arg(long, value_enum, default_value = "text")]
+        format: Format,
+    },
 }
 
 fn main() -> ExitCode {
@@ -231,6 +253,19 @@ fn main() -> ExitCode {
             series: end.zip(steps),
             save: save.as_deref(),
             settle,
+        }),
+        Command::Compare {
+            a,
+            b,
+            tol,
+            floor,
+            format,
+        } => compare_cmd::run(&compare_cmd::CompareArgs {
+            a: &a,
+            b: &b,
+            tol,
+            floor,
+            format,
         }),
     }
 }
