@@ -44,7 +44,10 @@ pub const EXCLUSIVE_FLAGS: &[(&str, &[&str])] = &[
     ("INTEGRATOR", &["I3", "SI2", "SI1"]),
     ("EQUILIBRIUM", &["STATIC", "DYNAMIC"]),
     ("MOTION", &["DISPLACEMENT", "VELOCITY", "ACCELERATION"]),
-    ("MOTION", &["TRANSLATION", "ROTATION", "B1", "B2", "B3", "X", "Y", "Z"]),
+    (
+        "MOTION",
+        &["TRANSLATION", "ROTATION", "B1", "B2", "B3", "X", "Y", "Z"],
+    ),
     ("SFORCE", &["TRANSLATION", "ROTATION"]),
     (
         "REQUEST",
@@ -96,10 +99,7 @@ pub enum Redefined {
 
 /// The keyword of `statement`'s argument that `key` names: the same keyword, or the only
 /// argument of which one is a prefix of the other ([`MIN_PREFIX`] letters at least).
-fn matching_argument(
-    statement: &Statement,
-    key: &str,
-) -> Result<Option<usize>, AmendError> {
+fn matching_argument(statement: &Statement, key: &str) -> Result<Option<usize>, AmendError> {
     if let Some(k) = statement.args.iter().position(|a| a.key == key) {
         return Ok(Some(k));
     }
@@ -197,8 +197,7 @@ pub fn retype(
     let active: Vec<Statement> = statements
         .iter()
         .filter(|s| {
-            s.id
-                .map_or(true, |id| !inactive.contains(&(s.keyword.clone(), id)))
+            s.id.is_none_or(|id| !inactive.contains(&(s.keyword.clone(), id)))
         })
         .cloned()
         .collect();

@@ -261,6 +261,9 @@ fn body_fixed_angle<N: Num>(m: &Matrix<'_, N>, [a, b, c]: [usize; 3], k: usize) 
     }
 }
 
+/// Angles of the Euler-parameter sign rule closer than this (radians) to −π are taken as +π.
+const ANGLE_WRAP_SLACK: f64 = 1e-9;
+
 /// Euler parameters `[P0, P1, P2, P3]` of `R` with Adams' sign (module docs).
 fn euler_parameters<N: Num>(m: &Matrix<'_, N>) -> [N; 4] {
     let d = [m.at(0, 0), m.at(1, 1), m.at(2, 2)];
@@ -323,7 +326,16 @@ fn euler_parameters<N: Num>(m: &Matrix<'_, N>) -> [N; 4] {
     };
     // Adams' sign: that of the parameters written with the body 3-1-3 angles.
     let values: [f64; 9] = std::array::from_fn(|i| m.0[i].val());
-    let angle = |k: usize| body_fixed_angle(&Matrix(&values), [2, 0, 2], k);
+    // Angles in (−π, π]: a rounding-level negative numerator must not turn +π into −π, which
+    // would flip the sign (Adams prints ψ = 180, not −180, for such poses).
+    let angle = |k: usize| {
+        let a = body_fixed_angle(&Matrix(&values), [2, 0, 2], k);
+        if a < -std::f64::consts::PI + ANGLE_WRAP_SLACK {
+            a + 2.0 * std::f64::consts::PI
+        } else {
+            a
+        }
+    };
     let (psi, theta, phi) = (angle(0), angle(1), angle(2));
     let (sh, ch) = (0.5 * theta).sin_cos();
     let (sp, cp) = (0.5 * (psi + phi)).sin_cos();

@@ -49,6 +49,8 @@ pub struct LinearJson {
     pub file: String,
     pub title: String,
     pub operating_point: &'static str,
+    /// Time of the operating point.
+    pub time: f64,
     pub dof: usize,
     pub states: usize,
     /// `"dense"` (every eigenvalue) or `"shift-invert"` (those nearest `shift`).
@@ -161,6 +163,7 @@ pub fn to_json(
         } else {
             "assembled configuration (initial conditions)"
         },
+        time: 0.0,
         dof,
         states: 2 * dof,
         method,
@@ -243,7 +246,8 @@ pub fn to_text(j: &LinearJson) -> String {
     let _ = writeln!(s);
     let _ = writeln!(
         s,
-        "               E I G E N V A L U E S  at time = 0.00000E+00"
+        "               E I G E N V A L U E S  at time = {}",
+        fortran_e(j.time, 5)
     );
     let _ = writeln!(s, "    Number    Real(cycles/second)      Imag.(cycles/second)   Undamped freq.   Damping ratio");
     for m in &j.modes {

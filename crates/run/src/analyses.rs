@@ -62,6 +62,8 @@ pub fn output_times(t0: f64, end: f64, steps: Option<u32>, dtout: Option<f64>) -
 pub struct Sinks<'s> {
     pub msg: &'s mut MessageFile,
     pub records: &'s mut Records,
+    /// DOF and redundant equations of the last model summary (`None` before the first).
+    pub counts: &'s mut Option<(i64, usize)>,
 }
 
 /// The model assembled at the current time from the current state, and the summary lines of
@@ -84,10 +86,23 @@ fn assemble<'m>(
     Ok(a)
 }
 
-/// The verify summary of an assembled model: counts, DOF and redundant equations.
-pub fn model_summary(session: &Session, a: &Assembled) -> String {
-    let j = linkage_report::verify::to_json(a.model, &a.ic.analysis, &session.built.warnings);
-    linkage_report::verify::to_text(&j)
+/// Writes the verify summary of an assembled model (counts, DOF, redundant equations) and,
+/// after a change of the model, how its DOF and redundancy changed.
+pub fn model_summary(session: &Session, a: &Assembled, sinks: &mut Sinks) -> Result<(), RunError> {
+    let v = &a.ic.analysis;
+    let j = linkage_report::verify::to_json(a.model, v, &session.built.warnings);
+    let now = (v.dof, v.redundant.len());
+    if let Some((dof, redundant)) = *sinks.counts {
+        sinks.msg.write(&format!(
+            " The model changed: {dof} → {} degrees of freedom, {redundant} → {} redundant \
+             constraint equations; verified and assembled again at time {}.",
+            now.0,
+            now.1,
+            session.time()
+        ))?;
+    }
+    *sinks.counts = Some(now);
+    sinks.msg.write(&linkage_report::verify::to_text(&j))
 }
 
 /// Writes one output to the records (a request that cannot be evaluated ends the run).
@@ -126,7 +141,7 @@ pub fn initial_conditions(
     let model = session.input_model();
     let a = assemble(session, &model, place)?;
     if summary {
-        sinks.msg.write(&model_summary(session, &a))?;
+        model_summary(session, &a, sinks)?;
     }
     let j = linkage_report::ic::to_json(&model, &a.ic, &session.built.warnings);
     sinks.msg.write(&linkage_report::ic::to_text(&j))?;
@@ -154,23 +169,20 @@ pub fn statics(
     let model = session.input_model();
     let a = assemble(session, &model, place)?;
     if summary {
-        sinks.msg.write(&model_summary(session, &a))?;
+        model_summary(session, &a, sinks)?;
     }
     let t0 = session.time();
     let times = times.unwrap_or_else(|| vec![t0]);
     let run = if model.equilibrium.dynamic && times.len() == 1 {
         let outcome = linkage_solve::stages::settle::settle(&a, |_| {})
             .map_err(|why| place.failed(why.to_string()))?;
-        let eq = outcome
-            .settled_equilibrium()
-            .cloned()
-            .ok_or_else(|| {
-                place.failed(
-                    outcome
-                        .failure(&model, &a.system)
-                        .unwrap_or_else(|| "the model did not settle".into()),
-                )
-            })?;
+        let eq = outcome.settled_equilibrium().cloned().ok_or_else(|| {
+            place.failed(
+                outcome
+                    .failure(&model, &a.system)
+                    .unwrap_or_else(|| "the model did not settle".into()),
+            )
+        })?;
         statics::StaticRun {
             steps: vec![(t0, Ok(eq))],
         }
@@ -226,7 +238,7 @@ pub fn dynamics(
     let model = session.input_model();
     let a = assemble(session, &model, place)?;
     if summary {
-        sinks.msg.write(&model_summary(session, &a))?;
+        model_summary(session, &a, sinks)?;
     }
     let zero_dof = a.kept.len() >= 6 * model.parts.len();
     match kind {
@@ -258,19 +270,31 @@ pub fn dynamics(
     let clock = Instant::now();
     let mut last: Option<Output> = None;
     let mut write_error: Option<RunError> = None;
-    let sim = simulate_with(&problem, &start, &v0, times, settings, |_| {}, |o| {
-        if let Err(e) = record(session, &a, sinks, &o, place) {
-            write_error = Some(e);
-            return AfterOutput::Stop;
-        }
-        last = Some(o);
-        AfterOutput::Continue
-    });
+    let sim = simulate_with(
+        &problem,
+        &start,
+        &v0,
+        times,
+        settings,
+        |_| {},
+        |o| {
+            if let Err(e) = record(session, &a, sinks, &o, place) {
+                write_error = Some(e);
+                return AfterOutput::Stop;
+            }
+            last = Some(o);
+            AfterOutput::Continue
+        },
+    );
     let seconds = clock.elapsed().as_secs_f64();
     sinks.msg.write(&format!(
         " {} to t = {}: {} steps ({} rejected), {} corrector iterations, {} matrix \
          factorisations, {} outputs, {seconds:.3} s CPU",
-        if sim.kinematic { "Kinematics" } else { "Dynamics" },
+        if sim.kinematic {
+            "Kinematics"
+        } else {
+            "Dynamics"
+        },
         last.as_ref().map_or(session.time(), |o| o.time),
         sim.steps,
         sim.rejected,
@@ -286,7 +310,6 @@ pub fn dynamics(
         velocities: o.velocities,
     });
     let failure = sim.failure.clone();
-    drop(problem);
     drop(a);
     if let Some(left) = left {
         session.left = Some(left);
@@ -308,10 +331,14 @@ pub fn eigensolution(
     let model = session.input_model();
     let a = assemble(session, &model, place)?;
     if summary {
-        sinks.msg.write(&model_summary(session, &a))?;
+        model_summary(session, &a, sinks)?;
     }
     let run = linearize::run(&a, false, opts);
-    let j = linkage_report::linear::to_json(&model, &run, false, &session.built.warnings);
+    let mut j = linkage_report::linear::to_json(&model, &run, false, &session.built.warnings);
+    j.time = session.time();
+    if session.left.is_some() {
+        j.operating_point = "the state the previous analysis left, assembled at its time";
+    }
     sinks.msg.write(&linkage_report::linear::to_text(&j))?;
     if let Err(e) = &run.result {
         return Err(place.failed(e.to_string()));

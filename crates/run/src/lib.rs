@@ -81,6 +81,8 @@ struct Runner {
     records: Option<Records>,
     /// The model changed since the last model summary (or none was written).
     changed: bool,
+    /// DOF and redundant equations at the last model summary.
+    counts: Option<(i64, usize)>,
     commands: usize,
 }
 
@@ -93,17 +95,20 @@ fn with_extension(name: &str, ext: &str) -> String {
 }
 
 /// Runs the command file at `path`.
-pub fn run_command_file(path: &Path, options: &RunOptions) -> Result<RunSummary, Stopped> {
-    let stop = |error| Stopped {
-        error,
-        summary: None,
+pub fn run_command_file(path: &Path, options: &RunOptions) -> Result<RunSummary, Box<Stopped>> {
+    let stop = |error| {
+        Box::new(Stopped {
+            error,
+            summary: None,
+        })
     };
     let (cf, typed) = read(path).map_err(stop)?;
     let out_name = typed.output_prefix.clone().or_else(|| {
-        typed
-            .model
-            .as_ref()
-            .map(|m| Path::new(m).file_stem().map_or(m.clone(), |s| s.to_string_lossy().into()))
+        typed.model.as_ref().map(|m| {
+            Path::new(m)
+                .file_stem()
+                .map_or(m.clone(), |s| s.to_string_lossy().into())
+        })
     });
     let mut runner = Runner {
         options: options.clone(),
@@ -112,19 +117,19 @@ pub fn run_command_file(path: &Path, options: &RunOptions) -> Result<RunSummary,
         session: None,
         records: None,
         changed: true,
+        counts: None,
         commands: 0,
     };
-    let result = runner.start(path, &typed).and_then(|_| runner.execute(path, &cf, &typed, 0));
+    let result = runner
+        .start(path, &typed)
+        .and_then(|_| runner.execute(path, &cf, &typed, 0));
     let summary = runner.summary();
     if let (Err(e), Some(msg)) = (&result, runner.msg.as_mut()) {
         let _ = msg.write(&format!("\n ---- ERROR ----\n {e}"));
     }
     if let Some(records) = runner.records.take() {
         if let Err(e) = records.finish() {
-            return Err(Stopped {
-                error: e,
-                summary,
-            });
+            return Err(Box::new(Stopped { error: e, summary }));
         }
     }
     match result {
@@ -134,7 +139,7 @@ pub fn run_command_file(path: &Path, options: &RunOptions) -> Result<RunSummary,
             }
             summary.ok_or_else(|| stop(RunError::Input(linkage_adm::Diagnostics(vec![]))))
         }
-        Err(error) => Err(Stopped { error, summary }),
+        Err(error) => Err(Box::new(Stopped { error, summary })),
     }
 }
 
@@ -271,7 +276,10 @@ impl Runner {
                 }
                 if let Some(command) = &f.command {
                     if depth >= MAX_NESTING {
-                        return Err(refused(&place, format!("FILE/COMMAND nested more than {MAX_NESTING} deep")));
+                        return Err(refused(
+                            &place,
+                            format!("FILE/COMMAND nested more than {MAX_NESTING} deep"),
+                        ));
                     }
                     let dir = path.parent().unwrap_or(Path::new("."));
                     let nested = dir.join(with_extension(command, "acf"));
@@ -293,9 +301,11 @@ impl Runner {
         generic: Option<&Statement>,
         place: &Place,
     ) -> Result<(), RunError> {
-        let (Some(session), Some(msg), Some(records)) =
-            (self.session.as_mut(), self.msg.as_mut(), self.records.as_mut())
-        else {
+        let (Some(session), Some(msg), Some(records)) = (
+            self.session.as_mut(),
+            self.msg.as_mut(),
+            self.records.as_mut(),
+        ) else {
             return Err(refused(
                 place,
                 "no dataset is loaded: line 1 of the command file or FILE/MODEL names it, or \
@@ -305,6 +315,7 @@ impl Runner {
         let mut sinks = Sinks {
             msg,
             records,
+            counts: &mut self.counts,
         };
         let summary = self.changed;
         match &entry.command {
@@ -316,9 +327,9 @@ impl Runner {
                         analyses::initial_conditions(session, &mut sinks, place, summary)?
                     }
                     SimulateKind::Static => {
-                        let times = end.filter(|e| *e > t0).map(|e| {
-                            analyses::output_times(t0, e, sim.steps, sim.dtout)
-                        });
+                        let times = end
+                            .filter(|e| *e > t0)
+                            .map(|e| analyses::output_times(t0, e, sim.steps, sim.dtout));
                         analyses::statics(session, &mut sinks, place, summary, times)?
                     }
                     kind => {
@@ -365,7 +376,9 @@ impl Runner {
                     session.redefine(&st).map_err(|d| failed_build(place, &d))?;
                 }
                 if listed {
-                    sinks.msg.write(&format!(" {} settings now in force:", st.keyword))?;
+                    sinks
+                        .msg
+                        .write(&format!(" {} settings now in force:", st.keyword))?;
                     let m = &session.built.model;
                     let text = match st.keyword.as_str() {
                         "EQUILIBRIUM" => format!("   {:?}", m.equilibrium),
@@ -444,7 +457,9 @@ fn dataset_path(path: &Path, name: &str) -> PathBuf {
     if direct.exists() {
         return direct;
     }
-    let stem = path.file_name().map_or(String::new(), |f| f.to_string_lossy().into_owned());
+    let stem = path
+        .file_name()
+        .map_or(String::new(), |f| f.to_string_lossy().into_owned());
     match stem.rfind("__") {
         Some(k) => {
             let prefixed = dir.join(format!("{}__{file}", &stem[..k]));

@@ -11,10 +11,8 @@
 //!   leaves complete rows and blocks.
 
 use crate::error::RunError;
-use linkage_adm::reqwriter::{
-    Precision, RequestDescription, RequestFileHeader, RequestFileWriter,
-};
 use linkage_adm::reqfile::VALUES_PER_REQUEST;
+use linkage_adm::reqwriter::{Precision, RequestDescription, RequestFileHeader, RequestFileWriter};
 use linkage_adm::Dataset;
 use linkage_model::Model;
 use linkage_solve::constraints::system::System;
@@ -82,7 +80,10 @@ fn descriptions(ds: &Dataset) -> Vec<RequestDescription> {
             },
             i: r.i.as_ref().map_or(0, |m| m.id),
             j: r.j.as_ref().map_or(0, |m| m.id),
-            comment: r.comment.as_ref().map_or(String::new(), |c| c.value.clone()),
+            comment: r
+                .comment
+                .as_ref()
+                .map_or(String::new(), |c| c.value.clone()),
         })
         .collect()
 }
@@ -152,7 +153,9 @@ impl Records {
         requests: &RequestSet,
         o: &Output,
     ) -> Result<(), String> {
-        let values = requests.evaluate(model, sys, o).map_err(|e| e.to_string())?;
+        let values = requests
+            .evaluate(model, sys, o)
+            .map_err(|e| e.to_string())?;
         if self.layout.is_none() {
             let elements: Vec<String> = o
                 .reactions

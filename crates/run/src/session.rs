@@ -125,7 +125,11 @@ impl Session {
     }
 
     /// Rebuilds the model from the amended statements, keeping the old one when that fails.
-    fn rebuild(&mut self, statements: Vec<Statement>, inactive: BTreeSet<(String, u64)>) -> Result<(), Diagnostics> {
+    fn rebuild(
+        &mut self,
+        statements: Vec<Statement>,
+        inactive: BTreeSet<(String, u64)>,
+    ) -> Result<(), Diagnostics> {
         let ds = amend::retype(&self.dataset, &statements, &inactive)?;
         let built = build(&ds)?;
         if built.model.parts.len() != self.built.model.parts.len() {

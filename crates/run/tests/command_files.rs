@@ -1,0 +1,214 @@
+//! Command files end to end: several analyses in a row on one model, against closed forms;
+//! errors that name the command; files that stay whole when a run stops.
+
+use linkage_run::{run_command_file, RunError, RunOptions};
+use std::path::{Path, PathBuf};
+
+/// A slider on a translational joint along ground x, held by a zero-length spring (k = 100
+/// N/m) against gravity along −x (m = 2 kg, g = 9.81), and a rotor on a revolute joint about
+/// ground z driven by MOTION/5 (its CM 0.5 m along its x).
+const MODEL: &str = "slider and rotor\n\
+UNITS/, FORCE = NEWTON, MASS = KILOGRAM, LENGTH = METER, TIME = SECOND\n\
+PART/1, GROUND\n\
+MARKER/10, PART = 1\n\
+MARKER/11, PART = 1, REULER = 90D, 90D, 0\n\
+MARKER/12, PART = 1\n\
+PART/2, MASS = 2, CM = 20, IP = 1, 1, 1, QG = -0.1, 0, 0\n\
+MARKER/20, PART = 2\n\
+MARKER/21, PART = 2, REULER = 90D, 90D, 0\n\
+JOINT/1, TRANSLATIONAL, I = 21, J = 11\n\
+SPRINGDAMPER/7, TRANSLATIONAL, I = 20, J = 10, K = 100, C = 0, LENGTH = 0\n\
+PART/3, MASS = 1, CM = 31, IP = 0.1, 0.1, 0.1\n\
+MARKER/30, PART = 3\n\
+MARKER/31, PART = 3, QP = 0.5, 0, 0\n\
+JOINT/2, REVOLUTE, I = 30, J = 12\n\
+MOTION/5, JOINT = 2, ROTATION, FUNCTION = 0*TIME\n\
+ACCGRAV/, IGRAV = -9.81\n\
+END\n";
+
+const G: f64 = 9.81;
+const X_EQ: f64 = -2.0 * G / 100.0;
+
+/// A fresh folder for one test.
+fn folder(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("linkage-run-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).expect("temp folder");
+    dir
+}
+
+fn write(dir: &Path, name: &str, text: &str) -> PathBuf {
+    let p = dir.join(name);
+    std::fs::write(&p, text).expect("writes");
+    p
+}
+
+/// The CSV as (header, rows of numbers).
+fn csv(path: &Path) -> (Vec<String>, Vec<Vec<f64>>) {
+    let text = std::fs::read_to_string(path).expect("csv exists");
+    let mut lines = text.lines();
+    let header: Vec<String> = lines
+        .next()
+        .expect("header")
+        .split(',')
+        .map(str::to_string)
+        .collect();
+    let rows = lines
+        .map(|l| {
+            l.split(',')
+                .map(|x| x.parse::<f64>().expect("a number"))
+                .collect::<Vec<f64>>()
+        })
+        .collect();
+    (header, rows)
+}
+
+fn column(header: &[String], name: &str) -> usize {
+    header
+        .iter()
+        .position(|h| h == name)
+        .unwrap_or_else(|| panic!("no column {name} in {header:?}"))
+}
+
+#[test]
+fn a_static_funnel_a_redefined_motion_and_a_deactivated_spring_follow_their_closed_forms() {
+    let dir = folder("multi");
+    write(&dir, "slider.adm", MODEL);
+    let acf = write(
+        &dir,
+        "funnel.acf",
+        "slider\nfunnel\n\
+         ! loose first, then tight\n\
+         EQUILIBRIUM/STABILITY = 1e-3, ERROR = 1e-2, IMBALANCE = 1e-2, MAXIT = 50\n\
+         sim/stat, end = 0.2, steps = 2\n\
+         equil/error = 1e-10, imbal = 1e-10\n\
+         SIMULATE/STATIC\n\
+         MOTION/5, FUNCTION = 2*TIME\n\
+         INTEGRATOR/ERROR = 1e-7\n\
+         SIMULATE/DYNAMIC, END = 1, STEPS = 8\n\
+         DEACTIVATE/SPRINGDAMPER, ID = 7\n\
+         SIMULATE/DYNAMIC, &\n   END = 1.5, STEPS = 5\n\
+         STOP\n",
+    );
+    let summary = run_command_file(
+        &acf,
+        &RunOptions {
+            out_dir: Some(dir.clone()),
+            model: None,
+        },
+    )
+    .unwrap_or_else(|s| panic!("runs: {}", s.error));
+    assert_eq!(summary.commands, 10);
+    // 2 quasi-static outputs, 1 static, 8 + 5 dynamic.
+    assert_eq!(summary.outputs, 16);
+    let (header, rows) = csv(&dir.join("funnel.csv"));
+    assert_eq!(rows.len(), 16);
+    let (t, x) = (0, column(&header, "PART_2.x"));
+    let (rx, ry) = (column(&header, "PART_3.x"), column(&header, "PART_3.y"));
+    // Statics: the spring carries the weight, x = −m g / k, at 0.1, 0.2 and again at 0.2.
+    for row in &rows[..3] {
+        assert!((row[x] - X_EQ).abs() < 1e-9, "static x {}", row[x]);
+    }
+    assert_eq!(rows[2][t], 0.2);
+    // Dynamics from the equilibrium at rest: the slider stays; the rotor turns by 2t.
+    for row in &rows[3..11] {
+        let time = row[t];
+        assert!((row[x] - X_EQ).abs() < 1e-6, "t = {time}: x {}", row[x]);
+        assert!(
+            (row[rx] - 0.5 * (2.0 * time).cos()).abs() < 1e-9,
+            "t = {time}"
+        );
+        assert!(
+            (row[ry] - 0.5 * (2.0 * time).sin()).abs() < 1e-9,
+            "t = {time}"
+        );
+    }
+    assert!((rows[10][t] - 1.0).abs() < 1e-12);
+    // Without the spring the slider falls from rest at t = 1: x = x_eq − g (t − 1)² / 2.
+    for row in &rows[11..] {
+        let dt = row[t] - 1.0;
+        let want = X_EQ - 0.5 * G * dt * dt;
+        assert!(
+            (row[x] - want).abs() < 1e-5,
+            "t = {}: x {} ≠ {want}",
+            row[t],
+            row[x]
+        );
+    }
+    // The request file holds the same outputs; the message file tells what changed.
+    let req = linkage_adm::reqfile::read_request_file(&dir.join("funnel.req")).expect("reads");
+    assert_eq!(req.times.len(), 16);
+    let msg = std::fs::read_to_string(dir.join("funnel.msg")).expect("msg");
+    assert!(
+        msg.contains(" command: DEACTIVATE/SPRINGDAMPER, ID = 7"),
+        "{msg}"
+    );
+    assert!(
+        msg.contains("The model changed: 1 → 1 degrees of freedom"),
+        "{msg}"
+    );
+    assert!(msg.contains("Dynamics to t = 1.5"), "{msg}");
+    assert!(msg.contains("every command was carried out"), "{msg}");
+}
+
+#[test]
+fn a_command_that_cannot_apply_names_its_line_and_leaves_whole_files() {
+    let dir = folder("stop");
+    write(&dir, "slider.adm", MODEL);
+    let acf = write(
+        &dir,
+        "stop.acf",
+        "slider\nstop\nSIMULATE/STATIC, END = 0.1, STEPS = 2\nVARIABLE/99, FUNCTION = 1\n\
+         SIMULATE/STATIC, END = 0.3, STEPS = 2\n",
+    );
+    let stopped = run_command_file(
+        &acf,
+        &RunOptions {
+            out_dir: Some(dir.clone()),
+            model: None,
+        },
+    )
+    .expect_err("VARIABLE/99 is not in the dataset");
+    let text = stopped.error.to_string();
+    assert!(text.contains("stop.acf:4:1"), "{text}");
+    assert!(text.contains("the dataset has no VARIABLE/99"), "{text}");
+    assert!(matches!(stopped.error, RunError::Refused { .. }));
+    assert_eq!(stopped.error.exit_code(), 2);
+    // What ran before is in the files, whole.
+    let summary = stopped.summary.expect("files were written");
+    assert_eq!(summary.outputs, 2);
+    let (header, rows) = csv(&dir.join("stop.csv"));
+    assert!(rows.iter().all(|r| r.len() == header.len()));
+    assert_eq!(rows.len(), 2);
+    let req = linkage_adm::reqfile::read_request_file(&dir.join("stop.req")).expect("reads");
+    assert_eq!(req.times, vec![0.05, 0.1]);
+    let msg = std::fs::read_to_string(dir.join("stop.msg")).expect("msg");
+    assert!(msg.contains("ERROR"), "{msg}");
+}
+
+#[test]
+fn unknown_commands_and_kinematics_with_freedom_are_refused_by_name() {
+    let dir = folder("refuse");
+    write(&dir, "slider.adm", MODEL);
+    let options = RunOptions {
+        out_dir: Some(dir.clone()),
+        model: None,
+    };
+    let acf = write(&dir, "unknown.acf", "slider\nunknown\nFROBNICATE/NOW\n");
+    let stopped = run_command_file(&acf, &options).expect_err("unknown command");
+    let text = stopped.error.to_string();
+    assert!(text.contains("unknown.acf:3:"), "{text}");
+    assert!(text.contains("FROBNICATE"), "{text}");
+    let acf = write(
+        &dir,
+        "kin.acf",
+        "slider\nkin\nSIMULATE/KINEMATIC, END = 1, STEPS = 2\n",
+    );
+    let stopped = run_command_file(&acf, &options).expect_err("the slider is free");
+    let text = stopped.error.to_string();
+    assert!(text.contains("kin.acf:3:1: SIMULATE"), "{text}");
+    assert!(
+        text.contains("needs a model without degrees of freedom; this one has 1"),
+        "{text}"
+    );
+}
