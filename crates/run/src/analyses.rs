@@ -14,6 +14,7 @@ use linkage_solve::stages::dynamics::{simulate_with, AfterOutput, Output};
 use linkage_solve::stages::linearize::{self, LinearOptions};
 use linkage_solve::stages::statics;
 use linkage_solve::tolerances::Tolerances;
+use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 /// Where a command was written and its echo, for messages.
@@ -344,4 +345,75 @@ pub fn eigensolution(
         return Err(place.failed(e.to_string()));
     }
     Ok(())
+}
+
+/// `LINEAR/STATEMAT`: the state matrix about the current operating point, written as plain
+/// text matrices (one row per line, numbers separated by blanks: MATLAB's `load` and numpy's
+/// `loadtxt` read them): `<file>a` holds A (`2f × 2f`), `<file>st` the basis N that maps the
+/// `f` independent coordinates to part coordinates (`6·parts × f`: CM x, y, z in length units,
+/// then rotations about the ground axes in radians, per part), so that the states are
+/// `x = [z; ż]` with `q = N z`. Without PINPUT/POUTPUT there are no inputs or outputs: `<file>b`,
+/// `<file>c` and `<file>d` are written empty (A's dimensions with zero columns or rows).
+pub fn state_matrices(
+    session: &mut Session,
+    sinks: &mut Sinks,
+    place: &Place,
+    summary: bool,
+    file: &Path,
+    damping: bool,
+) -> Result<(), RunError> {
+    let model = session.input_model();
+    let a = assemble(session, &model, place)?;
+    if summary {
+        model_summary(session, &a, sinks)?;
+    }
+    let (Some(v), Some(Ok(acc))) = (&a.ic.velocity, &a.ic.acceleration) else {
+        return Err(place.failed("the operating point has no accelerations and forces"));
+    };
+    let op = linearize::OperatingPoint {
+        state: a.state(),
+        velocities: &v.velocities,
+        multipliers: &acc.multipliers,
+    };
+    let eq = linearize::assemble(&model, &a.system, &a.kept, a.forces, op, damping)
+        .map_err(|e| place.failed(e.to_string()))?;
+    let sm = linearize::state_matrix(&eq).map_err(|e| place.failed(e.to_string()))?;
+    let f = sm.coordinates;
+    let rows = |values: &[f64], cols: usize| -> String {
+        if cols == 0 {
+            return String::new();
+        }
+        values
+            .chunks(cols)
+            .map(|r| {
+                r.iter()
+                    .map(|x| format!("{x:.16e}"))
+                    .collect::<Vec<_>>()
+                    .join(" ")
+                    + "\n"
+            })
+            .collect()
+    };
+    let name = file.to_string_lossy();
+    let outputs = [
+        ("a", rows(&sm.a, 2 * f)),
+        ("b", String::new()),
+        ("c", String::new()),
+        ("d", String::new()),
+        ("st", rows(&sm.basis, f)),
+    ];
+    for (suffix, text) in outputs {
+        let path = PathBuf::from(format!("{name}{suffix}"));
+        linkage_adm::writer::write_atomically(&path, &text).map_err(|cause| RunError::Write {
+            path: path.display().to_string(),
+            cause,
+        })?;
+    }
+    sinks.msg.write(&format!(
+        " State matrix at time {}: {} states ({f} independent coordinates and their rates), no \
+         inputs or outputs; A in {name}a, the coordinate basis in {name}st ({name}b, {name}c, \
+         {name}d empty).",
+        session.time(),
+        2 * f
+    ))
 }

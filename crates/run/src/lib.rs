@@ -354,11 +354,33 @@ impl Runner {
                 analyses::eigensolution(session, &mut sinks, place, summary, opts)?;
                 self.changed = false;
             }
-            Command::Linear(Linear::Statemat(_) | Linear::Mkb(_)) => {
+            Command::Linear(Linear::Statemat(m)) => {
+                if m.pinput.is_some() || m.poutput.is_some() || m.pstate.is_some() {
+                    return Err(refused(
+                        place,
+                        "PINPUT, POUTPUT and PSTATE are not modelled by linkage yet: without \
+                         them LINEAR/STATEMAT writes the state matrix A of the free motion",
+                    ));
+                }
+                if m.format == Some(linkage_adm::commands::MatrixFormat::Matrixx) {
+                    return Err(refused(
+                        place,
+                        "FORMAT = MATRIXX is not written by linkage; FORMAT = MATLAB writes \
+                         plain text matrices",
+                    ));
+                }
+                let file = match &self.options.out_dir {
+                    Some(d) => d.join(&m.file),
+                    None => PathBuf::from(&m.file),
+                };
+                analyses::state_matrices(session, &mut sinks, place, summary, &file, true)?;
+                self.changed = false;
+            }
+            Command::Linear(Linear::Mkb(_)) => {
                 return Err(refused(
                     place,
-                    "linkage does not export state or MKB matrices from a command file; \
-                     LINEAR/EIGENSOL gives the eigen solution",
+                    "linkage does not export mass, stiffness and damping matrices; \
+                     LINEAR/STATEMAT writes the state matrix, LINEAR/EIGENSOL the modes",
                 ))
             }
             Command::Integrator(_)

@@ -212,3 +212,95 @@ fn unknown_commands_and_kinematics_with_freedom_are_refused_by_name() {
         "{text}"
     );
 }
+
+#[test]
+fn statemat_writes_the_state_matrix_of_the_free_motion() {
+    let dir = folder("statemat");
+    write(&dir, "slider.adm", MODEL);
+    let acf = write(
+        &dir,
+        "plant.acf",
+        "slider\nplant\nSIMULATE/STATIC\nLINEAR/STATEMAT, FILE = plant, FORMAT = MATLAB\n\
+         LINEAR/EIGENSOL\nSTOP\n",
+    );
+    let options = RunOptions {
+        out_dir: Some(dir.clone()),
+        model: None,
+    };
+    run_command_file(&acf, &options).unwrap_or_else(|s| panic!("runs: {}", s.error));
+    // One free coordinate (the slider; the rotor is driven): A = [0 1; −k/m 0], k/m = 50.
+    let a: Vec<Vec<f64>> = std::fs::read_to_string(dir.join("planta"))
+        .expect("A written")
+        .lines()
+        .map(|l| l.split_whitespace().map(|x| x.parse().unwrap()).collect())
+        .collect();
+    assert_eq!(a.len(), 2);
+    let want = [[0.0, 1.0], [-50.0, 0.0]];
+    for i in 0..2 {
+        for j in 0..2 {
+            assert!((a[i][j] - want[i][j]).abs() < 1e-9, "A = {a:?}");
+        }
+    }
+    // The basis moves the slider along x only (a unit of z moves it by basis[0] metres).
+    let st = std::fs::read_to_string(dir.join("plantst")).expect("basis written");
+    let basis: Vec<f64> = st.lines().map(|l| l.trim().parse().unwrap()).collect();
+    assert_eq!(basis.len(), 12);
+    assert!(basis[0].abs() > 0.1, "{basis:?}");
+    assert!(
+        basis[1..].iter().all(|x| x.abs() < 1e-9 * basis[0].abs()),
+        "{basis:?}"
+    );
+    assert_eq!(std::fs::read_to_string(dir.join("plantb")).unwrap(), "");
+    // The eigen solution about the same point: √50 rad/s.
+    let msg = std::fs::read_to_string(dir.join("plant.msg")).expect("msg");
+    assert!(msg.contains("State matrix at time 0: 2 states"), "{msg}");
+    let hz = 50f64.sqrt() / std::f64::consts::TAU;
+    assert!(
+        msg.contains(&format!("{:.5E}", hz).replace("E", "E+0")),
+        "{hz} in {msg}"
+    );
+    // Plant inputs are not modelled: named, not skipped.
+    let acf = write(
+        &dir,
+        "inputs.acf",
+        "slider\ninputs\nLINEAR/STATEMAT, PINPUT = 1, POUTPUT = 2, FILE = p\n",
+    );
+    let stopped = run_command_file(&acf, &options).expect_err("refused");
+    assert!(
+        stopped.error.to_string().contains("inputs.acf:3:1: LINEAR"),
+        "{}",
+        stopped.error
+    );
+}
+
+#[test]
+fn a_nested_command_file_continues_the_same_run() {
+    let dir = folder("nested");
+    write(&dir, "slider.adm", MODEL);
+    write(
+        &dir,
+        "second.acf",
+        "\nSIMULATE/STATIC, END = 0.4, STEPS = 2\n",
+    );
+    let acf = write(
+        &dir,
+        "first.acf",
+        "slider\nnested\nSIMULATE/STATIC, END = 0.2, STEPS = 2\nFILE/COMMAND = second\nSTOP\n",
+    );
+    let options = RunOptions {
+        out_dir: Some(dir.clone()),
+        model: None,
+    };
+    let summary = run_command_file(&acf, &options).unwrap_or_else(|s| panic!("{}", s.error));
+    assert_eq!(summary.outputs, 4);
+    let req = linkage_adm::reqfile::read_request_file(&dir.join("nested.req")).expect("reads");
+    assert_eq!(req.times, vec![0.1, 0.2, 0.3, 0.4]);
+    // A command file that reads itself is stopped, not looped.
+    let acf = write(&dir, "self.acf", "slider\nself\nFILE/COMMAND = self\n");
+    let stopped = run_command_file(&acf, &options).expect_err("nesting bound");
+    assert!(
+        stopped.error.to_string().contains("nested more than"),
+        "{}",
+        stopped.error
+    );
+}

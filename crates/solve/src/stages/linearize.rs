@@ -406,6 +406,74 @@ fn expected_zeros(free: usize, pc: &Mat<f64>) -> usize {
     (2 * free).saturating_sub(damped)
 }
 
+/// The first-order form `ẋ = A x` of `M q̈ + C q̇ + K q = 0` reduced to the null space `nb`
+/// of J (`q = N z`, `x = [z; ż]`): `A = [0, I; −M_r⁻¹K_r, −M_r⁻¹C_r]` with `M_r = NᵀMN`, …;
+/// also returns `K_r` and `C_r`.
+fn first_order(
+    m: &Mat<f64>,
+    kmat: &Mat<f64>,
+    cmat: &Mat<f64>,
+    nb: &Mat<f64>,
+) -> Result<(Mat<f64>, Mat<f64>, Mat<f64>), LinearizeError> {
+    let f = nb.ncols();
+    let mr = nb.transpose() * m * nb;
+    let kr = nb.transpose() * kmat * nb;
+    let cr = nb.transpose() * cmat * nb;
+    let lu = mr.partial_piv_lu();
+    let minv = lu.inverse();
+    let mk = &minv * &kr;
+    let mc = &minv * &cr;
+    let mut a = Mat::<f64>::zeros(2 * f, 2 * f);
+    for i in 0..f {
+        a[(i, f + i)] = 1.0;
+        for j in 0..f {
+            a[(f + i, j)] = -mk[(i, j)];
+            a[(f + i, f + j)] = -mc[(i, j)];
+        }
+    }
+    if (0..2 * f).any(|i| (0..2 * f).any(|j| !a[(i, j)].is_finite())) {
+        return Err(LinearizeError::SingularReducedMass);
+    }
+    Ok((a, kr, cr))
+}
+
+/// The state matrix of a linearization: `ẋ = A x` with the states `x = [z; ż]`, where the
+/// `f` independent coordinates `z` move the parts by `q = N z` (N: an orthonormal basis of
+/// the null space of the constraint Jacobian at the operating point; `q` the 6 coordinates
+/// per part of [`LinearEquations`], translations in characteristic lengths L).
+#[derive(Clone, Debug, PartialEq)]
+pub struct StateMatrix {
+    /// `2f × 2f`, row-major.
+    pub a: Vec<f64>,
+    /// `f`.
+    pub coordinates: usize,
+    /// `N` (`6·parts × f`, row-major), with translation rows in model length units (times L).
+    pub basis: Vec<f64>,
+}
+
+/// [`StateMatrix`] of the linear equations `eq` (dense).
+pub fn state_matrix(eq: &LinearEquations) -> Result<StateMatrix, LinearizeError> {
+    let dim = eq.coordinates;
+    let m = dense(dim, dim, &eq.mass);
+    let kmat = dense(dim, dim, &eq.stiffness);
+    let cmat = dense(dim, dim, &eq.damping);
+    let jm = dense(eq.constraints, dim, &eq.jacobian);
+    let nb = null_space(&jm);
+    let f = nb.ncols();
+    let (a, _, _) = first_order(&m, &kmat, &cmat, &nb)?;
+    Ok(StateMatrix {
+        a: (0..2 * f)
+            .flat_map(|i| (0..2 * f).map(move |j| (i, j)))
+            .map(|(i, j)| a[(i, j)])
+            .collect(),
+        coordinates: f,
+        basis: (0..dim)
+            .flat_map(|i| (0..f).map(move |j| (i, j)))
+            .map(|(i, j)| nb[(i, j)] * eq.coordinate_unit(i))
+            .collect(),
+    })
+}
+
 /// The dense solution: every eigenvalue of the problem reduced to the null space of J.
 fn solve_dense(eq: &LinearEquations, vectors: bool) -> Result<Linearization, LinearizeError> {
     let dim = eq.coordinates;
@@ -426,24 +494,7 @@ fn solve_dense(eq: &LinearEquations, vectors: bool) -> Result<Linearization, Lin
             solution: Solution::Dense,
         });
     }
-    let mr = nb.transpose() * &m * &nb;
-    let kr = nb.transpose() * &kmat * &nb;
-    let cr = nb.transpose() * &cmat * &nb;
-    let lu = mr.partial_piv_lu();
-    let minv = lu.inverse();
-    let mk = &minv * &kr;
-    let mc = &minv * &cr;
-    let mut a = Mat::<f64>::zeros(2 * f, 2 * f);
-    for i in 0..f {
-        a[(i, f + i)] = 1.0;
-        for j in 0..f {
-            a[(f + i, j)] = -mk[(i, j)];
-            a[(f + i, f + j)] = -mc[(i, j)];
-        }
-    }
-    if (0..2 * f).any(|i| (0..2 * f).any(|j| !a[(i, j)].is_finite())) {
-        return Err(LinearizeError::SingularReducedMass);
-    }
+    let (a, kr, cr) = first_order(&m, &kmat, &cmat, &nb)?;
     let eig = a
         .eigen()
         .map_err(|e| LinearizeError::DenseEigen(format!("{e:?}")))?;
