@@ -406,6 +406,9 @@ fn expected_zeros(free: usize, pc: &Mat<f64>) -> usize {
     (2 * free).saturating_sub(damped)
 }
 
+/// `(A, K_r, C_r)` of [`first_order`].
+type FirstOrder = (Mat<f64>, Mat<f64>, Mat<f64>);
+
 /// The first-order form `ẋ = A x` of `M q̈ + C q̇ + K q = 0` reduced to the null space `nb`
 /// of J (`q = N z`, `x = [z; ż]`): `A = [0, I; −M_r⁻¹K_r, −M_r⁻¹C_r]` with `M_r = NᵀMN`, …;
 /// also returns `K_r` and `C_r`.
@@ -414,7 +417,7 @@ fn first_order(
     kmat: &Mat<f64>,
     cmat: &Mat<f64>,
     nb: &Mat<f64>,
-) -> Result<(Mat<f64>, Mat<f64>, Mat<f64>), LinearizeError> {
+) -> Result<FirstOrder, LinearizeError> {
     let f = nb.ncols();
     let mr = nb.transpose() * m * nb;
     let kr = nb.transpose() * kmat * nb;
