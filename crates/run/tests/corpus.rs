@@ -28,7 +28,7 @@ fn corpus() -> Option<PathBuf> {
 /// parameters (REQUEST/4 of the Chrono models) are compared up to their common sign, and ψ, φ
 /// only through ψ + φ where θ is within 0.1° of 0 or 180° (the 3-1-3 angles cannot separate
 /// them there); angles modulo 360°.
-fn worst_ratio(adams: &RequestFile, ours: &RequestFile) -> (f64, String) {
+fn worst_ratio(adams: &RequestFile, ours: &RequestFile, until: f64) -> (f64, String) {
     let mut worst = (0.0f64, String::new());
     for ra in &adams.requests {
         let Some(rb) = ours.request(ra.id) else {
@@ -38,6 +38,7 @@ fn worst_ratio(adams: &RequestFile, ours: &RequestFile) -> (f64, String) {
             .times
             .iter()
             .enumerate()
+            .filter(|(_, t)| **t <= until)
             .filter_map(|(ka, t)| {
                 ours.times
                     .iter()
@@ -119,7 +120,17 @@ fn every_corpus_command_file_runs_or_stops_naming_the_place_and_the_reason() {
                     let a = read_request_file(&adams).expect("Adams' file reads");
                     let b = read_request_file(&req).expect("ours reads");
                     assert_eq!(a.times.len(), b.times.len(), "{name}: output count");
-                    figures.push((name, worst_ratio(&a, &b)));
+                    // Distance_Case02 (a rod hanging on a distance constraint, free to spin)
+                    // is chaotic: the difference between two runs doubles every 0.25 s; two
+                    // linkage runs with ERROR = 1e-8 and 1e-9 differ in θ by 0.85° at 1.75 s,
+                    // 1.3° at 2 s and 0.8 of a signal's range at 4 s, so past 1.5 s no
+                    // solution is a reference, Adams' own (ERROR = 1e-4) included.
+                    let until = if name.ends_with("Distance_Case02") {
+                        1.5
+                    } else {
+                        f64::INFINITY
+                    };
+                    figures.push((name, worst_ratio(&a, &b, until)));
                 }
             }
             Err(stopped) => {
@@ -149,35 +160,19 @@ fn every_corpus_command_file_runs_or_stops_naming_the_place_and_the_reason() {
             .map(|(_, (r, _))| *r)
             .unwrap_or_else(|| panic!("{case} has no comparison"))
     };
-    // Within 1e-3 of each signal's range (measured: Revolute_Case01 1.4e-4, Spherical_Case01
-    // 7.3e-4, Universal_Case01 2.8e-4, Distance_Case01 2.4e-4, TransSpring_Case01 4.4e-7).
+    // Within 1e-3 of each signal's range (measured: Revolute_Case01 6.1e-5, Revolute_Case02
+    // 1.2e-4, Spherical_Case01 4.5e-4, Universal_Case01 4.5e-4, Universal_Case02 4.5e-4,
+    // Distance_Case01 2.0e-5, Distance_Case02 to 1.5 s 5.4e-4, TransSpring_Case01 4.4e-7).
     for case in [
         "Revolute_Case01",
+        "Revolute_Case02",
         "Spherical_Case01",
         "Universal_Case01",
+        "Universal_Case02",
         "Distance_Case01",
+        "Distance_Case02",
         "TransSpring_Case01",
     ] {
         assert!(bound(case) < 1e-3, "{case}: {:?}", bound(case));
     }
-    // Not yet within 1e-3 with the command files' HMAX = 1e-5 (500,000 steps), where the
-    // index-3 corrector's error accumulates (the dynamics issue): the same models with ERROR =
-    // 1e-8 and no HMAX match Adams to 4e-5 (Revolute_Case02) and 8e-4 (Universal_Case02).
-    // Distance_Case02 (a rod on a string, sensitive to every perturbation) drifts from t ≈ 2 s
-    // in Adams' own solution as in ours. Regression bounds until then:
-    assert!(
-        bound("Revolute_Case02") < 2e-3,
-        "{:?}",
-        bound("Revolute_Case02")
-    );
-    assert!(
-        bound("Universal_Case02") < 0.3,
-        "{:?}",
-        bound("Universal_Case02")
-    );
-    assert!(
-        bound("Distance_Case02") < 1.0,
-        "{:?}",
-        bound("Distance_Case02")
-    );
 }
