@@ -21,6 +21,7 @@
 
 pub mod analyses;
 pub mod error;
+pub mod listing;
 pub mod msg;
 pub mod records;
 pub mod session;
@@ -103,13 +104,10 @@ pub fn run_command_file(path: &Path, options: &RunOptions) -> Result<RunSummary,
         })
     };
     let (cf, typed) = read(path).map_err(stop)?;
-    let out_name = typed.output_prefix.clone().or_else(|| {
-        typed.model.as_ref().map(|m| {
-            Path::new(m)
-                .file_stem()
-                .map_or(m.clone(), |s| s.to_string_lossy().into())
-        })
-    });
+    let out_name = typed
+        .output_prefix
+        .clone()
+        .or_else(|| typed.model.as_deref().map(stem_of));
     let mut runner = Runner {
         options: options.clone(),
         out_name,
@@ -210,6 +208,13 @@ impl Runner {
                 dataset.display()
             ))?;
             self.msg = Some(msg);
+        } else if let Some(msg) = self.msg.as_mut() {
+            msg.write(&format!(
+                " dataset {} (outputs {}.req, {}.csv)",
+                dataset.display(),
+                self.out_name.as_deref().unwrap_or("linkage"),
+                self.out_name.as_deref().unwrap_or("linkage")
+            ))?;
         }
         let session = Session::open(dataset)?;
         let stem = self.out_path("stem");
@@ -260,11 +265,16 @@ impl Runner {
                         // --model replaces the dataset the command file names.
                         (Some(_), Some(_)) => {}
                         (Some(_), None) => {
-                            return Err(refused(
-                                &place,
-                                "FILE/MODEL after a model is loaded: linkage runs one model \
-                                 per command file (run the other from its own)",
-                            ))
+                            // Another model: its own request and CSV files (OUTPUT_PREFIX, or
+                            // the dataset's name), the same message file.
+                            if let Some(records) = self.records.take() {
+                                records.finish()?;
+                            }
+                            self.session = None;
+                            self.out_name =
+                                f.output_prefix.clone().or_else(|| Some(stem_of(model)));
+                            self.counts = None;
+                            self.open_model(path, model)?;
                         }
                         (None, _) => {
                             if let Some(prefix) = &f.output_prefix {
@@ -400,15 +410,15 @@ impl Runner {
                 if listed {
                     sinks
                         .msg
-                        .write(&format!(" {} settings now in force:", st.keyword))?;
-                    let m = &session.built.model;
-                    let text = match st.keyword.as_str() {
-                        "EQUILIBRIUM" => format!("   {:?}", m.equilibrium),
-                        "INTEGRATOR" => format!("   {:?}", m.integrator.settings),
-                        "IC" => format!("   {:?}", m.ic),
-                        _ => format!("   gravity {:?}", m.gravity),
-                    };
-                    sinks.msg.write(&text)?;
+                        .write(&listing::settings(&st.keyword, &session.built.model))?;
+                }
+                if st.keyword == "INTEGRATOR" && !st.args.is_empty() {
+                    for note in &session.built.model.integrator.notes {
+                        sinks.msg.write(&format!(" Note: {note}"))?;
+                    }
+                    for issue in &session.built.model.integrator.warnings {
+                        sinks.msg.write(&format!(" Warning: {issue}"))?;
+                    }
                 }
             }
             Command::Redefine(r) => {
@@ -459,6 +469,15 @@ impl Runner {
         }
         Ok(())
     }
+}
+
+/// The file name of a dataset named in a command file, without folders (also those of another
+/// machine: `C:\\Users\\…\\model`) and extension.
+fn stem_of(name: &str) -> String {
+    let file = name.rsplit(['\\', '/']).next().unwrap_or(name);
+    Path::new(file)
+        .file_stem()
+        .map_or(file.to_string(), |s| s.to_string_lossy().into_owned())
 }
 
 /// The dataset `name` of the command file `path`: relative to the command file's folder, with

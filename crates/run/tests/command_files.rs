@@ -304,3 +304,30 @@ fn a_nested_command_file_continues_the_same_run() {
         stopped.error
     );
 }
+
+#[test]
+fn file_model_switches_to_another_dataset_with_its_own_files() {
+    let dir = folder("two");
+    write(&dir, "slider.adm", MODEL);
+    // The same slider with a stiffer spring: x = −m g / 400.
+    write(&dir, "stiff.adm", &MODEL.replace("K = 100", "K = 400"));
+    let acf = write(
+        &dir,
+        "two.acf",
+        "slider\nsoft\nSIMULATE/STATIC\nFILE/MODEL = stiff, OUTPUT_PREFIX = hard\n\
+         SIMULATE/STATIC\nSTOP\n",
+    );
+    let options = RunOptions {
+        out_dir: Some(dir.clone()),
+        model: None,
+    };
+    run_command_file(&acf, &options).unwrap_or_else(|s| panic!("{}", s.error));
+    for (name, k) in [("soft", 100.0), ("hard", 400.0)] {
+        let (header, rows) = csv(&dir.join(format!("{name}.csv")));
+        assert_eq!(rows.len(), 1, "{name}");
+        let x = rows[0][column(&header, "PART_2.x")];
+        assert!((x + 2.0 * G / k).abs() < 1e-9, "{name}: x = {x}");
+    }
+    let msg = std::fs::read_to_string(dir.join("soft.msg")).expect("one message file");
+    assert!(msg.contains("FILE/MODEL = stiff"), "{msg}");
+}
