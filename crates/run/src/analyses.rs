@@ -117,7 +117,7 @@ fn record(
     sinks
         .records
         .write(a.model, &a.system, &session.built.requests, o)
-        .map_err(|why| place.failed(why))
+        .map_err(|why| place.failed(why.to_string()))
 }
 
 /// The output of the initial conditions of `a`.

@@ -88,6 +88,17 @@ fn descriptions(ds: &Dataset) -> Vec<RequestDescription> {
         .collect()
 }
 
+/// Why an output could not be recorded.
+#[derive(Debug, thiserror::Error)]
+pub enum RecordError {
+    /// A REQUEST cannot be evaluated at the output.
+    #[error(transparent)]
+    Request(#[from] linkage_solve::physics::requests::RequestError),
+    /// A file cannot be written.
+    #[error("cannot write {path}: {cause}")]
+    Write { path: String, cause: String },
+}
+
 /// The streams of a run's time histories.
 pub struct Records {
     csv_path: PathBuf,
@@ -152,10 +163,12 @@ impl Records {
         sys: &System,
         requests: &RequestSet,
         o: &Output,
-    ) -> Result<(), String> {
-        let values = requests
-            .evaluate(model, sys, o)
-            .map_err(|e| e.to_string())?;
+    ) -> Result<(), RecordError> {
+        let values = requests.evaluate(model, sys, o)?;
+        let csv_error = |path: &Path, e: std::io::Error| RecordError::Write {
+            path: path.display().to_string(),
+            cause: e.to_string(),
+        };
         if self.layout.is_none() {
             let elements: Vec<String> = o
                 .reactions
@@ -185,7 +198,7 @@ impl Records {
             header.push('\n');
             self.csv
                 .write_all(header.as_bytes())
-                .map_err(|e| format!("cannot write {}: {e}", self.csv_path.display()))?;
+                .map_err(|e| csv_error(&self.csv_path, e))?;
             self.layout = Some(layout);
         }
         let Some(layout) = &self.layout else {
@@ -208,11 +221,14 @@ impl Records {
         self.csv
             .write_all(row.as_bytes())
             .and_then(|_| self.csv.flush())
-            .map_err(|e| format!("cannot write {}: {e}", self.csv_path.display()))?;
+            .map_err(|e| csv_error(&self.csv_path, e))?;
         let six = requests.stored_values(&values);
         self.req
             .write_output(o.time, &six)
-            .map_err(|e| format!("cannot write {}: {e}", self.req_path.display()))?;
+            .map_err(|e| RecordError::Write {
+                path: self.req_path.display().to_string(),
+                cause: e.to_string(),
+            })?;
         self.written += 1;
         Ok(())
     }
