@@ -65,6 +65,16 @@ pub struct Sinks<'s> {
     pub records: &'s mut Records,
     /// DOF and redundant equations of the last model summary (`None` before the first).
     pub counts: &'s mut Option<(i64, usize)>,
+    /// Set when the run must stop at the next output.
+    pub interrupt: Option<std::sync::Arc<std::sync::atomic::AtomicBool>>,
+}
+
+impl Sinks<'_> {
+    fn interrupted(&self) -> bool {
+        self.interrupt
+            .as_ref()
+            .is_some_and(|f| f.load(std::sync::atomic::Ordering::Relaxed))
+    }
 }
 
 /// The model assembled at the current time from the current state, and the summary lines of
@@ -212,6 +222,9 @@ pub fn statics(
             reactions: eq.reactions.clone(),
         };
         record(session, &a, sinks, &o, place)?;
+        if sinks.interrupted() {
+            return Err(RunError::Interrupted { time: o.time });
+        }
         last = Some(o);
     }
     let Some(o) = last else {
@@ -271,6 +284,7 @@ pub fn dynamics(
     let clock = Instant::now();
     let mut last: Option<Output> = None;
     let mut write_error: Option<RunError> = None;
+    let mut written = 0usize;
     let sim = simulate_with(
         &problem,
         &start,
@@ -283,8 +297,17 @@ pub fn dynamics(
                 write_error = Some(e);
                 return AfterOutput::Stop;
             }
+            written += 1;
+            let stop = sinks.interrupted();
+            if stop {
+                write_error = Some(RunError::Interrupted { time: o.time });
+            }
             last = Some(o);
-            AfterOutput::Continue
+            if stop {
+                AfterOutput::Stop
+            } else {
+                AfterOutput::Continue
+            }
         },
     );
     let seconds = clock.elapsed().as_secs_f64();
@@ -301,7 +324,7 @@ pub fn dynamics(
         sim.rejected,
         sim.newton_iterations,
         sim.factorisations,
-        times.len(),
+        written,
     ))?;
     if let Some(e) = write_error {
         return Err(e);

@@ -24,6 +24,9 @@ pub enum RunError {
         command: String,
         why: String,
     },
+    /// The run was interrupted (Ctrl-C): it stopped after the output at `time`.
+    #[error("interrupted at time {time}: the files hold every output up to it")]
+    Interrupted { time: f64 },
     /// An output file cannot be written.
     #[error("cannot write {path}: {cause}")]
     Write { path: String, cause: std::io::Error },
@@ -31,11 +34,13 @@ pub enum RunError {
 
 impl RunError {
     /// The exit code of `linkage run`: 2 for input errors and refused commands, 1 for an
-    /// analysis that failed or a file that cannot be written.
+    /// analysis that failed or a file that cannot be written, 130 (as a shell reports SIGINT)
+    /// for an interrupted run.
     pub fn exit_code(&self) -> u8 {
         match self {
             RunError::Input(_) | RunError::Refused { .. } => 2,
             RunError::Failed { .. } | RunError::Write { .. } => 1,
+            RunError::Interrupted { .. } => 130,
         }
     }
 }

@@ -35,6 +35,8 @@ use msg::MessageFile;
 use records::Records;
 use session::Session;
 use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Arc;
 
 /// Slack on the number of DTOUT intervals in a run (a count, so relative to one interval): an
 /// END that is a multiple of DTOUT up to rounding gets no extra sliver interval.
@@ -52,6 +54,18 @@ pub struct RunOptions {
     /// The dataset to run, in place of the one the command file names (and for command files
     /// that name none: templates whose line 1 is a comment).
     pub model: Option<PathBuf>,
+    /// Set (by a signal handler) to stop the run at the next output: the files keep every
+    /// output written, the message file says where the run stopped.
+    pub interrupt: Option<Arc<AtomicBool>>,
+}
+
+impl RunOptions {
+    /// Whether the run was asked to stop.
+    pub fn interrupted(&self) -> bool {
+        self.interrupt
+            .as_ref()
+            .is_some_and(|f| f.load(Ordering::Relaxed))
+    }
 }
 
 /// What a run wrote.
@@ -240,6 +254,10 @@ impl Runner {
         let text = std::fs::read_to_string(path).unwrap_or_default();
         let lines: Vec<&str> = text.lines().collect();
         for entry in &typed.commands {
+            if self.options.interrupted() {
+                let time = self.session.as_ref().map_or(0.0, Session::time);
+                return Err(RunError::Interrupted { time });
+            }
             let echo: String = (entry.lines.0..=entry.lines.1)
                 .filter_map(|l| lines.get(l as usize - 1))
                 .map(|l| l.trim_end())
@@ -326,6 +344,7 @@ impl Runner {
             msg,
             records,
             counts: &mut self.counts,
+            interrupt: self.options.interrupt.clone(),
         };
         let summary = self.changed;
         match &entry.command {

@@ -95,6 +95,7 @@ fn a_static_funnel_a_redefined_motion_and_a_deactivated_spring_follow_their_clos
         &RunOptions {
             out_dir: Some(dir.clone()),
             model: None,
+            interrupt: None,
         },
     )
     .unwrap_or_else(|s| panic!("runs: {}", s.error));
@@ -166,6 +167,7 @@ fn a_command_that_cannot_apply_names_its_line_and_leaves_whole_files() {
         &RunOptions {
             out_dir: Some(dir.clone()),
             model: None,
+            interrupt: None,
         },
     )
     .expect_err("VARIABLE/99 is not in the dataset");
@@ -193,6 +195,7 @@ fn unknown_commands_and_kinematics_with_freedom_are_refused_by_name() {
     let options = RunOptions {
         out_dir: Some(dir.clone()),
         model: None,
+        interrupt: None,
     };
     let acf = write(&dir, "unknown.acf", "slider\nunknown\nFROBNICATE/NOW\n");
     let stopped = run_command_file(&acf, &options).expect_err("unknown command");
@@ -226,6 +229,7 @@ fn statemat_writes_the_state_matrix_of_the_free_motion() {
     let options = RunOptions {
         out_dir: Some(dir.clone()),
         model: None,
+        interrupt: None,
     };
     run_command_file(&acf, &options).unwrap_or_else(|s| panic!("runs: {}", s.error));
     // One free coordinate (the slider; the rotor is driven): A = [0 1; −k/m 0], k/m = 50.
@@ -290,6 +294,7 @@ fn a_nested_command_file_continues_the_same_run() {
     let options = RunOptions {
         out_dir: Some(dir.clone()),
         model: None,
+        interrupt: None,
     };
     let summary = run_command_file(&acf, &options).unwrap_or_else(|s| panic!("{}", s.error));
     assert_eq!(summary.outputs, 4);
@@ -320,6 +325,7 @@ fn file_model_switches_to_another_dataset_with_its_own_files() {
     let options = RunOptions {
         out_dir: Some(dir.clone()),
         model: None,
+        interrupt: None,
     };
     run_command_file(&acf, &options).unwrap_or_else(|s| panic!("{}", s.error));
     for (name, k) in [("soft", 100.0), ("hard", 400.0)] {
@@ -330,4 +336,55 @@ fn file_model_switches_to_another_dataset_with_its_own_files() {
     }
     let msg = std::fs::read_to_string(dir.join("soft.msg")).expect("one message file");
     assert!(msg.contains("FILE/MODEL = stiff"), "{msg}");
+}
+
+#[test]
+fn an_interrupted_run_stops_at_an_output_and_leaves_whole_files() {
+    use std::sync::atomic::{AtomicBool, Ordering};
+    use std::sync::Arc;
+    let dir = folder("interrupt");
+    write(&dir, "slider.adm", MODEL);
+    // Far more steps than the test waits for (HMAX = 1e-6 over 1000 s).
+    let acf = write(
+        &dir,
+        "long.acf",
+        "slider\nlong\nINTEGRATOR/ERROR = 1e-4, HMAX = 1e-6\n\
+         SIMULATE/DYNAMIC, END = 1000, DTOUT = 1e-3\n",
+    );
+    let flag = Arc::new(AtomicBool::new(false));
+    let options = RunOptions {
+        out_dir: Some(dir.clone()),
+        model: None,
+        interrupt: Some(Arc::clone(&flag)),
+    };
+    // Interrupt once a few outputs are on disk (as Ctrl-C would, at any moment).
+    let csv_path = dir.join("long.csv");
+    let watcher = std::thread::spawn(move || {
+        for _ in 0..6000 {
+            let rows = std::fs::read_to_string(&csv_path).map_or(0, |t| t.lines().count());
+            if rows > 5 {
+                break;
+            }
+            std::thread::sleep(std::time::Duration::from_millis(10));
+        }
+        flag.store(true, Ordering::Relaxed);
+    });
+    let stopped = run_command_file(&acf, &options).expect_err("interrupted");
+    watcher.join().expect("watcher");
+    let linkage_run::RunError::Interrupted { time } = stopped.error else {
+        panic!("{}", stopped.error);
+    };
+    assert!(time > 0.0 && time < 1000.0, "{time}");
+    assert_eq!(linkage_run::RunError::Interrupted { time }.exit_code(), 130);
+    // Every output up to the interruption, whole, in both files.
+    let (header, rows) = csv(&dir.join("long.csv"));
+    assert!(rows.iter().all(|r| r.len() == header.len()));
+    assert_eq!(rows.last().map(|r| r[0]), Some(time));
+    let req = linkage_adm::reqfile::read_request_file(&dir.join("long.req")).expect("reads");
+    assert_eq!(req.times.len(), rows.len());
+    let msg = std::fs::read_to_string(dir.join("long.msg")).expect("msg");
+    assert!(
+        msg.contains(&format!("interrupted at time {time}")),
+        "{msg}"
+    );
 }
