@@ -12,6 +12,7 @@ use linkage_model::Model;
 use linkage_solve::pipeline::Assembled;
 use linkage_solve::stages::dynamics::{simulate_with, AfterOutput, Output};
 use linkage_solve::stages::linearize::{self, LinearOptions};
+use linkage_solve::stages::plant;
 use linkage_solve::stages::statics;
 use linkage_solve::tolerances::Tolerances;
 use std::path::{Path, PathBuf};
@@ -370,20 +371,29 @@ pub fn eigensolution(
     Ok(())
 }
 
-/// `LINEAR/STATEMAT`: the state matrix about the current operating point, written as plain
+/// The plant inputs and outputs of `LINEAR/STATEMAT`: VARIABLE ids.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct PlantIo {
+    pub inputs: Vec<u32>,
+    pub outputs: Vec<u32>,
+}
+
+/// `LINEAR/STATEMAT`: the state matrices about the current operating point, written as plain
 /// text matrices (one row per line, numbers separated by blanks: MATLAB's `load` and numpy's
-/// `loadtxt` read them): `<file>a` holds A (`2f × 2f`), `<file>st` the basis N that maps the
-/// `f` independent coordinates to part coordinates (`6·parts × f`: CM x, y, z in length units,
-/// then rotations about the ground axes in radians, per part), so that the states are
-/// `x = [z; ż]` with `q = N z`. Without PINPUT/POUTPUT there are no inputs or outputs: `<file>b`,
-/// `<file>c` and `<file>d` are written empty (A's dimensions with zero columns or rows).
+/// `loadtxt` read them): `<file>a` holds A (`2f × 2f`), `<file>b` B (`2f × inputs`), `<file>c`
+/// C (`outputs × 2f`), `<file>d` D (`outputs × inputs`) of `ẋ = A x + B u`, `y = C x + D u`,
+/// and `<file>st` the basis N that maps the `f` independent coordinates to part coordinates
+/// (`6·parts × f`: CM x, y, z in length units, then rotations about the ground axes in
+/// radians, per part), so that the states are `x = [z; ż]` with `q = N z`. The inputs and
+/// outputs are VARIABLE values ([`linkage_solve::stages::plant`]); without them B, C and D are
+/// empty.
 pub fn state_matrices(
     session: &mut Session,
     sinks: &mut Sinks,
     place: &Place,
     summary: bool,
     file: &Path,
-    damping: bool,
+    io: &PlantIo,
 ) -> Result<(), RunError> {
     let model = session.input_model();
     let a = assemble(session, &model, place)?;
@@ -398,9 +408,18 @@ pub fn state_matrices(
         velocities: &v.velocities,
         multipliers: &acc.multipliers,
     };
-    let eq = linearize::assemble(&model, &a.system, &a.kept, a.forces, op, damping)
+    let eq = linearize::assemble(&model, &a.system, &a.kept, a.forces, op, true)
         .map_err(|e| place.failed(e.to_string()))?;
     let sm = linearize::state_matrix(&eq).map_err(|e| place.failed(e.to_string()))?;
+    let pl = plant::plant(
+        &model,
+        &session.built.forces,
+        op,
+        &sm,
+        &io.inputs,
+        &io.outputs,
+    )
+    .map_err(|e| place.failed(e.to_string()))?;
     let f = sm.coordinates;
     let rows = |values: &[f64], cols: usize| -> String {
         if cols == 0 {
@@ -418,14 +437,14 @@ pub fn state_matrices(
             .collect()
     };
     let name = file.to_string_lossy();
-    let outputs = [
+    let files = [
         ("a", rows(&sm.a, 2 * f)),
-        ("b", String::new()),
-        ("c", String::new()),
-        ("d", String::new()),
+        ("b", rows(&pl.b, pl.inputs)),
+        ("c", rows(&pl.c, 2 * f)),
+        ("d", rows(&pl.d, pl.inputs)),
         ("st", rows(&sm.basis, f)),
     ];
-    for (suffix, text) in outputs {
+    for (suffix, text) in files {
         let path = PathBuf::from(format!("{name}{suffix}"));
         linkage_adm::writer::write_atomically(&path, &text).map_err(|cause| RunError::Write {
             path: path.display().to_string(),
@@ -433,10 +452,12 @@ pub fn state_matrices(
         })?;
     }
     sinks.msg.write(&format!(
-        " State matrix at time {}: {} states ({f} independent coordinates and their rates), no \
-         inputs or outputs; A in {name}a, the coordinate basis in {name}st ({name}b, {name}c, \
-         {name}d empty).",
+        " State matrices at time {}: {} states ({f} independent coordinates and their rates), \
+         {} input(s), {} output(s); A, B, C, D in {name}a, {name}b, {name}c, {name}d, the \
+         coordinate basis in {name}st.",
         session.time(),
-        2 * f
+        2 * f,
+        pl.inputs,
+        pl.outputs
     ))
 }

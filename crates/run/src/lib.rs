@@ -384,11 +384,11 @@ impl Runner {
                 self.changed = false;
             }
             Command::Linear(Linear::Statemat(m)) => {
-                if m.pinput.is_some() || m.poutput.is_some() || m.pstate.is_some() {
+                if m.pstate.is_some() {
                     return Err(refused(
                         place,
-                        "PINPUT, POUTPUT and PSTATE are not modelled by linkage yet: without \
-                         them LINEAR/STATEMAT writes the state matrix A of the free motion",
+                        "PSTATE (user-chosen states) is not modelled by linkage: the states are \
+                         the independent coordinates and their rates",
                     ));
                 }
                 if m.format == Some(linkage_adm::commands::MatrixFormat::Matrixx) {
@@ -398,11 +398,17 @@ impl Runner {
                          plain text matrices",
                     ));
                 }
+                let io = analyses::PlantIo {
+                    inputs: plant_variables(session, "PINPUT", m.pinput)
+                        .map_err(|why| refused(place, why))?,
+                    outputs: plant_variables(session, "POUTPUT", m.poutput)
+                        .map_err(|why| refused(place, why))?,
+                };
                 let file = match &self.options.out_dir {
                     Some(d) => d.join(&m.file),
                     None => PathBuf::from(&m.file),
                 };
-                analyses::state_matrices(session, &mut sinks, place, summary, &file, true)?;
+                analyses::state_matrices(session, &mut sinks, place, summary, &file, &io)?;
                 self.changed = false;
             }
             Command::Linear(Linear::Mkb(_)) => {
@@ -531,6 +537,35 @@ fn dataset_path(path: &Path, name: &str) -> PathBuf {
         }
         _ => direct,
     }
+}
+
+/// The VARIABLE ids of the dataset's `keyword/id` statement (PINPUT or POUTPUT:
+/// `VARIABLES = id, id, …`); none when `id` is `None`.
+fn plant_variables(session: &Session, keyword: &str, id: Option<u64>) -> Result<Vec<u32>, String> {
+    let Some(id) = id else {
+        return Ok(Vec::new());
+    };
+    let st = session
+        .statement(keyword, id)
+        .ok_or_else(|| format!("the dataset has no {keyword}/{id}"))?;
+    let arg = st
+        .args
+        .iter()
+        .find(|a| a.key.len() >= 3 && "VARIABLES".starts_with(a.key.as_str()))
+        .ok_or_else(|| format!("{keyword}/{id} has no VARIABLES = list"))?;
+    arg.values
+        .iter()
+        .map(|v| match v {
+            linkage_adm::Value::Number { value, .. }
+                if *value >= 0.0 && value.fract() == 0.0 && *value <= f64::from(u32::MAX) =>
+            {
+                Ok(*value as u32)
+            }
+            other => Err(format!(
+                "{keyword}/{id}: VARIABLES must list VARIABLE ids, not {other:?}"
+            )),
+        })
+        .collect()
 }
 
 fn refused(place: &Place, why: impl Into<String>) -> RunError {

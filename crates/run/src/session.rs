@@ -194,6 +194,13 @@ impl Session {
         self.rebuild(self.statements.clone(), inactive)
     }
 
+    /// The amended statement `keyword/id` (active or not).
+    pub fn statement(&self, keyword: &str, id: u64) -> Option<&Statement> {
+        self.statements
+            .iter()
+            .find(|s| s.keyword == keyword && s.id == Some(id))
+    }
+
     /// The dataset as read.
     pub fn dataset(&self) -> &Dataset {
         &self.dataset

@@ -257,23 +257,75 @@ fn statemat_writes_the_state_matrix_of_the_free_motion() {
     assert_eq!(std::fs::read_to_string(dir.join("plantb")).unwrap(), "");
     // The eigen solution about the same point: √50 rad/s.
     let msg = std::fs::read_to_string(dir.join("plant.msg")).expect("msg");
-    assert!(msg.contains("State matrix at time 0: 2 states"), "{msg}");
+    assert!(msg.contains("State matrices at time 0: 2 states"), "{msg}");
     let hz = 50f64.sqrt() / std::f64::consts::TAU;
     assert!(
         msg.contains(&format!("{:.5E}", hz).replace("E", "E+0")),
         "{hz} in {msg}"
     );
-    // Plant inputs are not modelled: named, not skipped.
+}
+
+#[test]
+fn statemat_with_plant_inputs_and_outputs_has_the_spring_s_static_gain() {
+    let dir = folder("plant");
+    // A force VARVAL(1) on the slider along the line from ground's origin (pushing it away,
+    // towards −x) as the input; the slider's x as the output.
+    let model = MODEL.replace(
+        "ACCGRAV/",
+        "VARIABLE/1, FUNCTION = 0\nVARIABLE/2, FUNCTION = DX(20, 10)\n\
+         SFORCE/8, TRANSLATIONAL, I = 20, J = 10, FUNCTION = VARVAL(1)\n\
+         PINPUT/1, VARIABLES = 1\nPOUTPUT/2, VARIABLES = 2\nACCGRAV/",
+    );
+    write(&dir, "slider.adm", &model);
     let acf = write(
         &dir,
-        "inputs.acf",
-        "slider\ninputs\nLINEAR/STATEMAT, PINPUT = 1, POUTPUT = 2, FILE = p\n",
+        "plant.acf",
+        "slider\nplant\nSIMULATE/STATIC\n\
+         LINEAR/STATEMAT, PINPUT = 1, POUTPUT = 2, FILE = p, FORMAT = MATLAB\n",
     );
-    let stopped = run_command_file(&acf, &options).expect_err("refused");
+    let options = RunOptions {
+        out_dir: Some(dir.clone()),
+        model: None,
+        interrupt: None,
+    };
+    run_command_file(&acf, &options).unwrap_or_else(|s| panic!("runs: {}", s.error));
+    let read = |suffix: &str| -> Vec<Vec<f64>> {
+        std::fs::read_to_string(dir.join(format!("p{suffix}")))
+            .expect("written")
+            .lines()
+            .map(|l| l.split_whitespace().map(|x| x.parse().unwrap()).collect())
+            .collect()
+    };
+    let (a, b, c, d) = (read("a"), read("b"), read("c"), read("d"));
+    assert_eq!(
+        (b.len(), b[0].len(), c.len(), c[0].len(), d.len()),
+        (2, 1, 1, 2, 1)
+    );
+    assert!((a[1][0] + 50.0).abs() < 1e-9, "{a:?}");
+    assert_eq!(b[0][0], 0.0);
+    // The static gain −C A⁻¹ B + D is Δx/u = −1/k (the force pushes towards −x), whatever
+    // the scale of the coordinate: with A = [0 1; −50 0], −C A⁻¹ B = c₁ b₂ / 50.
+    let gain = c[0][0] * b[1][0] / 50.0 + d[0][0];
     assert!(
-        stopped.error.to_string().contains("inputs.acf:3:1: LINEAR"),
-        "{}",
-        stopped.error
+        (gain + 1.0 / 100.0).abs() < 1e-7,
+        "gain {gain}: B {b:?} C {c:?}"
+    );
+    // The output does not depend on the velocity or directly on the input.
+    assert!(
+        c[0][1].abs() < 1e-9 && d[0][0].abs() < 1e-12,
+        "C {c:?} D {d:?}"
+    );
+    // A plant naming a statement the dataset does not have is refused by name.
+    let acf = write(
+        &dir,
+        "bad.acf",
+        "slider\nbad\nLINEAR/STATEMAT, PINPUT = 9, FILE = q\n",
+    );
+    let stopped = run_command_file(&acf, &options).expect_err("no PINPUT/9");
+    let text = stopped.error.to_string();
+    assert!(
+        text.contains("bad.acf:3:1: LINEAR: the dataset has no PINPUT/9"),
+        "{text}"
     );
 }
 

@@ -325,3 +325,9 @@ pub const TIGHT_ASSEMBLY: f64 = 1e-11;
 /// A part's size (for the random moves) is at least this × L (a part whose markers all sit
 /// at its centre of mass still moves).
 pub const SMALLEST_PART_SIZE: f64 = 1e-3;
+
+// ---- Plant matrices (stages/plant.rs) ----
+
+/// Central-difference step of the plant matrices B, C, D: relative to the size of an input
+/// (at least 1), and per unit of an independent coordinate or its rate.
+pub const PLANT_STEP: f64 = 1e-6;

@@ -464,6 +464,25 @@ impl ForceSet {
         &self.warnings
     }
 
+    /// This set with VARIABLE/`id` held at `value` (its FUNCTION replaced by the number): a
+    /// plant input of a linearization. `None` when the model has no such VARIABLE.
+    pub fn with_variable(&self, id: u32, value: f64) -> Option<ForceSet> {
+        let mut set = self.clone();
+        set.data.variables.get_mut(&id)?.expr = Ok(linkage_expr::Expr::Number(value));
+        Some(set)
+    }
+
+    /// The value of VARIABLE/`id` at `(s, v)`.
+    pub fn variable(
+        &self,
+        id: u32,
+        s: &State,
+        v: &Velocities,
+    ) -> Result<f64, linkage_expr::EvalError> {
+        let expr = self.data.variable_expr(id)?;
+        linkage_expr::evaluate(expr, &self.env(s, v))
+    }
+
     /// The value `MODE` returns in expressions (default 0; Adams uses e.g. 5 for statics).
     pub fn set_mode(&mut self, mode: i32) {
         self.mode = mode;

@@ -452,6 +452,9 @@ pub struct StateMatrix {
     pub coordinates: usize,
     /// `N` (`6·parts × f`, row-major), with translation rows in model length units (times L).
     pub basis: Vec<f64>,
+    /// `M_r⁻¹ Nᵀ` (`f × 6·parts`, row-major): the accelerations `z̈` a generalised force
+    /// `F̂` (in the scaled coordinates of [`LinearEquations`]) gives.
+    pub force_map: Vec<f64>,
 }
 
 /// [`StateMatrix`] of the linear equations `eq` (dense).
@@ -464,7 +467,13 @@ pub fn state_matrix(eq: &LinearEquations) -> Result<StateMatrix, LinearizeError>
     let nb = null_space(&jm);
     let f = nb.ncols();
     let (a, _, _) = first_order(&m, &kmat, &cmat, &nb)?;
+    let mr = nb.transpose() * &m * &nb;
+    let map = mr.partial_piv_lu().inverse() * nb.transpose();
     Ok(StateMatrix {
+        force_map: (0..f)
+            .flat_map(|i| (0..dim).map(move |j| (i, j)))
+            .map(|(i, j)| map[(i, j)])
+            .collect(),
         a: (0..2 * f)
             .flat_map(|i| (0..2 * f).map(move |j| (i, j)))
             .map(|(i, j)| a[(i, j)])

@@ -7,6 +7,7 @@ pub mod explain;
 pub mod ic;
 pub mod kinematics;
 pub mod linearize;
+pub mod plant;
 pub mod settle;
 pub mod statics;
 pub mod verify;
