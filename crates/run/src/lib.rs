@@ -437,6 +437,14 @@ impl Runner {
                         .msg
                         .write(&listing::settings(&st.keyword, &session.built.model))?;
                 }
+                if st.keyword == "KINEMATICS" {
+                    sinks.msg.write(&format!(
+                        " Note: KINEMATICS settings are accepted and change nothing: linkage's \
+                         kinematic analysis solves the positions to {:e} of the model's size \
+                         (lengths) or radians, tighter than Adams' default ERROR.",
+                        linkage_solve::tolerances::KINEMATIC_POSITION
+                    ))?;
+                }
                 if st.keyword == "INTEGRATOR" && !st.args.is_empty() {
                     for note in &session.built.model.integrator.notes {
                         sinks.msg.write(&format!(" Note: {note}"))?;
