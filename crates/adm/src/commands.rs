@@ -47,7 +47,7 @@ pub struct CommandFile {
 /// Reads a command file. I/O failures become a diagnostic naming the file.
 pub fn read_commands(path: &Path) -> Result<CommandFile, Diagnostics> {
     let file: Arc<str> = Arc::from(path.display().to_string());
-    match std::fs::read(path) {
+    match crate::input::read_input(path) {
         Ok(bytes) => parse_commands(file, &String::from_utf8_lossy(&bytes)),
         Err(e) => Err(Diagnostics(vec![Diagnostic::error(
             file,

@@ -20,6 +20,7 @@ pub mod amend;
 pub mod commands;
 pub mod diagnostic;
 pub mod edit;
+pub mod input;
 pub mod reqfile;
 pub mod reqwriter;
 pub mod statement;
@@ -45,7 +46,7 @@ use std::sync::Arc;
 /// Reads and types a dataset file. I/O failures become a diagnostic naming the file.
 pub fn read_dataset(path: &Path) -> Result<Dataset, Diagnostics> {
     let file: Arc<str> = Arc::from(path.display().to_string());
-    match std::fs::read(path) {
+    match crate::input::read_input(path) {
         Ok(bytes) => {
             let text = String::from_utf8_lossy(&bytes).into_owned();
             parse_dataset(file, &text)

@@ -121,7 +121,7 @@ impl RequestFile {
 /// Reads a request file. I/O failures become a diagnostic naming the file.
 pub fn read_request_file(path: &Path) -> Result<RequestFile, Diagnostics> {
     let file: Arc<str> = Arc::from(path.display().to_string());
-    match std::fs::read(path) {
+    match crate::input::read_input(path) {
         Ok(bytes) => parse_request_file(file, &String::from_utf8_lossy(&bytes)),
         Err(e) => Err(Diagnostics(vec![Diagnostic::error(
             file,

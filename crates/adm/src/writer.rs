@@ -13,7 +13,9 @@
 //!   form); angles are written in degrees with the `D` suffix.
 //! - The writer re-reads its own output and checks that every listed part reads back with the
 //!   requested pose; a mismatch is an error, never a silently wrong file.
-//! - [`write_atomically`] replaces a file through a temporary file in the same directory and a
+//! - [`write_atomically`] writes straight to a target that is not a regular file (a device, a
+//!   FIFO: `/dev/stdout`), and otherwise
+//!   replaces a file through a temporary file in the same directory and a
 //!   rename, so a failure never leaves half a file.
 
 use crate::diagnostic::{Diagnostic, Diagnostics, Span};
@@ -109,6 +111,12 @@ pub fn write_part_poses(ds: &Dataset, poses: &[PartPose]) -> Result<String, Diag
 /// replaced and the link kept. On failure the temporary file is removed and the target is
 /// untouched.
 pub fn write_atomically(path: &Path, text: &str) -> io::Result<()> {
+    // A device, FIFO or terminal (`/dev/stdout`, `<(…)`) cannot be replaced: write to it.
+    if fs::metadata(path).is_ok_and(|m| !m.is_file() && !m.is_dir()) {
+        let mut out = fs::OpenOptions::new().write(true).open(path)?;
+        out.write_all(text.as_bytes())?;
+        return out.flush();
+    }
     let target = resolve_symlink(path)?;
     let name = target.file_name().ok_or_else(|| {
         io::Error::new(

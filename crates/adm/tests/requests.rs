@@ -138,6 +138,11 @@ fn corpus_dir() -> Option<PathBuf> {
     if dir.is_dir() {
         Some(dir)
     } else {
+        assert!(
+            std::env::var_os("CI").is_none(),
+            "corpus folder {} absent (required when CI is set)",
+            dir.display()
+        );
         println!(
             "note: corpus folder {} absent; request-file corpus test skipped",
             dir.display()

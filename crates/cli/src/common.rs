@@ -210,3 +210,47 @@ impl Progress {
         }
     }
 }
+
+/// `path` with its links resolved; for a file that does not exist yet, its folder's (so that
+/// `./in.adm`, `in.adm` and a link to it compare equal).
+fn resolved(path: &Path) -> Option<std::path::PathBuf> {
+    if let Ok(p) = std::fs::canonicalize(path) {
+        return Some(p);
+    }
+    let name = path.file_name()?;
+    let dir = match path.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d,
+        _ => Path::new("."),
+    };
+    Some(std::fs::canonicalize(dir).ok()?.join(name))
+}
+
+/// An output path that would overwrite the input (after resolving links) is an input error:
+/// the message names both.
+pub fn check_output(input: &Path, output: &Path) -> Result<(), String> {
+    match (resolved(input), resolved(output)) {
+        (Some(a), Some(b)) if a == b => Err(format!(
+            "refusing to write {}: it is the input {} (choose another output file)",
+            output.display(),
+            input.display()
+        )),
+        _ => Ok(()),
+    }
+}
+
+/// Whether an output path means standard output (`-`).
+pub fn is_stdout(path: &Path) -> bool {
+    path.as_os_str() == "-"
+}
+
+/// A closed pipe ends the program quietly, as for other command-line tools
+/// (`linkage verify --explain big.adm | head -1`): SIGPIPE back to its default action, which
+/// Rust's runtime sets to "ignore" (every later `print!` would then panic).
+pub fn restore_sigpipe() {
+    #[cfg(unix)]
+    // SAFETY: called first thing in `main`, before any other thread exists; SIG_DFL is a valid
+    // disposition for SIGPIPE.
+    unsafe {
+        libc::signal(libc::SIGPIPE, libc::SIG_DFL);
+    }
+}

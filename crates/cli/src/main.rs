@@ -176,8 +176,43 @@ enum Command {
     },
 }
 
+/// The input and output files of a command, for the check that no output overwrites its input.
+fn input_and_output(command: &Command) -> Option<(&std::path::Path, &std::path::Path)> {
+    match command {
+        Command::Verify {
+            model,
+            save: Some(out),
+            ..
+        }
+        | Command::Ic {
+            model,
+            save: Some(out),
+            ..
+        }
+        | Command::Static {
+            model,
+            save: Some(out),
+            ..
+        }
+        | Command::Simulate {
+            model,
+            out: Some(out),
+            ..
+        } => Some((model, out)),
+        _ => None,
+    }
+}
+
 fn main() -> ExitCode {
-    match Cli::parse().command {
+    common::restore_sigpipe();
+    let cli = Cli::parse();
+    if let Some((input, output)) = input_and_output(&cli.command) {
+        if let Err(e) = common::check_output(input, output) {
+            eprintln!("error: {e}");
+            return ExitCode::from(2);
+        }
+    }
+    match cli.command {
         Command::Run {
             command_file,
             out_dir,

@@ -2,7 +2,7 @@
 //! dataset's REQUEST outputs as extra columns.
 
 use crate::common::{
-    applied_forces, input_error, load, output_times, print_json, Format, Progress,
+    applied_forces, input_error, is_stdout, load, output_times, print_json, Format, Progress,
 };
 use linkage_report::simulate::ExtraColumns;
 use linkage_solve::physics::requests::RequestSet;
@@ -127,17 +127,26 @@ pub fn run_simulate(args: &SimulateArgs) -> ExitCode {
             .filter(|r| !r.is_empty())
             .map(|r| request_columns(r, &assembled, &result, &mut report.errors));
         let csv = linkage_report::simulate::to_csv(&loaded.model, &result, extra.as_ref());
-        if let Err(e) = linkage_adm::writer::write_atomically(out, &csv) {
+        if is_stdout(out) {
+            print!("{csv}");
+        } else if let Err(e) = linkage_adm::writer::write_atomically(out, &csv) {
             report
                 .errors
                 .push(format!("cannot write {}: {e}", out.display()));
         }
     }
-    match args.format {
-        Format::Text => print!("{}", linkage_report::simulate::to_text(&report)),
-        Format::Json => {
+    // With `--out -` the time histories are standard output: the summary goes to stderr.
+    let csv_on_stdout = args.out.is_some_and(is_stdout);
+    match (args.format, csv_on_stdout) {
+        (Format::Text, false) => print!("{}", linkage_report::simulate::to_text(&report)),
+        (Format::Text, true) => eprint!("{}", linkage_report::simulate::to_text(&report)),
+        (Format::Json, false) => {
             print_json(&report);
         }
+        (Format::Json, true) => match serde_json::to_string_pretty(&report) {
+            Ok(j) => eprintln!("{j}"),
+            Err(e) => eprintln!("error: cannot write JSON: {e}"),
+        },
     }
     for e in &report.errors {
         eprintln!("error: {e}");

@@ -10,12 +10,17 @@ pub fn root() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
 }
 
-/// `../shared/corpus`, or `None` (with a notice) when it is absent.
+/// `../shared/corpus`, or `None` (with a notice) when it is absent; absent under `CI` is a
+/// failure (CI always has the folder).
 pub fn corpus() -> Option<PathBuf> {
     let dir = root().join("../shared/corpus");
     if dir.is_dir() {
         Some(dir)
     } else {
+        assert!(
+            std::env::var_os("CI").is_none(),
+            "../shared/corpus is missing under CI"
+        );
         eprintln!("notice: ../shared/corpus is absent; corpus tests skipped");
         None
     }

@@ -1,0 +1,101 @@
+//! Outputs that cannot destroy inputs, inputs that cannot exhaust memory, standard output as a
+//! file, and a closed pipe that ends the program quietly.
+
+mod common;
+use common::{root, run};
+use std::io::{BufRead, BufReader};
+use std::path::PathBuf;
+use std::process::{Command, Stdio};
+
+/// A copy of `mechanisms/pendulum.adm` in a fresh folder.
+fn pendulum(tag: &str) -> (PathBuf, String) {
+    let dir = std::env::temp_dir().join(format!("linkage-out-{tag}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let text = std::fs::read_to_string(root().join("mechanisms/pendulum.adm")).unwrap();
+    let f = dir.join("in.adm");
+    std::fs::write(&f, &text).unwrap();
+    (f, text)
+}
+
+#[test]
+fn an_output_that_is_the_input_is_refused_and_the_input_kept() {
+    let (f, text) = pendulum("same");
+    let dir = f.parent().unwrap().to_path_buf();
+    let link = dir.join("link.adm");
+    std::os::unix::fs::symlink(&f, &link).unwrap();
+    let dotted = format!("{}/./in.adm", dir.display());
+    let input = f.to_str().unwrap();
+    for args in [
+        vec![
+            "simulate", input, "--end", "0.1", "--steps", "2", "--out", input,
+        ],
+        vec![
+            "simulate", input, "--end", "0.1", "--steps", "2", "--out", &dotted,
+        ],
+        vec!["ic", input, "--save", link.to_str().unwrap()],
+        vec!["static", link.to_str().unwrap(), "--save", input],
+    ] {
+        let (code, _, err) = run(&args);
+        assert_eq!(code, 2, "{args:?}: {err}");
+        assert!(err.contains("refusing to write"), "{args:?}: {err}");
+        assert!(err.contains("it is the input"), "{args:?}: {err}");
+        assert_eq!(std::fs::read_to_string(&f).unwrap(), text, "{args:?}");
+    }
+}
+
+#[test]
+fn devices_and_directories_are_refused_as_inputs() {
+    for path in ["/dev/zero", "/tmp"] {
+        let (code, _, err) = run(&["verify", path]);
+        assert_eq!(code, 2, "{path}: {err}");
+        assert!(err.contains("not a regular file"), "{path}: {err}");
+    }
+}
+
+#[test]
+fn a_dash_sends_the_time_histories_to_standard_output() {
+    let (f, _) = pendulum("dash");
+    let (code, out, err) = run(&[
+        "simulate",
+        f.to_str().unwrap(),
+        "--end",
+        "0.1",
+        "--steps",
+        "2",
+        "--out",
+        "-",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let lines: Vec<&str> = out.lines().collect();
+    assert!(lines[0].starts_with("time,rod.x,"), "{out}");
+    assert_eq!(lines.len(), 4, "header and three outputs: {out}");
+    // The summary went to stderr, and no file named `-` was written.
+    assert!(err.contains("rod"), "{err}");
+    assert!(!f.parent().unwrap().join("-").exists());
+}
+
+#[test]
+fn a_closed_pipe_ends_the_program_quietly() {
+    let dir = std::env::temp_dir().join(format!("linkage-pipe-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    // A long report: 300 parallelogram loops, each with redundant equations to list.
+    let f = dir.join("chain.adm");
+    std::fs::write(&f, linkage_solve::generate::parallelogram_chain(300, 30.0)).unwrap();
+    let mut child = Command::new(env!("CARGO_BIN_EXE_linkage"))
+        .args(["verify", f.to_str().unwrap()])
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let mut first = String::new();
+    BufReader::new(child.stdout.take().unwrap())
+        .read_line(&mut first)
+        .unwrap();
+    // The reader goes away after one line, as `| head -1` does.
+    let out = child.wait_with_output().unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(first.starts_with("VERIFY MODEL"), "{first}");
+    assert!(!err.contains("panicked"), "{err}");
+    assert!(!err.contains("Broken pipe"), "{err}");
+}
