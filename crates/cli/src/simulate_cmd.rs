@@ -4,13 +4,15 @@
 use crate::common::{
     applied_forces, input_error, is_stdout, load, output_times, print_json, Format, Progress,
 };
-use linkage_report::simulate::ExtraColumns;
 use linkage_solve::physics::requests::RequestSet;
 use linkage_solve::pipeline::Assembled;
-use linkage_solve::stages::dynamics::{run, DynamicRun, RunProgress, Start};
+use linkage_solve::stages::dynamics::{run_streamed, AfterOutput, Output, RunProgress, Start};
 use linkage_solve::tolerances::Tolerances;
+use std::io::Write;
 use std::path::Path;
 use std::process::ExitCode;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Arc;
 
 /// Options of `linkage simulate`.
 pub struct SimulateArgs<'a> {
@@ -26,39 +28,47 @@ pub struct SimulateArgs<'a> {
 /// The most integration steps an HMAX may imply (about a day of computing for a small model).
 const MAX_STEPS: f64 = 1e9;
 
-/// REQUEST columns at every output. An output where a request cannot be evaluated gets NaN in
-/// every request column; the first such error is reported (the run then exits with 1).
-fn request_columns(
-    requests: &RequestSet,
-    assembled: &Assembled,
-    run: &DynamicRun,
-    errors: &mut Vec<String>,
-) -> ExtraColumns {
-    let names = requests.columns();
-    let outputs = run.simulation.as_ref().map_or(&[][..], |s| &s.outputs[..]);
-    let mut failed = 0usize;
-    let values = outputs
-        .iter()
-        .map(
-            |o| match requests.evaluate(assembled.model, &assembled.system, o) {
+/// The CSV of `--out`, written row by row as the outputs come (bounded memory whatever their
+/// number; each row flushed, so a run that stops keeps whole rows). REQUEST columns follow the
+/// part and reaction columns; an output where a request cannot be evaluated gets NaN in every
+/// request column, and the first such error is reported (the run then exits with 1).
+struct CsvStream<'r> {
+    out: Box<dyn Write>,
+    path: String,
+    requests: Option<&'r RequestSet>,
+    /// Reaction elements (fixed at the first output).
+    elements: Option<Vec<usize>>,
+    request_failures: usize,
+    errors: Vec<String>,
+}
+
+impl CsvStream<'_> {
+    fn write(&mut self, assembled: &Assembled, o: &Output) -> std::io::Result<()> {
+        let names = self.requests.map(RequestSet::columns).unwrap_or_default();
+        if self.elements.is_none() {
+            let elements: Vec<usize> = o.reactions.iter().map(|r| r.element).collect();
+            let header = linkage_report::simulate::csv_header(assembled.model, &elements, &names);
+            writeln!(self.out, "{header}")?;
+            self.elements = Some(elements);
+        }
+        let values = match self.requests {
+            None => Vec::new(),
+            Some(r) => match r.evaluate(assembled.model, &assembled.system, o) {
                 Ok(v) => v,
                 Err(e) => {
-                    if failed == 0 {
-                        errors.push(e.to_string());
+                    if self.request_failures == 0 {
+                        self.errors.push(e.to_string());
                     }
-                    failed += 1;
+                    self.request_failures += 1;
                     vec![f64::NAN; names.len()]
                 }
             },
-        )
-        .collect();
-    if failed > 1 {
-        errors.push(format!(
-            "REQUEST columns are NaN at {failed} of {} outputs",
-            outputs.len()
-        ));
+        };
+        let elements = self.elements.as_deref().unwrap_or(&[]);
+        let row = linkage_report::simulate::csv_row(o, elements, &values);
+        writeln!(self.out, "{row}")?;
+        self.out.flush()
     }
-    (names, values)
 }
 
 pub fn run_simulate(args: &SimulateArgs) -> ExitCode {
@@ -109,7 +119,50 @@ pub fn run_simulate(args: &SimulateArgs) -> ExitCode {
         forces.as_ref(),
         &Tolerances::default(),
     );
-    let result = run(
+    // Ctrl-C stops the run at its next output (the CSV keeps every row written).
+    let interrupt = Arc::new(AtomicBool::new(false));
+    let flag = Arc::clone(&interrupt);
+    let _ = ctrlc::set_handler(move || flag.store(true, Ordering::Relaxed));
+    let mut csv = match args.out {
+        None => None,
+        Some(out) => {
+            let sink: Box<dyn Write> = if is_stdout(out) {
+                Box::new(std::io::BufWriter::new(std::io::stdout()))
+            } else {
+                match std::fs::File::create(out) {
+                    Ok(f) => Box::new(std::io::BufWriter::new(f)),
+                    Err(e) => {
+                        eprintln!("error: cannot write {}: {e}", out.display());
+                        return ExitCode::from(1);
+                    }
+                }
+            };
+            Some(CsvStream {
+                out: sink,
+                path: out.display().to_string(),
+                requests: requests.as_ref().filter(|r| !r.is_empty()),
+                elements: None,
+                request_failures: 0,
+                errors: Vec::new(),
+            })
+        }
+    };
+    let mut write_error: Option<String> = None;
+    let mut interrupted_at: Option<f64> = None;
+    let mut on_output = |o: &Output| {
+        if let Some(c) = csv.as_mut() {
+            if let Err(e) = c.write(&assembled, o) {
+                write_error = Some(format!("cannot write {}: {e}", c.path));
+                return AfterOutput::Stop;
+            }
+        }
+        if interrupt.load(Ordering::Relaxed) {
+            interrupted_at = Some(o.time);
+            return AfterOutput::Stop;
+        }
+        AfterOutput::Continue
+    };
+    let result = run_streamed(
         &assembled,
         &times,
         &integrator.settings,
@@ -118,22 +171,38 @@ pub fn run_simulate(args: &SimulateArgs) -> ExitCode {
             RunProgress::Settling { elapsed, limit } => bar.settling(elapsed, limit),
             RunProgress::Integrating(t) => bar.show(t / end, format!("t = {t:.4}")),
         },
+        &mut on_output,
     );
     bar.finish();
     let mut report = linkage_report::simulate::summary(&assembled, &result, &loaded.warnings);
-    if let Some(out) = args.out {
-        let extra = requests
-            .as_ref()
-            .filter(|r| !r.is_empty())
-            .map(|r| request_columns(r, &assembled, &result, &mut report.errors));
-        let csv = linkage_report::simulate::to_csv(&loaded.model, &result, extra.as_ref());
-        if is_stdout(out) {
-            print!("{csv}");
-        } else if let Err(e) = linkage_adm::writer::write_atomically(out, &csv) {
-            report
-                .errors
-                .push(format!("cannot write {}: {e}", out.display()));
+    if let Some(c) = csv.as_mut() {
+        report.errors.append(&mut c.errors);
+        if c.request_failures > 1 {
+            report.errors.push(format!(
+                "REQUEST columns are NaN at {} of {} outputs",
+                c.request_failures,
+                result.simulation.as_ref().map_or(0, |s| s.output_count)
+            ));
         }
+        if result
+            .simulation
+            .as_ref()
+            .is_some_and(|s| s.output_count == 0)
+        {
+            // No output at all: the header alone, so the file says which columns it lacks.
+            let header = linkage_report::simulate::csv_header(&loaded.model, &[], &[]);
+            if let Err(e) = writeln!(c.out, "{header}").and_then(|_| c.out.flush()) {
+                report.errors.push(format!("cannot write {}: {e}", c.path));
+            }
+        }
+    }
+    if let Some(e) = write_error {
+        report.errors.push(e);
+    }
+    if let Some(t) = interrupted_at {
+        report.errors.push(format!(
+            "interrupted at time {t}: the outputs up to it are written"
+        ));
     }
     // With `--out -` the time histories are standard output: the summary goes to stderr.
     let csv_on_stdout = args.out.is_some_and(is_stdout);

@@ -99,3 +99,36 @@ fn a_closed_pipe_ends_the_program_quietly() {
     assert!(!err.contains("panicked"), "{err}");
     assert!(!err.contains("Broken pipe"), "{err}");
 }
+
+/// Peak resident memory (kB) of the children this process has waited for so far.
+fn children_peak_kb() -> i64 {
+    // SAFETY: getrusage only writes the struct it is given.
+    unsafe {
+        let mut usage: libc::rusage = std::mem::zeroed();
+        libc::getrusage(libc::RUSAGE_CHILDREN, &mut usage);
+        usage.ru_maxrss
+    }
+}
+
+#[test]
+fn time_histories_are_streamed_with_memory_that_does_not_grow_with_the_outputs() {
+    let (f, _) = pendulum("stream");
+    let csv = f.with_extension("csv");
+    // 400,000 outputs (about 80 MB of CSV): kept in memory, they would take hundreds of MB.
+    let (code, _, err) = run(&[
+        "simulate",
+        f.to_str().unwrap(),
+        "--end",
+        "40",
+        "--steps",
+        "400000",
+        "--out",
+        csv.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let peak = children_peak_kb();
+    let rows = std::fs::read_to_string(&csv).unwrap().lines().count();
+    assert_eq!(rows, 400_002, "header and every output");
+    assert!(peak < 60_000, "peak resident memory {peak} kB");
+    std::fs::remove_file(&csv).unwrap();
+}

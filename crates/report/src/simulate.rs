@@ -201,7 +201,7 @@ pub fn summary(a: &Assembled, run: &DynamicRun, warnings: &[Diagnostic]) -> Simu
             (
                 sim.failure.is_none(),
                 sim.outputs.last().map_or(0.0, |o| o.time),
-                sim.outputs.len(),
+                sim.output_count,
                 sim.steps,
                 sim.rejected,
                 sim.kinematic,

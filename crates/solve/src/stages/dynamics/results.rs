@@ -27,7 +27,11 @@ impl Failure {
 /// Result of a simulation.
 #[derive(Clone, Debug)]
 pub struct Simulation {
+    /// The outputs kept: every one from [`super::simulate`]; only the last from a streamed
+    /// run ([`super::run_streamed`]), whose outputs went to its caller.
     pub outputs: Vec<Output>,
+    /// Outputs produced (kept or streamed).
+    pub output_count: usize,
     pub failure: Option<Failure>,
     pub steps: usize,
     pub rejected: usize,
@@ -44,6 +48,7 @@ impl Simulation {
     pub(crate) fn empty(kinematic: bool) -> Simulation {
         Simulation {
             outputs: Vec::new(),
+            output_count: 0,
             failure: None,
             steps: 0,
             rejected: 0,

@@ -1,7 +1,7 @@
 //! A dynamic analysis from the dataset: initial conditions (or static equilibrium first), then
 //! the simulation.
 
-use super::{simulate, IntegratorSettings, Simulation};
+use super::{simulate, simulate_with, AfterOutput, IntegratorSettings, Output, Simulation};
 use crate::constraints::system::System;
 use crate::pipeline::{Assembled, NotAssembled};
 use linkage_model::Model;
@@ -84,13 +84,38 @@ pub struct DynamicRun {
 
 /// Integrates an assembled model to the last of `times`, from its initial conditions or (when
 /// `start` asks for it) from static equilibrium at rest at the start time. Every stage uses the
-/// rows and anchored motions of the assembly.
+/// rows and anchored motions of the assembly. Every output is kept.
 pub fn run(
     a: &Assembled,
     times: &[f64],
     settings: &IntegratorSettings,
     start: Start,
+    progress: impl FnMut(RunProgress),
+) -> DynamicRun {
+    run_inner(a, times, settings, start, progress, None)
+}
+
+/// [`run`], handing each output to `on_output` as it is computed (a CSV written row by row)
+/// and keeping only the last one (for the final state): memory does not grow with the number
+/// of outputs. `on_output` may stop the run ([`AfterOutput::Stop`]: an interrupted run).
+pub fn run_streamed(
+    a: &Assembled,
+    times: &[f64],
+    settings: &IntegratorSettings,
+    start: Start,
+    progress: impl FnMut(RunProgress),
+    on_output: &mut dyn FnMut(&Output) -> AfterOutput,
+) -> DynamicRun {
+    run_inner(a, times, settings, start, progress, Some(on_output))
+}
+
+fn run_inner(
+    a: &Assembled,
+    times: &[f64],
+    settings: &IntegratorSettings,
+    start: Start,
     mut progress: impl FnMut(RunProgress),
+    on_output: Option<&mut dyn FnMut(&Output) -> AfterOutput>,
 ) -> DynamicRun {
     let model = a.model;
     let fail = |equilibrium, why: RunError| DynamicRun {
@@ -140,9 +165,22 @@ pub fn run(
         }
     };
     let problem = a.problem(None, None);
-    let sim = simulate(&problem, &state, &v0, times, settings, |t| {
-        progress(RunProgress::Integrating(t))
-    });
+    let integrating = |t| progress(RunProgress::Integrating(t));
+    let sim = match on_output {
+        None => simulate(&problem, &state, &v0, times, settings, integrating),
+        Some(sink) => {
+            let (mut last, mut count) = (None, 0usize);
+            let mut sim = simulate_with(&problem, &state, &v0, times, settings, integrating, |o| {
+                count += 1;
+                let next = sink(&o);
+                last = Some(o);
+                next
+            });
+            sim.output_count = count;
+            sim.outputs = last.into_iter().collect();
+            sim
+        }
+    };
     DynamicRun {
         equilibrium,
         simulation: Some(sim),

@@ -28,6 +28,7 @@ pub fn simulate(
         outputs.push(o);
         AfterOutput::Continue
     });
+    sim.output_count = outputs.len();
     sim.outputs = outputs;
     sim
 }
