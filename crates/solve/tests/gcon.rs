@@ -491,3 +491,34 @@ fn time_dependent_distance_constraint_drives_velocities_and_accelerations() {
         assert!((radial - acc).abs() < 1e-8, "t = {t}: {radial} vs {acc}");
     }
 }
+
+/// A general constraint whose I marker is on ground (Adams' Distance_Case03 writes its GCON so)
+/// reports the force on that ground marker: minus the force on the parts it measures, here the
+/// rod tension pulling the ground point towards the mass, `+m (|v|²/L + g cos θ) p̂`, with no
+/// torque about the point (the force on the mass acts along the line through it).
+#[test]
+fn a_distance_constraint_on_a_ground_marker_reports_the_tension_on_ground() {
+    let text = DISTANCE_PENDULUM.replace(
+        "GCON/1, I=20, FUNCTION=DM(20, 1) - 2",
+        "GCON/1, I=1, FUNCTION=DM(20, 1) - 2",
+    );
+    let r = simulate(&text, 1.0, 10);
+    let sim = r.simulation.as_ref().expect("simulated");
+    assert!(sim.failure.is_none(), "{:?}", sim.failure);
+    let (m, l) = (1.5, 2.0);
+    let g = DVec3::new(0.0, 0.0, -G);
+    for o in &sim.outputs {
+        let (p, v) = (o.state.poses[0].p, o.velocities[0].0);
+        let n = p / p.length();
+        let tension = m * (v.length_squared() / l + g.dot(n));
+        let reaction = &o.reactions[0];
+        assert!(tension.abs() > 1.0, "t = {}: a real tension", o.time);
+        close(
+            reaction.force,
+            n * tension,
+            1e-9 * m * G,
+            &format!("t = {}: reaction force on ground", o.time),
+        );
+        close(reaction.torque, DVec3::ZERO, 1e-8, "reaction torque");
+    }
+}

@@ -4,7 +4,8 @@
 //! force of row r on the parts is `−λ_r ∇Φ_r`; an element's reaction on its I marker is the sum
 //! over its rows on the I marker's part, with the torque moved from the part's centre of mass to
 //! the I marker origin. When the I marker is on ground, the reaction is minus the wrench on the
-//! J part, taken about the same point.
+//! parts the element acts on (a joint's J part; every part a general constraint's expression
+//! measures), taken about the same point.
 
 use crate::constraints::rows::RowGradient;
 use crate::constraints::system::System;
@@ -60,12 +61,12 @@ pub fn element_reactions(
         }
         // A general constraint acts on its I marker's part (and whatever its expression
         // measures); its reaction is reported on the I marker.
-        let markers = match &con.kind {
-            ConstraintKind::Gcon { i, .. } => Some((*i, *i)),
-            _ => con.markers(),
-        };
-        let Some((i, j)) = markers else {
-            continue;
+        let i = match &con.kind {
+            ConstraintKind::Gcon { i, .. } => *i,
+            _ => match con.markers() {
+                Some((i, _)) => i,
+                None => continue,
+            },
         };
         let p_i = {
             let mk = &model.markers[i];
@@ -83,12 +84,16 @@ pub fn element_reactions(
             let t_cm = DVec3::new(six[3], six[4], six[5]);
             Some((f, t_cm + (s.poses[k].p - p_i).cross(f)))
         };
+        // On ground, the I marker carries minus the wrench on every part the element acts on
+        // (a joint's J part; the parts a general constraint measures), about the I marker.
         let (force, torque) = match wrench_on(model.markers[i].body) {
             Some(w) => w,
-            None => match wrench_on(model.markers[j].body) {
-                Some((f, t)) => (-f, -t),
-                None => (DVec3::ZERO, DVec3::ZERO),
-            },
+            None => per_element[c]
+                .iter()
+                .filter_map(|(k, _)| wrench_on(Body::Part(*k)))
+                .fold((DVec3::ZERO, DVec3::ZERO), |(f, t), (df, dt)| {
+                    (f - df, t - dt)
+                }),
         };
         reactions.push(Reaction {
             element: c,
