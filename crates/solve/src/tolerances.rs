@@ -177,7 +177,9 @@ pub const CORRECTOR_ACCELERATION_FLOOR: f64 = 1e-12;
 pub const CORRECTOR_ACCELERATION_MIN: f64 = 1e-8;
 /// A redundant row removed as consistent has become inconsistent when its residual exceeds
 /// this × L (lengths) or this (dot products, angles): the verify tolerances' defaults, so a
-/// run stops where verify would have called the row inconsistent.
+/// run stops where verify would have called the row inconsistent. A dynamic run allows the
+/// larger of this and its INTEGRATOR ERROR (the accuracy it integrates the kept rows' motion
+/// to); the kinematic run, which solves positions to [`KINEMATIC_POSITION`], allows this.
 pub const REDUNDANT_DRIFT: f64 = 1e-6;
 /// The first output time is the start time when they differ by less than this fraction of
 /// `max(|t_end|, 1)` (rounding of times written in the dataset).

@@ -75,7 +75,12 @@ pub(crate) fn run(
                 return sim;
             }
         };
-        if let Some(f) = redundant_violation(p, &s, p.model.characteristic_length) {
+        if let Some(f) = redundant_violation(
+            p,
+            &s,
+            p.model.characteristic_length,
+            crate::tolerances::REDUNDANT_DRIFT,
+        ) {
             sim.failure = Some(f);
             return sim;
         }

@@ -8,14 +8,26 @@ use crate::stages::verify::{report_residual, report_unit_suffix, within_toleranc
 use crate::state::State;
 use crate::tolerances::REDUNDANT_DRIFT;
 
+/// The monitor's tolerance for a run with INTEGRATOR ERROR `error`: a removed row may drift
+/// by the integrator's own accuracy, so the larger of [`REDUNDANT_DRIFT`] (verify's tolerance)
+/// and `error` (× L for lengths, radians for angles and dot products).
+pub(crate) fn redundant_tolerance(error: f64) -> f64 {
+    REDUNDANT_DRIFT.max(error)
+}
+
 /// The first redundant row (removed as consistent) that no longer holds at `s` (residual above
-/// [`REDUNDANT_DRIFT`] × `length` or radians): Adams' "consistent redundant constraint that
-/// becomes inconsistent", with element, equation, time and value. Rows whose motion cannot be
-/// evaluated are skipped. Cost: one residual per redundant row.
-pub(crate) fn redundant_violation(p: &Problem, s: &State, length: f64) -> Option<Failure> {
+/// `tolerance` × `length` or radians: [`redundant_tolerance`]): Adams' "consistent redundant
+/// constraint that becomes inconsistent", with element, equation, time and value. Rows whose
+/// motion cannot be evaluated are skipped. Cost: one residual per redundant row.
+pub(crate) fn redundant_violation(
+    p: &Problem,
+    s: &State,
+    length: f64,
+    tolerance: f64,
+) -> Option<Failure> {
     let tol = crate::tolerances::Tolerances {
-        length: REDUNDANT_DRIFT,
-        angle: REDUNDANT_DRIFT,
+        length: tolerance,
+        angle: tolerance,
         ..Default::default()
     };
     for &r in p.redundant {

@@ -6,7 +6,7 @@ use super::error::IntegrationError;
 use super::integrator::Integrator;
 use super::output::Output;
 use super::problem::Problem;
-use super::redundant::redundant_violation;
+use super::redundant::{redundant_tolerance, redundant_violation};
 use super::results::{Failure, Simulation};
 use crate::state::State;
 use crate::tolerances::{AT_MIN_STEP, OUTPUT_AT_START, OUTPUT_HIT, SPAN_FLOOR, STEP_FITS};
@@ -132,7 +132,12 @@ pub fn simulate_with(
                 integ.accept();
                 let now = integ.time();
                 progress(now);
-                if let Some(f) = redundant_violation(p, integ.state(), length) {
+                if let Some(f) = redundant_violation(
+                    p,
+                    integ.state(),
+                    length,
+                    redundant_tolerance(settings.error),
+                ) {
                     sim.failure = Some(f);
                     return sim;
                 }
