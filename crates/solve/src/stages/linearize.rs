@@ -457,14 +457,36 @@ pub struct StateMatrix {
     pub force_map: Vec<f64>,
 }
 
+/// M, K, C of the linear equations as dense matrices, and an orthonormal basis of the null
+/// space of J.
+struct DenseEquations {
+    m: Mat<f64>,
+    k: Mat<f64>,
+    c: Mat<f64>,
+    nb: Mat<f64>,
+}
+
+impl DenseEquations {
+    fn of(eq: &LinearEquations) -> DenseEquations {
+        let dim = eq.coordinates;
+        DenseEquations {
+            m: dense(dim, dim, &eq.mass),
+            k: dense(dim, dim, &eq.stiffness),
+            c: dense(dim, dim, &eq.damping),
+            nb: null_space(&dense(eq.constraints, dim, &eq.jacobian)),
+        }
+    }
+}
+
 /// [`StateMatrix`] of the linear equations `eq` (dense).
 pub fn state_matrix(eq: &LinearEquations) -> Result<StateMatrix, LinearizeError> {
     let dim = eq.coordinates;
-    let m = dense(dim, dim, &eq.mass);
-    let kmat = dense(dim, dim, &eq.stiffness);
-    let cmat = dense(dim, dim, &eq.damping);
-    let jm = dense(eq.constraints, dim, &eq.jacobian);
-    let nb = null_space(&jm);
+    let DenseEquations {
+        m,
+        k: kmat,
+        c: cmat,
+        nb,
+    } = DenseEquations::of(eq);
     let f = nb.ncols();
     let (a, _, _) = first_order(&m, &kmat, &cmat, &nb)?;
     let mr = nb.transpose() * &m * &nb;
@@ -489,11 +511,12 @@ pub fn state_matrix(eq: &LinearEquations) -> Result<StateMatrix, LinearizeError>
 /// The dense solution: every eigenvalue of the problem reduced to the null space of J.
 fn solve_dense(eq: &LinearEquations, vectors: bool) -> Result<Linearization, LinearizeError> {
     let dim = eq.coordinates;
-    let m = dense(dim, dim, &eq.mass);
-    let kmat = dense(dim, dim, &eq.stiffness);
-    let cmat = dense(dim, dim, &eq.damping);
-    let jm = dense(eq.constraints, dim, &eq.jacobian);
-    let nb = null_space(&jm);
+    let DenseEquations {
+        m,
+        k: kmat,
+        c: cmat,
+        nb,
+    } = DenseEquations::of(eq);
     let f = nb.ncols();
     if f == 0 {
         return Ok(Linearization {
