@@ -157,10 +157,17 @@ def compare_json(old, new, rtol, atol):
     return walk(old, new, "$", None)
 
 
+def column_name(field):
+    """A CSV column's name without its unit suffix (`PART_2.x [mm]` -> `PART_2.x`)."""
+    return re.sub(r" \[[^\]]*\]$", "", field.strip())
+
+
 def compare_csv(old, new, rtol, atol):
-    """First difference between two CSV documents judged with per-column scales."""
+    """First difference between two CSV documents judged with per-column scales; columns by
+    name (a unit suffix in the header is not part of it)."""
     ro, rn = list(csv.reader(io.StringIO(old))), list(csv.reader(io.StringIO(new)))
-    if len(ro) != len(rn) or (ro and ro[0] != rn[0]):
+    names = lambda rows: [column_name(f) for f in rows[0]] if rows else []
+    if len(ro) != len(rn) or names(ro) != names(rn):
         return "rows or header differ"
     rows = ro[1:] + rn[1:]
     width = max((len(r) for r in rows), default=0)

@@ -2,7 +2,8 @@
 //!
 //! **Inputs.** Each file is an Adams or linkage request file (`.req`, read by
 //! [`linkage_adm::reqfile`]) or a linkage CSV (`simulate --out`: a header `time,<name>,…`,
-//! then one row per output). A file ending in `.csv` is a CSV, one ending in `.req` a request
+//! then one row per output; a column's unit suffix, `PART_2.x [mm]`, is not part of its
+//! name). A file ending in `.csv` is a CSV, one ending in `.req` a request
 //! file; any other is a CSV when its first line holds a comma.
 //!
 //! **Signals.** A request file gives six signals per request, named `REQUEST_<id>.<component>`
@@ -173,7 +174,11 @@ fn parse_csv(file: Arc<str>, text: &str) -> Result<Series, Diagnostics> {
             "the file is empty (expected a CSV header)",
         ));
     };
-    let names: Vec<&str> = header.split(',').map(str::trim).collect();
+    // Columns by name: a unit suffix (`PART_2.x [mm]`) is not part of it.
+    let names: Vec<&str> = header
+        .split(',')
+        .map(linkage_report::units::column_name)
+        .collect();
     if names.first() != Some(&"time") {
         return Err(error(
             &file,

@@ -319,8 +319,8 @@ fn quasi_static_series_as_json_steps_and_csv_rows() {
     assert_eq!(code, 0);
     let lines: Vec<&str> = csv.lines().collect();
     assert_eq!(lines.len(), 6);
-    assert!(lines[0].starts_with("time,crank.x,crank.y,crank.z,crank.psi"));
-    assert!(lines[0].contains("crank_pivot.fx"));
+    assert!(lines[0].starts_with("time [s],crank.x [m],crank.y [m],crank.z [m],crank.psi [deg]"));
+    assert!(lines[0].contains("crank_pivot.fx [N]"));
     assert_eq!(lines[1].split(',').count(), lines[0].split(',').count());
 }
 
@@ -446,26 +446,27 @@ fn simulate_writes_the_documented_csv_columns() {
     let lines: Vec<&str> = csv.lines().collect();
     assert_eq!(lines.len(), 12);
     let header: Vec<&str> = lines[0].split(',').collect();
+    // Each column with its unit (the dataset is in newton, kilogram, meter, second).
     let want = [
-        "time",
-        "rod.x",
-        "rod.y",
-        "rod.z",
-        "rod.psi",
-        "rod.theta",
-        "rod.phi",
-        "rod.vx",
-        "rod.vy",
-        "rod.vz",
-        "rod.wx",
-        "rod.wy",
-        "rod.wz",
-        "hinge.fx",
-        "hinge.fy",
-        "hinge.fz",
-        "hinge.tx",
-        "hinge.ty",
-        "hinge.tz",
+        "time [s]",
+        "rod.x [m]",
+        "rod.y [m]",
+        "rod.z [m]",
+        "rod.psi [deg]",
+        "rod.theta [deg]",
+        "rod.phi [deg]",
+        "rod.vx [m/s]",
+        "rod.vy [m/s]",
+        "rod.vz [m/s]",
+        "rod.wx [rad/s]",
+        "rod.wy [rad/s]",
+        "rod.wz [rad/s]",
+        "hinge.fx [N]",
+        "hinge.fy [N]",
+        "hinge.fz [N]",
+        "hinge.tx [N·m]",
+        "hinge.ty [N·m]",
+        "hinge.tz [N·m]",
     ];
     assert_eq!(&header[..want.len()], &want);
     let last: Vec<f64> = lines[11].split(',').map(|x| x.parse().unwrap()).collect();

@@ -19,10 +19,15 @@ fn pendulum_with(tag: &str, motion: &str) -> (PathBuf, usize) {
     (out, line)
 }
 
-/// Columns `time, rod.x, rod.y, …, rod.psi` of a simulate CSV.
+/// Columns `time, rod.x, rod.y, …, rod.psi` of a simulate CSV (by name, without units).
 fn rows(csv: &str) -> Vec<(f64, f64, f64, f64)> {
     let mut lines = csv.lines();
-    let head: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let head: Vec<&str> = lines
+        .next()
+        .unwrap()
+        .split(',')
+        .map(linkage_report::units::column_name)
+        .collect();
     let col = |name: &str| head.iter().position(|h| *h == name).unwrap();
     let (t, x, y, psi) = (col("time"), col("rod.x"), col("rod.y"), col("rod.psi"));
     lines

@@ -68,7 +68,7 @@ fn a_dash_sends_the_time_histories_to_standard_output() {
     ]);
     assert_eq!(code, 0, "{err}");
     let lines: Vec<&str> = out.lines().collect();
-    assert!(lines[0].starts_with("time,rod.x,"), "{out}");
+    assert!(lines[0].starts_with("time [s],rod.x [m],"), "{out}");
     assert_eq!(lines.len(), 4, "header and three outputs: {out}");
     // The summary went to stderr, and no file named `-` was written.
     assert!(err.contains("rod"), "{err}");

@@ -15,6 +15,7 @@ fn pendulum_with(tag: &str, extra: &str) -> PathBuf {
     f
 }
 
+/// A simulate CSV as (column names without their units, rows of numbers).
 fn csv(path: &Path) -> (Vec<String>, Vec<Vec<f64>>) {
     let text = std::fs::read_to_string(path).unwrap_or_else(|e| panic!("{e}"));
     let mut lines = text.lines();
@@ -22,7 +23,7 @@ fn csv(path: &Path) -> (Vec<String>, Vec<Vec<f64>>) {
         .next()
         .unwrap_or_default()
         .split(',')
-        .map(str::to_string)
+        .map(|f| linkage_report::units::column_name(f).to_string())
         .collect();
     let rows = lines
         .map(|l| {

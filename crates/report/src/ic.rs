@@ -2,6 +2,7 @@
 
 use crate::poses::{a3, part_states, PartStateJson};
 use crate::reactions::{reactions_json, ReactionJson};
+use crate::units::{text_line, units_json, Angle, UnitsJson};
 use crate::verify::{equation_ref, to_json as verify_json, EquationRef, RedundantJson};
 use linkage_adm::Diagnostic;
 use linkage_model::Model;
@@ -39,6 +40,8 @@ pub struct ResidualJson {
 pub struct IcJson {
     pub file: String,
     pub title: String,
+    /// Positions, 3-1-3 angles (degrees), velocities, accelerations and reactions.
+    pub units: UnitsJson,
     pub converged: bool,
     pub iterations: usize,
     pub max_residual: f64,
@@ -130,6 +133,7 @@ pub fn to_json(model: &Model, ic: &InitialConditions, warnings: &[Diagnostic]) -
     IcJson {
         file: model.file.to_string(),
         title: model.title.clone(),
+        units: units_json(model, Angle::Degree, false),
         converged: ic.assembly.converged,
         iterations: ic.assembly.iterations,
         max_residual: ic.assembly.max_residual,
@@ -173,6 +177,7 @@ pub fn to_text(j: &IcJson) -> String {
     let mut s = String::new();
     let _ = writeln!(s, "INITIAL CONDITIONS: {}", j.title);
     let _ = writeln!(s, "  file: {}", j.file);
+    let _ = writeln!(s, "{}", text_line(&j.units));
     let _ = writeln!(s);
     let _ = writeln!(
         s,

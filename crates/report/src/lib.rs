@@ -10,4 +10,5 @@ pub mod poses;
 pub mod reactions;
 pub mod simulate;
 pub mod statics;
+pub mod units;
 pub mod verify;

@@ -1,6 +1,7 @@
 //! The linearization report: Adams-style eigenvalue table, frequencies, damping ratios and
 //! mode shapes; JSON.
 
+use crate::units::{text_line, units_json, Angle, UnitsJson};
 use linkage_adm::Diagnostic;
 use linkage_model::Model;
 use linkage_solve::stages::linearize::{LinearRun, Linearization, Solution};
@@ -48,6 +49,8 @@ pub struct ModeJson {
 pub struct LinearJson {
     pub file: String,
     pub title: String,
+    /// Frequencies and eigenvalues in cycles per time unit; mode-shape rotations in radians.
+    pub units: UnitsJson,
     pub operating_point: &'static str,
     /// Time of the operating point.
     pub time: f64,
@@ -158,6 +161,7 @@ pub fn to_json(
     LinearJson {
         file: model.file.to_string(),
         title: model.title.clone(),
+        units: units_json(model, Angle::Radian, true),
         operating_point: if static_first {
             "static equilibrium"
         } else {
@@ -212,6 +216,7 @@ pub fn to_text(j: &LinearJson) -> String {
     let mut s = String::new();
     let _ = writeln!(s, "LINEARIZATION: {}", j.title);
     let _ = writeln!(s, "  file: {}", j.file);
+    let _ = writeln!(s, "{}", text_line(&j.units));
     let _ = writeln!(s, "  operating point: {}", j.operating_point);
     if j.modes.is_empty() && !j.errors.is_empty() {
         // No operating point: no eigenvalue table to show.

@@ -2,6 +2,7 @@
 
 use crate::poses::{part_states, pose_line, PartStateJson};
 use crate::statics::{settling_line, settling_summary, SettlingJson};
+use crate::units::{text_line, units_json, Angle, CsvUnits, UnitsJson};
 use crate::verify::{equation_ref, EquationRef};
 use linkage_adm::Diagnostic;
 use linkage_model::frames::matrix_to_euler313;
@@ -16,23 +17,26 @@ use std::fmt::Write;
 pub type ExtraColumns = (Vec<String>, Vec<Vec<f64>>);
 
 /// Column names: `time`, then `<part>.x .y .z .psi .theta .phi .vx .vy .vz .wx .wy .wz` for every
-/// moving part and `<element>.fx .fy .fz .tx .ty .tz` for every joint, primitive and motion.
+/// moving part and `<element>.fx .fy .fz .tx .ty .tz` for every joint, primitive and motion,
+/// then `extra`; each with its unit as a suffix, `PART_2.x [mm]` (see [`crate::units`]).
 pub fn csv_header(model: &Model, reaction_elements: &[usize], extra: &[String]) -> String {
-    let mut s = String::from("time");
+    let units = CsvUnits::of(model);
+    let mut s = units.header("time");
     for p in &model.parts {
         for c in [
             "x", "y", "z", "psi", "theta", "phi", "vx", "vy", "vz", "wx", "wy", "wz",
         ] {
-            let _ = write!(s, ",{}.{c}", p.origin.name);
+            let _ = write!(s, ",{}", units.header(&format!("{}.{c}", p.origin.name)));
         }
     }
     for &e in reaction_elements {
         for c in ["fx", "fy", "fz", "tx", "ty", "tz"] {
-            let _ = write!(s, ",{}.{c}", model.constraints[e].origin.name);
+            let name = format!("{}.{c}", model.constraints[e].origin.name);
+            let _ = write!(s, ",{}", units.header(&name));
         }
     }
     for x in extra {
-        let _ = write!(s, ",{x}");
+        let _ = write!(s, ",{}", units.header(x));
     }
     s
 }
@@ -114,6 +118,8 @@ pub struct StartJson {
 pub struct SimulateJson {
     pub file: String,
     pub title: String,
+    /// Positions, 3-1-3 angles (degrees), velocities, accelerations.
+    pub units: UnitsJson,
     pub completed: bool,
     pub end_time: f64,
     pub outputs: usize,
@@ -226,6 +232,7 @@ pub fn summary(a: &Assembled, run: &DynamicRun, warnings: &[Diagnostic]) -> Simu
     SimulateJson {
         file: model.file.to_string(),
         title: model.title.clone(),
+        units: units_json(model, Angle::Degree, false),
         completed,
         end_time,
         outputs,
@@ -249,6 +256,7 @@ pub fn to_text(j: &SimulateJson) -> String {
     let mut s = String::new();
     let _ = writeln!(s, "DYNAMIC SIMULATION: {}", j.title);
     let _ = writeln!(s, "  file: {}", j.file);
+    let _ = writeln!(s, "{}", text_line(&j.units));
     let _ = writeln!(s);
     match j.start.from {
         "initial_conditions" if j.start.found => {

@@ -2,6 +2,7 @@
 
 use crate::poses::{part_poses, pose_line, PartPoseJson};
 use crate::reactions::{reactions_json, ReactionJson};
+use crate::units::{text_line, units_json, Angle, CsvUnits, UnitsJson};
 use linkage_adm::Diagnostic;
 use linkage_model::settings::shown;
 use linkage_model::Model;
@@ -43,6 +44,8 @@ pub struct StepJson {
 pub struct StaticJson {
     pub file: String,
     pub title: String,
+    /// Positions, 3-1-3 angles (degrees) and reactions.
+    pub units: UnitsJson,
     pub converged: bool,
     pub iterations: usize,
     pub imbalance: f64,
@@ -261,6 +264,7 @@ pub fn to_json(a: &Assembled, run: &StaticRun, warnings: &[Diagnostic]) -> Stati
     StaticJson {
         file: model.file.to_string(),
         title: model.title.clone(),
+        units: units_json(model, Angle::Degree, false),
         converged: run.converged(),
         iterations: first.map_or(0, |s| s.iterations),
         imbalance: first.map_or(f64::NAN, |s| s.imbalance),
@@ -277,12 +281,14 @@ pub fn to_json(a: &Assembled, run: &StaticRun, warnings: &[Diagnostic]) -> Stati
 }
 
 /// CSV: one row per output time: `time`, then `<part>.x .y .z .psi .theta .phi` (degrees) for
-/// every part and `<element>.fx .fy .fz .tx .ty .tz` for every reaction.
+/// every part and `<element>.fx .fy .fz .tx .ty .tz` for every reaction; each column header
+/// with its unit as a suffix, `PART_2.x [mm]` (see [`crate::units`]).
 pub fn to_csv(model: &Model, run: &StaticRun) -> String {
-    let mut s = String::from("time");
+    let units = CsvUnits::of(model);
+    let mut s = units.header("time");
     for p in &model.parts {
         for c in ["x", "y", "z", "psi", "theta", "phi"] {
-            let _ = write!(s, ",{}.{c}", p.origin.name);
+            let _ = write!(s, ",{}", units.header(&format!("{}.{c}", p.origin.name)));
         }
     }
     let reaction_elements: Vec<usize> = run
@@ -293,7 +299,8 @@ pub fn to_csv(model: &Model, run: &StaticRun) -> String {
         .unwrap_or_default();
     for &e in &reaction_elements {
         for c in ["fx", "fy", "fz", "tx", "ty", "tz"] {
-            let _ = write!(s, ",{}.{c}", model.constraints[e].origin.name);
+            let name = format!("{}.{c}", model.constraints[e].origin.name);
+            let _ = write!(s, ",{}", units.header(&name));
         }
     }
     s.push('\n');
@@ -326,6 +333,7 @@ pub fn to_text(j: &StaticJson) -> String {
     let mut s = String::new();
     let _ = writeln!(s, "STATIC EQUILIBRIUM: {}", j.title);
     let _ = writeln!(s, "  file: {}", j.file);
+    let _ = writeln!(s, "{}", text_line(&j.units));
     let _ = writeln!(s);
     let series: Vec<&StepJson> = j.steps.iter().collect();
     if let Some(st) = &j.settling {

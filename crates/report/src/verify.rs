@@ -1,5 +1,6 @@
 //! The verify report: Adams View "Verify Model" style text, and JSON.
 
+use crate::units::{text_line, units_json, Angle, UnitsJson};
 use linkage_adm::Diagnostic;
 use linkage_model::Model;
 use linkage_solve::constraints::system::RowUnit;
@@ -64,20 +65,12 @@ pub struct MasslessJson {
     pub free_coordinates: Vec<&'static str>,
 }
 
-#[derive(Clone, Debug, Serialize, PartialEq)]
-pub struct UnitsJson {
-    pub force: &'static str,
-    pub mass: &'static str,
-    pub length: &'static str,
-    pub time: &'static str,
-    pub ucf: f64,
-}
-
 /// The JSON document of `linkage verify --format json`.
 #[derive(Clone, Debug, Serialize, PartialEq)]
 pub struct VerifyJson {
     pub file: String,
     pub title: String,
+    /// Residuals in degrees.
     pub units: UnitsJson,
     pub moving_parts: usize,
     pub constraint_counts: Vec<CountJson>,
@@ -133,13 +126,7 @@ pub fn to_json(model: &Model, v: &Verification, warnings: &[Diagnostic]) -> Veri
     VerifyJson {
         file: model.file.to_string(),
         title: model.title.clone(),
-        units: UnitsJson {
-            force: model.units.names[0],
-            mass: model.units.names[1],
-            length: model.units.names[2],
-            time: model.units.names[3],
-            ucf: model.ucf(),
-        },
+        units: units_json(model, Angle::Degree, false),
         moving_parts: v.moving_parts,
         constraint_counts: v
             .counts
@@ -236,11 +223,7 @@ pub fn to_text(j: &VerifyJson) -> String {
     let mut s = String::new();
     let _ = writeln!(s, "VERIFY MODEL: {}", j.title);
     let _ = writeln!(s, "  file: {}", j.file);
-    let _ = writeln!(
-        s,
-        "  units: {} {} {} {} (UCF {})",
-        j.units.force, j.units.mass, j.units.length, j.units.time, j.units.ucf
-    );
+    let _ = writeln!(s, "{}", text_line(&j.units));
     let _ = writeln!(s);
     let _ = writeln!(
         s,

@@ -2,7 +2,7 @@
 //! request file: every REQUEST at every output of every analysis, in order) and `<name>.csv`
 //! (the columns of `linkage simulate --out`: each part's CM position, 3-1-3 angles in degrees
 //! and velocities, each constraint element's reaction on its I marker, then the request
-//! components).
+//! components; the same header, each column with its unit as a suffix, `PART_2.x [mm]`).
 //!
 //! Contract:
 //! - The columns and requests are those of the model at the first output; an element
@@ -114,8 +114,6 @@ pub struct Records {
 struct Layout {
     /// Constraint elements with reaction columns, by name.
     elements: Vec<String>,
-    /// Request columns of [`RequestSet::columns`].
-    request_columns: Vec<String>,
 }
 
 fn write_error(path: &Path) -> impl Fn(std::io::Error) -> RunError + '_ {
@@ -170,31 +168,16 @@ impl Records {
             cause: e.to_string(),
         };
         if self.layout.is_none() {
-            let elements: Vec<String> = o
-                .reactions
-                .iter()
-                .map(|r| model.constraints[r.element].origin.name.clone())
-                .collect();
+            let elements: Vec<usize> = o.reactions.iter().map(|r| r.element).collect();
             let layout = Layout {
-                elements,
-                request_columns: requests.columns(),
+                elements: elements
+                    .iter()
+                    .map(|&e| model.constraints[e].origin.name.clone())
+                    .collect(),
             };
-            let mut header = String::from("time");
-            for p in &model.parts {
-                for c in [
-                    "x", "y", "z", "psi", "theta", "phi", "vx", "vy", "vz", "wx", "wy", "wz",
-                ] {
-                    header.push_str(&format!(",{}.{c}", p.origin.name));
-                }
-            }
-            for e in &layout.elements {
-                for c in ["fx", "fy", "fz", "tx", "ty", "tz"] {
-                    header.push_str(&format!(",{e}.{c}"));
-                }
-            }
-            for c in &layout.request_columns {
-                header.push_str(&format!(",{c}"));
-            }
+            // The columns of `linkage simulate --out`, units and all.
+            let mut header =
+                linkage_report::simulate::csv_header(model, &elements, &requests.columns());
             header.push('\n');
             self.csv
                 .write_all(header.as_bytes())

@@ -43,7 +43,7 @@ fn write(dir: &Path, name: &str, text: &str) -> PathBuf {
     p
 }
 
-/// The CSV as (header, rows of numbers).
+/// The CSV as (column names without their units, rows of numbers).
 fn csv(path: &Path) -> (Vec<String>, Vec<Vec<f64>>) {
     let text = std::fs::read_to_string(path).expect("csv exists");
     let mut lines = text.lines();
@@ -51,7 +51,7 @@ fn csv(path: &Path) -> (Vec<String>, Vec<Vec<f64>>) {
         .next()
         .expect("header")
         .split(',')
-        .map(str::to_string)
+        .map(|f| linkage_report::units::column_name(f).to_string())
         .collect();
     let rows = lines
         .map(|l| {
@@ -104,6 +104,13 @@ fn a_static_funnel_a_redefined_motion_and_a_deactivated_spring_follow_their_clos
     assert_eq!(summary.outputs, 16);
     let (header, rows) = csv(&dir.join("funnel.csv"));
     assert_eq!(rows.len(), 16);
+    // The columns of `linkage simulate --out`, each with its unit.
+    let raw = std::fs::read_to_string(dir.join("funnel.csv")).expect("csv exists");
+    let first = raw.lines().next().unwrap_or_default();
+    assert!(
+        first.starts_with("time [") && first.contains(",PART_2.x ["),
+        "{first}"
+    );
     let (t, x) = (0, column(&header, "PART_2.x"));
     let (rx, ry) = (column(&header, "PART_3.x"), column(&header, "PART_3.y"));
     // Statics: the spring carries the weight, x = −m g / k, at 0.1, 0.2 and again at 0.2.
