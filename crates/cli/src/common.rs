@@ -225,15 +225,22 @@ fn resolved(path: &Path) -> Option<std::path::PathBuf> {
     Some(std::fs::canonicalize(dir).ok()?.join(name))
 }
 
+/// An output path that names the input file (after resolving links).
+#[derive(Debug, thiserror::Error)]
+#[error("refusing to write {output}: it is the input {input} (choose another output file)")]
+pub struct OutputIsInput {
+    pub output: String,
+    pub input: String,
+}
+
 /// An output path that would overwrite the input (after resolving links) is an input error:
 /// the message names both.
-pub fn check_output(input: &Path, output: &Path) -> Result<(), String> {
+pub fn check_output(input: &Path, output: &Path) -> Result<(), OutputIsInput> {
     match (resolved(input), resolved(output)) {
-        (Some(a), Some(b)) if a == b => Err(format!(
-            "refusing to write {}: it is the input {} (choose another output file)",
-            output.display(),
-            input.display()
-        )),
+        (Some(a), Some(b)) if a == b => Err(OutputIsInput {
+            output: output.display().to_string(),
+            input: input.display().to_string(),
+        }),
         _ => Ok(()),
     }
 }
