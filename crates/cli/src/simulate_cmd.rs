@@ -7,7 +7,7 @@ use crate::common::{
 use linkage_report::simulate::ExtraColumns;
 use linkage_solve::physics::requests::RequestSet;
 use linkage_solve::pipeline::Assembled;
-use linkage_solve::stages::dynamics::{run, DynamicRun, RunProgress, Start};
+use linkage_solve::stages::dynamics::{run_from, DynamicRun, RunProgress, Start, UnstableStart};
 use linkage_solve::tolerances::Tolerances;
 use std::path::Path;
 use std::process::ExitCode;
@@ -21,6 +21,8 @@ pub struct SimulateArgs<'a> {
     pub dtout: Option<f64>,
     pub out: Option<&'a Path>,
     pub start: Start,
+    /// Start from an unstable equilibrium rather than stop (with `--start-at-equilibrium`).
+    pub allow_unstable: bool,
 }
 
 /// The most integration steps an HMAX may imply (about a day of computing for a small model).
@@ -109,11 +111,17 @@ pub fn run_simulate(args: &SimulateArgs) -> ExitCode {
         forces.as_ref(),
         &Tolerances::default(),
     );
-    let result = run(
+    let unstable = if args.allow_unstable {
+        UnstableStart::Accept
+    } else {
+        UnstableStart::Refuse
+    };
+    let result = run_from(
         &assembled,
         &times,
         &integrator.settings,
         args.start,
+        unstable,
         |p| match p {
             RunProgress::Settling { elapsed, limit } => bar.settling(elapsed, limit),
             RunProgress::Integrating(t) => bar.show(t / end, format!("t = {t:.4}")),
@@ -148,9 +156,10 @@ pub fn run_simulate(args: &SimulateArgs) -> ExitCode {
             Err(e) => eprintln!("error: cannot write JSON: {e}"),
         },
     }
-    for e in &report.errors {
-        eprintln!("error: {e}");
-    }
+    // The summary ends with its errors: repeated on standard error only when it was not shown
+    // on a terminal (the summary is on standard error itself with `--out -`).
+    let shown = csv_on_stdout || crate::common::stdout_is_terminal();
+    crate::common::errors_to_stderr(&report.errors, shown);
     if report.errors.is_empty() {
         ExitCode::SUCCESS
     } else {

@@ -69,6 +69,22 @@ pub enum RunError {
     /// settling stage states it).
     #[error("no static equilibrium to start from: {0}")]
     NoEquilibrium(String),
+    /// The starting equilibrium was found but is unstable, and the caller refused to start
+    /// from an unstable one ([`UnstableStart::Refuse`]); nothing was integrated.
+    #[error(
+        "the starting equilibrium is UNSTABLE (negative stiffness {lowest_stiffness:.3e} along a \
+         free motion)"
+    )]
+    UnstableEquilibrium { lowest_stiffness: f64 },
+}
+
+/// Whether a run may start from an unstable static equilibrium.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum UnstableStart {
+    /// Start from it (it stays there only as long as rounding allows).
+    Accept,
+    /// Stop with [`RunError::UnstableEquilibrium`] before integrating.
+    Refuse,
 }
 
 /// A dynamic analysis of an assembled model: static equilibrium first when asked, then the
@@ -90,6 +106,19 @@ pub fn run(
     times: &[f64],
     settings: &IntegratorSettings,
     start: Start,
+    progress: impl FnMut(RunProgress),
+) -> DynamicRun {
+    run_from(a, times, settings, start, UnstableStart::Accept, progress)
+}
+
+/// [`run`], with the choice of whether an unstable starting equilibrium stops the run before
+/// it integrates (`unstable`); `run` accepts one.
+pub fn run_from(
+    a: &Assembled,
+    times: &[f64],
+    settings: &IntegratorSettings,
+    start: Start,
+    unstable: UnstableStart,
     mut progress: impl FnMut(RunProgress),
 ) -> DynamicRun {
     let model = a.model;
@@ -135,6 +164,14 @@ pub fn run(
                     .unwrap_or_else(|| "no static equilibrium was found".into());
                 return fail(Some(found), RunError::NoEquilibrium(why));
             };
+            if let (UnstableStart::Refuse, Some((false, lowest_stiffness))) =
+                (unstable, e.stability)
+            {
+                return fail(
+                    Some(found.clone()),
+                    RunError::UnstableEquilibrium { lowest_stiffness },
+                );
+            }
             let state = e.state.clone();
             (Some(found), state, a.rest())
         }
