@@ -50,6 +50,23 @@ pub fn input_error(d: &Diagnostics, format: Format) -> ExitCode {
     ExitCode::from(2)
 }
 
+/// Whether standard output is a terminal (where a report shows its errors to the user).
+pub fn stdout_is_terminal() -> bool {
+    use std::io::IsTerminal;
+    std::io::stdout().is_terminal()
+}
+
+/// Prints `errors` as `error: …` lines on standard error, unless the report holding them (which
+/// ends with them) was shown on a terminal: each error appears once there, and a report sent to
+/// a file or a pipe still has its failure reach the user.
+pub fn errors_to_stderr(errors: &[String], report_on_terminal: bool) {
+    if !report_on_terminal {
+        for e in errors {
+            eprintln!("error: {e}");
+        }
+    }
+}
+
 /// Pretty JSON on stdout; false (after a message) when serialisation fails.
 pub fn print_json<T: serde::Serialize>(v: &T) -> bool {
     match serde_json::to_string_pretty(v) {

@@ -3,7 +3,7 @@
 use crate::common::{input_error, load, print_json, Format};
 use linkage_adm::Dataset;
 use linkage_model::Model;
-use linkage_solve::pipeline::Assembled;
+use linkage_solve::pipeline::{Assembled, NotAssembled};
 use linkage_solve::state::State;
 use linkage_solve::tolerances::Tolerances;
 use std::path::Path;
@@ -22,6 +22,11 @@ pub fn run(model: &Path, format: Format, save: Option<&Path>) -> ExitCode {
     let assembled = Assembled::new(&loaded.model, &loaded.drivers, forces.as_ref(), &tol);
     let ic = &assembled.ic;
     let mut report = linkage_report::ic::to_json(&loaded.model, ic, &loaded.warnings);
+    // An assembly that did not converge has its own error; an inconsistent redundancy is named
+    // here, as the one line of the verdict.
+    if let Some(why @ NotAssembled::Inconsistent { .. }) = assembled.failure() {
+        report.errors.push(why.to_string());
+    }
     let failed = assembled.failure().is_some() || !report.errors.is_empty();
     if let Some(out) = save {
         if failed {
@@ -54,9 +59,7 @@ fn emit(report: &linkage_report::ic::IcJson, format: Format) {
             print_json(report);
         }
     }
-    for e in &report.errors {
-        eprintln!("error: {e}");
-    }
+    crate::common::errors_to_stderr(&report.errors, crate::common::stdout_is_terminal());
 }
 
 /// Why a configuration could not be saved (shown after `cannot write OUT:`).

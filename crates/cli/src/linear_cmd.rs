@@ -2,7 +2,7 @@
 
 use crate::common::{applied_forces, input_error, load, print_json, Format};
 use linkage_solve::pipeline::Assembled;
-use linkage_solve::stages::linearize::{run, EigenMethod, LinearOptions, DEFAULT_MODES};
+use linkage_solve::stages::linearize::{run, EigenMethod, LinearOptions, LinearRun, DEFAULT_MODES};
 use linkage_solve::tolerances::Tolerances;
 use std::path::Path;
 use std::process::ExitCode;
@@ -18,6 +18,24 @@ pub struct LinearArgs<'a> {
     pub modes: Option<usize>,
     /// `--shift F` in cycles per time unit.
     pub shift: Option<f64>,
+    /// With `static_first`: accept an unstable equilibrium as the operating point.
+    pub allow_unstable: bool,
+}
+
+/// The verdict on linearizing about an unstable static equilibrium, in one line with what to
+/// try (`None` when the operating point is not a converged, unstable equilibrium).
+fn unstable_operating_point(run: &LinearRun) -> Option<String> {
+    let Some(Ok(eq)) = &run.equilibrium else {
+        return None;
+    };
+    let (false, stiffness) = eq.stability? else {
+        return None;
+    };
+    Some(format!(
+        "the static equilibrium linearized about is UNSTABLE (negative stiffness {stiffness:.3e} \
+         along a free motion): `linkage static --settle` finds a stable one by damped dynamics; \
+         --allow-unstable accepts this one"
+    ))
 }
 
 pub fn run_linear(args: &LinearArgs) -> ExitCode {
@@ -52,21 +70,22 @@ pub fn run_linear(args: &LinearArgs) -> ExitCode {
         &Tolerances::default(),
     );
     let result = run(&assembled, args.static_first, opts);
-    let report = linkage_report::linear::to_json(
+    let mut report = linkage_report::linear::to_json(
         &loaded.model,
         &result,
         args.static_first,
         &loaded.warnings,
     );
+    if !args.allow_unstable && report.errors.is_empty() {
+        report.errors.extend(unstable_operating_point(&result));
+    }
     match args.format {
         Format::Text => print!("{}", linkage_report::linear::to_text(&report)),
         Format::Json => {
             print_json(&report);
         }
     }
-    for e in &report.errors {
-        eprintln!("error: {e}");
-    }
+    crate::common::errors_to_stderr(&report.errors, crate::common::stdout_is_terminal());
     if report.errors.is_empty() {
         ExitCode::SUCCESS
     } else {

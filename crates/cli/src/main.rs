@@ -1,7 +1,10 @@
 //! `linkage` — verify, assemble and solve Adams multibody datasets.
 //!
-//! Exit codes: 0 when the analysis ran (whatever it found), 1 when it ran and failed (e.g. an
-//! inconsistent model or non-convergence), 2 for input errors (syntax, references, values).
+//! Exit codes, one verdict per run (the same in the text, the JSON `errors` list and the exit
+//! code): 0 when the analysis ran and found what was asked (`errors` empty), 1 when it ran and
+//! failed (an inconsistent redundant equation, a failed assembly, an unstable equilibrium unless
+//! `--allow-unstable`, non-convergence, a non-finite result: the failure is the last line of
+//! the text report and is in `errors`), 2 for input errors (syntax, references, values).
 //! `compare` exits with 1 when some signal differs by more than the tolerance.
 
 mod common;
@@ -85,6 +88,10 @@ enum Command {
         /// polish it with Newton statics.
         #[arg(long, conflicts_with = "end")]
         settle: bool,
+        /// Accept an unstable equilibrium (exit 0); without it an unstable equilibrium is the
+        /// run's failure (exit 1).
+        #[arg(long)]
+        allow_unstable: bool,
     },
     /// Linearize about the assembled configuration (or static equilibrium with --static-first):
     /// eigenvalues, natural frequencies, damping ratios and mode shapes.
@@ -111,6 +118,10 @@ enum Command {
         /// shift-invert; default just below zero, i.e. the lowest modes).
         #[arg(long, value_name = "F", allow_negative_numbers = true)]
         shift: Option<f64>,
+        /// Accept an unstable equilibrium (exit 0); without it an unstable equilibrium is the
+        /// run's failure (exit 1).
+        #[arg(long, requires = "static_first")]
+        allow_unstable: bool,
     },
     /// Run an Adams command file (.acf): its dataset (line 1), output name (line 2) and
     /// commands, writing <name>.msg, <name>.req and <name>.csv as the run goes.
@@ -153,6 +164,10 @@ enum Command {
         /// polish), whatever the dataset says.
         #[arg(long, requires = "start_at_equilibrium")]
         settle: bool,
+        /// Accept an unstable equilibrium (exit 0); without it an unstable equilibrium is the
+        /// run's failure (exit 1).
+        #[arg(long, requires = "start_at_equilibrium")]
+        allow_unstable: bool,
     },
     /// Compare two time histories signal by signal: request files (.req, Adams or linkage) or
     /// CSV files written by `simulate --out`, matched by request id and component or by column
@@ -244,6 +259,7 @@ fn main() -> ExitCode {
             no_vectors,
             modes,
             shift,
+            allow_unstable,
         } => linear_cmd::run_linear(&linear_cmd::LinearArgs {
             model: &model,
             format,
@@ -252,6 +268,7 @@ fn main() -> ExitCode {
             vectors: !no_vectors,
             modes: modes.map(|k| usize::try_from(k).unwrap_or(usize::MAX)),
             shift,
+            allow_unstable,
         }),
         Command::Simulate {
             model,
@@ -262,6 +279,7 @@ fn main() -> ExitCode {
             out,
             start_at_equilibrium,
             settle,
+            allow_unstable,
         } => simulate_cmd::run_simulate(&simulate_cmd::SimulateArgs {
             model: &model,
             format,
@@ -274,6 +292,7 @@ fn main() -> ExitCode {
                 (true, false) => Start::Equilibrium,
                 (true, true) => Start::SettledEquilibrium,
             },
+            allow_unstable,
         }),
         Command::Static {
             model,
@@ -282,12 +301,14 @@ fn main() -> ExitCode {
             steps,
             save,
             settle,
+            allow_unstable,
         } => static_cmd::run_static(&static_cmd::StaticArgs {
             model: &model,
             format,
             series: end.zip(steps),
             save: save.as_deref(),
             settle,
+            allow_unstable,
         }),
         Command::Compare {
             a,

@@ -6,7 +6,9 @@ use crate::common::{
 };
 use linkage_solve::physics::requests::RequestSet;
 use linkage_solve::pipeline::Assembled;
-use linkage_solve::stages::dynamics::{run_streamed, AfterOutput, Output, RunProgress, Start};
+use linkage_solve::stages::dynamics::{
+    run_streamed, AfterOutput, Output, RunProgress, Start, UnstableStart,
+};
 use linkage_solve::tolerances::Tolerances;
 use std::io::Write;
 use std::path::Path;
@@ -23,6 +25,8 @@ pub struct SimulateArgs<'a> {
     pub dtout: Option<f64>,
     pub out: Option<&'a Path>,
     pub start: Start,
+    /// Start from an unstable equilibrium rather than stop (with `--start-at-equilibrium`).
+    pub allow_unstable: bool,
 }
 
 /// The most integration steps an HMAX may imply (about a day of computing for a small model).
@@ -162,11 +166,17 @@ pub fn run_simulate(args: &SimulateArgs) -> ExitCode {
         }
         AfterOutput::Continue
     };
+    let unstable = if args.allow_unstable {
+        UnstableStart::Accept
+    } else {
+        UnstableStart::Refuse
+    };
     let result = run_streamed(
         &assembled,
         &times,
         &integrator.settings,
         args.start,
+        unstable,
         |p| match p {
             RunProgress::Settling { elapsed, limit } => bar.settling(elapsed, limit),
             RunProgress::Integrating(t) => bar.show(t / end, format!("t = {t:.4}")),
@@ -217,9 +227,10 @@ pub fn run_simulate(args: &SimulateArgs) -> ExitCode {
             Err(e) => eprintln!("error: cannot write JSON: {e}"),
         },
     }
-    for e in &report.errors {
-        eprintln!("error: {e}");
-    }
+    // The summary ends with its errors: repeated on standard error only when it was not shown
+    // on a terminal (the summary is on standard error itself with `--out -`).
+    let shown = csv_on_stdout || crate::common::stdout_is_terminal();
+    crate::common::errors_to_stderr(&report.errors, shown);
     if report.errors.is_empty() {
         ExitCode::SUCCESS
     } else {

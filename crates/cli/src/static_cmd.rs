@@ -27,6 +27,19 @@ pub struct StaticArgs<'a> {
     pub save: Option<&'a Path>,
     /// Find the equilibrium by damped dynamics (also when the dataset says EQUILIBRIUM/DYNAMIC).
     pub settle: bool,
+    /// Accept an unstable equilibrium (exit 0); otherwise it is the run's failure.
+    pub allow_unstable: bool,
+}
+
+/// Adds the unstable-equilibrium verdict to `report` unless `allow` (see
+/// [`linkage_report::statics::unstable_verdict`]).
+fn judge_stability(report: &mut linkage_report::statics::StaticJson, allow: bool) {
+    if allow {
+        return;
+    }
+    if let Some(why) = linkage_report::statics::unstable_verdict(report) {
+        report.errors.push(why);
+    }
 }
 
 /// The model's applied force elements.
@@ -71,8 +84,9 @@ pub fn run_static(args: &StaticArgs) -> ExitCode {
             .map(|e| e.state.clone());
         let mut report =
             linkage_report::statics::settling_json(&assembled, settled, &loaded.warnings);
+        judge_stability(&mut report, args.allow_unstable);
         if let (Some(out), Some(state)) = (args.save, &eq_state) {
-            if report.converged {
+            if report.converged && report.errors.is_empty() {
                 if let Err(e) = save_configuration(&loaded.dataset, &loaded.model, state, out) {
                     report
                         .errors
@@ -86,9 +100,7 @@ pub fn run_static(args: &StaticArgs) -> ExitCode {
             }
             _ => print!("{}", linkage_report::statics::to_text(&report)),
         }
-        for e in &report.errors {
-            eprintln!("error: {e}");
-        }
+        crate::common::errors_to_stderr(&report.errors, crate::common::stdout_is_terminal());
         return if report.converged && report.errors.is_empty() {
             ExitCode::SUCCESS
         } else {
@@ -108,7 +120,8 @@ pub fn run_static(args: &StaticArgs) -> ExitCode {
     let assembled = assemble();
     let result = run(&assembled, &times);
     let mut report = linkage_report::statics::to_json(&assembled, &result, &loaded.warnings);
-    let ok = result.converged();
+    judge_stability(&mut report, args.allow_unstable);
+    let ok = result.converged() && report.errors.is_empty();
     if let (Some(out), true) = (args.save, ok) {
         if let Some((_, Ok(eq))) = result.steps.last() {
             if let Err(e) = save_configuration(&loaded.dataset, &loaded.model, &eq.state, out) {
@@ -119,7 +132,7 @@ pub fn run_static(args: &StaticArgs) -> ExitCode {
         }
     } else if let Some(out) = args.save {
         report.errors.push(format!(
-            "{} not written: no equilibrium was found",
+            "{} not written: no equilibrium was accepted",
             out.display()
         ));
     }
@@ -133,9 +146,9 @@ pub fn run_static(args: &StaticArgs) -> ExitCode {
             linkage_report::statics::to_csv(&loaded.model, &result)
         ),
     }
-    for e in &report.errors {
-        eprintln!("error: {e}");
-    }
+    // CSV rows carry no errors: they always go to standard error.
+    let shown = args.format != StaticFormat::Csv && crate::common::stdout_is_terminal();
+    crate::common::errors_to_stderr(&report.errors, shown);
     if ok && report.errors.is_empty() {
         ExitCode::SUCCESS
     } else {

@@ -30,27 +30,24 @@ pub fn run(args: &VerifyArgs) -> ExitCode {
     let tol = Tolerances::default();
     let v = linkage_solve::stages::verify::verify(&loaded.model, &loaded.drivers, &tol);
     let mut report = linkage_report::verify::to_json(&loaded.model, &v, &loaded.warnings);
-    let mut failed = false;
     if args.explain || args.apply.is_some() {
         let ex = explain(&loaded.model, &loaded.drivers, &tol, &v);
         let mut j = linkage_report::explain::to_json(&loaded.model, &ex);
         if let Some(k) = args.apply {
             match apply(&loaded, &ex.suggestions, k, args.save, &tol) {
                 Ok(a) => j.applied = Some(a),
-                Err(e) => {
-                    report.errors.push(e.to_string());
-                    failed = true;
-                }
+                Err(e) => report.errors.push(e.to_string()),
             }
         }
         report.explain = Some(j);
     }
     match args.format {
         Format::Text => {
-            print!("{}", linkage_report::verify::to_text(&report));
+            print!("{}", linkage_report::verify::body_text(&report));
             if let Some(j) = &report.explain {
                 print!("{}", linkage_report::explain::to_text(j));
             }
+            print!("{}", linkage_report::verify::error_lines(&report.errors));
         }
         Format::Json => {
             if !print_json(&report) {
@@ -58,10 +55,8 @@ pub fn run(args: &VerifyArgs) -> ExitCode {
             }
         }
     }
-    for e in &report.errors {
-        eprintln!("error: {e}");
-    }
-    if failed {
+    crate::common::errors_to_stderr(&report.errors, crate::common::stdout_is_terminal());
+    if !report.errors.is_empty() {
         ExitCode::from(1)
     } else {
         ExitCode::SUCCESS

@@ -261,10 +261,11 @@ fn unusable_integrator_settings_are_reported() {
 }
 
 /// Three parallelogram loops released with their cranks at +60°: Newton statics converges to
-/// the nearest equilibrium, cranks straight up, which is unstable; the run warns that it
-/// starts there and points to settling, which starts it hanging (stable, no warning).
+/// the nearest equilibrium, cranks straight up, which is unstable: the run refuses to start
+/// there (exit 1, pointing to settling); with `--allow-unstable` it starts there and warns;
+/// settling starts it hanging (stable, no warning).
 #[test]
-fn a_start_at_an_unstable_equilibrium_is_a_warning() {
+fn a_start_at_an_unstable_equilibrium_fails_unless_allowed() {
     let text = linkage_solve::generate::parallelogram_chain(3, 60.0).replace(
         "END",
         "EQUILIBRIUM/, GLOBAL_DAMPING = 2, SETTLING_TIME = 50\nEND",
@@ -272,6 +273,15 @@ fn a_start_at_an_unstable_equilibrium_is_a_warning() {
     let f = std::env::temp_dir().join(format!("linkage-chain3-{}.adm", std::process::id()));
     std::fs::write(&f, text).unwrap();
     let (code, v) = simulate_json(&f, &["--start-at-equilibrium"]);
+    assert_eq!(code, 1, "{v}");
+    assert_eq!(v["start"]["stable"], false);
+    assert!(
+        v["errors"]
+            .to_string()
+            .contains("--settle` finds a stable one"),
+        "{v}"
+    );
+    let (code, v) = simulate_json(&f, &["--start-at-equilibrium", "--allow-unstable"]);
     assert_eq!(code, 0, "{v}");
     assert_eq!(v["start"]["stable"], false);
     assert!(

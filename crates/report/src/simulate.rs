@@ -8,7 +8,7 @@ use linkage_adm::Diagnostic;
 use linkage_model::frames::matrix_to_euler313;
 use linkage_model::Model;
 use linkage_solve::pipeline::Assembled;
-use linkage_solve::stages::dynamics::{DynamicRun, Output, StartingEquilibrium};
+use linkage_solve::stages::dynamics::{DynamicRun, Output, RunError, StartingEquilibrium};
 use serde::Serialize;
 use std::fmt::Write;
 
@@ -174,14 +174,23 @@ pub fn summary(a: &Assembled, run: &DynamicRun, warnings: &[Diagnostic]) -> Simu
     let model = a.model;
     let mut errors = Vec::new();
     let mut warnings: Vec<String> = warnings.iter().map(|w| w.to_string()).collect();
-    if let Some(e) = &run.error {
-        errors.push(e.to_string());
-    }
     let start = start_json(model, run);
+    if let Some(e) = &run.error {
+        errors.push(match e {
+            RunError::UnstableEquilibrium { .. } if start.from == "static_equilibrium" => format!(
+                "{e}: `--settle` finds a stable one by damped dynamics; --allow-unstable starts \
+                 from this one"
+            ),
+            RunError::UnstableEquilibrium { .. } => {
+                format!("{e}: --allow-unstable starts from it")
+            }
+            _ => e.to_string(),
+        });
+    }
     if start.settling.is_some() && model.equilibrium.global_damping == 0.0 {
         warnings.push(crate::statics::NO_GLOBAL_DAMPING.to_string());
     }
-    if start.found && start.stable == Some(false) {
+    if start.found && start.stable == Some(false) && run.simulation.is_some() {
         warnings.push(if start.from == "static_equilibrium" {
             "the run starts at an UNSTABLE equilibrium (Newton converges to the nearest one): \
              it stays there only as long as rounding allows; `--settle` finds a stable one by \
@@ -283,11 +292,17 @@ pub fn to_text(j: &SimulateJson) -> String {
             } else {
                 ("static equilibrium (Newton statics", "by Newton statics")
             };
+            // An equilibrium refused as unstable was found, but no run started from it.
+            let verb = if j.outputs > 0 {
+                "Started at rest from"
+            } else {
+                "Found"
+            };
             match (j.start.found, j.start.iterations, j.start.imbalance) {
                 (true, Some(it), Some(imb)) => {
                     let _ = writeln!(
                         s,
-                        "Started at rest from {how}: {it} iterations, residual imbalance {imb:.5e}){}.",
+                        "{verb} {how}: {it} iterations, residual imbalance {imb:.5e}){}.",
                         match j.start.stable {
                             Some(true) => "; the equilibrium is stable",
                             Some(false) => "; the equilibrium is UNSTABLE",
@@ -321,7 +336,7 @@ pub fn to_text(j: &SimulateJson) -> String {
             );
         }
     }
-    if j.start.found {
+    if j.start.found && j.outputs > 0 {
         let _ = writeln!(
             s,
             "Simulation {} at time {}: {} outputs, {} steps ({} rejected)",

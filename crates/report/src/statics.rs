@@ -346,7 +346,20 @@ pub fn to_text(j: &StaticJson) -> String {
             Some(st) => st.polish_converged,
             None => Some(j.converged),
         };
+        let unsettled = j
+            .settling
+            .as_ref()
+            .is_some_and(|st| st.criterion != "settled");
         match converged {
+            Some(c) if unsettled => {
+                let _ = writeln!(
+                    s,
+                    "Newton polish from where the settling stopped {} in {} iterations; not \
+                     accepted as the equilibrium: the model did not settle.",
+                    if c { "converged" } else { "did not converge" },
+                    j.iterations
+                );
+            }
             Some(c) => {
                 let _ = writeln!(
                     s,
@@ -365,7 +378,7 @@ pub fn to_text(j: &StaticJson) -> String {
                 let _ = writeln!(s, "No Newton polish was run.");
             }
         }
-        match j.stable {
+        match j.stable.filter(|_| !unsettled) {
             Some(true) => {
                 let _ = writeln!(s, "The equilibrium is stable.");
             }
@@ -456,8 +469,10 @@ pub fn settling_json(
         j.converged = false;
         j.errors.push(match settling.criterion {
             "settling_time" => format!(
-                "the model did not settle within SETTLING_TIME = {}",
-                shown(settling.settling_time_limit)
+                "the model did not settle within SETTLING_TIME = {} (GLOBAL_DAMPING {}): raise \
+                 GLOBAL_DAMPING or SETTLING_TIME on the EQUILIBRIUM statement",
+                shown(settling.settling_time_limit),
+                shown(settling.global_damping)
             ),
             _ => format!(
                 "dynamic settling failed: {}",
@@ -470,4 +485,33 @@ pub fn settling_json(
     }
     j.settling = Some(settling);
     j
+}
+
+/// The verdict on an unstable equilibrium, for a run that does not accept one: the first
+/// output time whose converged equilibrium is unstable, in one line with what to try (`None`
+/// when every equilibrium is stable or its stability is unknown). A report that already
+/// failed gets no second verdict.
+pub fn unstable_verdict(j: &StaticJson) -> Option<String> {
+    if !j.errors.is_empty() {
+        return None;
+    }
+    let (time, stiffness) = if j.steps.is_empty() {
+        (
+            None,
+            j.lowest_stiffness.filter(|_| j.stable == Some(false))?,
+        )
+    } else {
+        let st = j.steps.iter().find(|st| st.stable == Some(false))?;
+        (Some(st.time), st.lowest_stiffness?)
+    };
+    let at = time.map_or(String::new(), |t| format!(" at time {t}"));
+    let try_next = if j.settling.is_some() {
+        "pass --allow-unstable to accept it"
+    } else {
+        "try --settle (damped dynamics finds a stable one), or pass --allow-unstable to accept it"
+    };
+    Some(format!(
+        "the equilibrium{at} is UNSTABLE (negative stiffness {stiffness:.3e} along a free \
+         motion): {try_next}"
+    ))
 }

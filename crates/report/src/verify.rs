@@ -196,9 +196,64 @@ pub fn to_json(model: &Model, v: &Verification, warnings: &[Diagnostic]) -> Veri
             .map(|&r| equation_ref(model, v, r))
             .collect(),
         warnings: warnings.iter().map(|w| w.to_string()).collect(),
-        errors: Vec::new(),
+        errors: inconsistency(model, v).into_iter().collect(),
         explain: None,
     }
+}
+
+/// The verdict on redundant equations that do not hold with the others, in one line with what
+/// to try (`None` when none is known to be inconsistent).
+fn inconsistency(model: &Model, v: &Verification) -> Option<String> {
+    let bad: Vec<String> = v
+        .redundant
+        .iter()
+        .filter(|r| r.consistent == Some(false))
+        .map(|r| {
+            let e = equation_ref(model, v, r.row);
+            let unit = unit_name(v.system.rows[r.row].unit);
+            match r.residual {
+                Some(x) => format!(
+                    "{} of {} (residual {})",
+                    e.equation,
+                    e.name,
+                    fmt_residual(x, unit)
+                ),
+                None => format!("{} of {}", e.equation, e.name),
+            }
+        })
+        .collect();
+    (!bad.is_empty()).then(|| {
+        format!(
+            "the model is inconsistent: redundant equation(s) cannot hold with the others: {}; \
+             `linkage ic` shows what assembly repairs, `linkage verify --explain` proposes joints \
+             without the redundancy",
+            bad.join(", ")
+        )
+    })
+}
+
+/// Why the consistency of the redundant equations is unknown, in one line (`None` when the
+/// model is assembled at the input configuration or has no redundant equation).
+pub fn not_assembled_line(j: &VerifyJson) -> Option<String> {
+    let unknown = j
+        .redundant
+        .iter()
+        .filter(|r| r.consistent.is_none())
+        .count();
+    (!j.assembled).then(|| {
+        let why = if unknown > 0 {
+            format!(
+                "; the consistency of the {unknown} redundant equation(s) is unknown until it is"
+            )
+        } else {
+            String::new()
+        };
+        format!(
+            "The model is not assembled at the input configuration (some independent equation, \
+             a joint or a motion at its start value, does not hold){why}: run `linkage ic` to \
+             assemble it."
+        )
+    })
 }
 
 fn plural(n: usize, one: &str) -> String {
@@ -218,8 +273,21 @@ fn fmt_residual(x: f64, unit: &str) -> String {
     }
 }
 
-/// Human report in the spirit of Adams View's "Verify Model".
+/// Human report in the spirit of Adams View's "Verify Model", ending with the run's verdict:
+/// its errors, one `error: …` line each (none when the model verified).
 pub fn to_text(j: &VerifyJson) -> String {
+    let mut s = body_text(j);
+    s.push_str(&error_lines(&j.errors));
+    s
+}
+
+/// `error: …`, one line per error.
+pub fn error_lines(errors: &[String]) -> String {
+    errors.iter().map(|e| format!("error: {e}\n")).collect()
+}
+
+/// The report without its errors (for a caller that adds more sections before the verdict).
+pub fn body_text(j: &VerifyJson) -> String {
     let mut s = String::new();
     let _ = writeln!(s, "VERIFY MODEL: {}", j.title);
     let _ = writeln!(s, "  file: {}", j.file);
@@ -364,8 +432,13 @@ pub fn to_text(j: &VerifyJson) -> String {
         let _ = writeln!(s);
         let _ = write!(s, "{w}");
     }
+    if let Some(line) = not_assembled_line(j) {
+        let _ = writeln!(s);
+        let _ = writeln!(s, "{line}");
+    }
     let _ = writeln!(s);
-    let findings = !j.misaligned.is_empty()
+    let findings = !j.assembled
+        || !j.misaligned.is_empty()
         || !j.unconstrained_parts.is_empty()
         || !j.ungrounded_parts.is_empty()
         || !j.massless_free.is_empty()

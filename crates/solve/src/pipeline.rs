@@ -63,7 +63,8 @@ pub enum NotAssembled {
     DidNotConverge { max_residual: f64 },
     /// The assembly converged but some redundant equation does not hold there.
     #[error(
-        "the model cannot be assembled: redundant equation(s) inconsistent with the others: {}",
+        "the model cannot be assembled: redundant equation(s) inconsistent with the others: {}; \
+         `linkage verify --explain` proposes joints without the redundancy",
         list(.equations)
     )]
     Inconsistent {
@@ -259,7 +260,8 @@ mod tests {
         assert_eq!(
             a.failure().unwrap().to_string(),
             "the model cannot be assembled: redundant equation(s) inconsistent with the \
-             others: Rotation Between Zi & Yj of hinge_top (residual 2.0000e0 deg)"
+             others: Rotation Between Zi & Yj of hinge_top (residual 2.0000e0 deg); \
+             `linkage verify --explain` proposes joints without the redundancy"
         );
     }
 

@@ -242,7 +242,11 @@ fn analysis_repairs(
             continue;
         };
         let unit = sys.rows[r].unit;
-        if !crate::stages::verify::within_tolerance(unit, b, tol, model.characteristic_length) {
+        let holds =
+            |x| crate::stages::verify::within_tolerance(unit, x, tol, model.characteristic_length);
+        // Only real repairs: broken at the input and holding after the assembly (a redundant
+        // equation that still does not hold is reported as inconsistent, not as repaired).
+        if !holds(b) && holds(a) {
             out.push(Repair {
                 row: r,
                 before: report_residual(unit, b),

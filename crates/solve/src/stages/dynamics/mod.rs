@@ -59,5 +59,8 @@ pub use output::{Consistent, Output, OutputSolver};
 pub use problem::{flat, ExtraDamping, Problem};
 pub(crate) use redundant::redundant_violation;
 pub use results::{Failure, Simulation};
-pub use run::{run, run_streamed, DynamicRun, RunError, RunProgress, Start, StartingEquilibrium};
+pub use run::{
+    run, run_from, run_streamed, DynamicRun, RunError, RunProgress, Start, StartingEquilibrium,
+    UnstableStart,
+};
 pub use simulate::{simulate, simulate_with, AfterOutput};

@@ -69,6 +69,22 @@ pub enum RunError {
     /// settling stage states it).
     #[error("no static equilibrium to start from: {0}")]
     NoEquilibrium(String),
+    /// The starting equilibrium was found but is unstable, and the caller refused to start
+    /// from an unstable one ([`UnstableStart::Refuse`]); nothing was integrated.
+    #[error(
+        "the starting equilibrium is UNSTABLE (negative stiffness {lowest_stiffness:.3e} along a \
+         free motion)"
+    )]
+    UnstableEquilibrium { lowest_stiffness: f64 },
+}
+
+/// Whether a run may start from an unstable static equilibrium.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum UnstableStart {
+    /// Start from it (it stays there only as long as rounding allows).
+    Accept,
+    /// Stop with [`RunError::UnstableEquilibrium`] before integrating.
+    Refuse,
 }
 
 /// A dynamic analysis of an assembled model: static equilibrium first when asked, then the
@@ -92,21 +108,51 @@ pub fn run(
     start: Start,
     progress: impl FnMut(RunProgress),
 ) -> DynamicRun {
-    run_inner(a, times, settings, start, progress, None)
+    run_inner(
+        a,
+        times,
+        settings,
+        start,
+        UnstableStart::Accept,
+        progress,
+        None,
+    )
 }
 
-/// [`run`], handing each output to `on_output` as it is computed (a CSV written row by row)
-/// and keeping only the last one (for the final state): memory does not grow with the number
-/// of outputs. `on_output` may stop the run ([`AfterOutput::Stop`]: an interrupted run).
+/// [`run`], with the choice of whether an unstable starting equilibrium stops the run before
+/// it integrates (`unstable`); `run` accepts one.
+pub fn run_from(
+    a: &Assembled,
+    times: &[f64],
+    settings: &IntegratorSettings,
+    start: Start,
+    unstable: UnstableStart,
+    progress: impl FnMut(RunProgress),
+) -> DynamicRun {
+    run_inner(a, times, settings, start, unstable, progress, None)
+}
+
+/// [`run_from`], handing each output to `on_output` as it is computed (a CSV written row by
+/// row) and keeping only the last one (for the final state): memory does not grow with the
+/// number of outputs. `on_output` may stop the run ([`AfterOutput::Stop`]: an interrupted run).
 pub fn run_streamed(
     a: &Assembled,
     times: &[f64],
     settings: &IntegratorSettings,
     start: Start,
+    unstable: UnstableStart,
     progress: impl FnMut(RunProgress),
     on_output: &mut dyn FnMut(&Output) -> AfterOutput,
 ) -> DynamicRun {
-    run_inner(a, times, settings, start, progress, Some(on_output))
+    run_inner(
+        a,
+        times,
+        settings,
+        start,
+        unstable,
+        progress,
+        Some(on_output),
+    )
 }
 
 fn run_inner(
@@ -114,6 +160,7 @@ fn run_inner(
     times: &[f64],
     settings: &IntegratorSettings,
     start: Start,
+    unstable: UnstableStart,
     mut progress: impl FnMut(RunProgress),
     on_output: Option<&mut dyn FnMut(&Output) -> AfterOutput>,
 ) -> DynamicRun {
@@ -160,6 +207,14 @@ fn run_inner(
                     .unwrap_or_else(|| "no static equilibrium was found".into());
                 return fail(Some(found), RunError::NoEquilibrium(why));
             };
+            if let (UnstableStart::Refuse, Some((false, lowest_stiffness))) =
+                (unstable, e.stability)
+            {
+                return fail(
+                    Some(found.clone()),
+                    RunError::UnstableEquilibrium { lowest_stiffness },
+                );
+            }
             let state = e.state.clone();
             (Some(found), state, a.rest())
         }
