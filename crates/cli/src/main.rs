@@ -168,6 +168,10 @@ enum Command {
         /// run's failure (exit 1).
         #[arg(long, requires = "start_at_equilibrium")]
         allow_unstable: bool,
+        /// Stop the run after this many seconds of wall-clock time (after the step it is in):
+        /// the outputs up to there are written, and the run fails (exit 1) saying so.
+        #[arg(long, value_name = "SECONDS")]
+        time_limit: Option<f64>,
     },
     /// Compare two time histories signal by signal: request files (.req, Adams or linkage) or
     /// CSV files written by `simulate --out`, matched by request id and component or by column
@@ -280,6 +284,7 @@ fn main() -> ExitCode {
             start_at_equilibrium,
             settle,
             allow_unstable,
+            time_limit,
         } => simulate_cmd::run_simulate(&simulate_cmd::SimulateArgs {
             model: &model,
             format,
@@ -293,6 +298,7 @@ fn main() -> ExitCode {
                 (true, true) => Start::SettledEquilibrium,
             },
             allow_unstable,
+            time_limit,
         }),
         Command::Static {
             model,

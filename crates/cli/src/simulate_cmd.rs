@@ -7,7 +7,7 @@ use crate::common::{
 use linkage_solve::physics::requests::RequestSet;
 use linkage_solve::pipeline::Assembled;
 use linkage_solve::stages::dynamics::{
-    run_streamed, AfterOutput, Output, RunProgress, Start, UnstableStart,
+    run_streamed, AfterOutput, Output, RunProgress, Start, Stream, UnstableStart,
 };
 use linkage_solve::tolerances::Tolerances;
 use std::io::Write;
@@ -15,6 +15,7 @@ use std::path::Path;
 use std::process::ExitCode;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
+use std::time::Instant;
 
 /// Options of `linkage simulate`.
 pub struct SimulateArgs<'a> {
@@ -27,6 +28,8 @@ pub struct SimulateArgs<'a> {
     pub start: Start,
     /// Start from an unstable equilibrium rather than stop (with `--start-at-equilibrium`).
     pub allow_unstable: bool,
+    /// Wall-clock seconds after which the run stops (after the step it is in).
+    pub time_limit: Option<f64>,
 }
 
 /// The most integration steps an HMAX may imply (about a day of computing for a small model).
@@ -123,7 +126,11 @@ pub fn run_simulate(args: &SimulateArgs) -> ExitCode {
         forces.as_ref(),
         &Tolerances::default(),
     );
-    // Ctrl-C stops the run at its next output (the CSV keeps every row written).
+    // Ctrl-C, or the time limit, stops the run after the step it is in (the CSV keeps every
+    // row written).
+    let deadline = args
+        .time_limit
+        .map(|secs| Instant::now() + std::time::Duration::from_secs_f64(secs));
     let interrupt = Arc::new(AtomicBool::new(false));
     let flag = Arc::clone(&interrupt);
     let _ = ctrlc::set_handler(move || flag.store(true, Ordering::Relaxed));
@@ -152,17 +159,12 @@ pub fn run_simulate(args: &SimulateArgs) -> ExitCode {
         }
     };
     let mut write_error: Option<String> = None;
-    let mut interrupted_at: Option<f64> = None;
     let mut on_output = |o: &Output| {
         if let Some(c) = csv.as_mut() {
             if let Err(e) = c.write(&assembled, o) {
                 write_error = Some(format!("cannot write {}: {e}", c.path));
                 return AfterOutput::Stop;
             }
-        }
-        if interrupt.load(Ordering::Relaxed) {
-            interrupted_at = Some(o.time);
-            return AfterOutput::Stop;
         }
         AfterOutput::Continue
     };
@@ -181,7 +183,12 @@ pub fn run_simulate(args: &SimulateArgs) -> ExitCode {
             RunProgress::Settling { elapsed, limit } => bar.settling(elapsed, limit),
             RunProgress::Integrating(t) => bar.show(t / end, format!("t = {t:.4}")),
         },
-        &mut on_output,
+        Stream {
+            on_output: &mut on_output,
+            stop: &|| {
+                interrupt.load(Ordering::Relaxed) || deadline.is_some_and(|d| Instant::now() >= d)
+            },
+        },
     );
     bar.finish();
     let mut report = linkage_report::simulate::summary(&assembled, &result, &loaded.warnings);
@@ -209,10 +216,17 @@ pub fn run_simulate(args: &SimulateArgs) -> ExitCode {
     if let Some(e) = write_error {
         report.errors.push(e);
     }
-    if let Some(t) = interrupted_at {
-        report.errors.push(format!(
-            "interrupted at time {t}: the outputs up to it are written"
-        ));
+    if let (Some(secs), Some(d)) = (args.time_limit, deadline) {
+        if Instant::now() >= d
+            && result
+                .simulation
+                .as_ref()
+                .is_some_and(|s| s.failure.is_some())
+        {
+            report.errors.push(format!(
+                "the time limit of {secs} s was reached; the outputs up to it are written"
+            ));
+        }
     }
     // With `--out -` the time histories are standard output: the summary goes to stderr.
     let csv_on_stdout = args.out.is_some_and(is_stdout);

@@ -132,3 +132,47 @@ fn time_histories_are_streamed_with_memory_that_does_not_grow_with_the_outputs()
     assert!(peak < 60_000, "peak resident memory {peak} kB");
     std::fs::remove_file(&csv).unwrap();
 }
+
+/// A slider on a spring (k = 100 N/m, m = 1 kg) driven by a sinusoidal force at 30 rad/s: the
+/// steps stay near the forcing period for as long as the run lasts.
+const FORCED: &str = "forced slider
+UNITS/, FORCE = NEWTON, MASS = KILOGRAM, LENGTH = METER, TIME = SECOND
+PART/1, GROUND
+MARKER/10, PART = 1, REULER = 90D, 90D, 0
+MARKER/12, PART = 1, QP = -1, 0, 0
+PART/2, MASS = 1, CM = 20, IP = 1, 1, 1
+MARKER/20, PART = 2
+MARKER/21, PART = 2, REULER = 90D, 90D, 0
+JOINT/1, TRANSLATIONAL, I = 21, J = 10
+SPRINGDAMPER/2, TRANSLATIONAL, I = 20, J = 12, K = 100, C = 0, LENGTH = 1
+SFORCE/3, TRANSLATIONAL, I = 20, J = 12, FUNCTION = 5*SIN(30*TIME)
+END
+";
+
+#[test]
+fn a_time_limit_stops_a_run_between_two_outputs() {
+    let (f, _) = pendulum("limit");
+    std::fs::write(&f, FORCED).unwrap();
+    let csv = f.with_extension("csv");
+    // A million seconds of forced vibration with two outputs: hours between outputs.
+    let started = std::time::Instant::now();
+    let (code, _, err) = run(&[
+        "simulate",
+        f.to_str().unwrap(),
+        "--end",
+        "1e6",
+        "--steps",
+        "2",
+        "--time-limit",
+        "0.5",
+        "--out",
+        csv.to_str().unwrap(),
+    ]);
+    let elapsed = started.elapsed().as_secs_f64();
+    assert_eq!(code, 1, "{err}");
+    assert!(err.contains("the time limit of 0.5 s was reached"), "{err}");
+    assert!(elapsed < 10.0, "stopped after {elapsed} s");
+    // The output at the start is written, whole.
+    let text = std::fs::read_to_string(&csv).unwrap();
+    assert_eq!(text.lines().count(), 2, "{text}");
+}

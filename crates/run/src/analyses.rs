@@ -10,7 +10,7 @@ use crate::session::{Left, Session};
 use linkage_adm::commands::SimulateKind;
 use linkage_model::Model;
 use linkage_solve::pipeline::Assembled;
-use linkage_solve::stages::dynamics::{simulate_with, AfterOutput, Output};
+use linkage_solve::stages::dynamics::{simulate_with, AfterOutput, IntegrationError, Output};
 use linkage_solve::stages::linearize::{self, LinearOptions};
 use linkage_solve::stages::plant;
 use linkage_solve::stages::statics;
@@ -286,31 +286,35 @@ pub fn dynamics(
     let mut last: Option<Output> = None;
     let mut write_error: Option<RunError> = None;
     let mut written = 0usize;
-    let sim = simulate_with(
-        &problem,
-        &start,
-        &v0,
-        times,
-        settings,
-        |_| {},
-        |o| {
-            if let Err(e) = record(session, &a, sinks, &o, place) {
-                write_error = Some(e);
-                return AfterOutput::Stop;
-            }
-            written += 1;
-            let stop = sinks.interrupted();
-            if stop {
-                write_error = Some(RunError::Interrupted { time: o.time });
-            }
-            last = Some(o);
-            if stop {
-                AfterOutput::Stop
-            } else {
-                AfterOutput::Continue
-            }
-        },
-    );
+    // Ctrl-C is honoured between steps too, not only at outputs.
+    let flag = sinks.interrupt.clone();
+    let each_step = |_| {
+        if flag
+            .as_ref()
+            .is_some_and(|f| f.load(std::sync::atomic::Ordering::Relaxed))
+        {
+            AfterOutput::Stop
+        } else {
+            AfterOutput::Continue
+        }
+    };
+    let sim = simulate_with(&problem, &start, &v0, times, settings, each_step, |o| {
+        if let Err(e) = record(session, &a, sinks, &o, place) {
+            write_error = Some(e);
+            return AfterOutput::Stop;
+        }
+        written += 1;
+        let stop = sinks.interrupted();
+        if stop {
+            write_error = Some(RunError::Interrupted { time: o.time });
+        }
+        last = Some(o);
+        if stop {
+            AfterOutput::Stop
+        } else {
+            AfterOutput::Continue
+        }
+    });
     let seconds = clock.elapsed().as_secs_f64();
     sinks.msg.write(&format!(
         " {} to t = {}: {} steps ({} rejected), {} corrector iterations, {} matrix \
@@ -340,6 +344,9 @@ pub fn dynamics(
         session.left = Some(left);
     }
     if let Some(f) = failure {
+        if matches!(f.cause, IntegrationError::Stopped) {
+            return Err(RunError::Interrupted { time: f.time });
+        }
         return Err(place.failed(format!("at time {}: {}", f.time, f.message)));
     }
     Ok(())

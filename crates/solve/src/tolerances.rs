@@ -95,7 +95,8 @@ pub const STATIC_REPORTED_IMBALANCE: f64 = 1e-9;
 pub const STABILITY_RANK: f64 = 1e-9;
 
 /// An equilibrium is stable when the smallest eigenvalue of the reduced stiffness is above
-/// −this × the largest in magnitude: a neutral direction (a free rotation about a vertical axis)
+/// −this × the largest stiffness in magnitude (of the reduced eigenvalues and of the full
+/// stiffness matrix's entries): a neutral direction (a free rotation about a vertical axis)
 /// computes to rounding of either sign.
 pub const STABILITY_EIGENVALUE: f64 = 1e-9;
 

@@ -284,3 +284,31 @@ fn damped_chain_modes_around_a_frequency_match_dense_modes() {
         .iter()
         .any(|s| (s.frequency - f5).abs() < 1e-8 * f5));
 }
+
+/// A door on a vertical hinge under gravity along the hinge: its free rotation carries no
+/// stiffness at all, and the reduced stiffness computes to rounding of either sign. That is a
+/// neutral equilibrium, not an unstable one.
+#[test]
+fn a_free_motion_without_stiffness_is_not_called_unstable() {
+    let text = std::fs::read_to_string(
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("../../mechanisms/door_hinge_spherical_inline.adm"),
+    )
+    .expect("mechanism");
+    let ds = linkage_adm::parse_dataset(std::sync::Arc::from("door.adm"), &text).expect("parses");
+    let model = linkage_model::build_model(&ds).expect("builds").model;
+    let drivers =
+        linkage_solve::constraints::drivers::ExpressionDrivers::new(&model).expect("drivers");
+    let a = linkage_solve::pipeline::Assembled::new(
+        &model,
+        &drivers,
+        &linkage_solve::physics::applied::NoForces,
+        &linkage_solve::tolerances::Tolerances::default(),
+    );
+    let run = linkage_solve::stages::statics::run(&a, &[0.0]);
+    let eq = run.steps[0].1.as_ref().expect("solves");
+    assert!(eq.converged);
+    let (stable, lowest) = eq.stability.expect("evaluated");
+    assert!(lowest.abs() < 1e-9, "a rounding-level stiffness: {lowest}");
+    assert!(stable, "neutral, not unstable: {lowest}");
+}

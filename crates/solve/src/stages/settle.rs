@@ -123,7 +123,10 @@ pub fn settle(a: &Assembled, mut progress: impl FnMut(f64)) -> Result<SettleOutc
         &v0,
         &times,
         &settings,
-        |tau| progress(tau - t0),
+        |tau| {
+            progress(tau - t0);
+            AfterOutput::Continue
+        },
         |out| {
             let ke = out.kinetic_energy(model);
             let acc = out

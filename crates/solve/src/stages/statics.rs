@@ -497,9 +497,16 @@ fn reduced_stability(
     let sym = faer::Mat::<f64>::from_fn(free, free, |i, j| 0.5 * (red[(i, j)] + red[(j, i)]));
     let eig = sym.self_adjoint_eigenvalues(faer::Side::Lower).ok()?;
     let min = eig.iter().copied().fold(f64::INFINITY, f64::min);
+    // Rounding is judged against the stiffness of the whole model, not only of the free
+    // motions: a model whose free motions carry no stiffness at all (a door on a vertical
+    // hinge) has reduced eigenvalues of rounding size only, of either sign.
     let max = eig.iter().map(|x| x.abs()).fold(0.0, f64::max);
+    let k_max = (0..dim)
+        .flat_map(|i| (0..dim).map(move |j| (i, j)))
+        .map(|(i, j)| kt[(i, j)].abs())
+        .fold(0.0, f64::max);
     Some((
-        min > -STABILITY_EIGENVALUE * max.max(f64::MIN_POSITIVE),
+        min > -STABILITY_EIGENVALUE * max.max(k_max).max(f64::MIN_POSITIVE),
         min,
     ))
 }

@@ -52,6 +52,9 @@ impl std::fmt::Display for SingularSolve {
 /// of the kinematic run of a zero-DOF model (position solve).
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 pub enum IntegrationError {
+    /// The caller stopped the run between two steps (Ctrl-C, a time limit).
+    #[error("stopped on request (interrupted, or the time limit was reached)")]
+    Stopped,
     /// The start state does not have one pose per part.
     #[error("the start state has {state} parts, the model {model}")]
     StartMismatch { state: usize, model: usize },

@@ -61,6 +61,6 @@ pub(crate) use redundant::redundant_violation;
 pub use results::{Failure, Simulation};
 pub use run::{
     run, run_from, run_streamed, DynamicRun, RunError, RunProgress, Start, StartingEquilibrium,
-    UnstableStart,
+    Stream, UnstableStart,
 };
 pub use simulate::{simulate, simulate_with, AfterOutput};

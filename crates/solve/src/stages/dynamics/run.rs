@@ -132,9 +132,19 @@ pub fn run_from(
     run_inner(a, times, settings, start, unstable, progress, None)
 }
 
-/// [`run_from`], handing each output to `on_output` as it is computed (a CSV written row by
-/// row) and keeping only the last one (for the final state): memory does not grow with the
-/// number of outputs. `on_output` may stop the run ([`AfterOutput::Stop`]: an interrupted run).
+/// Where a streamed run's outputs go, and when it must stop.
+pub struct Stream<'s> {
+    /// Each output as it is computed; [`AfterOutput::Stop`] ends the run there.
+    pub on_output: &'s mut dyn FnMut(&Output) -> AfterOutput,
+    /// Asked after every integration step: `true` ends the run there
+    /// ([`super::IntegrationError::Stopped`]).
+    pub stop: &'s dyn Fn() -> bool,
+}
+
+/// [`run_from`], handing each output to `stream.on_output` as it is computed (a CSV written
+/// row by row) and keeping only the last one (for the final state): memory does not grow with
+/// the number of outputs; `stream.stop` ends the run between steps (an interrupted run, a time
+/// limit).
 pub fn run_streamed(
     a: &Assembled,
     times: &[f64],
@@ -142,17 +152,9 @@ pub fn run_streamed(
     start: Start,
     unstable: UnstableStart,
     progress: impl FnMut(RunProgress),
-    on_output: &mut dyn FnMut(&Output) -> AfterOutput,
+    stream: Stream<'_>,
 ) -> DynamicRun {
-    run_inner(
-        a,
-        times,
-        settings,
-        start,
-        unstable,
-        progress,
-        Some(on_output),
-    )
+    run_inner(a, times, settings, start, unstable, progress, Some(stream))
 }
 
 fn run_inner(
@@ -162,7 +164,7 @@ fn run_inner(
     start: Start,
     unstable: UnstableStart,
     mut progress: impl FnMut(RunProgress),
-    on_output: Option<&mut dyn FnMut(&Output) -> AfterOutput>,
+    stream: Option<Stream<'_>>,
 ) -> DynamicRun {
     let model = a.model;
     let fail = |equilibrium, why: RunError| DynamicRun {
@@ -220,14 +222,23 @@ fn run_inner(
         }
     };
     let problem = a.problem(None, None);
-    let integrating = |t| progress(RunProgress::Integrating(t));
-    let sim = match on_output {
-        None => simulate(&problem, &state, &v0, times, settings, integrating),
-        Some(sink) => {
+    let sim = match stream {
+        None => simulate(&problem, &state, &v0, times, settings, |t| {
+            progress(RunProgress::Integrating(t))
+        }),
+        Some(Stream { on_output, stop }) => {
             let (mut last, mut count) = (None, 0usize);
-            let mut sim = simulate_with(&problem, &state, &v0, times, settings, integrating, |o| {
+            let each_step = |t| {
+                progress(RunProgress::Integrating(t));
+                if stop() {
+                    AfterOutput::Stop
+                } else {
+                    AfterOutput::Continue
+                }
+            };
+            let mut sim = simulate_with(&problem, &state, &v0, times, settings, each_step, |o| {
                 count += 1;
-                let next = sink(&o);
+                let next = on_output(&o);
                 last = Some(o);
                 next
             });

@@ -24,7 +24,12 @@ pub fn simulate(
     progress: impl FnMut(f64),
 ) -> Simulation {
     let mut outputs = Vec::new();
-    let mut sim = simulate_with(p, start, v0, times, settings, progress, |o| {
+    let mut progress = progress;
+    let each_step = |t| {
+        progress(t);
+        AfterOutput::Continue
+    };
+    let mut sim = simulate_with(p, start, v0, times, settings, each_step, |o| {
         outputs.push(o);
         AfterOutput::Continue
     });
@@ -43,7 +48,9 @@ pub enum AfterOutput {
 
 /// [`simulate`], handing each output to `on_output` instead of keeping it (the returned
 /// simulation's `outputs` is empty): one integrator, one symbolic analysis and no stored
-/// history for a run that only watches its outputs (dynamic settling).
+/// history for a run that only watches its outputs (dynamic settling). `progress` sees the
+/// time after every accepted step; [`AfterOutput::Stop`] from it ends the run there with
+/// [`IntegrationError::Stopped`] (Ctrl-C, a time limit), as from `on_output` at an output.
 ///
 /// Step-size control: a step whose error estimate exceeds ERROR is retried with
 /// `h·clamp(0.9 (ERROR/err)^{1/3}, 0.2, 0.9)`; an accepted one lets the next grow by
@@ -55,14 +62,16 @@ pub fn simulate_with(
     v0: &[(DVec3, DVec3)],
     times: &[f64],
     settings: &IntegratorSettings,
-    mut progress: impl FnMut(f64),
+    mut progress: impl FnMut(f64) -> AfterOutput,
     mut on_output: impl FnMut(Output) -> AfterOutput,
 ) -> Simulation {
     let n = p.n();
     let m = p.rows.len();
     let mut sim = Simulation::empty(m >= 6 * n && n > 0);
     if sim.kinematic {
-        let mut run = crate::stages::kinematics::run(p, start, v0, times, progress);
+        let mut run = crate::stages::kinematics::run(p, start, v0, times, |t| {
+            let _ = progress(t);
+        });
         for o in std::mem::take(&mut run.outputs) {
             if on_output(o) == AfterOutput::Stop {
                 break;
@@ -131,7 +140,10 @@ pub fn simulate_with(
                 sim.steps += 1;
                 integ.accept();
                 let now = integ.time();
-                progress(now);
+                if progress(now) == AfterOutput::Stop {
+                    sim.failure = Some(Failure::new(now, IntegrationError::Stopped));
+                    return sim;
+                }
                 if let Some(f) = redundant_violation(
                     p,
                     integ.state(),
