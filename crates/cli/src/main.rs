@@ -38,8 +38,9 @@ enum Command {
     /// Verify a model: parts, constraints, Gruebler count, DOF, redundant and misaligned
     /// constraints, unconstrained and massless parts.
     Verify {
-        /// The dataset (.adm).
-        model: PathBuf,
+        /// The dataset(s) (.adm), verified in turn.
+        #[arg(required = true, num_args = 1..)]
+        model: Vec<PathBuf>,
         /// Output format.
         #[arg(long, value_enum, default_value = "text")]
         format: Format,
@@ -196,14 +197,14 @@ enum Command {
 }
 
 /// The input and output files of a command, for the check that no output overwrites its input.
-fn input_and_output(command: &Command) -> Option<(&std::path::Path, &std::path::Path)> {
+fn input_and_output(command: &Command) -> Vec<(&std::path::Path, &std::path::Path)> {
     match command {
         Command::Verify {
             model,
             save: Some(out),
             ..
-        }
-        | Command::Ic {
+        } => model.iter().map(|m| (m.as_path(), out.as_path())).collect(),
+        Command::Ic {
             model,
             save: Some(out),
             ..
@@ -217,15 +218,15 @@ fn input_and_output(command: &Command) -> Option<(&std::path::Path, &std::path::
             model,
             out: Some(out),
             ..
-        } => Some((model, out)),
-        _ => None,
+        } => vec![(model.as_path(), out.as_path())],
+        _ => Vec::new(),
     }
 }
 
 fn main() -> ExitCode {
     common::restore_sigpipe();
     let cli = Cli::parse();
-    if let Some((input, output)) = input_and_output(&cli.command) {
+    for (input, output) in input_and_output(&cli.command) {
         if let Err(e) = common::check_output(input, output) {
             eprintln!("error: {e}");
             return ExitCode::from(2);
@@ -244,7 +245,7 @@ fn main() -> ExitCode {
             apply,
             save,
         } => verify_cmd::run(&verify_cmd::VerifyArgs {
-            model: &model,
+            models: &model,
             format,
             explain,
             apply,

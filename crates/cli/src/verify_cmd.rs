@@ -1,6 +1,6 @@
 //! `linkage verify` (with `--explain`, `--apply K --save OUT.adm`).
 
-use crate::common::{input_error, load, print_json, Format, Loaded};
+use crate::common::{load, print_json, Format, Loaded};
 use linkage_adm::Diagnostics;
 use linkage_report::explain::AppliedJson;
 use linkage_solve::stages::explain::repair::realize;
@@ -12,7 +12,8 @@ use std::process::ExitCode;
 
 /// Options of `linkage verify`.
 pub struct VerifyArgs<'a> {
-    pub model: &'a Path,
+    /// One or more datasets, verified in turn.
+    pub models: &'a [std::path::PathBuf],
     pub format: Format,
     /// Add the redundancy explanation (implied by `apply`).
     pub explain: bool,
@@ -22,10 +23,23 @@ pub struct VerifyArgs<'a> {
     pub save: Option<&'a Path>,
 }
 
-pub fn run(args: &VerifyArgs) -> ExitCode {
-    let loaded = match load(args.model) {
+/// What verifying one model gave: its report (`None` for an input error, already printed in
+/// text) and its exit code.
+struct Verified {
+    report: Result<linkage_report::verify::VerifyJson, Diagnostics>,
+    code: u8,
+}
+
+/// Verifies one model: the report and its verdict (1 when its `errors` list is not empty).
+fn verify_one(args: &VerifyArgs, model: &Path) -> Verified {
+    let loaded = match load(model) {
         Ok(l) => l,
-        Err(d) => return input_error(&d, args.format),
+        Err(d) => {
+            return Verified {
+                report: Err(d),
+                code: 2,
+            }
+        }
     };
     let tol = Tolerances::default();
     let v = linkage_solve::stages::verify::verify(&loaded.model, &loaded.drivers, &tol);
@@ -41,26 +55,75 @@ pub fn run(args: &VerifyArgs) -> ExitCode {
         }
         report.explain = Some(j);
     }
-    match args.format {
-        Format::Text => {
-            print!("{}", linkage_report::verify::body_text(&report));
-            if let Some(j) = &report.explain {
-                print!("{}", linkage_report::explain::to_text(j));
+    let code = u8::from(!report.errors.is_empty());
+    Verified {
+        report: Ok(report),
+        code,
+    }
+}
+
+/// Prints one report as text.
+fn print_text(report: &linkage_report::verify::VerifyJson) {
+    print!("{}", linkage_report::verify::body_text(report));
+    if let Some(j) = &report.explain {
+        print!("{}", linkage_report::explain::to_text(j));
+    }
+    print!("{}", linkage_report::verify::error_lines(&report.errors));
+}
+
+/// Verifies every model of `args.models`, one report after the other (text: in sequence,
+/// JSON: one document, an array when there are several models). The exit code is the worst:
+/// 2 when a model has input errors, 1 when one fails, 0 otherwise.
+pub fn run(args: &VerifyArgs) -> ExitCode {
+    if args.models.len() > 1 && args.apply.is_some() {
+        eprintln!("error: --apply changes one model: give a single dataset");
+        return ExitCode::from(2);
+    }
+    let mut worst = 0u8;
+    let mut documents = Vec::new();
+    for (k, model) in args.models.iter().enumerate() {
+        let one = verify_one(args, model);
+        worst = worst.max(one.code);
+        match (&one.report, args.format) {
+            (Err(d), Format::Text) => eprintln!("{d}"),
+            (Err(d), Format::Json) => {
+                eprintln!("{d}");
+                let errors: Vec<String> = d.0.iter().map(|e| e.to_string()).collect();
+                documents.push(serde_json::json!({
+                    "file": model.display().to_string(),
+                    "errors": errors,
+                    "warnings": [],
+                }));
             }
-            print!("{}", linkage_report::verify::error_lines(&report.errors));
-        }
-        Format::Json => {
-            if !print_json(&report) {
-                return ExitCode::from(1);
+            (Ok(r), Format::Text) => {
+                if k > 0 {
+                    println!();
+                }
+                print_text(r);
+                crate::common::errors_to_stderr(&r.errors, crate::common::stdout_is_terminal());
+            }
+            (Ok(r), Format::Json) => {
+                match serde_json::to_value(r) {
+                    Ok(v) => documents.push(v),
+                    Err(e) => {
+                        eprintln!("error: cannot write JSON: {e}");
+                        worst = worst.max(1);
+                    }
+                }
+                crate::common::errors_to_stderr(&r.errors, false);
             }
         }
     }
-    crate::common::errors_to_stderr(&report.errors, crate::common::stdout_is_terminal());
-    if !report.errors.is_empty() {
-        ExitCode::from(1)
-    } else {
-        ExitCode::SUCCESS
+    if args.format == Format::Json {
+        let ok = match documents.len() {
+            1 => print_json(&documents[0]),
+            _ => print_json(&documents),
+        };
+        if !ok {
+            worst = worst.max(1);
+        }
     }
+    ExitCode::from(worst)
 }
 
 /// Why `--apply K --save OUT.adm` wrote nothing (or could not write).
