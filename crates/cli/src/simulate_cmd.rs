@@ -110,12 +110,24 @@ pub fn run_simulate(args: &SimulateArgs) -> ExitCode {
     if let Some(hmax) = integrator.settings.hmax {
         let steps = args.end / hmax;
         if steps > MAX_STEPS {
-            eprintln!(
-                "error: INTEGRATOR HMAX = {hmax:e} over --end {} needs at least {steps:.3e} steps \
-                 (at most {MAX_STEPS:.0e} are allowed)",
-                args.end
+            // Placed at the HMAX argument of the INTEGRATOR statement that set it.
+            let at = loaded
+                .dataset
+                .statements
+                .iter()
+                .rev()
+                .filter(|st| st.keyword == "INTEGRATOR")
+                .find_map(|st| st.args.iter().find(|a| a.key == "HMAX").map(|a| a.span));
+            let d = linkage_adm::Diagnostic::error(
+                loaded.dataset.file.clone(),
+                at,
+                format!(
+                    "INTEGRATOR HMAX = {hmax:e} over --end {} needs at least {steps:.3e} steps \
+                     (at most {MAX_STEPS:.0e} are allowed)",
+                    args.end
+                ),
             );
-            return ExitCode::from(2);
+            return input_error(&linkage_adm::Diagnostics(vec![d]), args.format);
         }
     }
     let bar = Progress::on_terminal();

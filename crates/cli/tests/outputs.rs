@@ -176,3 +176,41 @@ fn a_time_limit_stops_a_run_between_two_outputs() {
     let text = std::fs::read_to_string(&csv).unwrap();
     assert_eq!(text.lines().count(), 2, "{text}");
 }
+
+#[test]
+fn a_missing_ground_and_an_impossible_hmax_name_their_place() {
+    let (f, _) = pendulum("places");
+    let dir = f.parent().unwrap();
+    let no_ground = dir.join("no_ground.adm");
+    std::fs::write(
+        &no_ground,
+        "m\nPART/2, MASS = 1, CM = 3\nMARKER/3, PART = 2\nEND\n",
+    )
+    .unwrap();
+    let (code, _, err) = run(&["verify", no_ground.to_str().unwrap()]);
+    assert_eq!(code, 2, "{err}");
+    assert!(
+        err.contains("no_ground.adm:2:1: error: the dataset has no GROUND part"),
+        "{err}"
+    );
+    let hmax = dir.join("hmax.adm");
+    std::fs::write(
+        &hmax,
+        "m\nPART/1, GROUND\nPART/2, MASS = 1, CM = 3, IP = 1, 1, 1\nMARKER/3, PART = 2\n\
+         INTEGRATOR/HMAX = 1e-12\nEND\n",
+    )
+    .unwrap();
+    let (code, _, err) = run(&[
+        "simulate",
+        hmax.to_str().unwrap(),
+        "--end",
+        "100",
+        "--steps",
+        "2",
+    ]);
+    assert_eq!(code, 2, "{err}");
+    assert!(
+        err.contains("hmax.adm:5:12: error: INTEGRATOR HMAX = 1e-12"),
+        "{err}"
+    );
+}

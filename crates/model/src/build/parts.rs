@@ -5,7 +5,7 @@ use super::context::{v3, Ctx};
 use crate::bodies::Body;
 use crate::frames::{euler313_to_matrix, frame_from_points};
 use glam::{DMat3, DVec3};
-use linkage_adm::{Dataset, Diagnostic};
+use linkage_adm::{Dataset, Diagnostic, Span};
 use std::collections::HashMap;
 
 /// The PART statements sorted into ground and moving parts, with the moving parts' BCS.
@@ -58,9 +58,11 @@ pub(crate) fn parts<'d>(ds: &'d Dataset, cx: &mut Ctx) -> PartStatements<'d> {
         }
     }
     if ground.is_none() {
+        // Placed at the first PART (where a GROUND part is expected), or at line 1.
+        let at = ds.parts.first().map_or(Span::new(1, 1), |p| p.header.span);
         cx.errors.push(
-            Diagnostic::error(ds.file.clone(), None, "the dataset has no GROUND part")
-                .with_hint("add `PART/1, GROUND`"),
+            Diagnostic::error(ds.file.clone(), Some(at), "the dataset has no GROUND part")
+                .with_hint("add `PART/1, GROUND` before the other parts"),
         );
     }
     let bcs = moving.iter().map(|p| bcs_in_ground(p, cx)).collect();
@@ -138,6 +140,6 @@ mod tests {
         );
         assert_eq!((e[2].0, e[2].1), (5, 23));
         let e = errors_in_order("t\nPART/2, MASS = 1\nEND\n");
-        assert_eq!(e, [(0, 0, "the dataset has no GROUND part".to_string())]);
+        assert_eq!(e, [(2, 1, "the dataset has no GROUND part".to_string())]);
     }
 }
