@@ -93,6 +93,10 @@ enum Command {
         /// run's failure (exit 1).
         #[arg(long)]
         allow_unstable: bool,
+        /// Stop damped settling after this many seconds of wall-clock time (after the step
+        /// it is in); the run then fails (exit 1) saying so.
+        #[arg(long, value_name = "SECONDS")]
+        time_limit: Option<f64>,
     },
     /// Linearize about the assembled configuration (or static equilibrium with --static-first):
     /// eigenvalues, natural frequencies, damping ratios and mode shapes.
@@ -309,6 +313,7 @@ fn main() -> ExitCode {
             save,
             settle,
             allow_unstable,
+            time_limit,
         } => static_cmd::run_static(&static_cmd::StaticArgs {
             model: &model,
             format,
@@ -316,6 +321,7 @@ fn main() -> ExitCode {
             save: save.as_deref(),
             settle,
             allow_unstable,
+            time_limit,
         }),
         Command::Compare {
             a,

@@ -29,6 +29,8 @@ pub struct StaticArgs<'a> {
     pub settle: bool,
     /// Accept an unstable equilibrium (exit 0); otherwise it is the run's failure.
     pub allow_unstable: bool,
+    /// Wall-clock seconds after which damped settling stops (after the step it is in).
+    pub time_limit: Option<f64>,
 }
 
 /// Adds the unstable-equilibrium verdict to `report` unless `allow` (see
@@ -73,9 +75,15 @@ pub fn run_static(args: &StaticArgs) -> ExitCode {
         let assembled = assemble();
         let bar = crate::common::Progress::on_terminal();
         let limit = loaded.model.equilibrium.settling_time;
-        let settled = linkage_solve::stages::settle::settle(&assembled, |elapsed| {
-            bar.settling(elapsed, limit)
-        });
+        let deadline = args
+            .time_limit
+            .map(|secs| std::time::Instant::now() + std::time::Duration::from_secs_f64(secs));
+        let out_of_time = || deadline.is_some_and(|d| std::time::Instant::now() >= d);
+        let settled = linkage_solve::stages::settle::settle_until(
+            &assembled,
+            |elapsed| bar.settling(elapsed, limit),
+            &out_of_time,
+        );
         bar.finish();
         let eq_state = settled
             .as_ref()
@@ -85,6 +93,13 @@ pub fn run_static(args: &StaticArgs) -> ExitCode {
         let mut report =
             linkage_report::statics::settling_json(&assembled, settled, &loaded.warnings);
         judge_stability(&mut report, args.allow_unstable);
+        if let (Some(secs), true) = (args.time_limit, out_of_time()) {
+            if !report.errors.is_empty() {
+                report.errors.push(format!(
+                    "the time limit of {secs} s was reached while settling"
+                ));
+            }
+        }
         if let (Some(out), Some(state)) = (args.save, &eq_state) {
             if report.converged && report.errors.is_empty() {
                 if let Err(e) = save_configuration(&loaded.dataset, &loaded.model, state, out) {

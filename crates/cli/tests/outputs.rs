@@ -214,3 +214,39 @@ fn a_missing_ground_and_an_impossible_hmax_name_their_place() {
         "{err}"
     );
 }
+
+#[test]
+fn a_time_limit_stops_damped_settling() {
+    let (f, _) = pendulum("settle-limit");
+    // An undamped spring-mass, released 0.3 m from its rest length and given 1e8 time units
+    // to settle: it never does.
+    let text = FORCED
+        .replace(
+            "PART/2, MASS = 1, CM = 20, IP = 1, 1, 1\n",
+            "PART/2, MASS = 1, CM = 20, IP = 1, 1, 1, QG = 0.3, 0, 0\n",
+        )
+        .replace(
+            "SFORCE/3, TRANSLATIONAL, I = 20, J = 12, FUNCTION = 5*SIN(30*TIME)\n",
+            "",
+        )
+        .replace(
+            "END\n",
+            "EQUILIBRIUM/, DYNAMIC, SETTLING_TIME = 1e8, GLOBAL_DAMPING = 0\nEND\n",
+        );
+    std::fs::write(&f, text).unwrap();
+    let started = std::time::Instant::now();
+    let (code, _, err) = run(&[
+        "static",
+        f.to_str().unwrap(),
+        "--settle",
+        "--time-limit",
+        "0.5",
+    ]);
+    let elapsed = started.elapsed().as_secs_f64();
+    assert_eq!(code, 1, "{err}");
+    assert!(
+        err.contains("the time limit of 0.5 s was reached while settling"),
+        "{err}"
+    );
+    assert!(elapsed < 10.0, "stopped after {elapsed} s");
+}

@@ -97,7 +97,17 @@ impl SettleOutcome {
 /// with Newton statics at the start time, with the dataset's EQUILIBRIUM settings
 /// (`model.equilibrium`); the kept rows and anchored motions are the assembly's. `progress`
 /// hears the pseudo-time integrated so far (from 0 to SETTLING_TIME) after every step.
-pub fn settle(a: &Assembled, mut progress: impl FnMut(f64)) -> Result<SettleOutcome, NotAssembled> {
+pub fn settle(a: &Assembled, progress: impl FnMut(f64)) -> Result<SettleOutcome, NotAssembled> {
+    settle_until(a, progress, &|| false)
+}
+
+/// [`settle`], stopped between two steps when `stop` says so (Ctrl-C, a wall-clock limit): the
+/// outcome is then a failure at the settling time reached, saying it was stopped.
+pub fn settle_until(
+    a: &Assembled,
+    mut progress: impl FnMut(f64),
+    stop_now: &dyn Fn() -> bool,
+) -> Result<SettleOutcome, NotAssembled> {
     if let Some(why) = a.failure() {
         return Err(why.clone());
     }
@@ -125,7 +135,11 @@ pub fn settle(a: &Assembled, mut progress: impl FnMut(f64)) -> Result<SettleOutc
         &settings,
         |tau| {
             progress(tau - t0);
-            AfterOutput::Continue
+            if stop_now() {
+                AfterOutput::Stop
+            } else {
+                AfterOutput::Continue
+            }
         },
         |out| {
             let ke = out.kinetic_energy(model);
