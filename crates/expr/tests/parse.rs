@@ -88,15 +88,29 @@ fn numbers_constants_and_case() {
 #[test]
 fn multi_line_real_expressions() {
     let env = MockEnv::new();
-    let text = " - 1.0*RTOD*(az(207,208)-0.0*DTOR)\n - 5.0E-002*RTOD*wz(207,208,208)\n + 0.0";
-    let e = parse(text).unwrap();
-    assert!(evaluate(&e, &env).is_ok());
-    let e = parse("IF(MODE-5: 0,-DIF(101)-1E7*(VARVAL(3)-1),0 )").unwrap();
-    assert!(evaluate(&e, &env).is_ok());
-    let e = parse("-1E5*DZ(9000005,9000001,9000001)\n-1E4*VZ(9000005,9000001,9000001)").unwrap();
-    assert!(evaluate(&e, &env).is_ok());
-    assert!(parse("JOINT(1,0,2,0)").is_ok());
-    assert!(parse("STEP(TIME, 0, 0, 1, 30D)*AKISPL(DX(1,2), 0, 1, 1)").is_ok());
+    // Continuation lines join into the expression written on one line: the same value.
+    let texts = [
+        " - 1.0*RTOD*(az(207,208)-0.0*DTOR)\n - 5.0E-002*RTOD*wz(207,208,208)\n + 0.0",
+        "IF(MODE-5: 0,-DIF(101)-1E7*(VARVAL(3)-1),0 )",
+        "-1E5*DZ(9000005,9000001,9000001)\n-1E4*VZ(9000005,9000001,9000001)",
+        "STEP(TIME, 0, 0, 1, 30D)*AKISPL(DX(1,2), 0, 1, 1)",
+        "JOINT(1,0,2,0)",
+    ];
+    for text in texts {
+        let multi = evaluate(&parse(text).unwrap(), &env).unwrap();
+        let single = evaluate(&parse(&text.replace('\n', " ")).unwrap(), &env).unwrap();
+        assert!(multi.is_finite(), "{text}: {multi}");
+        assert_eq!(multi, single, "{text}");
+    }
+    // The first one term by term: −RTOD·AZ − 0.05·RTOD·WZ.
+    let first = evaluate(&parse(texts[0]).unwrap(), &env).unwrap();
+    let terms = eval_str("-RTOD*AZ(207,208) - 5.0E-002*RTOD*WZ(207,208,208)", &env);
+    assert!(
+        (first - terms).abs() <= 1e-12 * terms.abs().max(1.0),
+        "{first} vs {terms}"
+    );
+    // MODE is 4 in the mock: the IF takes its first branch, 0.
+    assert_eq!(eval_str(texts[1], &env), 0.0);
 }
 
 #[test]
