@@ -19,7 +19,7 @@
 use crate::diagnostic::Diagnostics;
 use crate::parse::Parsed;
 use crate::statement::{Argument, Statement};
-use crate::typed::Dataset;
+use crate::typed::{Dataset, INTEGRATOR_FORMULATIONS, INTEGRATOR_METHODS};
 use std::collections::BTreeSet;
 
 /// The shortest prefix by which a redefinition's keyword may name a statement's argument
@@ -28,20 +28,8 @@ pub const MIN_PREFIX: usize = 3;
 
 /// Flags of which a statement holds at most one per group, per statement keyword.
 pub const EXCLUSIVE_FLAGS: &[(&str, &[&str])] = &[
-    (
-        "INTEGRATOR",
-        &[
-            "GSTIFF",
-            "WSTIFF",
-            "HHT",
-            "NEWMARK",
-            "CONSTANT_BDF",
-            "HASTIFF",
-            "RKF45",
-            "ABAM",
-        ],
-    ),
-    ("INTEGRATOR", &["I3", "SI2", "SI1"]),
+    ("INTEGRATOR", &INTEGRATOR_METHODS),
+    ("INTEGRATOR", &INTEGRATOR_FORMULATIONS),
     ("EQUILIBRIUM", &["STATIC", "DYNAMIC"]),
     ("MOTION", &["DISPLACEMENT", "VELOCITY", "ACCELERATION"]),
     (

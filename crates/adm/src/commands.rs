@@ -104,6 +104,7 @@ pub fn parse_commands(file: Arc<str>, text: &str) -> Result<CommandFile, Diagnos
 }
 
 #[cfg(test)]
+#[path = "commands/tests/typing.rs"]
 mod typing_tests;
 
 #[cfg(test)]

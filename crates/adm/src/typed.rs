@@ -8,6 +8,21 @@ use crate::diagnostic::{Diagnostic, Span};
 use crate::statement::{ExprText, Statement};
 use std::sync::Arc;
 
+/// The integrator names of INTEGRATOR (statement and command), of which one is in force.
+pub const INTEGRATOR_METHODS: [&str; 8] = [
+    "GSTIFF",
+    "WSTIFF",
+    "HHT",
+    "NEWMARK",
+    "HASTIFF",
+    "CONSTANT_BDF",
+    "ABAM",
+    "RKF45",
+];
+
+/// The index formulations of INTEGRATOR, of which one is in force.
+pub const INTEGRATOR_FORMULATIONS: [&str; 3] = ["I3", "SI2", "SI1"];
+
 /// A value and the position it was written at.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Located<T> {

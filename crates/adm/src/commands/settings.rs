@@ -21,7 +21,7 @@ pub(super) fn integrator(a: &Args, sink: &mut Sink) -> IntegratorEdit {
             _ => IntegratorMethod::Rkf45,
         });
     let formulation = a
-        .one_of(&["I3", "SI2", "SI1"], "formulation", sink)
+        .one_of(&crate::typed::INTEGRATOR_FORMULATIONS, "formulation", sink)
         .map(|f| match f {
             "I3" => Formulation::I3,
             "SI2" => Formulation::Si2,

@@ -51,16 +51,7 @@ pub(super) const EIGENSOL_ONLY: &[&str] = &[
 /// LINEAR arguments that only STATEMAT and MKB take.
 pub(super) const EXPORT_ONLY: &[&str] = &["PINPUT", "POUTPUT", "FORMAT", "FILE"];
 
-pub(super) const INTEGRATOR_METHODS: &[&str] = &[
-    "GSTIFF",
-    "WSTIFF",
-    "HHT",
-    "NEWMARK",
-    "HASTIFF",
-    "CONSTANT_BDF",
-    "ABAM",
-    "RKF45",
-];
+pub(super) const INTEGRATOR_METHODS: &[&str] = &crate::typed::INTEGRATOR_METHODS;
 
 pub(super) const INTEGRATOR: &[Spec] = &[
     spec("GSTIFF", Flag),

@@ -4,7 +4,8 @@
 //! values that cannot be used are left out with a warning naming what is used instead.
 
 use super::{find, number, shown};
-use linkage_adm::Dataset;
+// INTEGRATOR_TYPES: the integrator names Adams accepts (each maps to HHT).
+use linkage_adm::{Dataset, INTEGRATOR_METHODS as INTEGRATOR_TYPES};
 use thiserror::Error;
 
 /// Integrator settings (INTEGRATOR statement; Adams names are mapped to HHT).
@@ -144,18 +145,6 @@ pub fn resolve_integrator(ds: &Dataset) -> ResolvedIntegrator {
         warnings: stmt.invalid,
     }
 }
-
-/// Integrator names Adams accepts (each maps to HHT).
-const INTEGRATOR_TYPES: [&str; 8] = [
-    "GSTIFF",
-    "WSTIFF",
-    "HHT",
-    "NEWMARK",
-    "HASTIFF",
-    "CONSTANT_BDF",
-    "ABAM",
-    "RKF45",
-];
 
 /// The arguments linkage reads: the integrator names and these values.
 const INTEGRATOR_VALUES: [&str; 6] = ["ERROR", "HMAX", "HINIT", "HMIN", "ALPHA", "MAXIT"];
