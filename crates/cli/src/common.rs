@@ -83,20 +83,7 @@ pub fn print_json<T: serde::Serialize>(v: &T) -> bool {
 
 /// Input errors for elements linkage cannot evaluate in a force analysis.
 pub fn unmodelled_elements(loaded: &Loaded) -> Result<(), Diagnostics> {
-    let errors: Vec<Diagnostic> = loaded
-        .dataset
-        .statements
-        .iter()
-        .filter(|st| linkage_solve::physics::forces::UNMODELLED_STATEMENTS.contains(&st.keyword.as_str()))
-        .map(|st| {
-            let name = st.view_name.clone().unwrap_or_else(|| format!("{}_{}", st.keyword, st.id.unwrap_or(0)));
-            Diagnostic::error(
-                loaded.dataset.file.clone(),
-                Some(st.span),
-                format!("{name}: linkage does not model {} elements; a force analysis of this model would be wrong", st.keyword),
-            )
-        })
-        .collect();
+    let errors = linkage_solve::physics::forces::unmodelled_statements(&loaded.dataset);
     if errors.is_empty() {
         Ok(())
     } else {

@@ -4,6 +4,7 @@
 use crate::common::{
     applied_forces, input_error, is_stdout, load, output_times, print_json, Format, Progress,
 };
+use linkage_report::simulate::CsvHistory;
 use linkage_solve::physics::requests::RequestSet;
 use linkage_solve::pipeline::Assembled;
 use linkage_solve::stages::dynamics::{
@@ -40,11 +41,9 @@ const MAX_STEPS: f64 = 1e9;
 /// part and reaction columns; an output where a request cannot be evaluated gets NaN in every
 /// request column, and the first such error is reported (the run then exits with 1).
 struct CsvStream<'r> {
-    out: Box<dyn Write>,
+    csv: CsvHistory<Box<dyn Write>>,
     path: String,
     requests: Option<&'r RequestSet>,
-    /// Reaction elements (fixed at the first output).
-    elements: Option<Vec<usize>>,
     request_failures: usize,
     errors: Vec<String>,
 }
@@ -52,12 +51,6 @@ struct CsvStream<'r> {
 impl CsvStream<'_> {
     fn write(&mut self, assembled: &Assembled, o: &Output) -> std::io::Result<()> {
         let names = self.requests.map(RequestSet::columns).unwrap_or_default();
-        if self.elements.is_none() {
-            let elements: Vec<usize> = o.reactions.iter().map(|r| r.element).collect();
-            let header = linkage_report::simulate::csv_header(assembled.model, &elements, &names);
-            writeln!(self.out, "{header}")?;
-            self.elements = Some(elements);
-        }
         let values = match self.requests {
             None => Vec::new(),
             Some(r) => match r.evaluate(assembled.model, &assembled.system, o) {
@@ -71,10 +64,7 @@ impl CsvStream<'_> {
                 }
             },
         };
-        let elements = self.elements.as_deref().unwrap_or(&[]);
-        let row = linkage_report::simulate::csv_row(o, elements, &values);
-        writeln!(self.out, "{row}")?;
-        self.out.flush()
+        self.csv.write(assembled.model, o, &names, &values)
     }
 }
 
@@ -161,10 +151,9 @@ pub fn run_simulate(args: &SimulateArgs) -> ExitCode {
                 }
             };
             Some(CsvStream {
-                out: sink,
+                csv: CsvHistory::new(sink),
                 path: out.display().to_string(),
                 requests: requests.as_ref().filter(|r| !r.is_empty()),
-                elements: None,
                 request_failures: 0,
                 errors: Vec::new(),
             })
@@ -219,8 +208,7 @@ pub fn run_simulate(args: &SimulateArgs) -> ExitCode {
             .is_some_and(|s| s.output_count == 0)
         {
             // No output at all: the header alone, so the file says which columns it lacks.
-            let header = linkage_report::simulate::csv_header(&loaded.model, &[], &[]);
-            if let Err(e) = writeln!(c.out, "{header}").and_then(|_| c.out.flush()) {
+            if let Err(e) = c.csv.finish_empty(&loaded.model) {
                 report.errors.push(format!("cannot write {}: {e}", c.path));
             }
         }

@@ -70,6 +70,74 @@ pub fn csv_row(o: &Output, reaction_elements: &[usize], extra: &[f64]) -> String
     s
 }
 
+/// The time-history CSV written as the outputs come (`simulate --out`, a command file's
+/// `.csv`): the header at the first output, whose reactions fix the element columns; each row
+/// then written and flushed. Element columns are matched by name, so rows of a model rebuilt
+/// since (a command file's DEACTIVATE) keep their columns, an element gone writing zeros.
+pub struct CsvHistory<W: std::io::Write> {
+    out: W,
+    /// Names of the elements with reaction columns (fixed at the first output).
+    elements: Option<Vec<String>>,
+}
+
+impl<W: std::io::Write> CsvHistory<W> {
+    pub fn new(out: W) -> Self {
+        CsvHistory {
+            out,
+            elements: None,
+        }
+    }
+
+    /// Writes the output `o` of a run of `model`, with the request columns `names` and their
+    /// `values` (the header first, at the first output).
+    pub fn write(
+        &mut self,
+        model: &Model,
+        o: &Output,
+        names: &[String],
+        values: &[f64],
+    ) -> std::io::Result<()> {
+        if self.elements.is_none() {
+            let elements: Vec<usize> = o.reactions.iter().map(|r| r.element).collect();
+            writeln!(self.out, "{}", csv_header(model, &elements, names))?;
+            self.elements = Some(
+                elements
+                    .iter()
+                    .map(|&e| model.constraints[e].origin.name.clone())
+                    .collect(),
+            );
+        }
+        let indices: Vec<usize> = self
+            .elements
+            .iter()
+            .flatten()
+            .map(|name| {
+                model
+                    .constraints
+                    .iter()
+                    .position(|c| &c.origin.name == name)
+                    .unwrap_or(usize::MAX)
+            })
+            .collect();
+        writeln!(self.out, "{}", csv_row(o, &indices, values))?;
+        self.out.flush()
+    }
+
+    /// Writes the header alone when no output came (the file then names its columns).
+    pub fn finish_empty(&mut self, model: &Model) -> std::io::Result<()> {
+        if self.elements.is_none() {
+            writeln!(self.out, "{}", csv_header(model, &[], &[]))?;
+            self.elements = Some(Vec::new());
+        }
+        self.out.flush()
+    }
+
+    /// Flushes what is written.
+    pub fn flush(&mut self) -> std::io::Result<()> {
+        self.out.flush()
+    }
+}
+
 /// The whole CSV document.
 pub fn to_csv(model: &Model, run: &DynamicRun, extra: Option<&ExtraColumns>) -> String {
     let Some(sim) = &run.simulation else {

@@ -15,11 +15,12 @@ use linkage_adm::reqfile::VALUES_PER_REQUEST;
 use linkage_adm::reqwriter::{Precision, RequestDescription, RequestFileHeader, RequestFileWriter};
 use linkage_adm::Dataset;
 use linkage_model::Model;
+use linkage_report::simulate::CsvHistory;
 use linkage_solve::constraints::system::System;
 use linkage_solve::physics::requests::RequestSet;
 use linkage_solve::stages::dynamics::Output;
 use std::fs::File;
-use std::io::{BufWriter, Write};
+use std::io::BufWriter;
 use std::path::{Path, PathBuf};
 
 /// Two-letter codes of the units word of a request file (`M_KGS_N_RACA`: length, mass, time,
@@ -102,18 +103,11 @@ pub enum RecordError {
 /// The streams of a run's time histories.
 pub struct Records {
     csv_path: PathBuf,
-    csv: BufWriter<File>,
+    csv: CsvHistory<BufWriter<File>>,
     req_path: PathBuf,
     req: RequestFileWriter<BufWriter<File>>,
-    /// Column layout, fixed at the first output.
-    layout: Option<Layout>,
     /// Outputs written.
     pub written: usize,
-}
-
-struct Layout {
-    /// Constraint elements with reaction columns, by name.
-    elements: Vec<String>,
 }
 
 fn write_error(path: &Path) -> impl Fn(std::io::Error) -> RunError + '_ {
@@ -145,10 +139,9 @@ impl Records {
         })?;
         Ok(Records {
             csv_path,
-            csv: BufWriter::new(csv),
+            csv: CsvHistory::new(BufWriter::new(csv)),
             req_path,
             req,
-            layout: None,
             written: 0,
         })
     }
@@ -163,48 +156,12 @@ impl Records {
         o: &Output,
     ) -> Result<(), RecordError> {
         let values = requests.evaluate(model, sys, o)?;
-        let csv_error = |path: &Path, e: std::io::Error| RecordError::Write {
-            path: path.display().to_string(),
-            cause: e.to_string(),
-        };
-        if self.layout.is_none() {
-            let elements: Vec<usize> = o.reactions.iter().map(|r| r.element).collect();
-            let layout = Layout {
-                elements: elements
-                    .iter()
-                    .map(|&e| model.constraints[e].origin.name.clone())
-                    .collect(),
-            };
-            // The columns of `linkage simulate --out`, units and all.
-            let mut header =
-                linkage_report::simulate::csv_header(model, &elements, &requests.columns());
-            header.push('\n');
-            self.csv
-                .write_all(header.as_bytes())
-                .map_err(|e| csv_error(&self.csv_path, e))?;
-            self.layout = Some(layout);
-        }
-        let Some(layout) = &self.layout else {
-            return Ok(());
-        };
-        // Reaction columns by element name (an element deactivated since writes zeros).
-        let indices: Vec<usize> = layout
-            .elements
-            .iter()
-            .map(|name| {
-                model
-                    .constraints
-                    .iter()
-                    .position(|c| &c.origin.name == name)
-                    .unwrap_or(usize::MAX)
-            })
-            .collect();
-        let mut row = linkage_report::simulate::csv_row(o, &indices, &values);
-        row.push('\n');
         self.csv
-            .write_all(row.as_bytes())
-            .and_then(|_| self.csv.flush())
-            .map_err(|e| csv_error(&self.csv_path, e))?;
+            .write(model, o, &requests.columns(), &values)
+            .map_err(|e| RecordError::Write {
+                path: self.csv_path.display().to_string(),
+                cause: e.to_string(),
+            })?;
         let six = requests.stored_values(&values);
         self.req
             .write_output(o.time, &six)

@@ -18,7 +18,7 @@ use linkage_adm::amend::{self, Redefined};
 use linkage_adm::{Dataset, Diagnostic, Diagnostics, Statement};
 use linkage_model::{ConstraintKind, Model};
 use linkage_solve::constraints::drivers::ExpressionDrivers;
-use linkage_solve::physics::forces::{ForceSet, UNMODELLED_STATEMENTS};
+use linkage_solve::physics::forces::{unmodelled_statements, ForceSet, UNMODELLED_STATEMENTS};
 use linkage_solve::physics::requests::RequestSet;
 use linkage_solve::state::State;
 use std::collections::BTreeSet;
@@ -54,29 +54,23 @@ pub struct Session {
     pub left: Option<Left>,
 }
 
-/// Statements whose elements a force analysis cannot evaluate, as input errors.
+/// Statements whose elements a force analysis cannot evaluate, as input errors, each with the
+/// command that runs the rest of the model without it.
 fn unmodelled(ds: &Dataset) -> Vec<Diagnostic> {
-    ds.statements
-        .iter()
-        .filter(|st| UNMODELLED_STATEMENTS.contains(&st.keyword.as_str()))
-        .map(|st| {
-            let name = st
-                .view_name
-                .clone()
-                .unwrap_or_else(|| format!("{}_{}", st.keyword, st.id.unwrap_or(0)));
-            Diagnostic::error(
-                ds.file.clone(),
-                Some(st.span),
-                format!(
-                    "{name}: linkage does not model {} elements (DEACTIVATE/{}, ID = {} runs \
-                     the rest of the model)",
-                    st.keyword,
-                    st.keyword,
-                    st.id.unwrap_or(0)
-                ),
-            )
-        })
-        .collect()
+    let mut errors = unmodelled_statements(ds);
+    for (d, st) in errors.iter_mut().zip(
+        ds.statements
+            .iter()
+            .filter(|st| UNMODELLED_STATEMENTS.contains(&st.keyword.as_str())),
+    ) {
+        let hint = format!(
+            "DEACTIVATE/{}, ID = {} runs the rest of the model",
+            st.keyword,
+            st.id.unwrap_or(0)
+        );
+        *d = d.clone().with_hint(hint);
+    }
+    errors
 }
 
 /// Builds the model of a typed dataset with its drivers, forces and requests.
