@@ -78,6 +78,9 @@ pub struct CsvHistory<W: std::io::Write> {
     out: W,
     /// Names of the elements with reaction columns (fixed at the first output).
     elements: Option<Vec<String>>,
+    /// Their indices in the model last written, searched by name only when the model's
+    /// constraints no longer have those names there (a rebuilt model), not at every output.
+    indices: Vec<usize>,
 }
 
 impl<W: std::io::Write> CsvHistory<W> {
@@ -85,6 +88,7 @@ impl<W: std::io::Write> CsvHistory<W> {
         CsvHistory {
             out,
             elements: None,
+            indices: Vec::new(),
         }
     }
 
@@ -107,19 +111,28 @@ impl<W: std::io::Write> CsvHistory<W> {
                     .collect(),
             );
         }
-        let indices: Vec<usize> = self
-            .elements
-            .iter()
-            .flatten()
-            .map(|name| {
-                model
+        let names = self.elements.as_deref().unwrap_or(&[]);
+        let still = |(name, &k): (&String, &usize)| {
+            k == usize::MAX && !model.constraints.iter().any(|c| &c.origin.name == name)
+                || model
                     .constraints
-                    .iter()
-                    .position(|c| &c.origin.name == name)
-                    .unwrap_or(usize::MAX)
-            })
-            .collect();
-        writeln!(self.out, "{}", csv_row(o, &indices, values))?;
+                    .get(k)
+                    .is_some_and(|c| &c.origin.name == name)
+        };
+        if self.indices.len() != names.len() || !names.iter().zip(&self.indices).all(still) {
+            self.indices = names
+                .iter()
+                .map(|name| {
+                    model
+                        .constraints
+                        .iter()
+                        .position(|c| &c.origin.name == name)
+                        .unwrap_or(usize::MAX)
+                })
+                .collect();
+        }
+        let indices = &self.indices;
+        writeln!(self.out, "{}", csv_row(o, indices, values))?;
         self.out.flush()
     }
 
@@ -455,4 +468,63 @@ pub fn to_text(j: &SimulateJson) -> String {
         let _ = writeln!(s, "error: {e}");
     }
     s
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use glam::DVec3;
+    use linkage_solve::physics::reactions::Reaction;
+    use linkage_solve::state::State;
+
+    fn model(text: &str) -> Model {
+        let ds = linkage_adm::parse_dataset(std::sync::Arc::from("m.adm"), text).expect("parses");
+        linkage_model::build_model(&ds).expect("builds").model
+    }
+
+    const TWO_JOINTS: &str = "m\nPART/1, GROUND\nMARKER/1, PART = 1\n\
+        PART/2, MASS = 1, CM = 2, IP = 1, 1, 1\nMARKER/2, PART = 2\n\
+        JOINT/7, SPHERICAL, I = 2, J = 1\nJPRIM/8, PERPENDICULAR, I = 2, J = 1\nEND\n";
+
+    /// An output of `m` with reaction force `f` on each of its constraints.
+    fn output(m: &Model, f: &[f64]) -> Output {
+        Output {
+            time: 0.0,
+            state: State::input(m),
+            velocities: vec![(DVec3::ZERO, DVec3::ZERO)],
+            accelerations: vec![(DVec3::ZERO, DVec3::ZERO)],
+            reactions: f
+                .iter()
+                .enumerate()
+                .map(|(element, &x)| Reaction {
+                    element,
+                    force: DVec3::new(x, 0.0, 0.0),
+                    torque: DVec3::ZERO,
+                })
+                .collect(),
+        }
+    }
+
+    /// Columns are fixed by the first output and matched by element name afterwards: a model
+    /// rebuilt without JOINT_7 (a command file's DEACTIVATE) writes zeros in its columns and
+    /// JPRIM_8's value in its.
+    #[test]
+    fn element_columns_follow_names_across_rebuilt_models() {
+        let both = model(TWO_JOINTS);
+        let only8 = model(&TWO_JOINTS.replace("JOINT/7, SPHERICAL, I = 2, J = 1\n", ""));
+        let mut csv = CsvHistory::new(Vec::new());
+        csv.write(&both, &output(&both, &[1.0, 2.0]), &[], &[])
+            .unwrap();
+        csv.write(&only8, &output(&only8, &[3.0]), &[], &[])
+            .unwrap();
+        let text = String::from_utf8(csv.out).unwrap();
+        let lines: Vec<&str> = text.lines().collect();
+        let header: Vec<&str> = lines[0].split(',').collect();
+        let col = |name: &str| header.iter().position(|h| h.starts_with(name)).unwrap();
+        let (fx7, fx8) = (col("JOINT_7.fx"), col("JPRIM_8.fx"));
+        let row =
+            |k: usize| -> Vec<f64> { lines[k].split(',').map(|x| x.parse().unwrap()).collect() };
+        assert_eq!((row(1)[fx7], row(1)[fx8]), (1.0, 2.0));
+        assert_eq!((row(2)[fx7], row(2)[fx8]), (0.0, 3.0));
+    }
 }
