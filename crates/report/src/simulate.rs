@@ -507,7 +507,7 @@ mod tests {
 
     /// Columns are fixed by the first output and matched by element name afterwards: a model
     /// rebuilt without JOINT_7 (a command file's DEACTIVATE) writes zeros in its columns and
-    /// JPRIM_8's value in its.
+    /// JPRIM_8's value in JPRIM_8's.
     #[test]
     fn element_columns_follow_names_across_rebuilt_models() {
         let both = model(TWO_JOINTS);
