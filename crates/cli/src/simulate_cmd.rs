@@ -44,13 +44,15 @@ struct CsvStream<'r> {
     csv: CsvHistory<Box<dyn Write>>,
     path: String,
     requests: Option<&'r RequestSet>,
+    /// The request columns (once: they do not change during the run).
+    names: Vec<String>,
     request_failures: usize,
     errors: Vec<String>,
 }
 
 impl CsvStream<'_> {
     fn write(&mut self, assembled: &Assembled, o: &Output) -> std::io::Result<()> {
-        let names = self.requests.map(RequestSet::columns).unwrap_or_default();
+        let names = &self.names;
         let values = match self.requests {
             None => Vec::new(),
             Some(r) => match r.evaluate(assembled.model, &assembled.system, o) {
@@ -64,7 +66,7 @@ impl CsvStream<'_> {
                 }
             },
         };
-        self.csv.write(assembled.model, o, &names, &values)
+        self.csv.write(assembled.model, o, names, &values)
     }
 }
 
@@ -154,6 +156,11 @@ pub fn run_simulate(args: &SimulateArgs) -> ExitCode {
                 csv: CsvHistory::new(sink),
                 path: out.display().to_string(),
                 requests: requests.as_ref().filter(|r| !r.is_empty()),
+                names: requests
+                    .as_ref()
+                    .filter(|r| !r.is_empty())
+                    .map(RequestSet::columns)
+                    .unwrap_or_default(),
                 request_failures: 0,
                 errors: Vec::new(),
             })

@@ -106,6 +106,8 @@ pub struct Records {
     csv: CsvHistory<BufWriter<File>>,
     req_path: PathBuf,
     req: RequestFileWriter<BufWriter<File>>,
+    /// The request columns of the CSV (fixed at the first output, as its other columns).
+    names: Option<Vec<String>>,
     /// Outputs written.
     pub written: usize,
 }
@@ -142,6 +144,7 @@ impl Records {
             csv: CsvHistory::new(BufWriter::new(csv)),
             req_path,
             req,
+            names: None,
             written: 0,
         })
     }
@@ -157,7 +160,12 @@ impl Records {
     ) -> Result<(), RecordError> {
         let values = requests.evaluate(model, sys, o)?;
         self.csv
-            .write(model, o, &requests.columns(), &values)
+            .write(
+                model,
+                o,
+                self.names.get_or_insert_with(|| requests.columns()),
+                &values,
+            )
             .map_err(|e| RecordError::Write {
                 path: self.csv_path.display().to_string(),
                 cause: e.to_string(),
