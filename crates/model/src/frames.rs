@@ -91,16 +91,22 @@ pub fn exp_so3(theta: DVec3) -> DMat3 {
     DMat3::from_axis_angle(theta / angle, angle)
 }
 
-/// Rotation vector `θ` with `exp([θ]×) = r` (|θ| ≤ π).
+/// Rotation vector `θ` with `exp([θ]×) = r` (|θ| ≤ π), accurate to rounding for small
+/// angles too: from the unit quaternion `(w, u)` of `r`, `|θ| = 2·atan2(|u|, |w|)` along
+/// `±u` (an `acos(w)` would resolve angles only to about 1e-8).
 pub fn log_so3(r: &DMat3) -> DVec3 {
     let q = glam::DQuat::from_mat3(r).normalize();
-    let (axis, angle) = q.to_axis_angle();
-    let angle = if angle > std::f64::consts::PI {
-        angle - 2.0 * std::f64::consts::PI
+    // q and −q are the same rotation: take w ≥ 0 for the angle in [0, π].
+    let (w, u) = if q.w < 0.0 {
+        (-q.w, -DVec3::new(q.x, q.y, q.z))
     } else {
-        angle
+        (q.w, DVec3::new(q.x, q.y, q.z))
     };
-    axis * angle
+    let s = u.length();
+    if s == 0.0 {
+        return DVec3::ZERO;
+    }
+    u * (2.0 * s.atan2(w) / s)
 }
 
 /// Re-orthonormalises a rotation matrix (polar factor via quaternion).
@@ -177,6 +183,12 @@ mod tests {
     fn exp_log_round_trip() {
         let t = DVec3::new(0.3, -0.2, 1.1);
         assert!((log_so3(&exp_so3(t)) - t).length() < 1e-12);
+        // Small angles keep their relative accuracy.
+        let tiny = DVec3::new(1.3e-9, -2.0e-10, 4.0e-9);
+        assert!(
+            (log_so3(&DMat3::from_axis_angle(tiny.normalize(), tiny.length())) - tiny).length()
+                < 1e-15
+        );
         let v = DVec3::new(1.0, 2.0, 3.0);
         assert!((skew(t) * v - t.cross(v)).length() < 1e-15);
     }

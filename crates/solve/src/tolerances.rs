@@ -168,6 +168,14 @@ pub const MIXED_EIGENVECTOR: f64 = 1e-12;
 /// of the one before (modified Newton converging too slowly: a fresh matrix converges
 /// quadratically again, and refreshing costs less than several slow iterations).
 pub const MATRIX_REFRESH_RATE: f64 = 0.05;
+/// The least local error a dynamics step is ever asked for (positions, relative to the
+/// characteristic length): its share of ERROR over a long run can be smaller, but below this
+/// the estimate is rounding (MIN_INTEGRATOR_ERROR of the settings is the same level).
+pub const LOCAL_ERROR_FLOOR: f64 = 1e-12;
+/// … and at least this many units of rounding of the largest coordinate, `ε·|x|/L`: a model
+/// 1e4 lengths from the origin resolves positions to about 2e-12 of them only, and an
+/// estimate made of position differences carries that noise.
+pub const LOCAL_ERROR_ROUNDING: f64 = 100.0;
 /// Accelerations below `CORRECTOR_ACCELERATION_FLOOR / h²` (scaled like the corrections) count
 /// as zero in the corrector's relative test: they move the positions by less than this over a
 /// step, far below any constraint tolerance.

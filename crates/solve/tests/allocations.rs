@@ -88,7 +88,7 @@ fn allocations_in_steady_steps(
     let last = m.parts.len() - 1;
     let mut step = |k: usize| {
         let h = [1e-3, 2.5e-3][k % 2];
-        let err = integ.try_step(h).expect("the step converges");
+        let err = integ.try_step(h, 1e-3).expect("the step converges");
         assert!(err.is_finite());
         integ.accept();
     };

@@ -172,19 +172,19 @@ mod tests {
 
     #[test]
     fn integrator_is_resolved_with_the_model_and_warns_nowhere_else() {
-        let b = ok("INTEGRATOR/GSTIFF, ERROR = 1E-5, HMAX = -1, KMAX = 6");
+        let b = ok("INTEGRATOR/HASTIFF, ERROR = 1E-5, HMAX = -1, KMAX = 6, INTERPOLATE = ON");
         let integrator = &b.model.integrator;
         assert_eq!(integrator.settings.error, 1e-5);
         assert_eq!(integrator.settings.hmax, None);
         assert_eq!(
             integrator.notes,
             [
-                IntegratorNote::MappedToHht {
-                    name: "GSTIFF".into(),
-                    alpha: -0.3
+                IntegratorNote::MappedToBdf {
+                    name: "HASTIFF".into(),
+                    kmax: 6
                 },
                 IntegratorNote::WithoutEffect {
-                    arguments: vec!["KMAX".into()]
+                    arguments: vec!["INTERPOLATE".into()]
                 }
             ]
         );

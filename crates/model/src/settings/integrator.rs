@@ -8,10 +8,24 @@ use super::{find, number, shown};
 use linkage_adm::{Dataset, INTEGRATOR_METHODS as INTEGRATOR_TYPES};
 use thiserror::Error;
 
-/// Integrator settings (INTEGRATOR statement; Adams names are mapped to HHT).
+/// The integration method a run uses.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum IntegratorMethod {
+    /// HHT-α (Adams' HHT; NEWMARK with α = 0), second order.
+    Hht,
+    /// Variable-order, variable-step BDF, orders 1 … KMAX (Adams' GSTIFF, WSTIFF).
+    Bdf,
+}
+
+/// Integrator settings (INTEGRATOR statement).
 #[derive(Clone, Debug, PartialEq)]
 pub struct IntegratorSettings {
-    /// Local error tolerance (relative to the characteristic length for translations).
+    pub method: IntegratorMethod,
+    /// Highest BDF order (KMAX, 1 … 6).
+    pub kmax: usize,
+    /// Error tolerance of the run: the error the steps may accumulate over the whole run, in
+    /// positions (translations relative to the characteristic length, rotations in radians);
+    /// each step of size h of a run of span T is allowed `ERROR·h/T` of local error.
     pub error: f64,
     pub hmax: Option<f64>,
     pub hinit: Option<f64>,
@@ -25,6 +39,8 @@ pub struct IntegratorSettings {
 impl Default for IntegratorSettings {
     fn default() -> Self {
         IntegratorSettings {
+            method: IntegratorMethod::Bdf,
+            kmax: 6,
             error: 1e-3,
             hmax: None,
             hinit: None,
@@ -55,6 +71,8 @@ pub struct IntegratorStatement {
     pub hmin: Option<f64>,
     pub alpha: Option<f64>,
     pub maxit: Option<usize>,
+    /// Highest BDF order, 1 … 6.
+    pub kmax: Option<usize>,
     /// Arguments given that linkage does not use (KMAX, CORRECTOR, FORMULATION, …).
     pub ignored: Vec<String>,
     /// Values that cannot be used, each with what is used instead.
@@ -77,6 +95,9 @@ pub enum IntegratorIssue {
     /// ALPHA outside HHT's range [−1/3, 0]: left out.
     #[error("INTEGRATOR ALPHA = {alpha} is outside HHT's range −1/3 … 0; it is ignored")]
     AlphaOutOfRange { alpha: f64 },
+    /// KMAX not an order 1 … 6: left out.
+    #[error("INTEGRATOR KMAX = {kmax} is not a BDF order 1 … 6; it is ignored")]
+    KmaxOutOfRange { kmax: f64 },
     /// MAXIT below 1 (or not finite): left out.
     #[error("INTEGRATOR MAXIT = {maxit} is not a positive count; it is ignored")]
     MaxitNotACount { maxit: f64 },
@@ -92,15 +113,24 @@ pub enum IntegratorIssue {
 /// What `simulate` notes about the INTEGRATOR statement (not a problem: information).
 #[derive(Clone, Debug, PartialEq, Error)]
 pub enum IntegratorNote {
-    /// An Adams integrator other than HHT was named: linkage runs HHT-I3 with `alpha`.
+    /// NEWMARK was named: linkage runs HHT-I3 with `alpha`.
     #[error("INTEGRATOR {name} is mapped to linkage's HHT-I3 integrator (α = {alpha})")]
     MappedToHht { name: String, alpha: f64 },
+    /// An Adams integrator linkage does not have (HASTIFF, ABAM, RKF45), or CONSTANT_BDF
+    /// (fixed step in Adams): linkage runs its variable-order, variable-step BDF.
+    #[error(
+        "INTEGRATOR {name} is run with linkage's variable-step BDF (GSTIFF), orders 1 … {kmax}"
+    )]
+    MappedToBdf { name: String, kmax: usize },
+    /// SI2 or SI1 was asked for: linkage integrates the index-3 form.
+    #[error("INTEGRATOR {formulation}: linkage integrates the index-3 (I3) formulation")]
+    FormulationI3 { formulation: String },
     /// Arguments given that linkage does not use.
     #[error("INTEGRATOR arguments without effect in linkage: {}", .arguments.join(", "))]
     WithoutEffect { arguments: Vec<String> },
 }
 
-/// The INTEGRATOR statement resolved: the settings HHT runs with (Adams' defaults where
+/// The INTEGRATOR statement resolved: the settings the integrator runs with (Adams' defaults where
 /// nothing usable is given), and what `simulate` reports about the statement.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct ResolvedIntegrator {
@@ -116,7 +146,14 @@ pub struct ResolvedIntegrator {
 pub fn resolve_integrator(ds: &Dataset) -> ResolvedIntegrator {
     let stmt = integrator_statement(ds);
     let default = IntegratorSettings::default();
+    let method = match stmt.name.as_deref() {
+        Some("HHT" | "NEWMARK") => IntegratorMethod::Hht,
+        Some(_) => IntegratorMethod::Bdf,
+        None => default.method,
+    };
     let settings = IntegratorSettings {
+        method,
+        kmax: stmt.kmax.unwrap_or(default.kmax),
         error: stmt.error.unwrap_or(default.error),
         hmax: stmt.hmax,
         hinit: stmt.hinit,
@@ -128,16 +165,28 @@ pub fn resolve_integrator(ds: &Dataset) -> ResolvedIntegrator {
             .max(MIN_INTEGRATOR_MAXIT),
     };
     let mut notes = Vec::new();
-    if let Some(name) = stmt.name.filter(|n| n != "HHT") {
-        notes.push(IntegratorNote::MappedToHht {
+    match stmt.name {
+        Some(name) if name == "NEWMARK" => notes.push(IntegratorNote::MappedToHht {
             name,
             alpha: settings.alpha,
-        });
+        }),
+        Some(name) if !matches!(name.as_str(), "HHT" | "GSTIFF" | "WSTIFF") => {
+            notes.push(IntegratorNote::MappedToBdf {
+                name,
+                kmax: settings.kmax,
+            })
+        }
+        _ => {}
     }
-    if !stmt.ignored.is_empty() {
-        notes.push(IntegratorNote::WithoutEffect {
-            arguments: stmt.ignored,
-        });
+    let (formulations, ignored): (Vec<String>, Vec<String>) = stmt
+        .ignored
+        .into_iter()
+        .partition(|a| matches!(a.as_str(), "SI2" | "SI1"));
+    for formulation in formulations {
+        notes.push(IntegratorNote::FormulationI3 { formulation });
+    }
+    if !ignored.is_empty() {
+        notes.push(IntegratorNote::WithoutEffect { arguments: ignored });
     }
     ResolvedIntegrator {
         settings,
@@ -147,7 +196,7 @@ pub fn resolve_integrator(ds: &Dataset) -> ResolvedIntegrator {
 }
 
 /// The arguments linkage reads: the integrator names and these values.
-const INTEGRATOR_VALUES: [&str; 6] = ["ERROR", "HMAX", "HINIT", "HMIN", "ALPHA", "MAXIT"];
+const INTEGRATOR_VALUES: [&str; 7] = ["ERROR", "HMAX", "HINIT", "HMIN", "ALPHA", "MAXIT", "KMAX"];
 
 /// Every keyword of the statement, for unambiguous prefixes.
 const INTEGRATOR_NAMES: [&str; 18] = [
@@ -206,6 +255,13 @@ pub fn integrator_statement(ds: &Dataset) -> IntegratorStatement {
                 out.invalid.push(IntegratorIssue::AlphaOutOfRange { alpha });
             }
         }
+        if let Some(kmax) = n("KMAX") {
+            if (1.0..=6.0).contains(&kmax) && kmax.fract() == 0.0 {
+                out.kmax = Some(kmax as usize);
+            } else {
+                out.invalid.push(IntegratorIssue::KmaxOutOfRange { kmax });
+            }
+        }
         if let Some(maxit) = n("MAXIT") {
             if maxit >= 1.0 && maxit.is_finite() {
                 out.maxit = Some(maxit as usize);
@@ -248,14 +304,15 @@ mod tests {
 
     #[test]
     fn integrator_values_that_cannot_be_used_are_named_and_left_out() {
-        let d = ds("t\nPART/1, GROUND\nINTEGRATOR/HHT, ERROR = -1, HMAX = 0.01, HMIN = 0.5, ALPHA = 0.2, MAXIT = 0, KMAX = 6\nEND\n");
+        let d = ds("t\nPART/1, GROUND\nINTEGRATOR/HHT, ERROR = -1, HMAX = 0.01, HMIN = 0.5, ALPHA = 0.2, MAXIT = 0, KMAX = 6, PATTERN = F\nEND\n");
         let st = integrator_statement(&d);
         assert_eq!(st.name.as_deref(), Some("HHT"));
         assert_eq!(
             (st.error, st.hmax, st.hmin, st.alpha, st.maxit),
             (None, Some(0.01), None, None, None)
         );
-        assert_eq!(st.ignored, vec!["KMAX".to_string()]);
+        assert_eq!(st.ignored, vec!["PATTERN".to_string()]);
+        assert_eq!(st.kmax, Some(6));
         assert_eq!(
             st.invalid,
             vec![
@@ -309,13 +366,15 @@ mod tests {
     }
 
     #[test]
-    fn an_adams_integrator_is_mapped_to_hht_with_the_values_given() {
+    fn gstiff_runs_the_bdf_with_the_values_given() {
         let r = resolve_integrator(&ds(
-            "t\nPART/1, GROUND\nINTEGRATOR/GSTIFF, ERROR = 1E-4, HMAX = 0.01, HINIT = 1E-5, KMAX = 6, CORRECTOR = MODIFIED\nEND\n",
+            "t\nPART/1, GROUND\nINTEGRATOR/GSTIFF, SI2, ERROR = 1E-4, HMAX = 0.01, HINIT = 1E-5, KMAX = 4, CORRECTOR = MODIFIED\nEND\n",
         ));
         assert_eq!(
             r.settings,
             IntegratorSettings {
+                method: IntegratorMethod::Bdf,
+                kmax: 4,
                 error: 1e-4,
                 hmax: Some(0.01),
                 hinit: Some(1e-5),
@@ -328,11 +387,24 @@ mod tests {
         assert_eq!(
             notes,
             [
-                "INTEGRATOR GSTIFF is mapped to linkage's HHT-I3 integrator (α = -0.3)",
-                "INTEGRATOR arguments without effect in linkage: KMAX, CORRECTOR",
+                "INTEGRATOR SI2: linkage integrates the index-3 (I3) formulation",
+                "INTEGRATOR arguments without effect in linkage: CORRECTOR",
             ]
         );
         assert!(r.warnings.is_empty());
+        let r = resolve_integrator(&ds(
+            "t\nPART/1, GROUND\nINTEGRATOR/HASTIFF, KMAX = 7\nEND\n",
+        ));
+        assert_eq!(
+            (r.settings.method, r.settings.kmax),
+            (IntegratorMethod::Bdf, 6)
+        );
+        let notes: Vec<String> = r.notes.iter().map(ToString::to_string).collect();
+        assert_eq!(
+            notes,
+            ["INTEGRATOR HASTIFF is run with linkage's variable-step BDF (GSTIFF), orders 1 … 6"]
+        );
+        assert_eq!(r.warnings, [IntegratorIssue::KmaxOutOfRange { kmax: 7.0 }]);
     }
 
     #[test]
@@ -342,8 +414,13 @@ mod tests {
         ));
         assert!(r.notes.is_empty(), "{:?}", r.notes);
         assert_eq!(
-            (r.settings.alpha, r.settings.maxit, r.settings.hmin),
-            (-0.1, MIN_INTEGRATOR_MAXIT, 1e-8)
+            (
+                r.settings.method,
+                r.settings.alpha,
+                r.settings.maxit,
+                r.settings.hmin
+            ),
+            (IntegratorMethod::Hht, -0.1, MIN_INTEGRATOR_MAXIT, 1e-8)
         );
         // A later statement overrides an earlier one; an unusable value keeps the default.
         let r = resolve_integrator(&ds(

@@ -41,6 +41,8 @@
 //! residuals and gradients, the generalised forces, one sparse solve — O(rows + parts) for a
 //! chain; per refresh additionally the assembly (row second derivatives) and the numeric LU.
 
+mod bdf;
+mod corrector;
 mod error;
 mod hht;
 mod integrator;
@@ -51,7 +53,9 @@ mod redundant;
 mod results;
 mod run;
 mod simulate;
+mod stepper;
 
+pub use bdf::Bdf;
 pub use error::{IntegrationError, MatrixRole, SingularSolve};
 pub use integrator::Integrator;
 pub use linkage_model::settings::IntegratorSettings;
@@ -64,3 +68,4 @@ pub use run::{
     Stream, UnstableStart,
 };
 pub use simulate::{simulate, simulate_with, AfterOutput};
+pub use stepper::Stepper;

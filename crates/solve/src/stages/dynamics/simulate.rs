@@ -3,13 +3,16 @@
 //! freedom is handed to the kinematic run.
 
 use super::error::IntegrationError;
-use super::integrator::Integrator;
 use super::output::Output;
 use super::problem::Problem;
 use super::redundant::{redundant_tolerance, redundant_violation};
 use super::results::{Failure, Simulation};
+use super::stepper::Stepper;
 use crate::state::State;
-use crate::tolerances::{AT_MIN_STEP, OUTPUT_AT_START, OUTPUT_HIT, SPAN_FLOOR, STEP_FITS};
+use crate::tolerances::{
+    AT_MIN_STEP, LOCAL_ERROR_FLOOR, LOCAL_ERROR_ROUNDING, OUTPUT_AT_START, OUTPUT_HIT, SPAN_FLOOR,
+    STEP_FITS,
+};
 use glam::DVec3;
 use linkage_model::settings::IntegratorSettings;
 
@@ -52,10 +55,20 @@ pub enum AfterOutput {
 /// time after every accepted step; [`AfterOutput::Stop`] from it ends the run there with
 /// [`IntegrationError::Stopped`] (Ctrl-C, a time limit), as from `on_output` at an output.
 ///
-/// Step-size control: a step whose error estimate exceeds ERROR is retried with
-/// `h·clamp(0.9 (ERROR/err)^{1/3}, 0.2, 0.9)`; an accepted one lets the next grow by
-/// `clamp(0.9 (ERROR/err)^{1/3}, 0.2, 2)` up to HMAX; a failed one is retried at `h/4`, and
-/// at HMIN the run stops.
+/// Step-size control. With BDF (GSTIFF, WSTIFF, CONSTANT_BDF) INTEGRATOR ERROR bounds the
+/// error the run accumulates (positions: translations relative to the characteristic length,
+/// rotations in radians), not the error of each step: a step of size h over a run of span T
+/// may add `tol = ERROR·h/T` (at least rounding: `LOCAL_ERROR_FLOOR`, or
+/// `LOCAL_ERROR_ROUNDING·ε·|x|/L` for parts far from the origin), so the local errors of
+/// all steps add up to ERROR at most and the global error follows ERROR whatever the number
+/// of steps or the length of the run. The local estimate of order k grows like `h^{k+1}` and
+/// `tol` like h: a step whose estimate exceeds `tol` is retried with
+/// `h·clamp(0.9 (tol/err)^{1/k}, 0.2, 0.9)`; an accepted one lets the next grow by
+/// `clamp(0.9 (tol/err)^{1/k}, 0.2, 2)` up to HMAX. With HHT and NEWMARK, ERROR is the local
+/// error of each step, as in Adams (`tol = ERROR`, exponents `1/3`): their estimate
+/// `h²|β − 1/6|·|Δa|` carries the α-shift of the accelerations, which does not shrink with
+/// the step fast enough to be spread over a run. A failed step is retried at `h/4`, and at
+/// HMIN the run stops.
 pub fn simulate_with(
     p: &Problem,
     start: &State,
@@ -82,7 +95,7 @@ pub fn simulate_with(
     let length = p.model.characteristic_length;
     let t_end = times.last().copied().unwrap_or(start.time);
     // Consistent accelerations at the start.
-    let (mut integ, first) = match Integrator::new(p, start, v0, settings) {
+    let (mut integ, first) = match Stepper::new(p, start, v0, settings) {
         Ok(x) => x,
         Err(e) => {
             sim.failure = Some(Failure::new(start.time, e));
@@ -106,6 +119,15 @@ pub fn simulate_with(
         .unwrap_or((span / 1000.0).min(hmax))
         .min(hmax);
     let at_min_step = |hs: f64| hs <= settings.hmin * (1.0 + AT_MIN_STEP);
+    let per_run = integ.error_per_run();
+    // The least local error worth asking for: rounding, which grows with the distance of the
+    // parts from the origin (coordinates resolve to ε·|x|, over the characteristic length).
+    let extent = start
+        .poses
+        .iter()
+        .map(|q| q.p.abs().max_element())
+        .fold(0.0, f64::max);
+    let floor = LOCAL_ERROR_FLOOR.max(LOCAL_ERROR_ROUNDING * f64::EPSILON * extent / length);
     while next_output < times.len() {
         let target = times[next_output];
         let t = integ.time();
@@ -126,19 +148,34 @@ pub fn simulate_with(
             next_output += 1;
             continue;
         }
-        let tried = integ.try_step(hs);
+        // BDF spends ERROR over the run: this step may add its share `ERROR·h/T`. HHT
+        // takes it per step, as Adams does.
+        let tol = if per_run {
+            (settings.error * hs / span).max(floor)
+        } else {
+            settings.error
+        };
+        let tried = integ.try_step(hs, tol);
         (sim.newton_iterations, sim.factorisations) = integ.statistics();
         match tried {
             Ok(err) => {
-                let tol = settings.error;
+                // err ∝ h^{k+1} against tol ∝ h (per run): the step scales with
+                // (tol/err)^{1/k}; against a fixed tol with (tol/err)^{1/(k+1)}.
+                let exponent = |order: usize| {
+                    if per_run {
+                        1.0 / order.max(1) as f64
+                    } else {
+                        1.0 / (order as f64 + 1.0)
+                    }
+                };
                 if err > tol && !at_min_step(hs) {
                     sim.rejected += 1;
-                    h = (hs * (0.9 * (tol / err).powf(1.0 / 3.0)).clamp(0.2, 0.9))
-                        .max(settings.hmin);
+                    let shrink = 0.9 * (tol / err).powf(exponent(integ.order()));
+                    h = (hs * shrink.clamp(0.2, 0.9)).max(settings.hmin);
                     continue;
                 }
                 sim.steps += 1;
-                integ.accept();
+                let (err, order) = integ.accept(err, tol);
                 let now = integ.time();
                 if progress(now) == AfterOutput::Stop {
                     sim.failure = Some(Failure::new(now, IntegrationError::Stopped));
@@ -154,7 +191,7 @@ pub fn simulate_with(
                     return sim;
                 }
                 let grow = if err > 0.0 {
-                    (0.9 * (tol / err).powf(1.0 / 3.0)).clamp(0.2, 2.0)
+                    (0.9 * (tol / err).powf(exponent(order))).clamp(0.2, 2.0)
                 } else {
                     2.0
                 };

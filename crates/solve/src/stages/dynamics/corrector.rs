@@ -1,0 +1,289 @@
+//! The corrector both integrators share: the step's state ([`Step`]), the buffers of a step
+//! ([`Workspace`]) and the modified-Newton iteration on the accelerations and multipliers
+//! ([`correct`]). What differs between HHT-α and BDF is only how positions and velocities
+//! follow from the accelerations (a placement closure) and the coefficients in [`Scheme`].
+
+use super::error::{IntegrationError, SingularSolve};
+use super::matrix::{Iterate, IterationMatrix, MatrixCoefficients};
+use super::output::ConsistentSolve;
+use super::problem::{unflat_into, Problem};
+use crate::constraints::rows::{RowGradient, Velocities};
+use crate::constraints::system::RowUnit;
+use crate::physics::mass::{self, SingularInertia};
+use crate::state::State;
+use crate::tolerances::{
+    CORRECTOR_ACCELERATION_FLOOR, CORRECTOR_ACCELERATION_MIN, CORRECTOR_CONSTRAINT,
+    CORRECTOR_ERROR_FRACTION, CORRECTOR_NOISE, CORRECTOR_RELATIVE, CORRECTOR_ROUNDING,
+    MATRIX_REFRESH_RATE,
+};
+use glam::DVec3;
+use linkage_model::settings::IntegratorSettings;
+
+/// The weight of coordinate `i` (6 per part) in the convergence test and the error estimate:
+/// `1/length` for translations (so they count relative to the characteristic length), 1 for
+/// rotations (radians).
+#[inline]
+pub(super) fn reciprocal_length_weight(i: usize, length: f64) -> f64 {
+    if i % 6 < 3 {
+        1.0 / length
+    } else {
+        1.0
+    }
+}
+
+/// Integrator state at one time.
+#[derive(Clone, Debug)]
+pub(super) struct Step {
+    /// Positions and the time.
+    pub s: State,
+    /// Velocities and accelerations, 6 per part (CM then angular, ground axes).
+    pub v: Vec<f64>,
+    pub a: Vec<f64>,
+    /// `Jᵀλ − Q` at the step (mass × acceleration units).
+    pub force_term: Vec<f64>,
+    pub lambda: Vec<f64>,
+}
+
+impl Step {
+    /// `Jᵀλ − Q` (mass × acceleration units) at this step's positions, velocities and
+    /// multipliers, into `force_term`. Leaves the velocities as pairs in `w.twists` and the
+    /// rows' gradients at `s` in `w.grads`.
+    pub fn evaluate(&mut self, p: &Problem, w: &mut Workspace) -> Result<(), IntegrationError> {
+        unflat_into(&self.v, &mut w.twists);
+        p.gradients(&self.s, &mut w.grads);
+        p.generalized_into(&self.s, &w.twists, &mut w.force_state, &mut w.q)?;
+        let ucf = p.model.ucf();
+        for (o, q) in self.force_term.iter_mut().zip(&w.q) {
+            *o = -q;
+        }
+        for (g, l) in w.grads.iter().zip(&self.lambda) {
+            for (body, b) in &g.blocks {
+                let out = &mut self.force_term[6 * body..6 * body + 6];
+                for (o, x) in out.iter_mut().zip(b) {
+                    *o += ucf * l * x;
+                }
+            }
+        }
+        Ok(())
+    }
+}
+
+/// Buffers of the corrector and of the consistent outputs, sized once per problem: a step
+/// allocates nothing itself.
+pub(super) struct Workspace {
+    /// Drive values of the rows at the step's time (m).
+    pub drives: Vec<f64>,
+    /// Residual `[r₁; r₂]`, then the Newton correction (6n + m).
+    pub rhs: Vec<f64>,
+    /// Velocities as (CM, angular) pairs for the force elements (n).
+    pub twists: Vec<(DVec3, DVec3)>,
+    /// `UCF·Q` (6n).
+    pub q: Vec<f64>,
+    /// Gradients of the independent rows at the current iterate (m).
+    pub grads: Vec<RowGradient>,
+    /// The state force elements see when time is frozen.
+    pub force_state: State,
+    /// The scaled iteration matrix.
+    pub matrix: IterationMatrix,
+    /// `[M, Jᵀ; J, 0]` of the consistent velocity and acceleration solves.
+    pub output: ConsistentSolve,
+    /// Corrector iterations and iteration-matrix factorisations so far.
+    pub newton_iterations: usize,
+    pub factorisations: usize,
+}
+
+impl Workspace {
+    /// Buffers for `p`, and the iteration matrix's pattern found by assembling it at `start`
+    /// with velocities `v0` (n of them; see [`IterationMatrix::with_pattern`]).
+    pub fn new(
+        p: &Problem,
+        start: &State,
+        v0: &Velocities,
+        coefficients: impl Fn(f64) -> MatrixCoefficients,
+    ) -> Result<Workspace, IntegrationError> {
+        let (n, m) = (p.n(), p.rows.len());
+        let matrix = IterationMatrix::with_pattern(p, start, v0, coefficients)?;
+        Ok(Workspace {
+            drives: vec![0.0; m],
+            rhs: vec![0.0; 6 * n + m],
+            twists: v0.to_vec(),
+            q: vec![0.0; 6 * n],
+            grads: vec![RowGradient::default(); m],
+            force_state: start.clone(),
+            newton_iterations: 0,
+            factorisations: 0,
+            matrix,
+            output: ConsistentSolve::new(p, start, SingularInertia::Regularise)?,
+        })
+    }
+}
+
+/// How a method's positions and velocities respond to its accelerations within one step.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct Scheme {
+    /// `∂q/∂a`: `βh²` for HHT-α, `(h/c₀)²` for BDF. The position constraints are scaled by
+    /// its reciprocal.
+    pub position: f64,
+    /// `∂v/∂a`: `γh` for HHT-α, `h/c₀` for BDF.
+    pub velocity: f64,
+    /// The iteration matrix's coefficients (the step size the matrix is kept for is `h`).
+    pub matrix: MatrixCoefficients,
+    /// HHT's α (0 for BDF): forces and inertia are taken at `t_{n+1} + αh`.
+    pub alpha: f64,
+}
+
+/// Newton iteration on `trial`'s accelerations and multipliers for the step of size `h` from
+/// `cur` (allowed a local error `tolerance`), with the scheme's positions and velocities set by `place(trial)` from
+/// `trial.a`:
+///
+/// ```text
+/// r₁ = M_{n+1+α} a + (1+α)(Jᵀλ − Q)_{n+1} − α(Jᵀλ − Q)_n = 0,    r₂ = Φ(q_{n+1}) / position = 0
+/// ```
+///
+/// (`M_{n+1+α} = (1+α) M_{n+1} − α M_n`: the inertia about ground axes turns with the part, and
+/// the accelerations of HHT belong to the shifted time; with `M_{n+1}` alone 3-D rotation would
+/// be only first order). Modified Newton: the matrix is kept across iterations and steps, and
+/// refreshed when there is none, when the step size is more than a factor 2 away from the one
+/// it was built for, when the last correction contracted by less than `MATRIX_REFRESH_RATE`,
+/// or when three iterations with a matrix from an earlier step did not converge. Leaves
+/// `trial` placed and evaluated at the converged accelerations.
+#[allow(clippy::too_many_arguments)]
+pub(super) fn correct(
+    p: &Problem,
+    settings: &IntegratorSettings,
+    w: &mut Workspace,
+    cur: &Step,
+    trial: &mut Step,
+    h: f64,
+    tolerance: f64,
+    scheme: Scheme,
+    mut place: impl FnMut(&mut Step),
+) -> Result<(), IntegrationError> {
+    let Scheme {
+        position,
+        velocity,
+        alpha,
+        ..
+    } = scheme;
+    let n6 = 6 * p.n();
+    let ucf = p.model.ucf();
+    let length = p.model.characteristic_length;
+    p.drives_into(cur.s.time + h, &mut w.drives)?;
+    let mut converged = false;
+    let mut da_prev = f64::INFINITY;
+    // Contraction of the last correction relative to the one before (0: none yet).
+    let mut rate = 0.0f64;
+    // Whether the matrix was factorised during this step.
+    let mut fresh = false;
+    for it in 0..settings.maxit {
+        w.newton_iterations += 1;
+        place(trial);
+        trial.evaluate(p, w)?;
+        let (r1, r2) = w.rhs.split_at_mut(n6);
+        for (k, part) in p.model.parts.iter().enumerate() {
+            let mut ig = mass::ground_inertia(part, &trial.s.poses[k]);
+            if alpha != 0.0 {
+                ig = ig * (1.0 + alpha) - mass::ground_inertia(part, &cur.s.poses[k]) * alpha;
+            }
+            let a = &trial.a[6 * k..6 * k + 6];
+            let ang = ig * DVec3::new(a[3], a[4], a[5]);
+            for c in 0..3 {
+                r1[6 * k + c] = part.mass * a[c];
+                r1[6 * k + 3 + c] = ang[c];
+            }
+        }
+        for ((r, ft), ft0) in r1.iter_mut().zip(&trial.force_term).zip(&cur.force_term) {
+            *r += (1.0 + alpha) * ft - alpha * ft0;
+        }
+        // Position constraints to the assembly accuracy; they see the analysis time (frozen
+        // when settling).
+        let mut phi_ok = true;
+        let constrained = p.force_state(&trial.s, &mut w.force_state);
+        for ((r, &row), &drive) in r2.iter_mut().zip(p.rows).zip(&w.drives) {
+            let raw = p.sys.residual(row, constrained, drive);
+            *r = raw / position;
+            let limit = match p.sys.rows[row].unit {
+                RowUnit::Length | RowUnit::Mixed => CORRECTOR_CONSTRAINT * length,
+                _ => CORRECTOR_CONSTRAINT,
+            };
+            phi_ok &= raw.abs() <= limit;
+        }
+        let stale = w.matrix.h.is_none_or(|hh| h > 2.0 * hh || h < 0.5 * hh)
+            || rate > MATRIX_REFRESH_RATE
+            || (it >= 3 && !fresh);
+        if stale {
+            w.matrix.h = None;
+            let at = Iterate {
+                s: &trial.s,
+                v: &w.twists,
+                grads: &w.grads,
+                lambda: &trial.lambda,
+            };
+            w.matrix.refresh(p, &at, scheme.matrix)?;
+            w.matrix.h = Some(h);
+            w.factorisations += 1;
+            fresh = true;
+        }
+        for x in w.rhs.iter_mut() {
+            *x = -*x;
+        }
+        w.matrix
+            .lu
+            .solve_in_place(&mut w.rhs)
+            .map_err(|_| IntegrationError::Singular(SingularSolve::Newton))?;
+        let amax = (0..n6)
+            .map(|i| trial.a[i].abs() * reciprocal_length_weight(i, length))
+            .fold(0.0, f64::max)
+            .max(1.0 / (h * h) * CORRECTOR_ACCELERATION_FLOOR);
+        let mut da = 0.0f64;
+        for i in 0..n6 {
+            trial.a[i] += w.rhs[i];
+            da = da.max(w.rhs[i].abs() * reciprocal_length_weight(i, length));
+        }
+        for (l, d) in trial.lambda.iter_mut().zip(&w.rhs[n6..]) {
+            *l += d / ucf;
+        }
+        // Converged when the constraints hold and the correction is negligible relative to
+        // the accelerations, or its effect on positions is at rounding level. Coordinates far
+        // from the origin (a 1000-loop chain reaches x = 1000 m) resolve positions to ε·|x|
+        // only, so the residuals carry noise that the scaled matrix turns into corrections of
+        // ε·|x|/position in the accelerations: a correction that no longer contracts (at
+        // least halving) with a matrix built during this step, while moving positions by less
+        // than a tenth of the constraint tolerance, is that noise, and the iterate is as
+        // converged as the arithmetic allows.
+        let moved = position * da;
+        let stagnant = fresh && da >= 0.5 * da_prev && moved <= CORRECTOR_NOISE;
+        // Parts with tiny inertia about some axis leave corrections at noise level too: a
+        // correction whose effect on the positions within the step (directly, and through the
+        // velocities over the step) is a negligible fraction of the local error the step is
+        // allowed is accepted. That allowance is the step's share of ERROR, so what is
+        // accepted over a run does not grow as the steps shrink (HMAX = 1e-5 takes 500,000
+        // steps over 5 s), and it stays below what the local error estimate can see.
+        let negligible = position.max(velocity * h) * da <= CORRECTOR_ERROR_FRACTION * tolerance;
+        if phi_ok
+            && (da <= CORRECTOR_RELATIVE * amax.max(CORRECTOR_ACCELERATION_MIN)
+                || moved <= CORRECTOR_ROUNDING
+                || stagnant
+                || negligible)
+        {
+            converged = true;
+            break;
+        }
+        // The rate compares two corrections made with the same matrix.
+        rate = if !stale && da_prev.is_finite() && da_prev > 0.0 {
+            da / da_prev
+        } else {
+            0.0
+        };
+        da_prev = da;
+    }
+    if !converged {
+        return Err(IntegrationError::CorrectorNotConverged {
+            iterations: settings.maxit,
+            time: cur.s.time + h,
+        });
+    }
+    // Final positions, velocities and force term from the converged accelerations.
+    place(trial);
+    trial.evaluate(p, w)
+}
