@@ -22,8 +22,8 @@ use crate::linalg::kkt::{scaled_row, SaddlePoint};
 use crate::linalg::linear::SparseLu;
 use crate::state::State;
 use crate::tolerances::{
-    ASSEMBLY_BACKTRACK_SLACK, ASSEMBLY_ROUNDING, ASSEMBLY_SATISFIED,
-    ASSEMBLY_SINGULAR_REGULARISATION, ASSEMBLY_STEP_REGULARISATION,
+    ASSEMBLY_BACKTRACK_SLACK, ASSEMBLY_POLISH_REGULARISATION, ASSEMBLY_ROUNDING,
+    ASSEMBLY_SATISFIED, ASSEMBLY_SINGULAR_REGULARISATION, ASSEMBLY_STEP_REGULARISATION,
 };
 use glam::{DMat3, DVec3};
 use linkage_adm::ExactCoord;
@@ -398,6 +398,8 @@ pub fn assemble(
     // least change (e = 0). Once feasible, the iteration goes on until it is stationary too
     // (the minimum of ½ eᵀ W e on Φ = 0, not merely the first point where Φ = 0), within MAXIT;
     // if the budget ends between a step and its correction, the last feasible point is kept.
+    // From the first feasible point on, the multipliers are regularised
+    // (ASSEMBLY_POLISH_REGULARISATION): rows may be dependent there.
     let mut feasible = scaled_max(&phi) <= 1.0;
     let mut stationary = feasible;
     let mut last_feasible: Option<State> = None;
@@ -503,6 +505,10 @@ pub fn assemble(
         }
         feasible = scaled_max(&phi) <= 1.0;
         stationary = step_size * scale <= 1.0;
+        if feasible && mu < ASSEMBLY_POLISH_REGULARISATION {
+            mu = ASSEMBLY_POLISH_REGULARISATION;
+            lu = None;
+        }
     }
     if !feasible {
         if let Some(kept) = last_feasible {
