@@ -675,9 +675,12 @@ pub fn wrap_period(v: f64, period: f64) -> f64 {
     }
 }
 
-/// Largest ratio between the angle coefficients of a row whose turns are still resolved
-/// ([`turn_period`]): gear and coupler ratios are ratios of tooth counts, far below this.
-pub const MAX_TURN_RATIO: f64 = 1000.0;
+/// Largest ratio between an angle coefficient of a row and the gcd of them all for which the
+/// row's turns are resolved ([`turn_period`]): gear and coupler ratios are ratios of small
+/// tooth counts. The residual then wraps at ±P/2, which the faster joint reaches only
+/// π/MAX_TURN_RATIO (1.8°) away from the solution: a Newton iterate straying further would
+/// land on another mesh of the gears, so the period is not allowed to shrink below that.
+pub const MAX_TURN_RATIO: f64 = 100.0;
 
 /// The period of a row's residual `Σ c_k Q_k` due to the turns of its angle terms
 /// ([`Quantity::Angle`]: a joint's rotation, measured by atan2 and so known only modulo 2π).
@@ -687,7 +690,9 @@ pub const MAX_TURN_RATIO: f64 = 1000.0;
 /// any whole number of pitches along its rotation, gears with ratio 2 mesh again every half
 /// turn of the larger one. With one angle term (SCREW, RACKPIN, a rotation coupled to a
 /// translation) the period is 2π·|c|. Coefficients whose ratio is not a ratio of integers up to
-/// [`MAX_TURN_RATIO`] (to 1e-9) have no period: their turns cannot be told from a pose.
+/// [`MAX_TURN_RATIO`] (to 1e-9) have no period: their turns cannot be told from a pose (the
+/// state carries no turn count), and such a coupling holds only while its angles stay within
+/// ±180°.
 pub fn turn_period(terms: &[(f64, Quantity)]) -> Option<f64> {
     let mut g: Option<f64> = None;
     for (c, q) in terms {
@@ -831,29 +836,24 @@ mod tests {
         };
         let angle = joint_coordinate(frame, frame, CouplerDof::Rotation);
         let proj = joint_coordinate(frame, frame, CouplerDof::Translation);
-        let period = |terms: &[(f64, &Quantity)]| {
-            let terms: Vec<(f64, Quantity)> =
-                terms.iter().map(|(c, q)| (*c, (*q).clone())).collect();
-            turn_period(&terms)
-        };
         // SCREW: translation − PITCH/2π · angle: one pitch.
-        let p = period(&[(1.0, &proj), (-0.02 / TAU, &angle)]).unwrap();
+        let p = turn_period(&[(1.0, proj), (-0.02 / TAU, angle)]).unwrap();
         assert!((p - 0.02).abs() < 1e-15, "{p}");
         // Ratio 2 (and its rounding): half a turn of the first joint.
-        let p = period(&[(1.0, &angle), (-0.5, &angle)]).unwrap();
+        let p = turn_period(&[(1.0, angle), (-0.5, angle)]).unwrap();
         assert!((p - TAU / 2.0).abs() < 1e-15, "{p}");
-        let p = period(&[(0.1, &angle), (-0.19999999999999998, &angle)]).unwrap();
+        let p = turn_period(&[(0.1, angle), (-0.19999999999999998, angle)]).unwrap();
         assert!((p - 0.1 * TAU).abs() < 1e-12, "{p}");
         // 3:2.
-        let p = period(&[(3.0, &angle), (2.0, &angle)]).unwrap();
+        let p = turn_period(&[(3.0, angle), (2.0, angle)]).unwrap();
         assert!((p - TAU).abs() < 1e-12, "{p}");
         // Incommensurate, and no angle at all.
-        assert_eq!(period(&[(1.0, &angle), (-0.333333, &angle)]), None);
+        assert_eq!(turn_period(&[(1.0, angle), (-0.333333, angle)]), None);
         assert_eq!(
-            period(&[(1.0, &angle), (std::f64::consts::SQRT_2, &angle)]),
+            turn_period(&[(1.0, angle), (std::f64::consts::SQRT_2, angle)]),
             None
         );
-        assert_eq!(period(&[(1.0, &proj)]), None);
+        assert_eq!(turn_period(&[(1.0, proj)]), None);
         // Wrapping into (−P/2, P/2].
         assert!((wrap_period(0.75, 1.0) + 0.25).abs() < 1e-15);
         assert!((wrap_period(-0.5, 1.0) - 0.5).abs() < 1e-15);
