@@ -1,7 +1,8 @@
 //! Every joint type's kinematics against a closed form: a driven mechanism run through
 //! `dynamics::run` (kinematically when it has no degrees of freedom, by HHT otherwise), the
 //! pose of every output compared with the pose the joint's definition gives
-//! (ADM-REFERENCE §2.5–2.9, §4), and the degrees of freedom verify counts.
+//! (ADM-REFERENCE §2.5–2.9, §4), and the degrees of freedom verify counts; the RACKPIN's and
+//! SCREW's reactions by virtual work.
 //!
 //! Conventions used below: markers' REULER are 3-1-3 (`90D, βD, -90D` is a rotation by β about
 //! global y, `0D, -90D, 0D` one by −90° about x); a marker MOTION's B1, B2, B3 are the body
@@ -655,4 +656,104 @@ MOTION/1, JOINT = 1, ROTATION, FUNCTION = 30D * TIME",
             "q₂ = q₁/0.333333",
         );
     }
+}
+
+/// The RACKPIN's reactions by virtual work: a 10 N load along +x on the rack (z_j) is held by
+/// the pinion's motion with τ·δθ + F·δx = 0, δx = −(PD/2)·δθ, so τ = +F·PD/2 = +1 N·m about z;
+/// the rack-and-pinion pushes back on the pinion with −1 N·m about z (the hinge carries no
+/// torque about its axis).
+#[test]
+fn rackpin_transmits_the_load_times_half_the_pitch_diameter() {
+    let text = format!(
+        "{HEADER}MARKER/3, PART = 1, QP = 0, 0.1, 0, REULER = 90D, 90D, -90D
+MARKER/4, PART = 1, FLOATING
+PART/2, MASS = 1, CM = 20, IP = 1, 1, 1
+MARKER/20, PART = 2
+MARKER/21, PART = 2
+MARKER/22, PART = 2
+PART/3, MASS = 1, CM = 30, IP = 1, 1, 1, QG = 0, 0.1, 0
+MARKER/30, PART = 3
+MARKER/31, PART = 3, REULER = 90D, 90D, -90D
+MARKER/32, PART = 3, REULER = 90D, 90D, -90D
+JOINT/1, REVOLUTE, I = 21, J = 1
+JOINT/2, TRANSLATIONAL, I = 31, J = 3
+JOINT/3, RACKPIN, I = 22, J = 32, PD = 0.2
+MOTION/1, JOINT = 1, ROTATION, FUNCTION = 0
+VFORCE/1, I = 30, JFLOAT = 4, RM = 1, FX = 10\\FY = 0\\FZ = 0
+END
+"
+    );
+    let ds = linkage_adm::parse_dataset(Arc::from("rackpin.adm"), &text)
+        .unwrap_or_else(|e| panic!("{e}"));
+    let m = linkage_model::build_model(&ds).unwrap().model;
+    let d = ExpressionDrivers::new(&m).unwrap();
+    let f = linkage_solve::physics::forces::ForceSet::new(&m).unwrap_or_else(|e| panic!("{e}"));
+    let a = Assembled::new(&m, &d, &f, &Tolerances::default());
+    let r = linkage_solve::stages::statics::run(&a, &[0.0]);
+    let eq = r.steps[0].1.as_ref().unwrap_or_else(|e| panic!("{e}"));
+    let reaction = |name: &str| {
+        let k = m
+            .constraints
+            .iter()
+            .position(|c| c.origin.name == name)
+            .unwrap();
+        eq.reactions.iter().find(|r| r.element == k).unwrap()
+    };
+    // Exact up to rounding of the 0-DOF solve.
+    close(
+        reaction("MOTION_1").torque.z,
+        1.0,
+        1e-10,
+        "motion torque on the pinion",
+    );
+    close(
+        reaction("JOINT_3").torque.z,
+        -1.0,
+        1e-10,
+        "rack-and-pinion torque on the pinion",
+    );
+    close(
+        reaction("JOINT_1").torque.z,
+        0.0,
+        1e-10,
+        "hinge torque about its axis",
+    );
+}
+
+/// The SCREW's reaction by virtual work: a nut pushed along +z by 10 N, its rotation held by
+/// a motion: τ·δθ + F·δz = 0 with δz = PITCH·δθ/2π, so τ = −F·PITCH/2π about z.
+#[test]
+fn screw_holds_an_axial_load_with_load_times_pitch_over_two_pi() {
+    let text = format!(
+        "{HEADER}MARKER/4, PART = 1, FLOATING
+PART/2, MASS = 1, CM = 20, IP = 1, 1, 1
+MARKER/20, PART = 2
+MARKER/21, PART = 2
+JOINT/1, CYLINDRICAL, I = 21, J = 1
+JOINT/2, SCREW, I = 21, J = 1, PITCH = 0.02
+MOTION/1, JOINT = 1, ROTATION, FUNCTION = 0
+VFORCE/1, I = 20, JFLOAT = 4, RM = 1, FX = 0\\FY = 0\\FZ = 10
+END
+"
+    );
+    let ds =
+        linkage_adm::parse_dataset(Arc::from("screw.adm"), &text).unwrap_or_else(|e| panic!("{e}"));
+    let m = linkage_model::build_model(&ds).unwrap().model;
+    let d = ExpressionDrivers::new(&m).unwrap();
+    let f = linkage_solve::physics::forces::ForceSet::new(&m).unwrap_or_else(|e| panic!("{e}"));
+    let a = Assembled::new(&m, &d, &f, &Tolerances::default());
+    let r = linkage_solve::stages::statics::run(&a, &[0.0]);
+    let eq = r.steps[0].1.as_ref().unwrap_or_else(|e| panic!("{e}"));
+    let k = m
+        .constraints
+        .iter()
+        .position(|c| c.origin.name == "MOTION_1")
+        .unwrap();
+    let motion = eq.reactions.iter().find(|r| r.element == k).unwrap();
+    close(
+        motion.torque.z,
+        -10.0 * 0.02 / TAU,
+        1e-12,
+        "motion torque on the nut",
+    );
 }
