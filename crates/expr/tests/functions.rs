@@ -1,6 +1,6 @@
 mod common;
 
-use common::{assert_close, eval_str, MockEnv};
+use common::{assert_close, eval_str, MockEnv, TIME_VAR};
 use linkage_expr::{
     evaluate, evaluate_time_series, evaluate_with_gradient, parse, ElementForce, ElementForceArgs,
     EvalErrorKind, ForceComponent, MarkerArgs, MeasureKind, SplineData, StateRef, TimeEnv,
@@ -404,7 +404,9 @@ fn gradient_and_time_errors() {
     // ...but SQRT(0) of a constant is fine
     let c = parse("SQRT(0) + TIME").unwrap();
     assert_eq!(evaluate_time_series(&c, &env).unwrap()[1], 1.0);
-    assert!(evaluate_with_gradient(&c, &env).is_ok());
+    // SQRT(0) + TIME = TIME, d/dTIME = 1.
+    let d = evaluate_with_gradient(&c, &env).unwrap();
+    assert_eq!((d.value(), d.derivative(TIME_VAR)), (env.time, 1.0));
     // a MOTION function must depend on time only
     for text in [
         "DX(1) + TIME",

@@ -1,6 +1,6 @@
 mod common;
 
-use common::{eval_str, MockEnv};
+use common::{eval_str, MockEnv, TIME_VAR};
 use linkage_expr::{
     evaluate, parse, BinOp, Constant, Expr, Function, Intrinsic, MeasureKind, Special, TimeEnv,
     MAX_DEPTH, MAX_NESTING,
@@ -287,9 +287,36 @@ fn depth_limits_do_not_overflow_the_stack() {
     let parens = format!("{}TIME{}", "(1+".repeat(n), ")".repeat(n));
     let mixed = format!("{}{}{}", "(".repeat(n), sum, ")".repeat(n));
     let env = MockEnv::new();
-    for text in [sum, nested, parens, mixed] {
+    // The values and derivatives they must have, in closed form: k·DX(1) with k times its
+    // gradient; SIN applied n times to TIME, d/dTIME = Π cos(sinᵏ(TIME)); n + TIME, d/dTIME = 1;
+    // the sum again. Exact up to rounding of n terms (tolerance 1e-12 relative).
+    let dx = linkage_expr::evaluate_with_gradient(&parse("DX(1)").unwrap(), &env).unwrap();
+    let (mut sine, mut slope) = (env.time, 1.0);
+    for _ in 0..n {
+        slope *= sine.cos();
+        sine = sine.sin();
+    }
+    let k_dx = |d: &linkage_expr::Dual| {
+        assert!((d.value() - k as f64 * dx.value()).abs() < 1e-12 * k as f64);
+        for &(var, g) in dx.gradient() {
+            assert!((d.derivative(var) - k as f64 * g).abs() < 1e-12 * k as f64);
+        }
+    };
+    for (which, text) in [sum, nested, parens, mixed].into_iter().enumerate() {
         let e = parse(&text).unwrap();
-        assert!(linkage_expr::evaluate_with_gradient(&e, &env).is_ok());
+        let d = linkage_expr::evaluate_with_gradient(&e, &env)
+            .unwrap_or_else(|err| panic!("case {which}: {err}"));
+        match which {
+            0 | 3 => k_dx(&d),
+            1 => {
+                assert!((d.value() - sine).abs() < 1e-12, "{}", d.value());
+                assert!((d.derivative(TIME_VAR) - slope).abs() < 1e-12);
+            }
+            _ => {
+                assert!((d.value() - (n as f64 + env.time)).abs() < 1e-12 * n as f64);
+                assert_eq!(d.derivative(TIME_VAR), 1.0);
+            }
+        }
         assert_eq!(parse(&e.to_string()).unwrap(), e);
     }
 }

@@ -299,6 +299,12 @@ pub const ASSEMBLY_ROUNDING: f64 = 1e-13;
 /// Levenberg–Marquardt `μ` of the assembly after its KKT matrix proved singular (then ×100 per
 /// failure): small against the unit weights of W, so a regular direction is barely changed.
 pub const ASSEMBLY_SINGULAR_REGULARISATION: f64 = 1e-8;
+/// `μ` of the assembly once it has reached the constraints and moves along them to the least
+/// change: rows independent at the input may become dependent there (an exploded loop closes
+/// into a planar one), and their rounding-level residuals divided by a vanishing singular value
+/// would throw the step away; this `μ` bounds such a step by residual/(2√μ) while a regular
+/// row still holds to μ·λ, far below ERROR.
+pub const ASSEMBLY_POLISH_REGULARISATION: f64 = 1e-12;
 /// `μ` after a step that backtracking could not make decrease the residual (then ×10).
 pub const ASSEMBLY_STEP_REGULARISATION: f64 = 1e-6;
 /// A trial assembly step is accepted when its squared residual norm grows by at most this

@@ -54,7 +54,12 @@ fn pendulum_started_at_30_degrees_finds_the_hanging_equilibrium() {
     assert_eq!(eq.stability.map(|s| s.0), Some(true));
     // The hinge carries the weight.
     let w = 2.0 * 9.80665;
-    assert!((eq.reactions[0].force.length() - w).abs() < 1e-6 * w);
+    // On the I part (the rod, JOINT/1 I = 202): straight up, +y (gravity is −y).
+    let f = eq.reactions[0].force;
+    assert!(
+        (f - glam::DVec3::new(0.0, w, 0.0)).length() < 1e-6 * w,
+        "{f:?}"
+    );
     let _ = m;
 }
 
@@ -171,8 +176,10 @@ fn quasi_static_slider_crank_follows_the_kinematics_and_balances_gravity() {
             .unwrap()
             .torque
             .z;
+        // The motion's reaction on its I part (the crank) holds it against gravity:
+        // τ + (−dV/dθ) = 0, so τ_z = +dV/dθ, sign included (it changes sign past 90°).
         assert!(
-            (tz.abs() - dv.abs()).abs() < 1e-6 * (1.0 + dv.abs()),
+            (tz - dv).abs() < 1e-6 * (1.0 + dv.abs()),
             "t = {t}: motion torque {tz} vs dV/dθ {dv}"
         );
     }
@@ -187,7 +194,8 @@ fn quasi_static_slider_crank_follows_the_kinematics_and_balances_gravity() {
         .unwrap()
         .torque
         .z;
-    assert!((t0.abs() - 416.782625).abs() < 1e-5, "{t0}");
+    // Counter-clockwise (+z) on the crank: gravity pulls the crank at 60° clockwise.
+    assert!((t0 - 416.782625).abs() < 1e-5, "{t0}");
 }
 
 #[test]

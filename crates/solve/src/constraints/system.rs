@@ -56,8 +56,11 @@ pub struct Row {
     pub offset: f64,
     /// Whether `f(t)` of a motion is subtracted (the caller supplies it).
     pub driven: bool,
-    /// Residual wrapped to (−π, π] (rotational motions).
-    pub wrap: bool,
+    /// The residual is defined modulo this period and wrapped to (−P/2, P/2]: the turns of its
+    /// angle terms, which a pose cannot tell apart (2π for a rotational motion; the pitch of a
+    /// SCREW, π·PD of a RACKPIN, 2π·gcd of the scales of a COUPLER or GEAR; see
+    /// [`turn_period`]). `None`: no angle term, or angle terms whose turns are incommensurate.
+    pub period: Option<f64>,
     /// A general constraint's expression `f(q, t)` (added to the terms).
     pub function: Option<Arc<Expr>>,
 }
@@ -164,6 +167,7 @@ impl Builder {
         tier: Tier,
         terms: Vec<(f64, Quantity)>,
     ) {
+        let period = turn_period(&terms);
         self.rows.push(Row {
             element,
             label,
@@ -173,7 +177,7 @@ impl Builder {
             terms,
             offset: 0.0,
             driven: false,
-            wrap: false,
+            period,
             function: None,
         });
     }
@@ -472,7 +476,8 @@ impl System {
                     b.push(e, label, short, unit, Tier::Motion, vec![(1.0, q)]);
                     if let Some(r) = b.rows.last_mut() {
                         r.driven = true;
-                        r.wrap = unit == RowUnit::Angle;
+                        // A rotational motion's single angle (AZ, or an Euler angle): 2π.
+                        r.period = (unit == RowUnit::Angle).then_some(std::f64::consts::TAU);
                     }
                 }
                 ConstraintKind::Coupler { terms, .. } => {
@@ -582,8 +587,8 @@ impl System {
         if row.driven {
             v -= drive;
         }
-        if row.wrap {
-            v = wrap_angle(v);
+        if let Some(p) = row.period {
+            v = wrap_period(v, p);
         }
         v
     }
@@ -658,6 +663,64 @@ impl System {
         }
         Ok(bias)
     }
+}
+
+/// Wraps `v` to (−P/2, P/2] modulo the period `P`.
+pub fn wrap_period(v: f64, period: f64) -> f64 {
+    let w = v - period * (v / period).round();
+    if w <= -0.5 * period {
+        w + period
+    } else {
+        w
+    }
+}
+
+/// Largest ratio between an angle coefficient of a row and the gcd of them all for which the
+/// row's turns are resolved ([`turn_period`]): gear and coupler ratios are ratios of small
+/// tooth counts. The residual then wraps at ±P/2, which the faster joint reaches only
+/// π/MAX_TURN_RATIO (1.8°) away from the solution: a Newton iterate straying further would
+/// land on another mesh of the gears, so the period is not allowed to shrink below that.
+pub const MAX_TURN_RATIO: f64 = 100.0;
+
+/// The period of a row's residual `Σ c_k Q_k` due to the turns of its angle terms
+/// ([`Quantity::Angle`]: a joint's rotation, measured by atan2 and so known only modulo 2π).
+/// Adding a turn to term k changes the residual by 2π·c_k, so the residual is defined modulo
+/// the lattice {2π Σ c_k n_k} = 2π·gcd(|c_k|)·ℤ when the coefficients are commensurate. That
+/// lattice is exactly the set of poses the coupled joints reach by turning: a SCREW's nut is at
+/// any whole number of pitches along its rotation, gears with ratio 2 mesh again every half
+/// turn of the larger one. With one angle term (SCREW, RACKPIN, a rotation coupled to a
+/// translation) the period is 2π·|c|. Coefficients whose ratio is not a ratio of integers up to
+/// [`MAX_TURN_RATIO`] (to 1e-9) have no period: their turns cannot be told from a pose (the
+/// state carries no turn count), and such a coupling holds only while its angles stay within
+/// ±180°.
+pub fn turn_period(terms: &[(f64, Quantity)]) -> Option<f64> {
+    let mut g: Option<f64> = None;
+    for (c, q) in terms {
+        if matches!(q, Quantity::Angle { .. }) && *c != 0.0 {
+            g = Some(match g {
+                None => c.abs(),
+                Some(g) => commensurate_gcd(g, c.abs())?,
+            });
+        }
+    }
+    g.map(|g| std::f64::consts::TAU * g)
+}
+
+/// The greatest common divisor of two positive reals by Euclid's algorithm, remainders within
+/// 1e-9 of the larger taken as zero; `None` when it falls below 1/[`MAX_TURN_RATIO`] of it.
+fn commensurate_gcd(a: f64, b: f64) -> Option<f64> {
+    let (mut a, mut b) = (a.max(b), a.min(b));
+    let tol = 1e-9 * a;
+    let floor = a / MAX_TURN_RATIO;
+    while b > tol {
+        if b < floor {
+            return None;
+        }
+        let r = a % b;
+        a = b;
+        b = if r <= tol || b - r <= tol { 0.0 } else { r };
+    }
+    Some(a)
 }
 
 /// Wraps an angle to (−π, π].
@@ -761,6 +824,39 @@ mod tests {
         assert!((wrap_angle(-PI) - PI).abs() < 1e-12);
         assert!((wrap_angle(0.5) - 0.5).abs() < 1e-15);
         assert!((wrap_angle(2.0 * PI + 0.25) - 0.25).abs() < 1e-12);
+    }
+
+    #[test]
+    fn turn_periods_are_the_lattice_of_the_angle_coefficients() {
+        use std::f64::consts::TAU;
+        let frame = BodyFrame {
+            body: Body::Ground,
+            p_b: DVec3::ZERO,
+            r_b: DMat3::IDENTITY,
+        };
+        let angle = joint_coordinate(frame, frame, CouplerDof::Rotation);
+        let proj = joint_coordinate(frame, frame, CouplerDof::Translation);
+        // SCREW: translation − PITCH/2π · angle: one pitch.
+        let p = turn_period(&[(1.0, proj), (-0.02 / TAU, angle)]).unwrap();
+        assert!((p - 0.02).abs() < 1e-15, "{p}");
+        // Ratio 2 (and its rounding): half a turn of the first joint.
+        let p = turn_period(&[(1.0, angle), (-0.5, angle)]).unwrap();
+        assert!((p - TAU / 2.0).abs() < 1e-15, "{p}");
+        let p = turn_period(&[(0.1, angle), (-0.19999999999999998, angle)]).unwrap();
+        assert!((p - 0.1 * TAU).abs() < 1e-12, "{p}");
+        // 3:2.
+        let p = turn_period(&[(3.0, angle), (2.0, angle)]).unwrap();
+        assert!((p - TAU).abs() < 1e-12, "{p}");
+        // Incommensurate, and no angle at all.
+        assert_eq!(turn_period(&[(1.0, angle), (-0.333333, angle)]), None);
+        assert_eq!(
+            turn_period(&[(1.0, angle), (std::f64::consts::SQRT_2, angle)]),
+            None
+        );
+        assert_eq!(turn_period(&[(1.0, proj)]), None);
+        // Wrapping into (−P/2, P/2].
+        assert!((wrap_period(0.75, 1.0) + 0.25).abs() < 1e-15);
+        assert!((wrap_period(-0.5, 1.0) - 0.5).abs() < 1e-15);
     }
 
     #[test]

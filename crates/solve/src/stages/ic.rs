@@ -212,7 +212,25 @@ pub fn initial_conditions_at(
             forces,
             &asm.state,
             &vel.velocities,
-        );
+        )
+        .map_err(|e| match e {
+            AccelerationError::Singular { free } if free.is_empty() => {
+                AccelerationError::Singular {
+                    free: analysis
+                        .massless_free
+                        .iter()
+                        .map(|f| {
+                            format!(
+                                "{} ({})",
+                                model.parts[f.part].origin.name,
+                                f.coordinates.join(", ")
+                            )
+                        })
+                        .collect(),
+                }
+            }
+            other => other,
+        });
         (Some(vel), Some(acc))
     } else {
         (None, None)
@@ -433,12 +451,19 @@ pub enum AccelerationError {
     /// factorised, the velocity projection is singular, a row cannot be evaluated).
     #[error(transparent)]
     Solve(Box<IntegrationError>),
-    /// The matrix is singular.
+    /// The matrix is singular: a massless part or a part without inertia is free to move.
+    /// `free` names such parts and their free coordinates when the IC's analysis found them
+    /// (`PART_4 (rx, ry, rz)`), empty otherwise.
     #[error(
-        "the acceleration equations are singular: a massless part or a part without inertia \
-         has motion the constraints leave free"
+        "the acceleration equations are singular: {}",
+        if free.is_empty() {
+            "a massless part or a part without inertia has motion the constraints leave free"
+                .to_string()
+        } else {
+            format!("the constraints leave massless {} free", free.join(", "))
+        }
     )]
-    Singular,
+    Singular { free: Vec<String> },
 }
 
 /// Acceleration and force IC: `M a + UCF·Jᵀμ = M g + UCF·Q` (gravity, applied forces,
@@ -507,7 +532,12 @@ pub fn acceleration_ic(
     let solved = OutputSolver::exact(&problem, s, v)
         .and_then(|mut solver| solver.solve(&problem, s, &flat(v)))
         .map_err(|e| match e {
-            IntegrationError::Singular(SingularSolve::Acceleration) => AccelerationError::Singular,
+            // The velocity projection and the acceleration solve share the mass matrix on
+            // the constraints' null space: either is singular exactly when a part without
+            // mass or inertia is free.
+            IntegrationError::Singular(
+                SingularSolve::Acceleration | SingularSolve::VelocityProjection,
+            ) => AccelerationError::Singular { free: Vec::new() },
             other => AccelerationError::Solve(Box::new(other)),
         })?;
     let acc = solved.output.accelerations;
