@@ -367,4 +367,29 @@ mod tests {
         assert!(typed.motions.is_empty());
         assert_eq!(typed.joints.len(), 1);
     }
+
+    #[test]
+    fn deactivate_names_choose_by_element_kind_or_name() {
+        let ds = dataset(MODEL);
+        let names = |n: &[&str]| -> Vec<String> {
+            let chosen = select(
+                &ds.statements,
+                &n.iter().map(|s| s.to_string()).collect::<Vec<_>>(),
+            )
+            .expect("chosen");
+            chosen.iter().map(Selected::element).collect()
+        };
+        assert_eq!(names(&["motion/6"]), ["MOTION/6"]);
+        assert_eq!(names(&["MOT"]), ["MOTION/6"]);
+        assert_eq!(
+            names(&["JOINT_5", "MOTION/6", "motion"]),
+            ["JOINT/5", "MOTION/6"]
+        );
+        let e = select(&ds.statements, &["EQUILIBRIUM".to_string()]).unwrap_err();
+        assert!(e.contains("--deactivate EQUILIBRIUM"), "{e}");
+        assert!(select(&ds.statements, &["JOINT/x".to_string()]).is_err());
+        let left = select(&ds.statements, &["MOTION".to_string()]).expect("chosen");
+        assert_eq!(left[0].line, 7);
+        assert!(without(&ds, &left).expect("types").motions.is_empty());
+    }
 }

@@ -243,7 +243,7 @@ impl Finding {
         self.refused_by.contains(&a)
     }
 
-    /// `SENSOR_3 (SENSOR/3)`, or the element alone when the name is derived from it.
+    /// `SENSOR_3 (SENSOR/3)`: the name and the element.
     pub fn title(&self) -> String {
         format!("{} ({})", self.name, self.element)
     }
@@ -359,6 +359,19 @@ pub fn findings(ds: &Dataset) -> Vec<Finding> {
                 ),
             };
             let mut detail = why.to_string();
+            if st.keyword == "SENSOR" {
+                let acts: Vec<&str> = ["HALT", "RETURN"]
+                    .into_iter()
+                    .filter(|k| st.arg(k).is_some())
+                    .collect();
+                if !acts.is_empty() {
+                    detail = format!(
+                        "a {} sensor: sensors are not evaluated, so the run would not stop at \
+                         its event; analyses at one time (ic, static, linear) do not use them",
+                        acts.join(" and ")
+                    );
+                }
+            }
             if let Some((key, _)) = &user {
                 detail.push_str(&format!("; its {key} calls a USER subroutine"));
             }
