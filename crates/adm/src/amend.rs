@@ -175,6 +175,96 @@ fn apply_argument(target: &mut Statement, arg: &Argument) -> Result<(), AmendErr
     Ok(())
 }
 
+/// A statement chosen to be left out of the analyses (`--deactivate`).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Selected {
+    pub keyword: String,
+    pub id: u64,
+    /// The `adams_view_name`, else `KEYWORD_id`.
+    pub name: String,
+    /// Line of the statement's keyword.
+    pub line: u32,
+}
+
+impl Selected {
+    /// `SENSOR/3`.
+    pub fn element(&self) -> String {
+        format!("{}/{}", self.keyword, self.id)
+    }
+}
+
+/// The statements of `statements` that `names` choose: `KEYWORD/id` (`SENSOR/3`), a statement
+/// kind (`SENSOR`: every one of that kind), or an element's name (its `adams_view_name`, or
+/// `SENSOR_3`); case does not matter, and a kind may be abbreviated as in the dataset. In
+/// statement order, each once. An error names the first name that chooses nothing (only
+/// statements with an id can be left out).
+pub fn select(statements: &[Statement], names: &[String]) -> Result<Vec<Selected>, String> {
+    let mut chosen = BTreeSet::new();
+    for raw in names {
+        let word = raw.trim();
+        let upper = word.to_ascii_uppercase();
+        let (kind, id) = match upper.split_once('/') {
+            Some((k, id)) => match id.trim().parse::<u64>() {
+                Ok(id) => (Some(k.trim().to_string()), Some(id)),
+                Err(_) => return Err(format!("--deactivate {word}: '{id}' is not an id")),
+            },
+            None => (Some(upper.clone()), None),
+        };
+        let kind = kind.map(|k| {
+            match crate::keywords::lookup_statement(&k, crate::keywords::DATASET_STATEMENTS) {
+                crate::keywords::Lookup::Found(d) => d.name.to_string(),
+                _ => k,
+            }
+        });
+        let before = chosen.len();
+        let mut any = false;
+        for (k, st) in statements.iter().enumerate() {
+            let Some(sid) = st.id else { continue };
+            let by_kind =
+                kind.as_deref() == Some(st.keyword.as_str()) && id.is_none_or(|id| id == sid);
+            let by_name = id.is_none()
+                && (st
+                    .view_name
+                    .as_deref()
+                    .is_some_and(|n| n.eq_ignore_ascii_case(word))
+                    || format!("{}_{sid}", st.keyword) == upper);
+            if by_kind || by_name {
+                chosen.insert(k);
+                any = true;
+            }
+        }
+        if !any && chosen.len() == before {
+            return Err(format!(
+                "--deactivate {word}: the dataset has no element of that name (write KEYWORD/id \
+                 as in SENSOR/3, a statement kind such as SENSOR, or an element's name)"
+            ));
+        }
+    }
+    Ok(chosen
+        .into_iter()
+        .map(|k| {
+            let st = &statements[k];
+            let id = st.id.unwrap_or(0);
+            Selected {
+                keyword: st.keyword.clone(),
+                id,
+                name: st
+                    .view_name
+                    .clone()
+                    .unwrap_or_else(|| format!("{}_{id}", st.keyword)),
+                line: st.span.line,
+            }
+        })
+        .collect())
+}
+
+/// The dataset `ds` without the statements `left_out` (typed again).
+pub fn without(ds: &Dataset, left_out: &[Selected]) -> Result<Dataset, Diagnostics> {
+    let inactive: BTreeSet<(String, u64)> =
+        left_out.iter().map(|s| (s.keyword.clone(), s.id)).collect();
+    retype(ds, &ds.statements, &inactive)
+}
+
 /// Types `statements` (the dataset's, amended) as the dataset `ds` would be, leaving out the
 /// statements listed in `inactive` (`(keyword, id)`).
 pub fn retype(
@@ -276,5 +366,30 @@ mod tests {
         let typed = retype(&ds, &ds.statements, &inactive).expect("types");
         assert!(typed.motions.is_empty());
         assert_eq!(typed.joints.len(), 1);
+    }
+
+    #[test]
+    fn deactivate_names_choose_by_element_kind_or_name() {
+        let ds = dataset(MODEL);
+        let names = |n: &[&str]| -> Vec<String> {
+            let chosen = select(
+                &ds.statements,
+                &n.iter().map(|s| s.to_string()).collect::<Vec<_>>(),
+            )
+            .expect("chosen");
+            chosen.iter().map(Selected::element).collect()
+        };
+        assert_eq!(names(&["motion/6"]), ["MOTION/6"]);
+        assert_eq!(names(&["MOT"]), ["MOTION/6"]);
+        assert_eq!(
+            names(&["JOINT_5", "MOTION/6", "motion"]),
+            ["JOINT/5", "MOTION/6"]
+        );
+        let e = select(&ds.statements, &["EQUILIBRIUM".to_string()]).unwrap_err();
+        assert!(e.contains("--deactivate EQUILIBRIUM"), "{e}");
+        assert!(select(&ds.statements, &["JOINT/x".to_string()]).is_err());
+        let left = select(&ds.statements, &["MOTION".to_string()]).expect("chosen");
+        assert_eq!(left[0].line, 7);
+        assert!(without(&ds, &left).expect("types").motions.is_empty());
     }
 }

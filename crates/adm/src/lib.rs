@@ -59,6 +59,12 @@ pub fn read_dataset(path: &Path) -> Result<Dataset, Diagnostics> {
     }
 }
 
+/// The canonical names of every statement of the dataset language (ADM-REFERENCE §1.5), in
+/// alphabetical order.
+pub fn dataset_keywords() -> impl Iterator<Item = &'static str> {
+    keywords::DATASET_STATEMENTS.iter().map(|s| s.name)
+}
+
 /// Parses and types dataset text. `file` is the name used in diagnostics.
 ///
 /// Returns the dataset (with its warnings) or every error found.

@@ -1,9 +1,11 @@
 //! What every command shares: loading a dataset, reporting input errors, printing JSON.
 
 use clap::ValueEnum;
+use linkage_adm::amend::Selected;
 use linkage_adm::{Dataset, Diagnostic, Diagnostics};
 use linkage_model::Model;
 use linkage_solve::constraints::drivers::ExpressionDrivers;
+use linkage_solve::coverage::{self, Analysis, Finding};
 use std::path::Path;
 use std::process::ExitCode;
 
@@ -15,18 +17,45 @@ pub enum Format {
 
 /// A dataset read, built and with its functions parsed.
 pub struct Loaded {
+    /// The dataset without the statements left out on request.
     pub dataset: Dataset,
     pub model: Model,
     pub drivers: ExpressionDrivers,
     /// Dataset, model and function warnings.
     pub warnings: Vec<Diagnostic>,
+    /// The statements left out on request (`--deactivate`).
+    pub left_out: Vec<Selected>,
+    /// Every statement of the dataset some analysis refuses or runs without.
+    pub findings: Vec<Finding>,
 }
 
-/// Reads, builds and checks the functions of a dataset.
-pub fn load(path: &Path) -> Result<Loaded, Diagnostics> {
-    let dataset = linkage_adm::read_dataset(path)?;
-    let built = linkage_model::build_model(&dataset)?;
-    let drivers = ExpressionDrivers::new(&built.model)?;
+/// Reads the dataset at `path`, leaves out the statements `deactivate` names, builds it and
+/// checks its functions. `analysis` is the analysis the model is loaded for (`None`: verify).
+/// When the model does not build, the input errors also name every statement that
+/// `analysis` (verify: any analysis) would refuse, so that all of them come at once.
+pub fn load(
+    path: &Path,
+    deactivate: &[String],
+    analysis: Option<Analysis>,
+) -> Result<Loaded, Diagnostics> {
+    let read = linkage_adm::read_dataset(path)?;
+    let (dataset, left_out) = if deactivate.is_empty() {
+        (read, Vec::new())
+    } else {
+        let left_out = linkage_adm::amend::select(&read.statements, deactivate)
+            .map_err(|e| Diagnostics(vec![Diagnostic::error(read.file.clone(), None, e)]))?;
+        (linkage_adm::amend::without(&read, &left_out)?, left_out)
+    };
+    let findings = coverage::findings(&dataset);
+    let built = linkage_model::build_model(&dataset)
+        .and_then(|b| ExpressionDrivers::new(&b.model).map(|d| (b, d)));
+    let (built, drivers) = match built {
+        Ok(b) => b,
+        Err(mut d) => {
+            d.0.extend(refused_as_diagnostics(&findings, analysis, &d.0));
+            return Err(d);
+        }
+    };
     let mut warnings = built.warnings;
     warnings.extend(drivers.warnings().iter().cloned());
     Ok(Loaded {
@@ -34,7 +63,46 @@ pub fn load(path: &Path) -> Result<Loaded, Diagnostics> {
         model: built.model,
         drivers,
         warnings,
+        left_out,
+        findings,
     })
+}
+
+/// The findings `analysis` refuses (verify, `None`: that any analysis refuses) as
+/// diagnostics, leaving out those at a line some diagnostic of `already` is at: errors for an
+/// analysis, notes for verify.
+fn refused_as_diagnostics(
+    findings: &[Finding],
+    analysis: Option<Analysis>,
+    already: &[Diagnostic],
+) -> Vec<Diagnostic> {
+    findings
+        .iter()
+        .filter(|f| match analysis {
+            Some(a) => f.refuses(a),
+            None => !f.refused_by.is_empty(),
+        })
+        .filter(|f| {
+            !already
+                .iter()
+                .any(|d| d.span.is_some_and(|s| s.line == f.span.line))
+        })
+        .map(|f| {
+            let mut d = refusal(f);
+            if analysis.is_none() {
+                d.severity = linkage_adm::Severity::Note;
+            }
+            d
+        })
+        .collect()
+}
+
+/// The input error of an analysis refusing `f`, with the option that runs without it.
+fn refusal(f: &Finding) -> Diagnostic {
+    f.error().with_hint(format!(
+        "--deactivate {} runs the rest of the model without it",
+        f.element
+    ))
 }
 
 /// Prints input errors (and, for JSON, an object with `errors`) and returns exit code 2.
@@ -81,23 +149,37 @@ pub fn print_json<T: serde::Serialize>(v: &T) -> bool {
     }
 }
 
-/// Input errors for elements linkage cannot evaluate in a force analysis.
-pub fn unmodelled_elements(loaded: &Loaded) -> Result<(), Diagnostics> {
-    let errors = linkage_solve::physics::forces::unmodelled_statements(&loaded.dataset);
-    if errors.is_empty() {
-        Ok(())
-    } else {
-        Err(Diagnostics(errors))
-    }
-}
-
-/// The applied force elements of a loaded model (gravity is applied by the analyses).
+/// The applied force elements of a loaded model (gravity is applied by the analyses), or the
+/// input errors of `analysis`: every statement it refuses, all at once.
 pub fn applied_forces(
     loaded: &Loaded,
+    analysis: Analysis,
 ) -> Result<Box<dyn linkage_solve::physics::applied::AppliedForces>, Diagnostics> {
-    unmodelled_elements(loaded)?;
+    let refused: Vec<Diagnostic> = loaded
+        .findings
+        .iter()
+        .filter(|f| f.refuses(analysis))
+        .map(refusal)
+        .collect();
+    if !refused.is_empty() {
+        return Err(Diagnostics(refused));
+    }
     let forces = linkage_solve::physics::forces::ForceSet::new(&loaded.model)?;
     Ok(Box::new(forces))
+}
+
+/// What a report of `analysis` says about the statements left out and those it ran without.
+pub fn coverage_json(
+    loaded: &Loaded,
+    analysis: Analysis,
+) -> (
+    Vec<linkage_report::coverage::LeftOutJson>,
+    Vec<linkage_report::coverage::FindingJson>,
+) {
+    (
+        linkage_report::coverage::left_out_json(&loaded.left_out),
+        linkage_report::coverage::runs_without_json(&loaded.findings, analysis),
+    )
 }
 
 /// The most output times a run may ask for: every output keeps each part's state, so a

@@ -3,25 +3,27 @@
 use crate::common::{input_error, load, print_json, Format};
 use linkage_adm::Dataset;
 use linkage_model::Model;
+use linkage_solve::coverage::Analysis;
 use linkage_solve::pipeline::{Assembled, NotAssembled};
 use linkage_solve::state::State;
 use linkage_solve::tolerances::Tolerances;
 use std::path::Path;
 use std::process::ExitCode;
 
-pub fn run(model: &Path, format: Format, save: Option<&Path>) -> ExitCode {
-    let loaded = match load(model) {
+pub fn run(model: &Path, format: Format, save: Option<&Path>, deactivate: &[String]) -> ExitCode {
+    let loaded = match load(model, deactivate, Some(Analysis::Ic)) {
         Ok(l) => l,
         Err(d) => return input_error(&d, format),
     };
     let tol = Tolerances::default();
-    let forces = match crate::common::applied_forces(&loaded) {
+    let forces = match crate::common::applied_forces(&loaded, Analysis::Ic) {
         Ok(f) => f,
         Err(d) => return input_error(&d, format),
     };
     let assembled = Assembled::new(&loaded.model, &loaded.drivers, forces.as_ref(), &tol);
     let ic = &assembled.ic;
     let mut report = linkage_report::ic::to_json(&loaded.model, ic, &loaded.warnings);
+    (report.left_out, report.runs_without) = crate::common::coverage_json(&loaded, Analysis::Ic);
     // An assembly that did not converge has its own error; an inconsistent redundancy is named
     // here, as the one line of the verdict.
     if let Some(why @ NotAssembled::Inconsistent { .. }) = assembled.failure() {

@@ -1,6 +1,7 @@
 //! `linkage linear`: eigenvalues and modes about an operating point.
 
 use crate::common::{applied_forces, input_error, load, print_json, Format};
+use linkage_solve::coverage::Analysis;
 use linkage_solve::pipeline::Assembled;
 use linkage_solve::stages::linearize::{run, EigenMethod, LinearOptions, LinearRun, DEFAULT_MODES};
 use linkage_solve::tolerances::Tolerances;
@@ -20,6 +21,8 @@ pub struct LinearArgs<'a> {
     pub shift: Option<f64>,
     /// With `static_first`: accept an unstable equilibrium as the operating point.
     pub allow_unstable: bool,
+    /// Statements to leave out (`--deactivate`).
+    pub deactivate: &'a [String],
 }
 
 /// The verdict on linearizing about an unstable static equilibrium, in one line with what to
@@ -39,11 +42,11 @@ fn unstable_operating_point(run: &LinearRun) -> Option<String> {
 }
 
 pub fn run_linear(args: &LinearArgs) -> ExitCode {
-    let loaded = match load(args.model) {
+    let loaded = match load(args.model, args.deactivate, Some(Analysis::Linear)) {
         Ok(l) => l,
         Err(d) => return input_error(&d, args.format),
     };
-    let forces = match applied_forces(&loaded) {
+    let forces = match applied_forces(&loaded, Analysis::Linear) {
         Ok(f) => f,
         Err(d) => return input_error(&d, args.format),
     };
@@ -76,6 +79,8 @@ pub fn run_linear(args: &LinearArgs) -> ExitCode {
         args.static_first,
         &loaded.warnings,
     );
+    (report.left_out, report.runs_without) =
+        crate::common::coverage_json(&loaded, Analysis::Linear);
     if !args.allow_unstable && report.errors.is_empty() {
         report.errors.extend(unstable_operating_point(&result));
     }

@@ -41,6 +41,10 @@ enum Command {
         /// The dataset(s) (.adm), verified in turn.
         #[arg(required = true, num_args = 1..)]
         model: Vec<PathBuf>,
+        /// Leave these statements out: KEYWORD/id (SENSOR/3), a statement kind (SENSOR: all of
+        /// them) or an element's name; comma-separated or repeated. The report names them.
+        #[arg(long, value_name = "NAME", value_delimiter = ',')]
+        deactivate: Vec<String>,
         /// Output format.
         #[arg(long, value_enum, default_value = "text")]
         format: Format,
@@ -61,6 +65,10 @@ enum Command {
     Ic {
         /// The dataset (.adm).
         model: PathBuf,
+        /// Leave these statements out: KEYWORD/id (SENSOR/3), a statement kind (SENSOR: all of
+        /// them) or an element's name; comma-separated or repeated. The report names them.
+        #[arg(long, value_name = "NAME", value_delimiter = ',')]
+        deactivate: Vec<String>,
         /// Output format.
         #[arg(long, value_enum, default_value = "text")]
         format: Format,
@@ -73,6 +81,10 @@ enum Command {
     Static {
         /// The dataset (.adm).
         model: PathBuf,
+        /// Leave these statements out: KEYWORD/id (SENSOR/3), a statement kind (SENSOR: all of
+        /// them) or an element's name; comma-separated or repeated. The report names them.
+        #[arg(long, value_name = "NAME", value_delimiter = ',')]
+        deactivate: Vec<String>,
         /// Output format (csv: one row per output time).
         #[arg(long, value_enum, default_value = "text")]
         format: static_cmd::StaticFormat,
@@ -103,6 +115,10 @@ enum Command {
     Linear {
         /// The dataset (.adm).
         model: PathBuf,
+        /// Leave these statements out: KEYWORD/id (SENSOR/3), a statement kind (SENSOR: all of
+        /// them) or an element's name; comma-separated or repeated. The report names them.
+        #[arg(long, value_name = "NAME", value_delimiter = ',')]
+        deactivate: Vec<String>,
         /// Output format.
         #[arg(long, value_enum, default_value = "text")]
         format: Format,
@@ -136,6 +152,10 @@ enum Command {
         /// Directory of the output files (default: the working directory, as Adams).
         #[arg(long, value_name = "DIR")]
         out_dir: Option<PathBuf>,
+        /// Leave these statements of the dataset out, as if the command file deactivated
+        /// them first: KEYWORD/id, a statement kind or an element's name (as for simulate).
+        #[arg(long, value_name = "NAME", value_delimiter = ',')]
+        deactivate: Vec<String>,
         /// The dataset to run, in place of the one the command file names (or for a command
         /// file that names none).
         #[arg(long, value_name = "MODEL.adm")]
@@ -145,6 +165,10 @@ enum Command {
     Simulate {
         /// The dataset (.adm).
         model: PathBuf,
+        /// Leave these statements out: KEYWORD/id (SENSOR/3), a statement kind (SENSOR: all of
+        /// them) or an element's name; comma-separated or repeated. The report names them.
+        #[arg(long, value_name = "NAME", value_delimiter = ',')]
+        deactivate: Vec<String>,
         /// Output format of the summary.
         #[arg(long, value_enum, default_value = "text")]
         format: Format,
@@ -241,25 +265,34 @@ fn main() -> ExitCode {
             command_file,
             out_dir,
             model,
-        } => run_cmd::run(&command_file, out_dir.as_deref(), model.as_deref()),
+            deactivate,
+        } => run_cmd::run(
+            &command_file,
+            out_dir.as_deref(),
+            model.as_deref(),
+            &deactivate,
+        ),
         Command::Verify {
             model,
             format,
             explain,
             apply,
             save,
+            deactivate,
         } => verify_cmd::run(&verify_cmd::VerifyArgs {
             models: &model,
             format,
             explain,
             apply,
             save: save.as_deref(),
+            deactivate: &deactivate,
         }),
         Command::Ic {
             model,
             format,
             save,
-        } => ic_cmd::run(&model, format, save.as_deref()),
+            deactivate,
+        } => ic_cmd::run(&model, format, save.as_deref(), &deactivate),
         Command::Linear {
             model,
             format,
@@ -269,6 +302,7 @@ fn main() -> ExitCode {
             modes,
             shift,
             allow_unstable,
+            deactivate,
         } => linear_cmd::run_linear(&linear_cmd::LinearArgs {
             model: &model,
             format,
@@ -278,6 +312,7 @@ fn main() -> ExitCode {
             modes: modes.map(|k| usize::try_from(k).unwrap_or(usize::MAX)),
             shift,
             allow_unstable,
+            deactivate: &deactivate,
         }),
         Command::Simulate {
             model,
@@ -290,6 +325,7 @@ fn main() -> ExitCode {
             settle,
             allow_unstable,
             time_limit,
+            deactivate,
         } => simulate_cmd::run_simulate(&simulate_cmd::SimulateArgs {
             model: &model,
             format,
@@ -304,6 +340,7 @@ fn main() -> ExitCode {
             },
             allow_unstable,
             time_limit,
+            deactivate: &deactivate,
         }),
         Command::Static {
             model,
@@ -314,6 +351,7 @@ fn main() -> ExitCode {
             settle,
             allow_unstable,
             time_limit,
+            deactivate,
         } => static_cmd::run_static(&static_cmd::StaticArgs {
             model: &model,
             format,
@@ -322,6 +360,7 @@ fn main() -> ExitCode {
             settle,
             allow_unstable,
             time_limit,
+            deactivate: &deactivate,
         }),
         Command::Compare {
             a,

@@ -9,7 +9,12 @@ use std::sync::Arc;
 /// carried out, 1 when an analysis failed, 2 for input errors and commands linkage refuses,
 /// 130 when interrupted (Ctrl-C stops the run at its next output; the files keep every output
 /// written and the message file says where it stopped).
-pub fn run(command_file: &Path, out_dir: Option<&Path>, model: Option<&Path>) -> ExitCode {
+pub fn run(
+    command_file: &Path,
+    out_dir: Option<&Path>,
+    model: Option<&Path>,
+    deactivate: &[String],
+) -> ExitCode {
     let interrupt = Arc::new(AtomicBool::new(false));
     let flag = Arc::clone(&interrupt);
     // Without a handler (another one is installed) Ctrl-C ends the process as usual.
@@ -18,6 +23,7 @@ pub fn run(command_file: &Path, out_dir: Option<&Path>, model: Option<&Path>) ->
         out_dir: out_dir.map(Path::to_path_buf),
         model: model.map(Path::to_path_buf),
         interrupt: Some(interrupt),
+        deactivate: deactivate.to_vec(),
     };
     let (summary, error) = match linkage_run::run_command_file(command_file, &options) {
         Ok(s) => (Some(s), None),

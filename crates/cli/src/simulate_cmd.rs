@@ -5,6 +5,7 @@ use crate::common::{
     applied_forces, input_error, is_stdout, load, output_times, print_json, Format, Progress,
 };
 use linkage_report::simulate::CsvHistory;
+use linkage_solve::coverage::Analysis;
 use linkage_solve::physics::requests::RequestSet;
 use linkage_solve::pipeline::Assembled;
 use linkage_solve::stages::dynamics::{
@@ -31,6 +32,8 @@ pub struct SimulateArgs<'a> {
     pub allow_unstable: bool,
     /// Wall-clock seconds after which the run stops (after the step it is in).
     pub time_limit: Option<f64>,
+    /// Statements to leave out (`--deactivate`).
+    pub deactivate: &'a [String],
 }
 
 /// The most integration steps an HMAX may imply (about a day of computing for a small model).
@@ -71,11 +74,11 @@ impl CsvStream<'_> {
 }
 
 pub fn run_simulate(args: &SimulateArgs) -> ExitCode {
-    let loaded = match load(args.model) {
+    let loaded = match load(args.model, args.deactivate, Some(Analysis::Simulate)) {
         Ok(l) => l,
         Err(d) => return input_error(&d, args.format),
     };
-    let forces = match applied_forces(&loaded) {
+    let forces = match applied_forces(&loaded, Analysis::Simulate) {
         Ok(f) => f,
         Err(d) => return input_error(&d, args.format),
     };
@@ -200,6 +203,8 @@ pub fn run_simulate(args: &SimulateArgs) -> ExitCode {
     );
     bar.finish();
     let mut report = linkage_report::simulate::summary(&assembled, &result, &loaded.warnings);
+    (report.left_out, report.runs_without) =
+        crate::common::coverage_json(&loaded, Analysis::Simulate);
     if let Some(c) = csv.as_mut() {
         report.errors.append(&mut c.errors);
         if c.request_failures > 1 {

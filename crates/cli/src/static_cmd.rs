@@ -4,6 +4,7 @@ use crate::common::{input_error, load, print_json, Loaded};
 use crate::ic_cmd::save_configuration;
 use clap::ValueEnum;
 use linkage_adm::Diagnostics;
+use linkage_solve::coverage::Analysis;
 use linkage_solve::physics::applied::AppliedForces;
 use linkage_solve::pipeline::Assembled;
 use linkage_solve::stages::statics::run;
@@ -31,6 +32,8 @@ pub struct StaticArgs<'a> {
     pub allow_unstable: bool,
     /// Wall-clock seconds after which damped settling stops (after the step it is in).
     pub time_limit: Option<f64>,
+    /// Statements to leave out (`--deactivate`).
+    pub deactivate: &'a [String],
 }
 
 /// Adds the unstable-equilibrium verdict to `report` unless `allow` (see
@@ -45,8 +48,18 @@ fn judge_stability(report: &mut linkage_report::statics::StaticJson, allow: bool
 }
 
 /// The model's applied force elements.
-fn forces(loaded: &Loaded) -> Result<Box<dyn AppliedForces>, Diagnostics> {
-    crate::common::applied_forces(loaded)
+fn forces(loaded: &Loaded, analysis: Analysis) -> Result<Box<dyn AppliedForces>, Diagnostics> {
+    crate::common::applied_forces(loaded, analysis)
+}
+
+/// Fills in what the report says about left-out statements and those it ran without.
+fn with_coverage(
+    mut report: linkage_report::statics::StaticJson,
+    loaded: &Loaded,
+    analysis: Analysis,
+) -> linkage_report::statics::StaticJson {
+    (report.left_out, report.runs_without) = crate::common::coverage_json(loaded, analysis);
+    report
 }
 
 pub fn run_static(args: &StaticArgs) -> ExitCode {
@@ -55,11 +68,16 @@ pub fn run_static(args: &StaticArgs) -> ExitCode {
     } else {
         crate::common::Format::Text
     };
-    let loaded = match load(args.model) {
+    let analysis = if args.series.is_some() {
+        Analysis::QuasiStatic
+    } else {
+        Analysis::Static
+    };
+    let loaded = match load(args.model, args.deactivate, Some(analysis)) {
         Ok(l) => l,
         Err(d) => return input_error(&d, json_errors),
     };
-    let applied = match forces(&loaded) {
+    let applied = match forces(&loaded, analysis) {
         Ok(f) => f,
         Err(d) => return input_error(&d, json_errors),
     };
@@ -90,8 +108,11 @@ pub fn run_static(args: &StaticArgs) -> ExitCode {
             .ok()
             .and_then(|o| o.settled_equilibrium())
             .map(|e| e.state.clone());
-        let mut report =
-            linkage_report::statics::settling_json(&assembled, settled, &loaded.warnings);
+        let mut report = with_coverage(
+            linkage_report::statics::settling_json(&assembled, settled, &loaded.warnings),
+            &loaded,
+            analysis,
+        );
         judge_stability(&mut report, args.allow_unstable);
         if let (Some(secs), true) = (args.time_limit, out_of_time()) {
             if !report.errors.is_empty() {
@@ -134,7 +155,11 @@ pub fn run_static(args: &StaticArgs) -> ExitCode {
     };
     let assembled = assemble();
     let result = run(&assembled, &times);
-    let mut report = linkage_report::statics::to_json(&assembled, &result, &loaded.warnings);
+    let mut report = with_coverage(
+        linkage_report::statics::to_json(&assembled, &result, &loaded.warnings),
+        &loaded,
+        analysis,
+    );
     judge_stability(&mut report, args.allow_unstable);
     let ok = result.converged() && report.errors.is_empty();
     if let (Some(out), true) = (args.save, ok) {

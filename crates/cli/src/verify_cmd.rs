@@ -21,6 +21,8 @@ pub struct VerifyArgs<'a> {
     pub apply: Option<usize>,
     /// Where to write the changed dataset.
     pub save: Option<&'a Path>,
+    /// Statements to leave out (`--deactivate`).
+    pub deactivate: &'a [String],
 }
 
 /// What verifying one model gave: its report (`None` for an input error, already printed in
@@ -32,7 +34,7 @@ struct Verified {
 
 /// Verifies one model: the report and its verdict (1 when its `errors` list is not empty).
 fn verify_one(args: &VerifyArgs, model: &Path) -> Verified {
-    let loaded = match load(model) {
+    let loaded = match load(model, args.deactivate, None) {
         Ok(l) => l,
         Err(d) => {
             return Verified {
@@ -44,6 +46,9 @@ fn verify_one(args: &VerifyArgs, model: &Path) -> Verified {
     let tol = Tolerances::default();
     let v = linkage_solve::stages::verify::verify(&loaded.model, &loaded.drivers, &tol);
     let mut report = linkage_report::verify::to_json(&loaded.model, &v, &loaded.warnings);
+    report.left_out = linkage_report::coverage::left_out_json(&loaded.left_out);
+    report.not_run = loaded.findings.iter().map(Into::into).collect();
+    report.later_refused_by = linkage_report::coverage::refusing_analyses(&loaded.findings);
     if args.explain || args.apply.is_some() {
         let ex = explain(&loaded.model, &loaded.drivers, &tol, &v);
         let mut j = linkage_report::explain::to_json(&loaded.model, &ex);

@@ -42,6 +42,10 @@ pub struct IcJson {
     pub title: String,
     /// Positions, 3-1-3 angles (degrees), velocities, accelerations and reactions.
     pub units: UnitsJson,
+    /// Statements left out on request (`--deactivate`).
+    pub left_out: Vec<crate::coverage::LeftOutJson>,
+    /// Statements this analysis ran without (not modelled, not used by it).
+    pub runs_without: Vec<crate::coverage::FindingJson>,
     pub converged: bool,
     pub iterations: usize,
     pub max_residual: f64,
@@ -134,6 +138,8 @@ pub fn to_json(model: &Model, ic: &InitialConditions, warnings: &[Diagnostic]) -
         file: model.file.to_string(),
         title: model.title.clone(),
         units: units_json(model, Angle::Degree, false),
+        left_out: Vec::new(),
+        runs_without: Vec::new(),
         converged: ic.assembly.converged,
         iterations: ic.assembly.iterations,
         max_residual: ic.assembly.max_residual,
@@ -178,6 +184,10 @@ pub fn to_text(j: &IcJson) -> String {
     let _ = writeln!(s, "INITIAL CONDITIONS: {}", j.title);
     let _ = writeln!(s, "  file: {}", j.file);
     let _ = writeln!(s, "{}", text_line(&j.units));
+    s.push_str(&crate::coverage::analysis_text(
+        &j.left_out,
+        &j.runs_without,
+    ));
     let _ = writeln!(s);
     let _ = writeln!(
         s,

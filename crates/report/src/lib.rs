@@ -3,6 +3,7 @@
 //! Reports compute no physics: they turn the values returned by `linkage-solve` into human
 //! text in the spirit of Adams' own output and into JSON with a stable schema.
 
+pub mod coverage;
 pub mod explain;
 pub mod ic;
 pub mod linear;

@@ -51,6 +51,10 @@ pub struct LinearJson {
     pub title: String,
     /// Frequencies and eigenvalues in cycles per time unit; mode-shape rotations in radians.
     pub units: UnitsJson,
+    /// Statements left out on request (`--deactivate`).
+    pub left_out: Vec<crate::coverage::LeftOutJson>,
+    /// Statements this analysis ran without (not modelled, not used by it).
+    pub runs_without: Vec<crate::coverage::FindingJson>,
     pub operating_point: &'static str,
     /// Time of the operating point.
     pub time: f64,
@@ -162,6 +166,8 @@ pub fn to_json(
         file: model.file.to_string(),
         title: model.title.clone(),
         units: units_json(model, Angle::Radian, true),
+        left_out: Vec::new(),
+        runs_without: Vec::new(),
         operating_point: if static_first {
             "static equilibrium"
         } else {
@@ -217,6 +223,10 @@ pub fn to_text(j: &LinearJson) -> String {
     let _ = writeln!(s, "LINEARIZATION: {}", j.title);
     let _ = writeln!(s, "  file: {}", j.file);
     let _ = writeln!(s, "{}", text_line(&j.units));
+    s.push_str(&crate::coverage::analysis_text(
+        &j.left_out,
+        &j.runs_without,
+    ));
     let _ = writeln!(s, "  operating point: {}", j.operating_point);
     if j.modes.is_empty() && !j.errors.is_empty() {
         // No operating point: no eigenvalue table to show.

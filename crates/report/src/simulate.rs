@@ -201,6 +201,10 @@ pub struct SimulateJson {
     pub title: String,
     /// Positions, 3-1-3 angles (degrees), velocities, accelerations.
     pub units: UnitsJson,
+    /// Statements left out on request (`--deactivate`).
+    pub left_out: Vec<crate::coverage::LeftOutJson>,
+    /// Statements this analysis ran without (not modelled, not used by it).
+    pub runs_without: Vec<crate::coverage::FindingJson>,
     pub completed: bool,
     pub end_time: f64,
     pub outputs: usize,
@@ -323,6 +327,8 @@ pub fn summary(a: &Assembled, run: &DynamicRun, warnings: &[Diagnostic]) -> Simu
         file: model.file.to_string(),
         title: model.title.clone(),
         units: units_json(model, Angle::Degree, false),
+        left_out: Vec::new(),
+        runs_without: Vec::new(),
         completed,
         end_time,
         outputs,
@@ -347,6 +353,10 @@ pub fn to_text(j: &SimulateJson) -> String {
     let _ = writeln!(s, "DYNAMIC SIMULATION: {}", j.title);
     let _ = writeln!(s, "  file: {}", j.file);
     let _ = writeln!(s, "{}", text_line(&j.units));
+    s.push_str(&crate::coverage::analysis_text(
+        &j.left_out,
+        &j.runs_without,
+    ));
     let _ = writeln!(s);
     match j.start.from {
         "initial_conditions" if j.start.found => {

@@ -46,6 +46,10 @@ pub struct StaticJson {
     pub title: String,
     /// Positions, 3-1-3 angles (degrees) and reactions.
     pub units: UnitsJson,
+    /// Statements left out on request (`--deactivate`).
+    pub left_out: Vec<crate::coverage::LeftOutJson>,
+    /// Statements this analysis ran without (not modelled, not used by it).
+    pub runs_without: Vec<crate::coverage::FindingJson>,
     pub converged: bool,
     pub iterations: usize,
     pub imbalance: f64,
@@ -265,6 +269,8 @@ pub fn to_json(a: &Assembled, run: &StaticRun, warnings: &[Diagnostic]) -> Stati
         file: model.file.to_string(),
         title: model.title.clone(),
         units: units_json(model, Angle::Degree, false),
+        left_out: Vec::new(),
+        runs_without: Vec::new(),
         converged: run.converged(),
         iterations: first.map_or(0, |s| s.iterations),
         imbalance: first.map_or(f64::NAN, |s| s.imbalance),
@@ -334,6 +340,10 @@ pub fn to_text(j: &StaticJson) -> String {
     let _ = writeln!(s, "STATIC EQUILIBRIUM: {}", j.title);
     let _ = writeln!(s, "  file: {}", j.file);
     let _ = writeln!(s, "{}", text_line(&j.units));
+    s.push_str(&crate::coverage::analysis_text(
+        &j.left_out,
+        &j.runs_without,
+    ));
     let _ = writeln!(s);
     let series: Vec<&StepJson> = j.steps.iter().collect();
     if let Some(st) = &j.settling {

@@ -72,6 +72,14 @@ pub struct VerifyJson {
     pub title: String,
     /// Residuals in degrees.
     pub units: UnitsJson,
+    /// Statements left out on request (`--deactivate`).
+    pub left_out: Vec<crate::coverage::LeftOutJson>,
+    /// Every statement some later analysis refuses or runs without: not modelled, a USER
+    /// subroutine, a missing external file, not used.
+    pub not_run: Vec<crate::coverage::FindingJson>,
+    /// The analyses that refuse this model (`ic`, `static`, `static --end`, `linear`,
+    /// `simulate`).
+    pub later_refused_by: Vec<&'static str>,
     pub moving_parts: usize,
     pub constraint_counts: Vec<CountJson>,
     pub constraint_equations: usize,
@@ -127,6 +135,9 @@ pub fn to_json(model: &Model, v: &Verification, warnings: &[Diagnostic]) -> Veri
         file: model.file.to_string(),
         title: model.title.clone(),
         units: units_json(model, Angle::Degree, false),
+        left_out: Vec::new(),
+        not_run: Vec::new(),
+        later_refused_by: Vec::new(),
         moving_parts: v.moving_parts,
         constraint_counts: v
             .counts
@@ -292,6 +303,7 @@ pub fn body_text(j: &VerifyJson) -> String {
     let _ = writeln!(s, "VERIFY MODEL: {}", j.title);
     let _ = writeln!(s, "  file: {}", j.file);
     let _ = writeln!(s, "{}", text_line(&j.units));
+    s.push_str(&crate::coverage::left_out_text(&j.left_out));
     let _ = writeln!(s);
     let _ = writeln!(
         s,
@@ -432,6 +444,11 @@ pub fn body_text(j: &VerifyJson) -> String {
         let _ = writeln!(s);
         let _ = write!(s, "{w}");
     }
+    let not_run = crate::coverage::verify_text(&j.not_run);
+    if !not_run.is_empty() {
+        let _ = writeln!(s);
+        s.push_str(&not_run);
+    }
     if let Some(line) = not_assembled_line(j) {
         let _ = writeln!(s);
         let _ = writeln!(s, "{line}");
@@ -443,10 +460,11 @@ pub fn body_text(j: &VerifyJson) -> String {
         || !j.ungrounded_parts.is_empty()
         || !j.massless_free.is_empty()
         || j.redundant.iter().any(|r| r.consistent == Some(false));
+    let later = crate::coverage::refusal_verdict(&j.later_refused_by);
     let _ = writeln!(
         s,
-        "{}",
-        if findings {
+        "{}{later}",
+        if findings || !later.is_empty() {
             "Model verified with findings (see above)"
         } else {
             "Model verified successfully"

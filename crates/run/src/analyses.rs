@@ -9,6 +9,7 @@ use crate::records::Records;
 use crate::session::{Left, Session};
 use linkage_adm::commands::SimulateKind;
 use linkage_model::Model;
+use linkage_solve::coverage::Analysis;
 use linkage_solve::pipeline::Assembled;
 use linkage_solve::stages::dynamics::{simulate_with, AfterOutput, IntegrationError, Output};
 use linkage_solve::stages::linearize::{self, LinearOptions};
@@ -84,11 +85,24 @@ fn assemble<'m>(
     session: &'m Session,
     model: &'m Model,
     place: &Place,
+    analysis: Analysis,
 ) -> Result<Assembled<'m>, RunError> {
+    let refused = session.refusals(analysis);
+    if !refused.is_empty() {
+        return Err(place.refused(format!(
+            "{} refuses this model ({} statement(s) linkage does not model or run):\n{}",
+            analysis.name(),
+            refused.len(),
+            refused.join("\n")
+        )));
+    }
+    let Some(forces) = session.built.forces.as_ref() else {
+        return Err(place.refused("the model's forces cannot be evaluated"));
+    };
     let a = Assembled::at_time(
         model,
         &session.built.drivers,
-        &session.built.forces,
+        forces,
         &Tolerances::default(),
         session.time(),
     );
@@ -98,11 +112,28 @@ fn assemble<'m>(
     Ok(a)
 }
 
+/// What a report of `analysis` says about the statements left out and those it ran without.
+fn coverage(
+    session: &Session,
+    analysis: Analysis,
+) -> (
+    Vec<linkage_report::coverage::LeftOutJson>,
+    Vec<linkage_report::coverage::FindingJson>,
+) {
+    (
+        linkage_report::coverage::left_out_json(&session.left_out()),
+        linkage_report::coverage::runs_without_json(&session.built.findings, analysis),
+    )
+}
+
 /// Writes the verify summary of an assembled model (counts, DOF, redundant equations) and,
 /// after a change of the model, how its DOF and redundancy changed.
 pub fn model_summary(session: &Session, a: &Assembled, sinks: &mut Sinks) -> Result<(), RunError> {
     let v = &a.ic.analysis;
-    let j = linkage_report::verify::to_json(a.model, v, &session.built.warnings);
+    let mut j = linkage_report::verify::to_json(a.model, v, &session.built.warnings);
+    j.left_out = linkage_report::coverage::left_out_json(&session.left_out());
+    j.not_run = session.built.findings.iter().map(Into::into).collect();
+    j.later_refused_by = linkage_report::coverage::refusing_analyses(&session.built.findings);
     let now = (v.dof, v.redundant.len());
     if let Some((dof, redundant)) = *sinks.counts {
         sinks.msg.write(&format!(
@@ -151,11 +182,12 @@ pub fn initial_conditions(
     summary: bool,
 ) -> Result<(), RunError> {
     let model = session.input_model();
-    let a = assemble(session, &model, place)?;
+    let a = assemble(session, &model, place, Analysis::Ic)?;
     if summary {
         model_summary(session, &a, sinks)?;
     }
-    let j = linkage_report::ic::to_json(&model, &a.ic, &session.built.warnings);
+    let mut j = linkage_report::ic::to_json(&model, &a.ic, &session.built.warnings);
+    (j.left_out, j.runs_without) = coverage(session, Analysis::Ic);
     sinks.msg.write(&linkage_report::ic::to_text(&j))?;
     let Some(o) = ic_output(&a) else {
         return Err(place.failed("the acceleration and force initial conditions failed"));
@@ -179,7 +211,12 @@ pub fn statics(
     times: Option<Vec<f64>>,
 ) -> Result<(), RunError> {
     let model = session.input_model();
-    let a = assemble(session, &model, place)?;
+    let analysis = if times.is_some() {
+        Analysis::QuasiStatic
+    } else {
+        Analysis::Static
+    };
+    let a = assemble(session, &model, place, analysis)?;
     if summary {
         model_summary(session, &a, sinks)?;
     }
@@ -201,7 +238,8 @@ pub fn statics(
     } else {
         statics::run(&a, &times)
     };
-    let j = linkage_report::statics::to_json(&a, &run, &session.built.warnings);
+    let mut j = linkage_report::statics::to_json(&a, &run, &session.built.warnings);
+    (j.left_out, j.runs_without) = coverage(session, analysis);
     sinks.msg.write(&linkage_report::statics::to_text(&j))?;
     let mut last = None;
     for (t, result) in &run.steps {
@@ -251,7 +289,7 @@ pub fn dynamics(
     times: &[f64],
 ) -> Result<(), RunError> {
     let model = session.input_model();
-    let a = assemble(session, &model, place)?;
+    let a = assemble(session, &model, place, Analysis::Simulate)?;
     if summary {
         model_summary(session, &a, sinks)?;
     }
@@ -361,12 +399,13 @@ pub fn eigensolution(
     opts: LinearOptions,
 ) -> Result<(), RunError> {
     let model = session.input_model();
-    let a = assemble(session, &model, place)?;
+    let a = assemble(session, &model, place, Analysis::Linear)?;
     if summary {
         model_summary(session, &a, sinks)?;
     }
     let run = linearize::run(&a, false, opts);
     let mut j = linkage_report::linear::to_json(&model, &run, false, &session.built.warnings);
+    (j.left_out, j.runs_without) = coverage(session, Analysis::Linear);
     j.time = session.time();
     if session.left.is_some() {
         j.operating_point = "the state the previous analysis left, assembled at its time";
@@ -403,7 +442,7 @@ pub fn state_matrices(
     io: &PlantIo,
 ) -> Result<(), RunError> {
     let model = session.input_model();
-    let a = assemble(session, &model, place)?;
+    let a = assemble(session, &model, place, Analysis::Linear)?;
     if summary {
         model_summary(session, &a, sinks)?;
     }
@@ -418,15 +457,11 @@ pub fn state_matrices(
     let eq = linearize::assemble(&model, &a.system, &a.kept, a.forces, op, true)
         .map_err(|e| place.failed(e.to_string()))?;
     let sm = linearize::state_matrix(&eq).map_err(|e| place.failed(e.to_string()))?;
-    let pl = plant::plant(
-        &model,
-        &session.built.forces,
-        op,
-        &sm,
-        &io.inputs,
-        &io.outputs,
-    )
-    .map_err(|e| place.failed(e.to_string()))?;
+    let Some(forces) = session.built.forces.as_ref() else {
+        return Err(place.refused("the model's forces cannot be evaluated"));
+    };
+    let pl = plant::plant(&model, forces, op, &sm, &io.inputs, &io.outputs)
+        .map_err(|e| place.failed(e.to_string()))?;
     let f = sm.coordinates;
     let rows = |values: &[f64], cols: usize| -> String {
         if cols == 0 {

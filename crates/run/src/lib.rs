@@ -57,6 +57,9 @@ pub struct RunOptions {
     /// Set (by a signal handler) to stop the run at the next output: the files keep every
     /// output written, the message file says where the run stopped.
     pub interrupt: Option<Arc<AtomicBool>>,
+    /// Statements to leave out of the dataset (`--deactivate`, as [`linkage_adm::amend::select`]
+    /// reads them), as if the command file deactivated them first.
+    pub deactivate: Vec<String>,
 }
 
 impl RunOptions {
@@ -230,7 +233,7 @@ impl Runner {
                 self.out_name.as_deref().unwrap_or("linkage")
             ))?;
         }
-        let session = Session::open(dataset)?;
+        let session = Session::open(dataset, &self.options.deactivate)?;
         let stem = self.out_path("stem");
         let records = Records::create(&stem, session.dataset(), &session.built.model)?;
         self.session = Some(session);

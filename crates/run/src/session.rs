@@ -18,7 +18,8 @@ use linkage_adm::amend::{self, Redefined};
 use linkage_adm::{Dataset, Diagnostic, Diagnostics, Statement};
 use linkage_model::{ConstraintKind, Model};
 use linkage_solve::constraints::drivers::ExpressionDrivers;
-use linkage_solve::physics::forces::{unmodelled_statements, ForceSet, UNMODELLED_STATEMENTS};
+use linkage_solve::coverage::{self, Analysis, Finding};
+use linkage_solve::physics::forces::ForceSet;
 use linkage_solve::physics::requests::RequestSet;
 use linkage_solve::state::State;
 use std::collections::BTreeSet;
@@ -31,7 +32,11 @@ pub type Velocities = Vec<(DVec3, DVec3)>;
 pub struct Built {
     pub model: Model,
     pub drivers: ExpressionDrivers,
-    pub forces: ForceSet,
+    /// `None` when some statement makes every force analysis refuse the model (the
+    /// analyses then say which, [`Session::refusals`]).
+    pub forces: Option<ForceSet>,
+    /// Every statement some analysis refuses or runs without (of the active statements).
+    pub findings: Vec<Finding>,
     pub requests: RequestSet,
     /// Dataset, model and function warnings.
     pub warnings: Vec<Diagnostic>,
@@ -54,34 +59,16 @@ pub struct Session {
     pub left: Option<Left>,
 }
 
-/// Statements whose elements a force analysis cannot evaluate, as input errors, each with the
-/// command that runs the rest of the model without it.
-fn unmodelled(ds: &Dataset) -> Vec<Diagnostic> {
-    let mut errors = unmodelled_statements(ds);
-    for (d, st) in errors.iter_mut().zip(
-        ds.statements
-            .iter()
-            .filter(|st| UNMODELLED_STATEMENTS.contains(&st.keyword.as_str())),
-    ) {
-        let hint = format!(
-            "DEACTIVATE/{}, ID = {} runs the rest of the model",
-            st.keyword,
-            st.id.unwrap_or(0)
-        );
-        *d = d.clone().with_hint(hint);
-    }
-    errors
-}
-
 /// Builds the model of a typed dataset with its drivers, forces and requests.
 fn build(ds: &Dataset) -> Result<Built, Diagnostics> {
     let built = linkage_model::build_model(ds)?;
     let drivers = ExpressionDrivers::new(&built.model)?;
-    let missing = unmodelled(ds);
-    if !missing.is_empty() {
-        return Err(Diagnostics(missing));
-    }
-    let forces = ForceSet::new(&built.model)?;
+    let findings = coverage::findings(ds);
+    let forces = if findings.iter().any(|f| f.refuses(Analysis::Ic)) {
+        None
+    } else {
+        Some(ForceSet::new(&built.model)?)
+    };
     let requests = RequestSet::new(&built.model)?;
     let mut warnings = built.warnings;
     warnings.extend(drivers.warnings().iter().cloned());
@@ -89,20 +76,37 @@ fn build(ds: &Dataset) -> Result<Built, Diagnostics> {
         model: built.model,
         drivers,
         forces,
+        findings,
         requests,
         warnings,
     })
 }
 
 impl Session {
-    /// Reads and builds the dataset at `path`.
-    pub fn open(path: &Path) -> Result<Session, RunError> {
+    /// Reads the dataset at `path` and builds it without the statements `deactivate` names
+    /// (see [`linkage_adm::amend::select`]).
+    pub fn open(path: &Path, deactivate: &[String]) -> Result<Session, RunError> {
         let dataset = linkage_adm::read_dataset(path).map_err(RunError::Input)?;
-        let built = build(&dataset).map_err(RunError::Input)?;
+        let left_out =
+            linkage_adm::amend::select(&dataset.statements, deactivate).map_err(|e| {
+                RunError::Input(Diagnostics(vec![Diagnostic::error(
+                    dataset.file.clone(),
+                    None,
+                    e,
+                )]))
+            })?;
+        let inactive: BTreeSet<(String, u64)> =
+            left_out.into_iter().map(|s| (s.keyword, s.id)).collect();
+        let active = if inactive.is_empty() {
+            dataset.clone()
+        } else {
+            amend::retype(&dataset, &dataset.statements, &inactive).map_err(RunError::Input)?
+        };
+        let built = build(&active).map_err(RunError::Input)?;
         Ok(Session {
             statements: dataset.statements.clone(),
             dataset,
-            inactive: BTreeSet::new(),
+            inactive,
             built,
             left: None,
         })
@@ -195,9 +199,57 @@ impl Session {
             .find(|s| s.keyword == keyword && s.id == Some(id))
     }
 
+    /// The statements of the model that analysis `a` refuses, one line each (`file:line:col:
+    /// error: …`) with the command that leaves it out; empty when `a` can run.
+    pub fn refusals(&self, a: Analysis) -> Vec<String> {
+        self.built
+            .findings
+            .iter()
+            .filter(|f| f.refuses(a))
+            .map(|f| {
+                let command = linkage_adm::commands::ElementType::ALL
+                    .iter()
+                    .any(|e| e.keyword() == f.keyword);
+                let hint = match f.id {
+                    Some(id) if command => format!(
+                        "DEACTIVATE/{}, ID = {id} (or `linkage run --deactivate {}`) runs the \
+                         rest of the model",
+                        f.keyword, f.element
+                    ),
+                    _ => format!(
+                        "`linkage run --deactivate {}` runs the rest of the model",
+                        f.element
+                    ),
+                };
+                f.error().with_hint(hint).to_string()
+            })
+            .collect()
+    }
+
     /// The dataset as read.
     pub fn dataset(&self) -> &Dataset {
         &self.dataset
+    }
+
+    /// The inactive statements, in dataset order (DEACTIVATE).
+    pub fn left_out(&self) -> Vec<linkage_adm::amend::Selected> {
+        self.statements
+            .iter()
+            .filter_map(|st| {
+                let id = st.id?;
+                self.inactive.contains(&(st.keyword.clone(), id)).then(|| {
+                    linkage_adm::amend::Selected {
+                        keyword: st.keyword.clone(),
+                        id,
+                        name: st
+                            .view_name
+                            .clone()
+                            .unwrap_or_else(|| format!("{}_{id}", st.keyword)),
+                        line: st.span.line,
+                    }
+                })
+            })
+            .collect()
     }
 
     /// How many statements are inactive.

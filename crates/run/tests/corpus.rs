@@ -110,6 +110,7 @@ fn every_corpus_command_file_runs_or_stops_naming_the_place_and_the_reason() {
             out_dir: Some(out.join(&name)),
             model: None,
             interrupt: None,
+            deactivate: Vec::new(),
         };
         match run_command_file(acf, &options) {
             Ok(summary) => {

@@ -11,6 +11,7 @@
 //!   (kinematics for zero-DOF models), and explain.
 
 pub mod constraints;
+pub mod coverage;
 pub mod generate;
 pub mod linalg;
 pub mod physics;

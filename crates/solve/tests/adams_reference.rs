@@ -169,15 +169,13 @@ fn acf_times(path: &Path) -> Vec<f64> {
 
 /// Why linkage cannot run this model, if it cannot.
 fn unsupported(ds: &Dataset) -> Option<String> {
-    let names: Vec<String> = ds
-        .statements
-        .iter()
-        .filter(|st| {
-            linkage_solve::physics::forces::UNMODELLED_STATEMENTS.contains(&st.keyword.as_str())
-        })
-        .map(|st| format!("{}/{}", st.keyword, st.id.unwrap_or(0)))
+    use linkage_solve::coverage::{findings, Analysis};
+    let names: Vec<String> = findings(ds)
+        .into_iter()
+        .filter(|f| f.refuses(Analysis::Simulate))
+        .map(|f| f.element)
         .collect();
-    (!names.is_empty()).then(|| format!("linkage does not model {}", names.join(", ")))
+    (!names.is_empty()).then(|| format!("linkage does not model or run {}", names.join(", ")))
 }
 
 /// Values of one request, six per output, in the .req's component order.

@@ -51,48 +51,6 @@ use linkage_expr::{Dual, Expr, Special, StateKind};
 use linkage_model::forces::{ForceKind, VectorKind};
 use linkage_model::{Body, Model, Origin};
 
-/// Statements whose forces or states linkage does not model: an analysis that needs forces
-/// refuses a dataset holding one (its results would be silently wrong).
-pub const UNMODELLED_STATEMENTS: [&str; 13] = [
-    "CONTACT",
-    "FRICTION",
-    "NFORCE",
-    "MFORCE",
-    "GSE",
-    "LSE",
-    "TFSISO",
-    "DIFF",
-    "PTCV",
-    "CVCV",
-    "FE_LOAD",
-    "UCON",
-    "FLEX_BODY",
-];
-
-/// One input error per statement of `ds` in [`UNMODELLED_STATEMENTS`], at the statement: the
-/// list a force analysis refuses a dataset with (all of them at once).
-pub fn unmodelled_statements(ds: &linkage_adm::Dataset) -> Vec<Diagnostic> {
-    ds.statements
-        .iter()
-        .filter(|st| UNMODELLED_STATEMENTS.contains(&st.keyword.as_str()))
-        .map(|st| {
-            let name = st
-                .view_name
-                .clone()
-                .unwrap_or_else(|| format!("{}_{}", st.keyword, st.id.unwrap_or(0)));
-            Diagnostic::error(
-                ds.file.clone(),
-                Some(st.span),
-                format!(
-                    "{name}: linkage does not model {} elements; a force analysis of this \
-                     model would be wrong",
-                    st.keyword
-                ),
-            )
-        })
-        .collect()
-}
-
 /// A force (at a point) and a torque acting on one body, in ground axes.
 #[derive(Clone, Debug)]
 pub struct Load<R> {
