@@ -85,7 +85,7 @@ pub fn to_json(model: &Model, ic: &InitialConditions, warnings: &[Diagnostic]) -
                     let e = equation_ref(model, v, *row);
                     ResidualJson {
                         name: e.name,
-                        equation: e.equation,
+                        equation: e.equation.to_string(),
                         residual: *r,
                     }
                 }

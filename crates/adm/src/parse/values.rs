@@ -178,7 +178,8 @@ impl StatementParser<'_> {
                 ListError::NotPlain
             }
         };
-        let mut values = Vec::new();
+        // Most lists are a triple (QP, REULER, IP).
+        let mut values = Vec::with_capacity(3);
         let mut after_colon = false;
         loop {
             self.skip_ws();
