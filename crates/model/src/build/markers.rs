@@ -40,8 +40,8 @@ pub(crate) fn markers<'d>(
 ) -> MarkerStatements<'d> {
     let mut out = MarkerStatements {
         index: HashMap::new(),
-        placed: Vec::new(),
-        statements: Vec::new(),
+        placed: Vec::with_capacity(ds.markers.len()),
+        statements: Vec::with_capacity(ds.markers.len()),
     };
     for m in &ds.markers {
         if out.index.contains_key(&m.header.id) {
