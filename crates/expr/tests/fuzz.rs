@@ -78,7 +78,7 @@ fn expr(rng: &mut Lcg, names: &[&'static str], depth: usize) -> String {
         };
     }
     match rng.below(9) {
-        0 | 1 | 2 => format!(
+        0..=2 => format!(
             "{} {} {}",
             expr(rng, names, depth - 1),
             rng.pick(BINARY),
