@@ -34,7 +34,7 @@ use linkage_solve::tolerances::Tolerances;
 use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicUsize, Ordering};
-use std::sync::{Arc, Mutex, Once};
+use std::sync::{Arc, Once};
 
 /// How far the inputs got: rejected by the reader, by model building, by the motion
 /// functions, verified (printed at the end of a run, to see that mutations reach verify).
@@ -507,12 +507,27 @@ fn located(d: &linkage_adm::Diagnostics, stage: &str) -> Result<(), String> {
 }
 
 static HOOK: Once = Once::new();
-static LAST_PANIC: Mutex<String> = Mutex::new(String::new());
 
-/// Runs `check` catching panics; the panic's message and place are kept instead of printed.
+thread_local! {
+    /// Whether this thread is inside [`run_one`], and the last panic caught there.
+    static CATCHING: std::cell::Cell<bool> = const { std::cell::Cell::new(false) };
+    static LAST_PANIC: std::cell::RefCell<String> = const { std::cell::RefCell::new(String::new()) };
+}
+
+/// Runs [`check`] on `text`, a panic being an `Err` that names it.
 fn run_one(text: &str) -> Result<(), String> {
+    catching(|| check(text))
+}
+
+/// Runs `f` catching panics; inside it, the panic's message and place are kept instead of
+/// printed (other panics, such as a failed assertion of a test, print as usual).
+fn catching(f: impl FnOnce() -> Result<(), String>) -> Result<(), String> {
     HOOK.call_once(|| {
-        std::panic::set_hook(Box::new(|info| {
+        let default = std::panic::take_hook();
+        std::panic::set_hook(Box::new(move |info| {
+            if !CATCHING.with(|c| c.get()) {
+                return default(info);
+            }
             let place = info
                 .location()
                 .map(|l| format!("{}:{}", l.file(), l.line()))
@@ -523,17 +538,15 @@ fn run_one(text: &str) -> Result<(), String> {
                 .map(|s| s.to_string())
                 .or_else(|| info.payload().downcast_ref::<String>().cloned())
                 .unwrap_or_default();
-            if let Ok(mut last) = LAST_PANIC.lock() {
-                *last = format!("panic at {place}: {msg}");
-            }
+            LAST_PANIC.with(|l| *l.borrow_mut() = format!("panic at {place}: {msg}"));
         }));
     });
-    match catch_unwind(AssertUnwindSafe(|| check(text))) {
+    CATCHING.with(|c| c.set(true));
+    let outcome = catch_unwind(AssertUnwindSafe(f));
+    CATCHING.with(|c| c.set(false));
+    match outcome {
         Ok(r) => r,
-        Err(_) => Err(LAST_PANIC
-            .lock()
-            .map(|s| s.clone())
-            .unwrap_or_else(|_| "panic".to_string())),
+        Err(_) => Err(LAST_PANIC.with(|l| l.borrow().clone())),
     }
 }
 
@@ -618,6 +631,13 @@ fn huge_coordinates_are_input_errors_at_the_coordinate() {
         assert!(first.message.contains("is beyond"), "{name}: {e}");
         assert_eq!(first.span.map(|s| s.line), Some(line), "{name}: {e}");
     }
+}
+
+/// The harness reports a panic with its place and message.
+#[test]
+fn a_panic_is_caught_and_named() {
+    let e = catching(|| panic!("boom")).unwrap_err();
+    assert!(e.contains("fuzz.rs") && e.contains("boom"), "{e}");
 }
 
 /// The mutations themselves: each gives a text (the harness is deterministic).
