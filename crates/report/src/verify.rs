@@ -7,17 +7,18 @@ use linkage_solve::constraints::system::RowUnit;
 use linkage_solve::stages::verify::Verification;
 use serde::Serialize;
 use std::fmt::Write;
+use std::sync::Arc;
 
 /// An equation named the way engineers read it.
 #[derive(Clone, Debug, Serialize, PartialEq)]
 pub struct EquationRef {
-    /// `JOINT/2`.
-    pub element: String,
+    /// `JOINT/2`. (Shared: a large model's report names each element in many equations.)
+    pub element: Arc<str>,
     /// `JOINT_2` (or the `adams_view_name`).
-    pub name: String,
+    pub name: Arc<str>,
     /// `Revolute Joint`.
     #[serde(rename = "type")]
-    pub kind: String,
+    pub kind: Arc<str>,
     /// `Rotation Between Zi & Xj`.
     pub equation: &'static str,
     /// `Zi.Xj` (Adams Solver's short form).
@@ -112,20 +113,24 @@ pub fn equation_ref(model: &Model, v: &Verification, row: usize) -> EquationRef 
     let r = &v.system.rows[row];
     let c = &model.constraints[r.element];
     EquationRef {
-        element: c.origin.element(),
-        name: c.origin.name.clone(),
-        kind: c.description(),
+        element: c.origin.element().into(),
+        name: c.origin.name.as_str().into(),
+        kind: c.description().into(),
         equation: r.label,
         short: r.short,
     }
 }
+
+/// `(element, name, kind)` of one element, as in [`EquationRef`].
+type ElementNames = (Arc<str>, Arc<str>, Arc<str>);
 
 /// [`equation_ref`] with the names of each element (`JOINT/2`, `JOINT_2`, `Revolute Joint`)
 /// formatted once: a chain of 10,000 loops names 220,000 equations of 30,000 elements.
 struct EquationNames<'a> {
     model: &'a Model,
     v: &'a Verification,
-    elements: Vec<Option<(String, String, String)>>,
+    /// Per element: `(element, name, kind)` as in [`EquationRef`].
+    elements: Vec<Option<ElementNames>>,
 }
 
 impl<'a> EquationNames<'a> {
@@ -142,7 +147,11 @@ impl<'a> EquationNames<'a> {
         let model = self.model;
         let (element, name, kind) = self.elements[r.element].get_or_insert_with(|| {
             let c = &model.constraints[r.element];
-            (c.origin.element(), c.origin.name.clone(), c.description())
+            (
+                c.origin.element().into(),
+                c.origin.name.as_str().into(),
+                c.description().into(),
+            )
         });
         EquationRef {
             element: element.clone(),
