@@ -1,6 +1,6 @@
 //! Mutation fuzzing of the whole input path a user's file takes: dataset reader
 //! (`linkage_adm::parse_dataset`), model building (`linkage_model::build_model`), motion
-//! functions (`ExpressionDrivers::new`) and `verify`.
+//! functions (`ExpressionDrivers::new`), `verify` and `explain`.
 //!
 //! Why not `cargo fuzz`: it needs a nightly toolchain, and CI runs on stable only. Why not
 //! proptest: its strength is shrinking structured values, but our inputs are texts mutated
@@ -29,6 +29,7 @@
 //! [`fuzz_regressions_are_handled`] runs every time.
 
 use linkage_solve::constraints::drivers::ExpressionDrivers;
+use linkage_solve::stages::explain::explain;
 use linkage_solve::stages::verify::verify;
 use linkage_solve::tolerances::Tolerances;
 use std::panic::{catch_unwind, AssertUnwindSafe};
@@ -483,6 +484,11 @@ fn check(text: &str) -> Result<(), String> {
             "verify: DOF {} rank {} of {} rows for {} parts",
             v.dof, v.rank, v.rows, v.moving_parts
         ));
+    }
+    // `verify --explain` on the models with redundant equations (every proposal is checked
+    // by rank analysis of the changed model).
+    if !v.redundant.is_empty() {
+        let _ = explain(&built.model, &drivers, &Tolerances::default(), &v);
     }
     for r in &v.redundant {
         if r.residual.is_some_and(|x| !x.is_finite()) || !r.decision.is_finite() {
