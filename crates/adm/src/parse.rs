@@ -132,6 +132,7 @@ fn parse_statement(
         return (Some(st), Vec::new());
     }
     let body = p.body(&mut st);
+    st.args = values::exact(std::mem::take(&mut st.args));
     if !known {
         let msg = format!("unknown statement '{}' ignored", st.keyword);
         return (

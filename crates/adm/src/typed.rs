@@ -90,6 +90,43 @@ pub struct Dataset {
     pub warnings: Vec<Diagnostic>,
 }
 
+impl Dataset {
+    /// A dataset with no statements, named `file`: what a caller keeps in place of a dataset
+    /// it will not read again (its memory freed).
+    pub fn empty(file: Arc<str>) -> Dataset {
+        Dataset {
+            file,
+            text: String::new(),
+            title: String::new(),
+            statements: Vec::new(),
+            end_line: None,
+            units: None,
+            accgrav: None,
+            parts: Vec::new(),
+            markers: Vec::new(),
+            joints: Vec::new(),
+            jprims: Vec::new(),
+            motions: Vec::new(),
+            couplers: Vec::new(),
+            gears: Vec::new(),
+            gcons: Vec::new(),
+            sforces: Vec::new(),
+            springdampers: Vec::new(),
+            bushings: Vec::new(),
+            fields: Vec::new(),
+            beams: Vec::new(),
+            vforces: Vec::new(),
+            vtorques: Vec::new(),
+            gforces: Vec::new(),
+            variables: Vec::new(),
+            arrays: Vec::new(),
+            splines: Vec::new(),
+            requests: Vec::new(),
+            warnings: Vec::new(),
+        }
+    }
+}
+
 /// `UNITS/ FORCE=, MASS=, LENGTH=, TIME=` or `SYSTEM=` or `UCF=`. Unit names are upper-case
 /// full names as written (prefixes resolved against ADM-REFERENCE §2.1 lists).
 #[derive(Clone, Debug, PartialEq)]

@@ -19,7 +19,6 @@
 
 use crate::diagnostic::{Diagnostic, Diagnostics, Span};
 use crate::keywords::{self, Lookup};
-use crate::lexer::split_lines;
 use crate::parse::Parsed;
 use crate::statement::{Argument, Statement, Value};
 use crate::typed::*;
@@ -34,43 +33,28 @@ pub(crate) fn type_dataset(
     text: &str,
     parsed: Parsed,
 ) -> Result<Dataset, Diagnostics> {
-    let title = split_lines(text)
-        .first()
-        .map(|l| l.trim_start_matches('\u{feff}').trim_end().to_string())
-        .unwrap_or_default();
+    // The first line (as `split_lines` cuts it), without splitting the whole text.
+    let first = text.split(['\n', '\r']).next().unwrap_or_default();
+    let title = first.trim_start_matches('\u{feff}').trim_end().to_string();
+    let mut ds = Dataset::empty(file.clone());
+    ds.text = text.to_string();
+    ds.title = title;
+    ds.end_line = parsed.stop_line;
+    // The typed lists sized once (the largest models are mostly parts, markers and joints).
+    let count = |keyword: &str| {
+        parsed
+            .statements
+            .iter()
+            .filter(|st| st.keyword == keyword)
+            .count()
+    };
+    ds.parts.reserve_exact(count("PART"));
+    ds.markers.reserve_exact(count("MARKER"));
+    ds.joints.reserve_exact(count("JOINT"));
     let mut typer = Typer {
-        file: file.clone(),
+        file,
         diagnostics: parsed.diagnostics,
-        ds: Dataset {
-            file,
-            text: text.to_string(),
-            title,
-            statements: Vec::new(),
-            end_line: parsed.stop_line,
-            units: None,
-            accgrav: None,
-            parts: Vec::new(),
-            markers: Vec::new(),
-            joints: Vec::new(),
-            jprims: Vec::new(),
-            motions: Vec::new(),
-            couplers: Vec::new(),
-            gears: Vec::new(),
-            gcons: Vec::new(),
-            sforces: Vec::new(),
-            springdampers: Vec::new(),
-            bushings: Vec::new(),
-            fields: Vec::new(),
-            beams: Vec::new(),
-            vforces: Vec::new(),
-            vtorques: Vec::new(),
-            gforces: Vec::new(),
-            variables: Vec::new(),
-            arrays: Vec::new(),
-            splines: Vec::new(),
-            requests: Vec::new(),
-            warnings: Vec::new(),
-        },
+        ds,
         carrier: None,
     };
     for (index, st) in parsed.statements.iter().enumerate() {

@@ -65,12 +65,14 @@ pub fn evaluate_time_series<E: Env + ?Sized>(expr: &Expr, env: &E) -> Result<[f6
 /// [`EvalErrorKind::NotTimeOnly`] error. Non-finite results are a domain error.
 pub fn evaluate_path_series<E: Env + ?Sized>(expr: &Expr, env: &E) -> Result<[f64; 3], EvalError> {
     let t = Evaluator { env }.scalar::<Taylor>(expr)?;
-    if !t.all_finite() {
+    // The series holds f''/2: the derivative itself can overflow where the coefficient did not.
+    let d = t.derivatives();
+    if !t.all_finite() || d.iter().any(|x| !x.is_finite()) {
         return Err(EvalError::domain(
             "time derivative is not finite: the expression is not differentiable here",
         ));
     }
-    Ok(t.derivatives())
+    Ok(d)
 }
 
 /// A value during evaluation: scalar or 3-vector (inline: evaluation does not allocate).

@@ -88,8 +88,8 @@ pub fn to_json(model: &Model, ic: &InitialConditions, warnings: &[Diagnostic]) -
                 Equation::Row(row) => {
                     let e = equation_ref(model, v, *row);
                     ResidualJson {
-                        name: e.name,
-                        equation: e.equation,
+                        name: e.name.to_string(),
+                        equation: e.equation.to_string(),
                         residual: *r,
                     }
                 }

@@ -3,7 +3,7 @@
 
 use crate::bodies::Origin;
 use glam::DVec3;
-use linkage_adm::{Diagnostic, Header, Span};
+use linkage_adm::{Diagnostic, Header, Located, Span};
 use std::collections::HashSet;
 use std::sync::Arc;
 
@@ -28,6 +28,24 @@ impl Ctx {
             .push(Diagnostic::warning(self.file.clone(), Some(span), msg));
     }
 
+    /// The point `keyword` (QG, QP, ZP, …) of element `name` as a vector; an error, and the
+    /// origin, when a coordinate is beyond [`MAX_COORDINATE`].
+    pub fn point(&mut self, name: &str, keyword: &str, q: &Located<[f64; 3]>) -> DVec3 {
+        match q.value.iter().find(|x| x.abs() > MAX_COORDINATE) {
+            Some(x) => {
+                self.error(
+                    q.span,
+                    format!(
+                        "{name}: {keyword} coordinate {x:e} is beyond ±{MAX_COORDINATE:e}, where \
+                         the arithmetic of the analyses overflows (a digit astray?)"
+                    ),
+                );
+                DVec3::ZERO
+            }
+            None => v3(q.value),
+        }
+    }
+
     /// False, after the error `duplicate STATEMENT id N`, when `h`'s id is already in `seen`
     /// (ids are unique within a statement type); true (and the id recorded) otherwise.
     pub fn unique(&mut self, seen: &mut HashSet<u64>, statement: &str, h: &Header) -> bool {
@@ -49,6 +67,11 @@ pub(crate) fn origin(statement: &'static str, h: &Header) -> Origin {
         statement_index: h.statement,
     }
 }
+
+/// The largest coordinate magnitude (model units) a point may have: no mechanism is that
+/// large, and squares and differences of larger numbers overflow in the analyses (found by
+/// fuzzing: a QG of -1E308 gave infinite residuals and a wrong DOF).
+pub(crate) const MAX_COORDINATE: f64 = 1e60;
 
 /// A dataset triple as a vector.
 pub(crate) fn v3(a: [f64; 3]) -> DVec3 {

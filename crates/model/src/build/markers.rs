@@ -1,7 +1,7 @@
 //! `MARKER/`: each marker on its carrier, placed in the carrier's BCS (QP/REULER or ZP/XP,
 //! possibly given in a reference marker RM of the same part).
 
-use super::context::{v3, Ctx};
+use super::context::Ctx;
 use super::parts::PartStatements;
 use crate::bodies::Body;
 use crate::frames::{euler313_to_matrix, frame_from_points};
@@ -40,8 +40,8 @@ pub(crate) fn markers<'d>(
 ) -> MarkerStatements<'d> {
     let mut out = MarkerStatements {
         index: HashMap::new(),
-        placed: Vec::new(),
-        statements: Vec::new(),
+        placed: Vec::with_capacity(ds.markers.len()),
+        statements: Vec::with_capacity(ds.markers.len()),
     };
     for m in &ds.markers {
         if out.index.contains_key(&m.header.id) {
@@ -52,7 +52,9 @@ pub(crate) fn markers<'d>(
             continue;
         }
         let (body, unsupported) = carrier(m, &parts.index, cx);
-        let p = m.qp.as_ref().map_or(DVec3::ZERO, |q| v3(q.value));
+        let p =
+            m.qp.as_ref()
+                .map_or(DVec3::ZERO, |q| cx.point(&m.header.name, "QP", q));
         let r = axes(m, p, cx);
         out.index.insert(m.header.id, out.placed.len());
         out.placed.push(PlacedMarker {
@@ -112,8 +114,8 @@ fn axes(m: &linkage_adm::Marker, qp: DVec3, cx: &mut Ctx) -> DMat3 {
         return DMat3::IDENTITY;
     }
     let (zp, xp) = (
-        m.zp.as_ref().map(|z| v3(z.value)),
-        m.xp.as_ref().map(|x| v3(x.value)),
+        m.zp.as_ref().map(|z| cx.point(&m.header.name, "ZP", z)),
+        m.xp.as_ref().map(|x| cx.point(&m.header.name, "XP", x)),
     );
     let made = if m.usexp {
         // USEXP: XP is on the +x axis, ZP only fixes the x-z plane. `f` has its z along XP

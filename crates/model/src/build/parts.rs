@@ -1,7 +1,7 @@
 //! `PART/`: ground and the moving parts, and each moving part's BCS (body coordinate system)
 //! in ground.
 
-use super::context::{v3, Ctx};
+use super::context::Ctx;
 use crate::bodies::Body;
 use crate::frames::{euler313_to_matrix, frame_from_points};
 use glam::{DMat3, DVec3};
@@ -77,14 +77,17 @@ pub(crate) fn parts<'d>(ds: &'d Dataset, cx: &mut Ctx) -> PartStatements<'d> {
 /// A part's BCS in ground: origin `QG` (0 when not given) and axes from `REULER` (3-1-3
 /// angles), else from the points `ZG` (on +z) and `XG` (in the x-z plane), else ground's.
 fn bcs_in_ground(p: &linkage_adm::Part, cx: &mut Ctx) -> (DVec3, DMat3) {
-    let qg = p.qg.as_ref().map_or(DVec3::ZERO, |q| v3(q.value));
+    let name = &p.header.name;
+    let qg =
+        p.qg.as_ref()
+            .map_or(DVec3::ZERO, |q| cx.point(name, "QG", q));
     let r = if let Some(e) = &p.reuler {
         euler313_to_matrix(e.value)
     } else if p.zg.is_some() || p.xg.is_some() {
         match frame_from_points(
             qg,
-            p.zg.as_ref().map(|z| v3(z.value)),
-            p.xg.as_ref().map(|x| v3(x.value)),
+            p.zg.as_ref().map(|z| cx.point(name, "ZG", z)),
+            p.xg.as_ref().map(|x| cx.point(name, "XG", x)),
         ) {
             Some(r) => r,
             None => {
