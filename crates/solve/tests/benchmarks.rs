@@ -1114,16 +1114,10 @@ fn benchmark_table() {
 }
 
 /// The long cases of the table: A01 over the published 2000 s, A02 with N = 10 and 40, and
-/// Andrews' squeezer at smaller ERROR; prints only.
+/// Andrews' squeezer and A04 at smaller ERROR; prints only.
 #[test]
 #[ignore = "measurement table, long: run with --ignored --nocapture"]
 fn benchmark_table_long() {
-    if std::env::var_os("ONLY_A04").is_some() {
-        for tol in [1e-9, 1e-10] {
-            let _ = std::panic::catch_unwind(|| a04(10.0, 200, tol));
-        }
-        return;
-    }
     for tol in [1e-6, 1e-8] {
         let _ = std::panic::catch_unwind(|| a01(2000.0, 4000, tol));
         let _ = std::panic::catch_unwind(|| a02(10, 20.0, 400, tol));
