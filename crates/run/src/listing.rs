@@ -2,6 +2,7 @@
 //! `ACCGRAV/LIST` print them in the message file (Adams' layout: one `NAME = value` per line,
 //! angles in radians with their unit).
 
+use linkage_model::settings::IntegratorMethod;
 use linkage_model::Model;
 use std::fmt::Write;
 
@@ -36,12 +37,23 @@ pub fn settings(keyword: &str, model: &Model) -> String {
         "INTEGRATOR" => {
             let i = &model.integrator.settings;
             let opt = |x: Option<f64>| x.map_or("(none)".to_string(), |v| v.to_string());
-            let _ = writeln!(s, " Current INTEGRATOR settings are (HHT-I3):");
+            let method = match i.method {
+                IntegratorMethod::Bdf => "BDF-I3 (GSTIFF)",
+                IntegratorMethod::Hht => "HHT-I3",
+            };
+            let _ = writeln!(s, " Current INTEGRATOR settings are ({method}):");
             let _ = writeln!(s, "    ERROR = {}", i.error);
             let _ = writeln!(s, "    HMAX  = {}", opt(i.hmax));
             let _ = writeln!(s, "    HINIT = {}", opt(i.hinit));
             let _ = writeln!(s, "    HMIN  = {}", i.hmin);
-            let _ = writeln!(s, "    ALPHA = {}", i.alpha);
+            match i.method {
+                IntegratorMethod::Bdf => {
+                    let _ = writeln!(s, "    KMAX  = {}", i.kmax);
+                }
+                IntegratorMethod::Hht => {
+                    let _ = writeln!(s, "    ALPHA = {}", i.alpha);
+                }
+            }
             let _ = write!(s, "    MAXIT = {}", i.maxit);
             for note in &model.integrator.notes {
                 let _ = write!(s, "\n    note: {note}");

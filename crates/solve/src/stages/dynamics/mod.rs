@@ -1,5 +1,7 @@
-//! Dynamic simulation (DESIGN §8, ADM-REFERENCE §8.5): the index-3 DAE integrated with the
-//! HHT-α method (Negrut, Rampalli, Ottarsson, Sajdak 2007) on the part configuration manifold.
+//! Dynamic simulation (DESIGN §8, ADM-REFERENCE §8.5): the index-3 DAE integrated on the part
+//! configuration manifold by a variable-order, variable-step BDF (`bdf.rs`: Adams' GSTIFF and
+//! WSTIFF, the default) or by the HHT-α method (Negrut, Rampalli, Ottarsson, Sajdak 2007),
+//! described here; both use the same corrector (`corrector.rs`).
 //!
 //! Per step the unknowns are the accelerations `a` (CM acceleration and angular acceleration of
 //! every part, ground axes) and the multipliers `λ` of the independent constraint rows:
@@ -27,7 +29,8 @@
 //!
 //! Layout: `problem.rs` (what a step needs that does not change: generalized forces, drives),
 //! `hht.rs` (the method's coefficients), `matrix.rs` (iteration-matrix assembly),
-//! `integrator.rs` (the HHT step and its workspace), `output.rs` (the consistent-output solve,
+//! `integrator.rs` (the HHT step), `bdf.rs` (the BDF step), `corrector.rs` (the shared Newton
+//! iteration and workspace), `stepper.rs` (either behind one interface), `output.rs` (the consistent-output solve,
 //! shared with the kinematic run), `simulate.rs` (step-size
 //! control, outputs), `redundant.rs` (redundant-row checks), `results.rs` and `error.rs` (what a
 //! run returns), `run.rs` (the dataset-level run).
