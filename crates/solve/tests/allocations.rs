@@ -3,11 +3,12 @@
 //! assembly, numeric LU refactorisation, solves, state updates — run without a single heap
 //! allocation. A counting global allocator (this test binary's own) checks it.
 
+use linkage_model::settings::IntegratorMethod;
 use linkage_model::Model;
 use linkage_solve::constraints::drivers::ExpressionDrivers;
 use linkage_solve::physics::applied::{AppliedForces, NoForces};
 use linkage_solve::pipeline::Assembled;
-use linkage_solve::stages::dynamics::{Integrator, IntegratorSettings};
+use linkage_solve::stages::dynamics::{IntegratorSettings, Stepper};
 use linkage_solve::tolerances::Tolerances;
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::cell::Cell;
@@ -66,14 +67,29 @@ struct Counted {
     travelled: f64,
 }
 
-/// Starts an integrator and runs `warm` steps, then counts the allocations of `counted`
-/// more; the step size alternates between two values more than a factor 2 apart, so that
-/// every step refactorises the iteration matrix.
+/// Starts an integrator (HHT-α, or the BDF, whose order then rises to KMAX over the warm-up)
+/// and runs `warm` steps, then counts the allocations of `counted` more; the step size
+/// alternates between two values more than a factor 2 apart, so that every step refactorises
+/// the iteration matrix.
 fn allocations_in_steady_steps(
     m: &Model,
     forces: &dyn AppliedForces,
     warm: usize,
     counted: usize,
+) -> Counted {
+    let hht = steady_steps(m, forces, warm, counted, IntegratorMethod::Hht);
+    let bdf = steady_steps(m, forces, warm, counted, IntegratorMethod::Bdf);
+    assert_eq!(bdf.steady, 0, "allocations in {counted} steady BDF steps");
+    assert!(bdf.travelled > 0.0);
+    hht
+}
+
+fn steady_steps(
+    m: &Model,
+    forces: &dyn AppliedForces,
+    warm: usize,
+    counted: usize,
+    method: IntegratorMethod,
 ) -> Counted {
     let d = ExpressionDrivers::new(m).expect("no functions");
     let a = Assembled::new(m, &d, forces, &Tolerances::default());
@@ -82,15 +98,17 @@ fn allocations_in_steady_steps(
     let p = a.problem(None, None);
     let v0 = vec![(glam::DVec3::ZERO, glam::DVec3::ZERO); m.parts.len()];
     let at_start = allocations();
-    let (mut integ, first) =
-        Integrator::new(&p, &ic.assembly.state, &v0, &IntegratorSettings::default())
-            .expect("starts");
+    let settings = IntegratorSettings {
+        method,
+        ..IntegratorSettings::default()
+    };
+    let (mut integ, first) = Stepper::new(&p, &ic.assembly.state, &v0, &settings).expect("starts");
     let last = m.parts.len() - 1;
     let mut step = |k: usize| {
         let h = [1e-3, 2.5e-3][k % 2];
         let err = integ.try_step(h, 1e-3).expect("the step converges");
         assert!(err.is_finite());
-        integ.accept();
+        integ.accept(err, 1e-3);
     };
     for k in 0..warm {
         step(k);
