@@ -21,12 +21,12 @@
 use glam::{DMat3, DVec3};
 use linkage_model::{Body, Model};
 use linkage_solve::constraints::drivers::ExpressionDrivers;
+use linkage_solve::generate::iftomm_a02;
 use linkage_solve::physics::forces::ForceSet;
 use linkage_solve::pipeline::Assembled;
 use linkage_solve::stages::dynamics::{run, IntegratorSettings, Output, Simulation, Start};
 use linkage_solve::tolerances::Tolerances;
 use std::f64::consts::{FRAC_PI_2, PI};
-use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 use std::time::Instant;
@@ -350,100 +350,6 @@ fn a01_global_error_falls_with_the_integrator_error() {
 // A02: N four-bar chain, exact one-degree-of-freedom reduction.
 // ------------------------------------------------------------------------------------------
 
-/// The IFToMM A02 dataset for `n` loops: n + 1 cranks of length 1 m pinned to ground at
-/// x = 0, 1, …, n (initially vertical, angle φ = π/2 from +x), n couplers of 1 m joining the
-/// crank tips; every link 1 kg, uniform (transverse inertia m L²/12, axial m r²/2 with
-/// r = 0.01 m); the first crank's tip B0 (MARKER/203) moving at 1 m/s along +x, which is
-/// φ' = −1 rad/s for every crank and 1 m/s along +x for every coupler.
-fn a02_dataset(n: usize) -> String {
-    let (it, ia) = (1.0 / 12.0, 0.5 * 1e-4);
-    let mut t = String::new();
-    let _ = writeln!(t, "Adams View model name: a02_fourbar_n{n}");
-    t.push_str(&format!(
-        "!
-! linkage benchmark  a02_fourbar_n{n}.adm  (written by a02_dataset in tests/benchmarks.rs)
-!   IFToMM multibody benchmark library, problem A02 \"N four-bar mechanism\"
-!   (M. Gonzalez, D. Dopico, U. Lugris, J. Cuadrado, \"A benchmarking system
-!   for MBS simulation software\", Multibody System Dynamics 16 (2006) 179-190;
-!   library of the IFToMM Technical Committee for Multibody Dynamics,
-!   originally lim.ii.udc.es/mbsbenchmark, problem A02).
-!   Published data: 2N+1 links of 1 m with a uniformly distributed mass of
-!   1 kg; gravity 9.81 m/s^2 along -y; initially the square position (cranks
-!   vertical), the x velocity of point B0 (tip of the first crank) 1 m/s;
-!   dynamic simulation over 20 s; the benchmark checks the position and
-!   velocity of B0 at 400 outputs (high-precision limit 1e-3); published for
-!   N = 40, here N = {n}.  The chain passes the horizontal singular position
-!   (the degrees of freedom jump from 1 to N+1 there) twice per turn.
-!   Link inertia: transverse m L^2/12, axial m r^2/2 with r = 0.01 m.
-!   Part frames = ground frame; markers given in ground; initial velocities
-!   VX (ground) and WZ on every part, consistent with the constraints.
-!
-! Expected mobility (6 coordinates per moving part):
-!   moving parts                {parts}
-!   constraint rows             {rows}  ({joints} x REVOLUTE 5)
-!   degrees of freedom          1
-!   redundant equations         {redundant}  ({n} loops x 3 out-of-plane rows)
-!
-",
-        parts = 2 * n + 1,
-        rows = 5 * 3 * n + 5,
-        joints = 3 * n + 1,
-        redundant = 3 * n,
-    ));
-    t.push_str("UNITS/\n, FORCE = NEWTON\n, MASS = KILOGRAM\n, LENGTH = METER\n, TIME = SECOND\n");
-    t.push_str("!\nPART/1\n, GROUND\n");
-    for k in 0..=n {
-        let _ = writeln!(t, "!\nMARKER/{}\n, PART = 1\n, QP = {k}.0, 0.0, 0.0", 1 + k);
-    }
-    for k in 0..=n {
-        let p = 2 + k;
-        let _ = writeln!(
-            t,
-            "!\n!                          adams_view_name='crank_{k}'\n\
-             PART/{p}\n, MASS = 1.0\n, CM = {p}01\n, IP = {it:?}, {ia:?}, {it:?}\n, VX = 0.5\n, WZ = -1.0\n\
-             MARKER/{p}01\n, PART = {p}\n, QP = {k}.0, 0.5, 0.0\n\
-             MARKER/{p}02\n, PART = {p}\n, QP = {k}.0, 0.0, 0.0\n\
-             MARKER/{p}03\n, PART = {p}\n, QP = {k}.0, 1.0, 0.0"
-        );
-    }
-    for j in 1..=n {
-        let p = 2 + n + j;
-        let _ = writeln!(
-            t,
-            "!\n!                          adams_view_name='coupler_{j}'\n\
-             PART/{p}\n, MASS = 1.0\n, CM = {p}01\n, IP = {ia:?}, {it:?}, {it:?}\n, VX = 1.0\n\
-             MARKER/{p}01\n, PART = {p}\n, QP = {x:?}, 1.0, 0.0\n\
-             MARKER/{p}02\n, PART = {p}\n, QP = {l}.0, 1.0, 0.0\n\
-             MARKER/{p}03\n, PART = {p}\n, QP = {j}.0, 1.0, 0.0",
-            x = j as f64 - 0.5,
-            l = j - 1,
-        );
-    }
-    t.push_str("!\n");
-    for k in 0..=n {
-        let _ = writeln!(
-            t,
-            "JOINT/{}\n, REVOLUTE\n, I = {}02\n, J = {}",
-            1 + k,
-            2 + k,
-            1 + k
-        );
-    }
-    for j in 1..=n {
-        let p = 2 + n + j;
-        let _ = writeln!(
-            t,
-            "JOINT/{}\n, REVOLUTE\n, I = {p}02\n, J = {}03\nJOINT/{}\n, REVOLUTE\n, I = {p}03\n, J = {}03",
-            n + 2 * j,
-            1 + j,
-            n + 2 * j + 1,
-            2 + j
-        );
-    }
-    t.push_str("!\nACCGRAV/\n, JGRAV = -9.81\n!\nEND\n");
-    t
-}
-
 /// Crank angle φ(t) (from +x) of the N-loop chain at `times` (equal steps from 0). The chain
 /// moves as a parallelogram: kinetic energy `½ J φ'²` with `J = (N+1) m L²/3 + N m L²` (the
 /// cranks about their pivots, the couplers translating with speed L φ'), potential
@@ -494,7 +400,7 @@ fn first_above(r: &Run, errors: &[f64], tol: f64) -> Option<f64> {
 fn a02(n: usize, end: f64, outputs: usize, error: f64) -> (f64, Run) {
     let r = simulate(
         &format!("a02_fourbar_n{n}.adm"),
-        &a02_dataset(n),
+        &iftomm_a02(n),
         end,
         outputs,
         error,
@@ -528,9 +434,9 @@ fn a02(n: usize, end: f64, outputs: usize, error: f64) -> (f64, Run) {
 #[test]
 fn the_checked_in_a02_dataset_is_the_generator_output() {
     if std::env::var_os("BLESS").is_some() {
-        std::fs::write(data_path("a02_fourbar_n2.adm"), a02_dataset(2)).unwrap();
+        std::fs::write(data_path("a02_fourbar_n2.adm"), iftomm_a02(2)).unwrap();
     }
-    assert_eq!(dataset("a02_fourbar_n2.adm"), a02_dataset(2));
+    assert_eq!(dataset("a02_fourbar_n2.adm"), iftomm_a02(2));
 }
 
 #[test]
@@ -552,7 +458,7 @@ fn the_a02_reference_keeps_its_energy() {
 /// configuration given, velocities consistent (B0 at 1 m/s along +x).
 #[test]
 fn a02_starts_with_b0_at_1_m_per_s() {
-    let r = simulate("a02_fourbar_n2.adm", &a02_dataset(2), 0.01, 1, 1e-8);
+    let r = simulate("a02_fourbar_n2.adm", &iftomm_a02(2), 0.01, 1, 1e-8);
     let m = &r.model;
     let o = &r.sim.outputs[0];
     let crank = match m.markers[marker(m, 203)].body {
