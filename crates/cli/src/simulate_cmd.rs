@@ -98,8 +98,9 @@ pub fn run_simulate(args: &SimulateArgs) -> ExitCode {
             return ExitCode::from(2);
         }
     };
-    // INTEGRATOR settings, resolved by the model (every Adams integrator name is mapped to
-    // HHT); the simulate report carries its notes and warnings.
+    // INTEGRATOR settings, resolved by the model (GSTIFF/WSTIFF run the BDF, HHT/NEWMARK
+    // HHT-α, the other Adams names the BDF with a note); the simulate report carries its
+    // notes and warnings.
     let integrator = &loaded.model.integrator;
     // A step size bound that would need more steps than any run can take is a typing error.
     if let Some(hmax) = integrator.settings.hmax {

@@ -251,6 +251,22 @@ fn unusable_integrator_settings_are_reported() {
         ),
         "{warnings}"
     );
+    // The summary names the integrator and what its ERROR bounds.
+    assert_eq!(
+        v["integrator"], "HHT-α (α = -0.3), ERROR = 0.000000000001 per step",
+        "{v}"
+    );
+    let f = with("si2", "GSTIFF, SI2, KMAX = 4, ERROR = 1E-5");
+    let (code, v) = simulate_json(&f, &[]);
+    assert_eq!(code, 0, "{v}");
+    assert_eq!(
+        v["integrator"], "BDF (GSTIFF), orders 1 … 4, ERROR = 0.00001 over the run",
+        "{v}"
+    );
+    assert_eq!(
+        v["notes"][0], "INTEGRATOR SI2: linkage integrates the index-3 (I3) formulation",
+        "{v}"
+    );
     let f = with("hmax", "HMAX = 1E-12");
     let (code, _, err) = run(&["simulate", f.to_str().unwrap(), "--end", "1"]);
     assert_eq!(code, 2, "{err}");

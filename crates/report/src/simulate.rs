@@ -6,6 +6,7 @@ use crate::units::{text_line, units_json, Angle, CsvUnits, UnitsJson};
 use crate::verify::{equation_ref, EquationRef};
 use linkage_adm::Diagnostic;
 use linkage_model::frames::matrix_to_euler313;
+use linkage_model::settings::IntegratorMethod;
 use linkage_model::Model;
 use linkage_solve::pipeline::Assembled;
 use linkage_solve::stages::dynamics::{DynamicRun, Output, RunError, StartingEquilibrium};
@@ -210,6 +211,9 @@ pub struct SimulateJson {
     pub outputs: usize,
     pub steps: usize,
     pub rejected_steps: usize,
+    /// The integrator and what its ERROR bounds, e.g. "BDF (GSTIFF), orders 1 … 6, ERROR = 0.001
+    /// over the run".
+    pub integrator: String,
     pub kinematic: bool,
     pub start: StartJson,
     /// The redundant equations left out of the run, as in verify: their reactions are zero
@@ -253,7 +257,8 @@ fn start_json(model: &Model, run: &DynamicRun) -> StartJson {
 }
 
 /// Builds the summary. The notes are what the model's INTEGRATOR resolution says (an Adams
-/// integrator mapped to HHT, arguments without effect); the warnings end with the INTEGRATOR
+/// integrator run by linkage's BDF or HHT, SI2/SI1 integrated as I3, arguments without
+/// effect); the warnings end with the INTEGRATOR
 /// values that could not be used.
 pub fn summary(a: &Assembled, run: &DynamicRun, warnings: &[Diagnostic]) -> SimulateJson {
     let model = a.model;
@@ -323,6 +328,14 @@ pub fn summary(a: &Assembled, run: &DynamicRun, warnings: &[Diagnostic]) -> Simu
         .unwrap_or_default();
     let integrator = &model.integrator;
     warnings.extend(integrator.warnings.iter().map(ToString::to_string));
+    let i = &integrator.settings;
+    let integrator_line = match i.method {
+        IntegratorMethod::Bdf => format!(
+            "BDF (GSTIFF), orders 1 … {}, ERROR = {} over the run",
+            i.kmax, i.error
+        ),
+        IntegratorMethod::Hht => format!("HHT-α (α = {}), ERROR = {} per step", i.alpha, i.error),
+    };
     SimulateJson {
         file: model.file.to_string(),
         title: model.title.clone(),
@@ -334,6 +347,7 @@ pub fn summary(a: &Assembled, run: &DynamicRun, warnings: &[Diagnostic]) -> Simu
         outputs,
         steps,
         rejected_steps: rejected,
+        integrator: integrator_line,
         kinematic,
         start,
         removed_equations,
@@ -437,6 +451,9 @@ pub fn to_text(j: &SimulateJson) -> String {
             j.steps,
             j.rejected_steps
         );
+        if !j.kinematic {
+            let _ = writeln!(s, "Integrator: {}", j.integrator);
+        }
     } else {
         let _ = writeln!(s, "No simulation was run.");
     }
