@@ -111,6 +111,8 @@ pub struct Bdf<'p, 'a> {
     work: Workspace,
     /// The past points' orientations in the chart of the current one (`len × n`).
     chart: Vec<DVec3>,
+    /// Whether `chart` belongs to the current step (false after an accept).
+    chart_fresh: bool,
     /// `ṽ` and `x̃`/`θ̃` (6 per part) of the trial step.
     v_tilde: Vec<f64>,
     q_tilde: Vec<f64>,
@@ -173,6 +175,7 @@ impl<'p, 'a> Bdf<'p, 'a> {
                 cur,
                 work,
                 chart: vec![DVec3::ZERO; KEPT * n],
+                chart_fresh: false,
                 v_tilde: vec![0.0; 6 * n],
                 q_tilde: vec![0.0; 6 * n],
                 theta: vec![DVec3::ZERO; n],
@@ -241,15 +244,20 @@ impl<'p, 'a> Bdf<'p, 'a> {
         for (t, point) in times.iter_mut().zip(&self.past).take(self.len) {
             *t = point.time;
         }
-        // The past orientations in the current chart.
-        for j in 0..self.len {
-            for part in 0..n {
-                self.chart[j * n + part] = if j == 0 {
-                    DVec3::ZERO
-                } else {
-                    log_so3(&(self.past[j].poses[part].r * self.cur.s.poses[part].r.transpose()))
-                };
+        // The past orientations in the current chart: they change only when a step is
+        // accepted, so retries of the same step reuse them.
+        if !self.chart_fresh {
+            for j in 0..self.len {
+                for part in 0..n {
+                    self.chart[j * n + part] = if j == 0 {
+                        DVec3::ZERO
+                    } else {
+                        let r = self.past[j].poses[part].r * self.cur.s.poses[part].r.transpose();
+                        log_so3(&r)
+                    };
+                }
             }
+            self.chart_fresh = true;
         }
         let mut c = [0.0; KEPT];
         bdf_coefficients(t1, &times[..k], &mut c);
@@ -411,6 +419,7 @@ impl<'p, 'a> Bdf<'p, 'a> {
         newest.poses.copy_from_slice(&self.cur.s.poses);
         newest.v.copy_from_slice(&self.cur.v);
         self.len = (self.len + 1).min(KEPT);
+        self.chart_fresh = false;
         self.steps_at_order += 1;
         let k = self.trial_order;
         let mut chosen = (self.estimates[1], k);
