@@ -21,6 +21,7 @@ pub mod commands;
 pub mod diagnostic;
 pub mod edit;
 pub mod input;
+pub mod num;
 pub mod reqfile;
 pub mod reqwriter;
 pub mod statement;

@@ -209,7 +209,10 @@ impl Planner<'_> {
         }
 
         let mut new_lines: Vec<String> = Vec::new();
-        let qg_text = pose.qg.map(format_real);
+        // Each coordinate is rounded to WRITE_RESOLUTION of its magnitude (at least the
+        // length unit), so no rounding noise is written.
+        let position = |v: f64| format_real(resolved(v, WRITE_RESOLUTION * v.abs().max(1.0)));
+        let qg_text = pose.qg.map(position);
         if !self.replace_all(st, part, "QG", &qg_text) {
             new_lines.push(format!(", QG = {}", qg_text.join(", ")));
         }
@@ -220,13 +223,14 @@ impl Planner<'_> {
             for (k, c) in p.iter_mut().enumerate() {
                 *c += axes[k][axis];
             }
-            p.map(format_real)
+            p.map(position)
         };
         let xg_text = point(0);
         let zg_text = point(2);
+        let angle_quantum = WRITE_RESOLUTION * 360.0;
         let reuler_text = pose
             .reuler
-            .map(|a| format!("{}D", format_real(a.to_degrees())));
+            .map(|a| format!("{}D", format_real(resolved(a.to_degrees(), angle_quantum))));
         if self.replace_all(st, part, "REULER", &reuler_text) {
             self.replace_all(st, part, "XG", &xg_text);
             self.replace_all(st, part, "ZG", &zg_text);
@@ -622,6 +626,26 @@ impl LineTable {
 
 // ---- numbers and angles ------------------------------------------------------------------
 
+/// The resolution of the numbers a saved dataset holds, relative to their scale (the
+/// coordinate's magnitude, at least 1 length unit, or a full turn for angles): below the assembly's tolerances (about 1e-10
+/// of the model's size), above f64's rounding noise, so `-7.3E-19` is written `0.0` and
+/// `59.99999999999999` is written `60.0`.
+pub const WRITE_RESOLUTION: f64 = 1e-12;
+
+/// `v` rounded to the significant digits that `quantum` resolves (unchanged when `quantum`
+/// is zero): zero when `|v| < quantum/2`, else `v` with `floor(log10(|v|/quantum)) + 1`
+/// significant digits.
+fn resolved(v: f64, quantum: f64) -> f64 {
+    if quantum.is_nan() || quantum <= 0.0 || !v.is_finite() {
+        return v;
+    }
+    if v.abs() < 0.5 * quantum {
+        return 0.0;
+    }
+    let digits = ((v.abs() / quantum).log10().floor() as i32 + 1).clamp(1, 17) as usize;
+    format!("{:.*e}", digits - 1, v).parse().unwrap_or(v)
+}
+
 /// A real in a form the reader turns back into the same `f64`: the shortest round-trip
 /// digits, with a `.0` when there would be no point, in exponent form (`1.5E-12`) for very
 /// small or large magnitudes. Zero (also `-0`) is `0.0`.
@@ -752,7 +776,8 @@ mod tests {
 
     fn assert_close(a: [f64; 3], b: [f64; 3], what: &str) {
         for (x, y) in a.iter().zip(&b) {
-            assert!((x - y).abs() <= 1e-12, "{what}: {a:?} != {b:?}");
+            // Within the writer's resolution (WRITE_RESOLUTION of a full turn for angles).
+            assert!((x - y).abs() <= 1e-11, "{what}: {a:?} != {b:?}");
         }
     }
 
@@ -776,13 +801,19 @@ mod tests {
         [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
     }
 
+    /// The text the writer gives coordinates: WRITE_RESOLUTION of their magnitude.
     fn list(v: [f64; 3]) -> String {
-        v.map(format_real).join(", ")
+        v.map(|x| format_real(resolved(x, WRITE_RESOLUTION * x.abs().max(1.0))))
+            .join(", ")
     }
 
+    /// The text the writer gives angles: degrees to WRITE_RESOLUTION of a turn.
     fn degrees(v: [f64; 3]) -> String {
-        v.map(|a| format!("{}D", format_real(a.to_degrees())))
-            .join(", ")
+        v.map(|a| {
+            let d = resolved(a.to_degrees(), WRITE_RESOLUTION * 360.0);
+            format!("{}D", format_real(d))
+        })
+        .join(", ")
     }
 
     const CRLF_DATASET: &[&str] = &[
@@ -952,9 +983,9 @@ mod tests {
         assert_eq!(
             lines[3],
             format!(
-                ", REULER = 0.0D, {}D, {}D ! keep",
+                // 1e-4 rad = 0.005729577951308232°, written to WRITE_RESOLUTION of a turn.
+                ", REULER = 0.0D, {}D, 0.005729578D ! keep",
                 format_real((-PI / 2.0).to_degrees()),
-                format_real(1.0e-4f64.to_degrees())
             )
         );
         let new = read(&out);
@@ -971,6 +1002,10 @@ mod tests {
         assert_eq!(format_real(-2.0), "-2.0");
         assert_eq!(format_real(-0.0), "0.0");
         assert_eq!(format_real(1e-12), "1.0E-12");
+        assert_eq!(resolved(-7.3e-19, 1e-12), 0.0);
+        assert_eq!(format_real(resolved(59.99999999999999, 360e-12)), "60.0");
+        assert_eq!(resolved(0.123_456_789_012_345_67, 1e-12), 0.123456789012);
+        assert_eq!(resolved(1.5, 0.0), 1.5);
         assert_eq!(format_real(-1.5e20), "-1.5E20");
         assert_eq!(format_real(123456.789), "123456.789");
         assert_eq!(format_real(180.0), "180.0");
@@ -989,7 +1024,12 @@ mod tests {
             assert_eq!(s.parse::<f64>().ok(), Some(v), "{s}");
             let ds = read("t\nPART/1, GROUND\nPART/2, QG = 0, 0, 0\n");
             let out = write(&ds, &[pose(&ds, 2, [v, -v, 0.0], [0.0; 3])]);
-            assert_eq!(value(&part(&read(&out), 2).qg, "QG"), [v, -v, 0.0]);
+            // Written to WRITE_RESOLUTION of the part's scale (at least 1 length unit).
+            let quantum = WRITE_RESOLUTION * v.abs().max(1.0);
+            let back = value(&part(&read(&out), 2).qg, "QG");
+            for (b, x) in back.iter().zip([v, -v, 0.0]) {
+                assert!((b - x).abs() <= quantum, "{b} vs {x}");
+            }
         }
     }
 

@@ -35,9 +35,10 @@ fn unstable_operating_point(run: &LinearRun) -> Option<String> {
         return None;
     };
     Some(format!(
-        "the static equilibrium linearized about is UNSTABLE (negative stiffness {stiffness:.3e} \
-         along a free motion): `linkage static --settle` finds a stable one by damped dynamics; \
-         --allow-unstable accepts this one"
+        "the static equilibrium linearized about is UNSTABLE (negative stiffness {} along a \
+         free motion): `linkage static --settle` finds a stable one by damped dynamics; \
+         --allow-unstable accepts this one",
+        linkage_adm::num::sci(stiffness, 4)
     ))
 }
 

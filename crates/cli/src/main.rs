@@ -106,7 +106,7 @@ enum Command {
         #[arg(long)]
         allow_unstable: bool,
         /// Stop damped settling after this many seconds of wall-clock time (after the step
-        /// it is in); the run then fails (exit 1) saying so.
+        /// it is in); the run then fails (exit 1) saying so. Default: 600 s.
         #[arg(long, value_name = "SECONDS")]
         time_limit: Option<f64>,
     },

@@ -4,6 +4,7 @@
 use crate::common::{
     applied_forces, input_error, is_stdout, load, output_times, print_json, Format, Progress,
 };
+use linkage_report::num::{general, sci};
 use linkage_report::simulate::CsvHistory;
 use linkage_solve::coverage::Analysis;
 use linkage_solve::physics::requests::RequestSet;
@@ -118,9 +119,12 @@ pub fn run_simulate(args: &SimulateArgs) -> ExitCode {
                 loaded.dataset.file.clone(),
                 at,
                 format!(
-                    "INTEGRATOR HMAX = {hmax:e} over --end {} needs at least {steps:.3e} steps \
-                     (at most {MAX_STEPS:.0e} are allowed)",
-                    args.end
+                    "INTEGRATOR HMAX = {} over --end {} needs at least {} steps (at most {} \
+                     are allowed)",
+                    general(hmax, 6),
+                    args.end,
+                    sci(steps, 4),
+                    general(MAX_STEPS, 6)
                 ),
             );
             return input_error(&linkage_adm::Diagnostics(vec![d]), args.format);

@@ -20,6 +20,9 @@ pub enum StaticFormat {
 }
 
 /// Options of `linkage static`.
+/// Wall-clock seconds after which damped settling stops when `--time-limit` is not given.
+pub const DEFAULT_SETTLE_TIME_LIMIT: f64 = 600.0;
+
 pub struct StaticArgs<'a> {
     pub model: &'a Path,
     pub format: StaticFormat,
@@ -93,10 +96,11 @@ pub fn run_static(args: &StaticArgs) -> ExitCode {
         let assembled = assemble();
         let bar = crate::common::Progress::on_terminal();
         let limit = loaded.model.equilibrium.settling_time;
-        let deadline = args
-            .time_limit
-            .map(|secs| std::time::Instant::now() + std::time::Duration::from_secs_f64(secs));
-        let out_of_time = || deadline.is_some_and(|d| std::time::Instant::now() >= d);
+        // Damped settling cannot bound its own wall-clock time (its steps shrink without end
+        // on a model that chatters): without --time-limit, a default guard stops it.
+        let limit_secs = args.time_limit.unwrap_or(DEFAULT_SETTLE_TIME_LIMIT);
+        let deadline = std::time::Instant::now() + std::time::Duration::from_secs_f64(limit_secs);
+        let out_of_time = || std::time::Instant::now() >= deadline;
         let settled = linkage_solve::stages::settle::settle_until(
             &assembled,
             |elapsed| bar.settling(elapsed, limit),
@@ -114,12 +118,14 @@ pub fn run_static(args: &StaticArgs) -> ExitCode {
             analysis,
         );
         judge_stability(&mut report, args.allow_unstable);
-        if let (Some(secs), true) = (args.time_limit, out_of_time()) {
-            if !report.errors.is_empty() {
-                report.errors.push(format!(
-                    "the time limit of {secs} s was reached while settling"
-                ));
-            }
+        if out_of_time() && !report.errors.is_empty() {
+            report.errors.push(match args.time_limit {
+                Some(secs) => format!("the time limit of {secs} s was reached while settling"),
+                None => format!(
+                    "the default wall-clock guard of {DEFAULT_SETTLE_TIME_LIMIT} s was reached \
+                     while settling (--time-limit S sets another)"
+                ),
+            });
         }
         if let (Some(out), Some(state)) = (args.save, &eq_state) {
             if report.converged && report.errors.is_empty() {

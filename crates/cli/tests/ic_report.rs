@@ -179,14 +179,14 @@ fn an_inconsistent_redundancy_is_reported_with_its_residual_and_exit_1() {
         &out,
         "hinge_top (Revolute Joint)  Rotation Between Zi & Yj  INCONSISTENT",
     );
-    assert!(l.ends_with("residual 2.0000e0 degrees"), "{l}");
+    assert!(l.ends_with("residual 2.0000E+00 degrees"), "{l}");
     // The report ends with the one error line (standard error repeats it).
     let errors: Vec<&str> = out.lines().filter(|l| l.starts_with("error:")).collect();
     assert_eq!(errors.len(), 1, "{out}");
     assert_eq!(out.lines().last(), Some(errors[0]));
     assert!(err.contains(errors[0]), "{err}");
     assert!(
-        errors[0].contains("Rotation Between Zi & Yj of hinge_top (residual 2.0000e0 deg)"),
+        errors[0].contains("Rotation Between Zi & Yj of hinge_top (residual 2.0000E+00 deg)"),
         "{}",
         errors[0]
     );

@@ -187,7 +187,7 @@ fn a_model_with_an_inconsistent_redundancy_is_not_run_and_the_equation_is_named(
     assert_eq!(v["start"]["found"], false);
     let e = v["errors"][0].as_str().unwrap();
     assert!(
-        e.contains("Rotation Between Zi & Yj of hinge_top (residual 2.0000e0 deg)"),
+        e.contains("Rotation Between Zi & Yj of hinge_top (residual 2.0000E+00 deg)"),
         "{e}"
     );
 }
@@ -201,7 +201,7 @@ fn output_times_are_validated() {
     for (args, why) in [
         (
             &["--end", "1e9", "--dtout", "1e-9"][..],
-            "asks for 1.000e18 outputs; at most 1000000 are allowed",
+            "asks for 1.000E+18 outputs; at most 1000000 are allowed",
         ),
         (
             &["--end", "1", "--dtout", "0"][..],
@@ -247,7 +247,7 @@ fn unusable_integrator_settings_are_reported() {
     );
     assert!(
         warnings.contains(
-            "INTEGRATOR ERROR = 1e-30 is below what double precision can meet; 1e-12 is used"
+            "INTEGRATOR ERROR = 1E-30 is below what double precision can meet; 1E-12 is used"
         ),
         "{warnings}"
     );
@@ -271,7 +271,7 @@ fn unusable_integrator_settings_are_reported() {
     let (code, _, err) = run(&["simulate", f.to_str().unwrap(), "--end", "1"]);
     assert_eq!(code, 2, "{err}");
     assert!(
-        err.contains("HMAX = 1e-12 over --end 1 needs at least 1.000e12 steps"),
+        err.contains("HMAX = 1E-12 over --end 1 needs at least 1.000E+12 steps"),
         "{err}"
     );
 }

@@ -75,12 +75,19 @@ pub fn check_physical(i_cm: &DMat3, rel_tol: f64) -> Result<(), InertiaDefect> {
     let scale = c.abs().max(NEGLIGIBLE_RELATIVE_SIZE);
     if a < -rel_tol * scale {
         return Err(InertiaDefect::Negative(format!(
-            "negative principal moment of inertia {a:.6e} (principal moments {a:.6e}, {b:.6e}, {c:.6e})"
+            "negative principal moment of inertia {} (principal moments {}, {}, {})",
+            linkage_adm::num::sci(a, 7),
+            linkage_adm::num::sci(a, 7),
+            linkage_adm::num::sci(b, 7),
+            linkage_adm::num::sci(c, 7)
         )));
     }
     if a + b < c - rel_tol * scale {
         return Err(InertiaDefect::Triangle(format!(
-            "principal moments {a:.6e}, {b:.6e}, {c:.6e} violate the triangle inequality (I1 + I2 < I3)"
+            "principal moments {}, {}, {} violate the triangle inequality (I1 + I2 < I3)",
+            linkage_adm::num::sci(a, 7),
+            linkage_adm::num::sci(b, 7),
+            linkage_adm::num::sci(c, 7)
         )));
     }
     Ok(())

@@ -224,7 +224,7 @@ fn plural(n: usize, one: &str, many: &str) -> String {
 fn mismatch(x: f64, unit: &str) -> String {
     match unit {
         "degrees" => format!("{x:.4} deg"),
-        _ => format!("{x:.4e}"),
+        _ => crate::num::sci(x, 5),
     }
 }
 
@@ -376,7 +376,7 @@ pub fn to_text(j: &ExplainJson) -> String {
                     if c >= 1e-3 {
                         format!(", reaction conditioning {c:.3}")
                     } else {
-                        format!(", reaction conditioning {c:.2e}")
+                        format!(", reaction conditioning {}", crate::num::sci(c, 3))
                     }
                 })
                 .unwrap_or_default();

@@ -1,6 +1,8 @@
 //! The initial-conditions report: text and JSON.
 
+use crate::num::sci;
 use crate::poses::{a3, part_states, PartStateJson};
+use crate::reactions::reaction_table;
 use crate::reactions::{reactions_json, ReactionJson};
 use crate::units::{text_line, units_json, Angle, UnitsJson};
 use crate::verify::{equation_ref, to_json as verify_json, EquationRef, RedundantJson};
@@ -110,8 +112,9 @@ pub fn to_json(model: &Model, ic: &InitialConditions, warnings: &[Diagnostic]) -
     }
     if !ic.assembly.converged {
         errors.push(format!(
-            "displacement initial conditions did not converge in {} iterations (largest residual {:.3e})",
-            ic.assembly.iterations, ic.assembly.max_residual
+            "displacement initial conditions did not converge in {} iterations (largest residual {})",
+            ic.assembly.iterations,
+            sci(ic.assembly.max_residual, 4)
         ));
     }
     let acc = match &ic.acceleration {
@@ -191,20 +194,22 @@ pub fn to_text(j: &IcJson) -> String {
     let _ = writeln!(s);
     let _ = writeln!(
         s,
-        "Displacement: {} in {} iterations, largest residual {:.3e}",
+        "Displacement: {} in {} iterations, largest residual {}",
         if j.converged {
             "converged"
         } else {
             "DID NOT CONVERGE"
         },
         j.iterations,
-        j.max_residual
+        sci(j.max_residual, 4)
     );
     for r in &j.largest_residuals {
         let _ = writeln!(
             s,
-            "   {} {}  residual {:.4e}",
-            r.name, r.equation, r.residual
+            "   {} {}  residual {}",
+            r.name,
+            r.equation,
+            sci(r.residual, 5)
         );
     }
     if !j.moved_parts.is_empty() {
@@ -230,8 +235,12 @@ pub fn to_text(j: &IcJson) -> String {
             };
             let _ = writeln!(
                 s,
-                "   {} ({})  {}  {:.4e}{u} → {:.4e}{u}",
-                r.equation.name, r.equation.kind, r.equation.equation, r.before, r.after
+                "   {} ({})  {}  {}{u} → {}{u}",
+                r.equation.name,
+                r.equation.kind,
+                r.equation.equation,
+                sci(r.before, 5),
+                sci(r.after, 5)
             );
         }
     }
@@ -252,7 +261,7 @@ pub fn to_text(j: &IcJson) -> String {
             let status = match (r.consistent, r.residual) {
                 (Some(true), _) => "consistent".to_string(),
                 (Some(false), Some(x)) => {
-                    format!("INCONSISTENT, residual {x:.4e} {}", r.residual_unit)
+                    format!("INCONSISTENT, residual {} {}", sci(x, 5), r.residual_unit)
                 }
                 _ => "consistency unknown".to_string(),
             };
@@ -267,30 +276,18 @@ pub fn to_text(j: &IcJson) -> String {
         let _ = writeln!(s);
         let _ = writeln!(
             s,
-            "Velocity: {} (largest error {:.3e})",
+            "Velocity: {} (largest error {})",
             if ok { "converged" } else { "DID NOT CONVERGE" },
-            j.velocity_error.unwrap_or(f64::NAN)
+            sci(j.velocity_error.unwrap_or(f64::NAN), 4)
         );
     }
     if let Some(e) = j.acceleration_error {
-        let _ = writeln!(s, "Acceleration and force: largest error {e:.3e}");
+        let _ = writeln!(s, "Acceleration and force: largest error {}", sci(e, 4));
     }
     if !j.reactions.is_empty() {
         let _ = writeln!(s);
         let _ = writeln!(s, "Reactions on the I markers (ground axes):");
-        let _ = writeln!(
-            s,
-            "   {:<24} {:>13} {:>13} {:>13}   {:>13} {:>13} {:>13}",
-            "element", "FX", "FY", "FZ", "TX", "TY", "TZ"
-        );
-        for r in &j.reactions {
-            let (f, t) = (r.force, r.torque);
-            let _ = writeln!(
-                s,
-                "   {:<24} {:>13.6e} {:>13.6e} {:>13.6e}   {:>13.6e} {:>13.6e} {:>13.6e}",
-                r.name, f[0], f[1], f[2], t[0], t[1], t[2]
-            );
-        }
+        reaction_table(&mut s, &j.reactions);
     }
     for w in &j.warnings {
         let _ = writeln!(s, "{w}");

@@ -7,6 +7,9 @@ pub mod coverage;
 pub mod explain;
 pub mod ic;
 pub mod linear;
+/// Numbers as every report prints them (defined beside the dataset reader, so that the
+/// solver's messages use them too).
+pub use linkage_adm::num;
 pub mod poses;
 pub mod reactions;
 pub mod simulate;

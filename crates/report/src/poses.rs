@@ -75,8 +75,30 @@ pub fn part_states(
 /// `   name   (x, y, z)   (ψ, θ, φ)`: a part's centre of mass and 3-1-3 angles (degrees) in
 /// the text reports.
 pub fn pose_line(name: &str, position: [f64; 3], reuler: [f64; 3]) -> String {
+    let p = position.map(|x| fixed(x, 6));
+    let a = reuler.map(|x| fixed(x, 4));
     format!(
-        "   {:<24} ({:.6}, {:.6}, {:.6})   ({:.4}, {:.4}, {:.4})",
-        name, position[0], position[1], position[2], reuler[0], reuler[1], reuler[2]
+        "   {:<24} ({}, {}, {})   ({}, {}, {})",
+        name, p[0], p[1], p[2], a[0], a[1], a[2]
     )
+}
+
+/// `x` with `decimals` decimals, never `-0.000…` (a value that rounds to zero prints as 0).
+fn fixed(x: f64, decimals: usize) -> String {
+    let s = format!("{x:.decimals$}");
+    if s.starts_with('-') && s[1..].chars().all(|c| c == '0' || c == '.') {
+        s[1..].to_string()
+    } else {
+        s
+    }
+}
+
+#[cfg(test)]
+mod fixed_tests {
+    #[test]
+    fn negative_zero_is_not_printed() {
+        assert_eq!(super::fixed(-1e-17, 6), "0.000000");
+        assert_eq!(super::fixed(-0.25, 6), "-0.250000");
+        assert_eq!(super::fixed(-0.0, 4), "0.0000");
+    }
 }

@@ -34,3 +34,76 @@ pub fn reactions_json(model: &Model, reactions: &[Reaction]) -> Vec<ReactionJson
         })
         .collect()
 }
+
+/// The text table of reactions: one row per element, `FX FY FZ   TX TY TZ` in
+/// [`crate::num::sci`] form, the name column as wide as the longest name. Forces and torques
+/// judge their rounding noise each against the table's largest force or torque.
+pub fn reaction_table(s: &mut String, reactions: &[ReactionJson]) {
+    use crate::num::{scale_of, sci_in};
+    use std::fmt::Write;
+    const DIGITS: usize = 7;
+    let w = reactions
+        .iter()
+        .map(|r| r.name.chars().count())
+        .max()
+        .unwrap_or(0)
+        .max(24);
+    let _ = writeln!(
+        s,
+        "   {:<w$} {:>13} {:>13} {:>13}   {:>13} {:>13} {:>13}",
+        "element", "FX", "FY", "FZ", "TX", "TY", "TZ"
+    );
+    let f_scale = scale_of(reactions.iter().flat_map(|r| r.force));
+    let t_scale = scale_of(reactions.iter().flat_map(|r| r.torque));
+    for r in reactions {
+        let f = r.force.map(|x| sci_in(x, DIGITS, f_scale));
+        let t = r.torque.map(|x| sci_in(x, DIGITS, t_scale));
+        let _ = writeln!(
+            s,
+            "   {:<w$} {:>13} {:>13} {:>13}   {:>13} {:>13} {:>13}",
+            r.name, f[0], f[1], f[2], t[0], t[1], t[2]
+        );
+    }
+}
+
+#[cfg(test)]
+mod table_tests {
+    use super::*;
+
+    fn reaction(name: &str, force: [f64; 3], torque: [f64; 3]) -> ReactionJson {
+        ReactionJson {
+            name: name.to_string(),
+            element: String::new(),
+            kind: String::new(),
+            force,
+            torque,
+        }
+    }
+
+    #[test]
+    fn columns_align_with_long_names_and_noise_is_zero() {
+        let rows = [
+            reaction("crank_pivot", [5.160884, 30.56784, 0.0], [0.0; 3]),
+            reaction(
+                "a_joint_with_a_rather_long_name_indeed",
+                [-5.993613, 12.87585, -0.0],
+                [0.0, 0.0, -5.329071e-15],
+            ),
+            reaction("crank_drive", [0.0; 3], [0.0, 0.0, 8.362802]),
+        ];
+        let mut s = String::new();
+        reaction_table(&mut s, &rows);
+        let lines: Vec<&str> = s.lines().collect();
+        assert_eq!(lines.len(), 4);
+        // Every row has the same length: the columns line up.
+        assert!(lines.iter().all(|l| l.len() == lines[0].len()), "{s}");
+        assert!(lines[1].contains(" 5.160884E+00  3.056784E+01  0.000000E+00"));
+        // The torque at 6e-16 of the largest torque is printed as zero, without a sign.
+        assert!(
+            lines[2].ends_with(" 0.000000E+00  0.000000E+00  0.000000E+00"),
+            "{s}"
+        );
+        assert!(lines[3].ends_with(" 8.362802E+00"));
+        assert!(!s.contains("-0.000000E+00"));
+    }
+}

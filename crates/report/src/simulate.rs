@@ -1,5 +1,6 @@
 //! Simulation output: CSV time histories and a JSON/text summary.
 
+use crate::num::{denoise, general, scale_of, sci, sci_in, CSV_DIGITS};
 use crate::poses::{part_states, pose_line, PartStateJson};
 use crate::statics::{settling_line, settling_summary, SettlingJson};
 use crate::units::{text_line, units_json, Angle, CsvUnits, UnitsJson};
@@ -42,31 +43,57 @@ pub fn csv_header(model: &Model, reaction_elements: &[usize], extra: &[String]) 
     s
 }
 
-/// One CSV row (angles in degrees, positions of centres of mass, ground axes).
+/// One CSV row (angles in degrees, positions of centres of mass, ground axes), each field
+/// with [`CSV_DIGITS`] significant digits. Rounding noise is printed as 0, judged per kind of
+/// quantity in the row (positions, angles against a full turn, velocities, angular velocities,
+/// forces, torques; see [`crate::num::denoise`]).
 pub fn csv_row(o: &Output, reaction_elements: &[usize], extra: &[f64]) -> String {
-    let mut s = format!("{}", o.time);
-    for (k, pose) in o.state.poses.iter().enumerate() {
+    let mut s = general(o.time, CSV_DIGITS);
+    let poses = &o.state.poses;
+    let position_scale = scale_of(poses.iter().flat_map(|p| p.p.to_array()));
+    let v_scale = scale_of(o.velocities.iter().flat_map(|(v, _)| v.to_array()));
+    let w_scale = scale_of(o.velocities.iter().flat_map(|(_, w)| w.to_array()));
+    for (k, pose) in poses.iter().enumerate() {
         let e = matrix_to_euler313(&pose.r).map(f64::to_degrees);
         let (v, w) = o.velocities[k];
-        for x in [
-            pose.p.x, pose.p.y, pose.p.z, e[0], e[1], e[2], v.x, v.y, v.z, w.x, w.y, w.z,
-        ] {
-            let _ = write!(s, ",{x}");
+        let fields = [
+            (pose.p.x, position_scale),
+            (pose.p.y, position_scale),
+            (pose.p.z, position_scale),
+            (e[0], 360.0),
+            (e[1], 360.0),
+            (e[2], 360.0),
+            (v.x, v_scale),
+            (v.y, v_scale),
+            (v.z, v_scale),
+            (w.x, w_scale),
+            (w.y, w_scale),
+            (w.z, w_scale),
+        ];
+        for (x, scale) in fields {
+            let _ = write!(s, ",{}", general(denoise(x, scale), CSV_DIGITS));
         }
     }
+    let force_scale = scale_of(o.reactions.iter().flat_map(|r| r.force.to_array()));
+    let torque_scale = scale_of(o.reactions.iter().flat_map(|r| r.torque.to_array()));
     for &el in reaction_elements {
         let r = o.reactions.iter().find(|r| r.element == el);
         let vals = r.map_or([0.0; 6], |r| {
             [
-                r.force.x, r.force.y, r.force.z, r.torque.x, r.torque.y, r.torque.z,
+                denoise(r.force.x, force_scale),
+                denoise(r.force.y, force_scale),
+                denoise(r.force.z, force_scale),
+                denoise(r.torque.x, torque_scale),
+                denoise(r.torque.y, torque_scale),
+                denoise(r.torque.z, torque_scale),
             ]
         });
         for x in vals {
-            let _ = write!(s, ",{x}");
+            let _ = write!(s, ",{}", general(x, CSV_DIGITS));
         }
     }
-    for x in extra {
-        let _ = write!(s, ",{x}");
+    for &x in extra {
+        let _ = write!(s, ",{}", general(x, CSV_DIGITS));
     }
     s
 }
@@ -407,7 +434,8 @@ pub fn to_text(j: &SimulateJson) -> String {
                 (true, Some(it), Some(imb)) => {
                     let _ = writeln!(
                         s,
-                        "{verb} {how}: {it} iterations, residual imbalance {imb:.5e}){}.",
+                        "{verb} {how}: {it} iterations, residual imbalance {}){}.",
+                        sci(imb, 5),
                         match j.start.stable {
                             Some(true) => "; the equilibrium is stable",
                             Some(false) => "; the equilibrium is UNSTABLE",
@@ -463,18 +491,20 @@ pub fn to_text(j: &SimulateJson) -> String {
             "\nParts at time {} (CM in ground, 3-1-3 degrees, velocity, angular velocity):",
             j.end_time
         );
+        let v_scale = scale_of(j.final_state.iter().flat_map(|p| p.velocity));
+        let w_scale = scale_of(j.final_state.iter().flat_map(|p| p.angular_velocity));
         for p in j.final_state.iter().take(TEXT_LIST_LIMIT) {
             let (v, w) = (p.velocity, p.angular_velocity);
             let _ = writeln!(
                 s,
-                "{}  v ({:.6e}, {:.6e}, {:.6e})  w ({:.6e}, {:.6e}, {:.6e})",
+                "{}  v ({}, {}, {})  w ({}, {}, {})",
                 pose_line(&p.name, p.position, p.reuler),
-                v[0],
-                v[1],
-                v[2],
-                w[0],
-                w[1],
-                w[2]
+                sci_in(v[0], 6, v_scale),
+                sci_in(v[1], 6, v_scale),
+                sci_in(v[2], 6, v_scale),
+                sci_in(w[0], 6, w_scale),
+                sci_in(w[1], 6, w_scale),
+                sci_in(w[2], 6, w_scale)
             );
         }
         if j.final_state.len() > TEXT_LIST_LIMIT {

@@ -1,7 +1,8 @@
 //! The static-equilibrium report: text, JSON and CSV.
 
+use crate::num::{denoise, general, scale_of, sci, CSV_DIGITS};
 use crate::poses::{part_poses, pose_line, PartPoseJson};
-use crate::reactions::{reactions_json, ReactionJson};
+use crate::reactions::{reaction_table, reactions_json, ReactionJson};
 use crate::units::{text_line, units_json, Angle, CsvUnits, UnitsJson};
 use linkage_adm::Diagnostic;
 use linkage_model::settings::shown;
@@ -147,9 +148,12 @@ pub const NO_GLOBAL_DAMPING: &str = "GLOBAL_DAMPING is 0 (the default): only the
 pub fn settling_line(st: &SettlingJson) -> String {
     let values = |ke: Option<f64>, acc: Option<f64>| match (ke, acc) {
         (Some(ke), Some(acc)) => format!(
-            "kinetic energy {ke:.3e} (KINETIC_ENERGY_ERROR {:.3e}), largest acceleration \
-             {acc:.3e} (ACCELERATION_ERROR {:.3e})",
-            st.kinetic_energy_limit, st.acceleration_limit
+            "kinetic energy {} (KINETIC_ENERGY_ERROR {}), largest acceleration {} \
+             (ACCELERATION_ERROR {})",
+            sci(ke, 4),
+            sci(st.kinetic_energy_limit, 4),
+            sci(acc, 4),
+            sci(st.acceleration_limit, 4)
         ),
         _ => String::new(),
     };
@@ -312,21 +316,33 @@ pub fn to_csv(model: &Model, run: &StaticRun) -> String {
     s.push('\n');
     for (t, e) in &run.steps {
         let Ok(eq) = e else { continue };
-        let _ = write!(s, "{t}");
-        for p in part_poses(model, &eq.state) {
-            for v in p.position.iter().chain(p.reuler.iter()) {
-                let _ = write!(s, ",{v}");
+        let _ = write!(s, "{}", general(*t, CSV_DIGITS));
+        let poses = part_poses(model, &eq.state);
+        let position_scale = scale_of(poses.iter().flat_map(|p| p.position));
+        for p in &poses {
+            for &v in &p.position {
+                let _ = write!(s, ",{}", general(denoise(v, position_scale), CSV_DIGITS));
+            }
+            for &v in &p.reuler {
+                let _ = write!(s, ",{}", general(denoise(v, 360.0), CSV_DIGITS));
             }
         }
+        let force_scale = scale_of(eq.reactions.iter().flat_map(|r| r.force.to_array()));
+        let torque_scale = scale_of(eq.reactions.iter().flat_map(|r| r.torque.to_array()));
         for &el in &reaction_elements {
             let r = eq.reactions.iter().find(|r| r.element == el);
             let vals = r.map_or([f64::NAN; 6], |r| {
                 [
-                    r.force.x, r.force.y, r.force.z, r.torque.x, r.torque.y, r.torque.z,
+                    denoise(r.force.x, force_scale),
+                    denoise(r.force.y, force_scale),
+                    denoise(r.force.z, force_scale),
+                    denoise(r.torque.x, torque_scale),
+                    denoise(r.torque.y, torque_scale),
+                    denoise(r.torque.z, torque_scale),
                 ]
             });
             for v in vals {
-                let _ = write!(s, ",{v}");
+                let _ = write!(s, ",{}", general(v, CSV_DIGITS));
             }
         }
         s.push('\n');
@@ -373,7 +389,7 @@ pub fn to_text(j: &StaticJson) -> String {
             Some(c) => {
                 let _ = writeln!(
                     s,
-                    "{} {} in {} iterations; residual imbalance {:.5e}",
+                    "{} {} in {} iterations; residual imbalance {}",
                     if j.settling.is_some() {
                         "Newton polish"
                     } else {
@@ -381,7 +397,7 @@ pub fn to_text(j: &StaticJson) -> String {
                     },
                     if c { "converged" } else { "DID NOT CONVERGE" },
                     j.iterations,
-                    j.imbalance
+                    sci(j.imbalance, 5)
                 );
             }
             None => {
@@ -395,8 +411,8 @@ pub fn to_text(j: &StaticJson) -> String {
             Some(false) => {
                 let _ = writeln!(
                     s,
-                    "The equilibrium is UNSTABLE (negative stiffness {:.3e} along a free motion).",
-                    j.lowest_stiffness.unwrap_or(f64::NAN)
+                    "The equilibrium is UNSTABLE (negative stiffness {} along a free motion).",
+                    sci(j.lowest_stiffness.unwrap_or(f64::NAN), 4)
                 );
             }
             None => {}
@@ -412,14 +428,7 @@ pub fn to_text(j: &StaticJson) -> String {
         if !j.reactions.is_empty() {
             let _ = writeln!(s);
             let _ = writeln!(s, "Reactions on the I markers (ground axes):");
-            for r in &j.reactions {
-                let (f, t) = (r.force, r.torque);
-                let _ = writeln!(
-                    s,
-                    "   {:<24} F ({:.6e}, {:.6e}, {:.6e})  T ({:.6e}, {:.6e}, {:.6e})",
-                    r.name, f[0], f[1], f[2], t[0], t[1], t[2]
-                );
-            }
+            reaction_table(&mut s, &j.reactions);
         }
     } else {
         let _ = writeln!(
@@ -445,8 +454,11 @@ pub fn to_text(j: &StaticJson) -> String {
             };
             let _ = writeln!(
                 s,
-                "   {:>12.6} {:>10} {:>14.5e} {:>8}",
-                st.time, st.iterations, st.imbalance, stable
+                "   {:>12.6} {:>10} {:>14} {:>8}",
+                st.time,
+                st.iterations,
+                sci(st.imbalance, 5),
+                stable
             );
         }
     }
@@ -521,7 +533,8 @@ pub fn unstable_verdict(j: &StaticJson) -> Option<String> {
         "try --settle (damped dynamics finds a stable one), or pass --allow-unstable to accept it"
     };
     Some(format!(
-        "the equilibrium{at} is UNSTABLE (negative stiffness {stiffness:.3e} along a free \
-         motion): {try_next}"
+        "the equilibrium{at} is UNSTABLE (negative stiffness {} along a free motion): \
+         {try_next}",
+        sci(stiffness, 4)
     ))
 }

@@ -325,7 +325,7 @@ fn plural(n: usize, one: &str) -> String {
 fn fmt_residual(x: f64, unit: &str) -> String {
     match unit {
         "degrees" => format!("{x:.4} deg"),
-        _ => format!("{x:.4e}"),
+        _ => crate::num::sci(x, 5),
     }
 }
 

@@ -443,9 +443,12 @@ impl Runner {
                 if st.keyword == "KINEMATICS" {
                     sinks.msg.write(&format!(
                         " Note: KINEMATICS settings are accepted and change nothing: linkage's \
-                         kinematic analysis solves the positions to {:e} of the model's size \
+                         kinematic analysis solves the positions to {} of the model's size \
                          (lengths) or radians, tighter than Adams' default ERROR.",
-                        linkage_solve::tolerances::KINEMATIC_POSITION
+                        linkage_report::num::general(
+                            linkage_solve::tolerances::KINEMATIC_POSITION,
+                            6
+                        )
                     ))?;
                 }
                 if st.keyword == "INTEGRATOR" && !st.args.is_empty() {

@@ -44,8 +44,11 @@ impl std::fmt::Display for InconsistentEquation {
         match self.residual {
             Some(x) => write!(
                 f,
-                "{} of {} (residual {x:.4e}{})",
-                self.label, self.element, self.unit
+                "{} of {} (residual {}{})",
+                self.label,
+                self.element,
+                linkage_adm::num::sci(x, 5),
+                self.unit
             ),
             None => write!(f, "{} of {}", self.label, self.element),
         }
@@ -58,7 +61,8 @@ pub enum NotAssembled {
     /// The displacement IC did not converge.
     #[error(
         "the model could not be assembled: the initial conditions did not converge (largest \
-         residual {max_residual:.3e}); run `linkage ic` for the equations left unsatisfied"
+         residual {}); run `linkage ic` for the equations left unsatisfied",
+        linkage_adm::num::sci(*.max_residual, 4)
     )]
     DidNotConverge { max_residual: f64 },
     /// The assembly converged but some redundant equation does not hold there.
@@ -260,7 +264,7 @@ mod tests {
         assert_eq!(
             a.failure().unwrap().to_string(),
             "the model cannot be assembled: redundant equation(s) inconsistent with the \
-             others: Rotation Between Zi & Yj of hinge_top (residual 2.0000e0 deg); \
+             others: Rotation Between Zi & Yj of hinge_top (residual 2.0000E+00 deg); \
              `linkage verify --explain` proposes joints without the redundancy"
         );
     }
@@ -276,7 +280,7 @@ mod tests {
         let why = NotAssembled::judge(&m, &ic).expect("not assembled");
         assert_eq!(why, NotAssembled::DidNotConverge { max_residual: 0.25 });
         assert!(
-            why.to_string().contains("largest residual 2.500e-1"),
+            why.to_string().contains("largest residual 2.500E-01"),
             "{why}"
         );
     }

@@ -228,7 +228,7 @@ fn a_free_body_under_gravity_has_no_equilibrium_and_says_why() {
     let sys = linkage_solve::constraints::system::System::new(&m);
     let why = eq.failure(&m, &sys).unwrap();
     assert!(
-        why.contains("largest imbalance in PART_2 force Y balance (-2.942e1)"),
+        why.contains("largest imbalance in PART_2 force Y balance (-2.942E+01)"),
         "{why}"
     );
     assert!(why.contains("free motions that nothing resists"), "{why}");

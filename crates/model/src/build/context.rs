@@ -36,8 +36,10 @@ impl Ctx {
                 self.error(
                     q.span,
                     format!(
-                        "{name}: {keyword} coordinate {x:e} is beyond ±{MAX_COORDINATE:e}, where \
-                         the arithmetic of the analyses overflows (a digit astray?)"
+                        "{name}: {keyword} coordinate {} is beyond ±{}, where the arithmetic \
+                         of the analyses overflows (a digit astray?)",
+                        linkage_adm::num::general(*x, 6),
+                        linkage_adm::num::general(MAX_COORDINATE, 6)
                     ),
                 );
                 DVec3::ZERO

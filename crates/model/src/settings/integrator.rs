@@ -345,7 +345,7 @@ mod tests {
         );
         assert_eq!(
             texts(&st.invalid),
-            vec!["INTEGRATOR ERROR = 1e-20 is below what double precision can meet; 1e-12 is used"]
+            vec!["INTEGRATOR ERROR = 1E-20 is below what double precision can meet; 1E-12 is used"]
         );
     }
 

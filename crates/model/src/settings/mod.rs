@@ -276,19 +276,11 @@ pub fn equilibrium_settings(
     s
 }
 
-/// A setting or time as a reader wants it in a message: `4`, `2.25`, `1e12`, `1.5e-9`
-/// (exponent form when very small or large, six significant digits at most).
+/// A setting or time as a reader wants it in a message: `4`, `2.25`, `1E+12`, `1.5E-09`
+/// (six significant digits at most; exponent form, as Adams prints it, when very small or
+/// large: see [`linkage_adm::num::general`]).
 pub fn shown(x: f64) -> String {
-    let trim = |t: &str| t.trim_end_matches('0').trim_end_matches('.').to_string();
-    if x != 0.0 && (x.abs() < 1e-3 || x.abs() >= 1e6) {
-        let t = format!("{x:.5e}");
-        match t.split_once('e') {
-            Some((mantissa, exponent)) => format!("{}e{exponent}", trim(mantissa)),
-            None => t,
-        }
-    } else {
-        trim(&format!("{x:.6}"))
-    }
+    linkage_adm::num::general(x, 6)
 }
 
 #[cfg(test)]
@@ -348,7 +340,7 @@ mod tests {
             .collect();
         assert_eq!(
             all,
-            ["4", "2.25", "0.125", "1e12", "1.5e-9", "-1", "0", "2.5e9", "1e-12"]
+            ["4", "2.25", "0.125", "1E+12", "1.5E-09", "-1", "0", "2.5E+09", "1E-12"]
         );
     }
 }

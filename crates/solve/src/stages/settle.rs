@@ -74,12 +74,12 @@ impl SettleOutcome {
                 },
                 _,
             ) => Some(format!(
-                "the model did not settle within SETTLING_TIME = {}: kinetic energy {:.3e} \
-                 (limit {:.3e}), largest acceleration {:.3e} (limit {:.3e})",
+                "the model did not settle within SETTLING_TIME = {}: kinetic energy {} \
+                 (limit {}), largest acceleration {} (limit {})",
                 shown(eq.settling_time),
-                kinetic_energy,
-                eq.kinetic_energy_error,
-                acceleration,
+                linkage_adm::num::sci(*kinetic_energy, 4),
+                linkage_adm::num::sci(eq.kinetic_energy_error, 4),
+                linkage_adm::num::sci(*acceleration, 4),
                 eq.acceleration_error
             )),
             (SettleStop::Settled { .. }, Some(Ok(e))) if !e.converged => Some(format!(

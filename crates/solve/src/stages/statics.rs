@@ -120,7 +120,7 @@ impl Equilibrium {
             .iter()
             .map(|(w, v)| {
                 let (name, equation) = w.describe(model, sys);
-                format!("{name} {equation} ({v:.3e})")
+                format!("{name} {equation} ({})", linkage_adm::num::sci(*v, 4))
             })
             .collect();
         let mut why = format!(

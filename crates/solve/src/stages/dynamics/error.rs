@@ -80,7 +80,7 @@ pub enum IntegrationError {
     #[error("the corrector did not converge in {iterations} iterations at time {time}")]
     CorrectorNotConverged { iterations: usize, time: f64 },
     /// A step failed at the smallest step size the settings allow: the run gives up.
-    #[error("{cause} (step size {step:.3e} at its minimum)")]
+    #[error("{cause} (step size {} at its minimum)", linkage_adm::num::sci(*.step, 4))]
     AtMinimumStep {
         step: f64,
         cause: Box<IntegrationError>,
@@ -101,7 +101,8 @@ pub enum IntegrationError {
     /// constraint that becomes inconsistent"); `residual` in the row's report unit.
     #[error(
         "the redundant equation {equation} of {element} (removed as consistent) became \
-         inconsistent: residual {residual:.6e}{unit}"
+         inconsistent: residual {}{unit}",
+        linkage_adm::num::sci(*.residual, 7)
     )]
     RedundantViolated {
         equation: &'static str,
@@ -127,8 +128,9 @@ pub enum IntegrationError {
     /// row's report unit) and its row.
     #[error(
         "the positions could not be found from the constraints at time {time} in {iterations} \
-         iterations: largest residual {residual:.6e}{unit} in {equation} of {element} (the \
-         motions may drive the mechanism beyond its reach)"
+         iterations: largest residual {}{unit} in {equation} of {element} (the \
+         motions may drive the mechanism beyond its reach)",
+        linkage_adm::num::sci(*.residual, 7)
     )]
     PositionsNotFound {
         time: f64,

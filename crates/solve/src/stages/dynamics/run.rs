@@ -72,8 +72,8 @@ pub enum RunError {
     /// The starting equilibrium was found but is unstable, and the caller refused to start
     /// from an unstable one ([`UnstableStart::Refuse`]); nothing was integrated.
     #[error(
-        "the starting equilibrium is UNSTABLE (negative stiffness {lowest_stiffness:.3e} along a \
-         free motion)"
+        "the starting equilibrium is UNSTABLE (negative stiffness {} along a free motion)",
+        linkage_adm::num::sci(*.lowest_stiffness, 4)
     )]
     UnstableEquilibrium { lowest_stiffness: f64 },
 }
