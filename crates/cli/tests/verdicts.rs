@@ -244,3 +244,43 @@ fn simulate_errors_show_once_on_a_terminal() {
     assert_eq!(out.matches("error: ").count(), 1, "{out}");
     assert_eq!(err.matches("error: ").count(), 1, "{err}");
 }
+
+/// The exploded four-bar is misaligned at its input: verify's counts at the repaired input
+/// pose (0 DOF, 2 redundant) are not those of the assembled pose, so verify also assembles
+/// it and reports what `ic` finds there (1 DOF, 3 redundant, as for any planar four-bar built
+/// from revolutes).
+#[test]
+fn verify_reports_the_counts_ic_finds_after_assembly() {
+    let src = common::root().join("mechanisms/exploded_fourbar.adm");
+    let src = src.to_str().unwrap();
+    let (_, out, _) = common::run(&["verify", src, "--format", "json"]);
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    let after = &v["after_assembly"];
+    assert_eq!(after["converged"], true, "{v}");
+    let (_, out, _) = common::run(&["ic", src, "--format", "json"]);
+    let ic: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert_eq!(ic["dof"], 1, "{ic}");
+    assert_eq!(after["dof"], ic["dof"]);
+    let names = |list: &serde_json::Value| -> Vec<String> {
+        list.as_array()
+            .unwrap()
+            .iter()
+            .map(|r| format!("{} {}", r["name"], r["equation"]))
+            .collect()
+    };
+    assert_eq!(names(&after["redundant"]).len(), 3);
+    assert_eq!(names(&after["redundant"]), names(&ic["redundant"]));
+    let (_, text, _) = common::run(&["verify", src]);
+    assert!(
+        text.contains(
+            "Assembled (as `linkage ic` and every analysis assemble it): 1 Degrees of Freedom, \
+             3 redundant constraint equation(s); these counts, not the ones above"
+        ),
+        "{text}"
+    );
+    // An assembled model has no such line.
+    let ok = common::root().join("mechanisms/fourbar.adm");
+    let (_, out, _) = common::run(&["verify", ok.to_str().unwrap(), "--format", "json"]);
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert!(v.get("after_assembly").is_none(), "{v}");
+}

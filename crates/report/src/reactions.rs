@@ -36,8 +36,9 @@ pub fn reactions_json(model: &Model, reactions: &[Reaction]) -> Vec<ReactionJson
 }
 
 /// The text table of reactions: one row per element, `FX FY FZ   TX TY TZ` in
-/// [`crate::num::sci`] form, the name column as wide as the longest name. Forces and torques
-/// judge their rounding noise each against the table's largest force or torque.
+/// [`crate::num::sci`] form, the name column as wide as the longest name. Forces judge their
+/// rounding noise against the table's largest force, torques against the largest torque or
+/// force (times one length unit).
 pub fn reaction_table(s: &mut String, reactions: &[ReactionJson]) {
     use crate::num::{scale_of, sci_in};
     use std::fmt::Write;
@@ -54,7 +55,10 @@ pub fn reaction_table(s: &mut String, reactions: &[ReactionJson]) {
         "element", "FX", "FY", "FZ", "TX", "TY", "TZ"
     );
     let f_scale = scale_of(reactions.iter().flat_map(|r| r.force));
-    let t_scale = scale_of(reactions.iter().flat_map(|r| r.torque));
+    // A torque is judged against the largest torque or the largest force times one length
+    // unit, whichever is larger: joints that carry no torque show the noise of the force
+    // arms, not values of their own.
+    let t_scale = scale_of(reactions.iter().flat_map(|r| r.torque)).max(f_scale);
     for r in reactions {
         let f = r.force.map(|x| sci_in(x, DIGITS, f_scale));
         let t = r.torque.map(|x| sci_in(x, DIGITS, t_scale));
@@ -105,5 +109,21 @@ mod table_tests {
         );
         assert!(lines[3].ends_with(" 8.362802E+00"));
         assert!(!s.contains("-0.000000E+00"));
+        // Torques of joints that carry none, at the noise of the forces' arms.
+        let rows = [
+            reaction(
+                "pivot",
+                [16.43132, 31.8389, 0.0],
+                [9.809354e-12, -1.116505e-11, 0.0],
+            ),
+            reaction(
+                "rocker",
+                [4.707578, -38.81407, 0.0],
+                [0.0, 0.0, -1.332268e-14],
+            ),
+        ];
+        let mut s = String::new();
+        reaction_table(&mut s, &rows);
+        assert!(!s.contains("E-1"), "{s}");
     }
 }

@@ -104,9 +104,40 @@ pub struct VerifyJson {
     pub near_ties: Vec<EquationRef>,
     pub warnings: Vec<String>,
     pub errors: Vec<String>,
+    /// For a model not assembled at its input configuration: DOF and redundancy at the
+    /// configuration the assembly (`linkage ic`) reaches, which is what every analysis uses.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub after_assembly: Option<AfterAssemblyJson>,
     /// `--explain`: suggestions, determinate reactions, singular configuration, drivers.
     #[serde(flatten)]
     pub explain: Option<crate::explain::ExplainJson>,
+}
+
+/// DOF and redundancy at the assembled configuration (see [`after_assembly_json`]).
+#[derive(Clone, Debug, Serialize, PartialEq)]
+pub struct AfterAssemblyJson {
+    /// Whether the displacement assembly converged (the counts are only given when it did).
+    pub converged: bool,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub dof: Option<i64>,
+    /// The redundant equations there, named as in `redundant`.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub redundant: Option<Vec<EquationRef>>,
+}
+
+/// The counts of the assembled configuration `at` (the verification `linkage ic` runs after
+/// its assembly), or only `converged: false` when the assembly did not converge.
+pub fn after_assembly_json(model: &Model, converged: bool, at: &Verification) -> AfterAssemblyJson {
+    AfterAssemblyJson {
+        converged,
+        dof: converged.then_some(at.dof),
+        redundant: converged.then(|| {
+            at.redundant
+                .iter()
+                .map(|r| equation_ref(model, at, r.row))
+                .collect()
+        }),
+    }
 }
 
 fn unit_name(u: RowUnit) -> &'static str {
@@ -253,6 +284,7 @@ pub fn to_json(model: &Model, v: &Verification, warnings: &[Diagnostic]) -> Veri
             .collect(),
         warnings: warnings.iter().map(|w| w.to_string()).collect(),
         errors: inconsistency(model, v).into_iter().collect(),
+        after_assembly: None,
         explain: None,
     }
 }
@@ -458,7 +490,37 @@ pub fn body_text(j: &VerifyJson) -> String {
                 j.analysed_as_repaired.join(", ")
             );
         }
-        let _ = writeln!(s, "   Run `linkage ic` to assemble the model.");
+        match &j.after_assembly {
+            Some(AfterAssemblyJson {
+                converged: true,
+                dof: Some(dof),
+                redundant: Some(red),
+            }) => {
+                let same = *dof == j.dof && red.len() == j.redundant.len();
+                let _ = writeln!(
+                    s,
+                    "   Assembled (as `linkage ic` and every analysis assemble it): {dof} Degrees \
+                     of Freedom, {} redundant constraint equation(s){}.",
+                    red.len(),
+                    if same {
+                        ", as above"
+                    } else {
+                        "; these counts, not the ones above, hold for the analyses (the repaired \
+                         input pose is not the assembled one)"
+                    }
+                );
+            }
+            Some(_) => {
+                let _ = writeln!(
+                    s,
+                    "   The assembly did not converge: run `linkage ic` for the equations left \
+                     unsatisfied."
+                );
+            }
+            None => {
+                let _ = writeln!(s, "   Run `linkage ic` to assemble the model.");
+            }
+        }
     }
     let mut list = |title: &str, names: &[String]| {
         if !names.is_empty() {
