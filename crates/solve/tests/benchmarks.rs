@@ -163,10 +163,13 @@ fn joint_gaps(r: &Run) -> (f64, f64) {
 /// Says how a run went; panics with the solver's message when it stopped early.
 fn finished(what: &str, r: &Run) {
     eprintln!(
-        "{what}: {:.2} s wall, {} steps ({} rejected), {} outputs",
+        "{what}: {:.2} s wall, {} steps ({} rejected), {} corrector iterations, {} \
+         factorisations, {} outputs",
         r.seconds,
         r.sim.steps,
         r.sim.rejected,
+        r.sim.newton_iterations,
+        r.sim.factorisations,
         r.sim.outputs.len()
     );
     if let Some(f) = &r.sim.failure {

@@ -14,7 +14,7 @@ use crate::state::State;
 use crate::tolerances::{
     CORRECTOR_ACCELERATION_FLOOR, CORRECTOR_ACCELERATION_MIN, CORRECTOR_CONSTRAINT,
     CORRECTOR_ERROR_FRACTION, CORRECTOR_NOISE, CORRECTOR_RELATIVE, CORRECTOR_ROUNDING,
-    MATRIX_REFRESH_RATE,
+    MATRIX_REFRESH_RATE, MATRIX_REUSE_BACKOFF,
 };
 use glam::DVec3;
 use linkage_model::settings::IntegratorSettings;
@@ -90,6 +90,11 @@ pub(super) struct Workspace {
     /// Corrector iterations and iteration-matrix factorisations so far.
     pub newton_iterations: usize,
     pub factorisations: usize,
+    /// How many coming steps refactorise at their first iteration instead of trying the
+    /// previous step's matrix, and the length of that run after the next failure of a kept
+    /// matrix (doubling, up to [`MATRIX_REUSE_BACKOFF`]; 0 once a kept matrix converged).
+    refresh_first: usize,
+    backoff: usize,
 }
 
 impl Workspace {
@@ -112,6 +117,8 @@ impl Workspace {
             force_state: start.clone(),
             newton_iterations: 0,
             factorisations: 0,
+            refresh_first: 0,
+            backoff: 0,
             matrix,
             output: ConsistentSolve::new(p, start, SingularInertia::Regularise)?,
         })
@@ -145,7 +152,11 @@ pub(super) struct Scheme {
 /// be only first order). Modified Newton: the matrix is kept across iterations and steps, and
 /// refreshed when there is none, when the step size is more than a factor 2 away from the one
 /// it was built for, when the last correction contracted by less than `MATRIX_REFRESH_RATE`,
-/// or when three iterations with a matrix from an earlier step did not converge. Leaves
+/// or when three iterations with a matrix from an earlier step did not converge. A kept matrix
+/// that failed so makes the next steps refactorise at their first iteration (1, 2, 4, … up to
+/// `MATRIX_REUSE_BACKOFF` steps after successive failures) before trying a kept one again: where
+/// the matrix changes fast from step to step (IFToMM A02, a chain of 40 loops) the kept matrix
+/// only costs two wasted iterations per step. Leaves
 /// `trial` placed and evaluated at the converged accelerations.
 #[allow(clippy::too_many_arguments)]
 pub(super) fn correct(
@@ -208,9 +219,19 @@ pub(super) fn correct(
             };
             phi_ok &= raw.abs() <= limit;
         }
+        let kept_failed = it > 0 && !fresh && (rate > MATRIX_REFRESH_RATE || it >= 3);
+        if kept_failed {
+            w.backoff = (2 * w.backoff).clamp(1, MATRIX_REUSE_BACKOFF);
+            w.refresh_first = w.backoff;
+        }
+        let first_fresh = it == 0 && w.refresh_first > 0;
+        if first_fresh {
+            w.refresh_first -= 1;
+        }
         let stale = w.matrix.h.is_none_or(|hh| h > 2.0 * hh || h < 0.5 * hh)
             || rate > MATRIX_REFRESH_RATE
-            || (it >= 3 && !fresh);
+            || (it >= 3 && !fresh)
+            || first_fresh;
         if stale {
             w.matrix.h = None;
             let at = Iterate {
@@ -267,6 +288,10 @@ pub(super) fn correct(
                 || negligible)
         {
             converged = true;
+            if !fresh {
+                // The kept matrix did the job: keep trying it first.
+                w.backoff = 0;
+            }
             break;
         }
         // The rate compares two corrections made with the same matrix.
