@@ -17,12 +17,26 @@ pub enum IntegratorMethod {
     Bdf,
 }
 
+/// The form of the equations the BDF integrates (Adams' I3, SI2, SI1).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Formulation {
+    /// Index 3: the position constraints `Φ(q, t) = 0` with the equations of motion; velocities
+    /// are the BDF derivative of the positions (Adams' default).
+    I3,
+    /// Stabilised index 2: the velocity constraints `J v + Φ_t = 0` with the equations of
+    /// motion, the positions projected back onto `Φ = 0` after each step (the correction has
+    /// its own multipliers, so it does not change the velocities); velocities in the error test.
+    Si2,
+}
+
 /// Integrator settings (INTEGRATOR statement).
 #[derive(Clone, Debug, PartialEq)]
 pub struct IntegratorSettings {
     pub method: IntegratorMethod,
     /// Highest BDF order (KMAX, 1 … 6).
     pub kmax: usize,
+    /// The BDF's formulation (HHT integrates I3 only).
+    pub formulation: Formulation,
     /// Error tolerance of the run: the error the steps may accumulate over the whole run, in
     /// positions (translations relative to the characteristic length, rotations in radians);
     /// each step of size h of a run of span T is allowed `ERROR·h/T` of local error.
@@ -41,6 +55,7 @@ impl Default for IntegratorSettings {
         IntegratorSettings {
             method: IntegratorMethod::Bdf,
             kmax: 6,
+            formulation: Formulation::I3,
             error: 1e-3,
             hmax: None,
             hinit: None,
@@ -122,9 +137,13 @@ pub enum IntegratorNote {
         "INTEGRATOR {name} is run with linkage's variable-step BDF (GSTIFF), orders 1 … {kmax}"
     )]
     MappedToBdf { name: String, kmax: usize },
-    /// SI2 or SI1 was asked for: linkage integrates the index-3 form.
-    #[error("INTEGRATOR {formulation}: linkage integrates the index-3 (I3) formulation")]
-    FormulationI3 { formulation: String },
+    /// SI1 was asked for: linkage integrates SI2 (both stabilise the index with the velocity
+    /// constraints).
+    #[error("INTEGRATOR SI1 is integrated with the SI2 formulation")]
+    Si1AsSi2,
+    /// SI2 or SI1 with HHT or NEWMARK, which integrate the index-3 form (as in Adams).
+    #[error("INTEGRATOR {formulation}: {name} integrates the index-3 (I3) formulation")]
+    FormulationI3 { name: String, formulation: String },
     /// Arguments given that linkage does not use.
     #[error("INTEGRATOR arguments without effect in linkage: {}", .arguments.join(", "))]
     WithoutEffect { arguments: Vec<String> },
@@ -151,9 +170,19 @@ pub fn resolve_integrator(ds: &Dataset) -> ResolvedIntegrator {
         Some(_) => IntegratorMethod::Bdf,
         None => default.method,
     };
+    let (formulations, ignored): (Vec<String>, Vec<String>) = stmt
+        .ignored
+        .into_iter()
+        .partition(|a| matches!(a.as_str(), "SI2" | "SI1" | "I3"));
+    let stabilised = formulations.last().filter(|f| f.as_str() != "I3");
+    let formulation = match (method, stabilised) {
+        (IntegratorMethod::Bdf, Some(_)) => Formulation::Si2,
+        _ => Formulation::I3,
+    };
     let settings = IntegratorSettings {
         method,
         kmax: stmt.kmax.unwrap_or(default.kmax),
+        formulation,
         error: stmt.error.unwrap_or(default.error),
         hmax: stmt.hmax,
         hinit: stmt.hinit,
@@ -165,7 +194,7 @@ pub fn resolve_integrator(ds: &Dataset) -> ResolvedIntegrator {
             .max(MIN_INTEGRATOR_MAXIT),
     };
     let mut notes = Vec::new();
-    match stmt.name {
+    match stmt.name.clone() {
         Some(name) if name == "NEWMARK" => notes.push(IntegratorNote::MappedToHht {
             name,
             alpha: settings.alpha,
@@ -178,12 +207,15 @@ pub fn resolve_integrator(ds: &Dataset) -> ResolvedIntegrator {
         }
         _ => {}
     }
-    let (formulations, ignored): (Vec<String>, Vec<String>) = stmt
-        .ignored
-        .into_iter()
-        .partition(|a| matches!(a.as_str(), "SI2" | "SI1"));
-    for formulation in formulations {
-        notes.push(IntegratorNote::FormulationI3 { formulation });
+    if let Some(formulation) = stabilised {
+        match method {
+            IntegratorMethod::Hht => notes.push(IntegratorNote::FormulationI3 {
+                name: stmt.name.clone().unwrap_or_default(),
+                formulation: formulation.clone(),
+            }),
+            IntegratorMethod::Bdf if formulation == "SI1" => notes.push(IntegratorNote::Si1AsSi2),
+            IntegratorMethod::Bdf => {}
+        }
     }
     if !ignored.is_empty() {
         notes.push(IntegratorNote::WithoutEffect { arguments: ignored });
@@ -375,6 +407,7 @@ mod tests {
             IntegratorSettings {
                 method: IntegratorMethod::Bdf,
                 kmax: 4,
+                formulation: Formulation::Si2,
                 error: 1e-4,
                 hmax: Some(0.01),
                 hinit: Some(1e-5),
@@ -386,10 +419,7 @@ mod tests {
         let notes: Vec<String> = r.notes.iter().map(ToString::to_string).collect();
         assert_eq!(
             notes,
-            [
-                "INTEGRATOR SI2: linkage integrates the index-3 (I3) formulation",
-                "INTEGRATOR arguments without effect in linkage: CORRECTOR",
-            ]
+            ["INTEGRATOR arguments without effect in linkage: CORRECTOR"]
         );
         assert!(r.warnings.is_empty());
         let r = resolve_integrator(&ds(
