@@ -331,7 +331,12 @@ pub fn summary(a: &Assembled, run: &DynamicRun, warnings: &[Diagnostic]) -> Simu
     let i = &integrator.settings;
     let integrator_line = match i.method {
         IntegratorMethod::Bdf => format!(
-            "BDF (GSTIFF, {}), orders 1 … {}, ERROR = {} over the run",
+            "BDF ({}, {}), orders 1 … {}, ERROR = {} over the run",
+            if i.constant_step {
+                "CONSTANT_BDF"
+            } else {
+                "GSTIFF"
+            },
             match i.formulation {
                 Formulation::I3 => "I3",
                 Formulation::Si2 => "SI2",

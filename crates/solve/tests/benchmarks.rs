@@ -74,6 +74,22 @@ fn simulate_as(
     error: f64,
     formulation: Formulation,
 ) -> Run {
+    let settings = IntegratorSettings {
+        error,
+        formulation,
+        ..Default::default()
+    };
+    simulate_settings(name, text, end, steps, &settings)
+}
+
+/// [`simulate`] with the given integrator settings.
+fn simulate_settings(
+    name: &str,
+    text: &str,
+    end: f64,
+    steps: usize,
+    settings: &IntegratorSettings,
+) -> Run {
     let ds =
         linkage_adm::parse_dataset(Arc::from(name), text).unwrap_or_else(|e| panic!("{name}: {e}"));
     let model = linkage_model::build_model(&ds)
@@ -82,15 +98,10 @@ fn simulate_as(
     let drivers = ExpressionDrivers::new(&model).unwrap();
     let forces = ForceSet::new(&model).unwrap();
     let times: Vec<f64> = (0..=steps).map(|k| end * k as f64 / steps as f64).collect();
-    let settings = IntegratorSettings {
-        error,
-        formulation,
-        ..Default::default()
-    };
     let start = Instant::now();
     let sim = {
         let a = Assembled::new(&model, &drivers, &forces, &Tolerances::default());
-        let r = run(&a, &times, &settings, Start::InitialConditions, |_| {});
+        let r = run(&a, &times, settings, Start::InitialConditions, |_| {});
         r.simulation
             .unwrap_or_else(|| panic!("{name}: not run: {:?}", r.error))
     };
@@ -302,6 +313,31 @@ fn a01(end: f64, steps: usize, error: f64) -> (f64, Run) {
     );
     finished(&what, &r);
     (e, r)
+}
+
+/// CONSTANT_BDF: A01 over 10 s steps at HMAX exactly (5000 steps at 2e-3 s, 10,000 at
+/// 1e-3 s, none rejected whatever the estimate says), stays within the benchmark's 1e-3 m and
+/// converges with the step (measured 6.9e-4 and 1.7e-4 m).
+#[test]
+fn constant_bdf_steps_at_hmax() {
+    let mut errors = Vec::new();
+    for (h, steps) in [(2e-3, 5000), (1e-3, 10_000)] {
+        let settings = IntegratorSettings {
+            constant_step: true,
+            hmax: Some(h),
+            error: 1e-12,
+            ..Default::default()
+        };
+        let text = dataset("a01_pendulum.adm");
+        let r = simulate_settings("a01_pendulum.adm", &text, 10.0, 200, &settings);
+        finished(&format!("A01, CONSTANT_BDF, HMAX = {h}"), &r);
+        let e = a01_errors(&r).into_iter().fold(0.0, f64::max);
+        eprintln!("A01, CONSTANT_BDF, HMAX = {h}: max |P1 − exact| = {e:.3e} m");
+        assert_eq!((r.sim.steps, r.sim.rejected), (steps, 0));
+        assert!(e < 1e-3, "HMAX = {h}: {e:.3e} m");
+        errors.push(e);
+    }
+    assert!(errors[1] < 0.5 * errors[0], "{errors:?}");
 }
 
 #[test]

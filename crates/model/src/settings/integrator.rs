@@ -37,6 +37,10 @@ pub struct IntegratorSettings {
     pub kmax: usize,
     /// The BDF's formulation (HHT integrates I3 only).
     pub formulation: Formulation,
+    /// CONSTANT_BDF: the BDF steps at a constant size (HMAX, or the output interval when HMAX
+    /// is not given), its order still chosen step by step; the error estimate does not reject
+    /// steps (a corrector that fails still retries smaller, then returns to the step).
+    pub constant_step: bool,
     /// Error tolerance of the run: the error the steps may accumulate over the whole run, in
     /// positions (translations relative to the characteristic length, rotations in radians);
     /// each step of size h of a run of span T is allowed `ERROR·h/T` of local error.
@@ -56,6 +60,7 @@ impl Default for IntegratorSettings {
             method: IntegratorMethod::Bdf,
             kmax: 6,
             formulation: Formulation::I3,
+            constant_step: false,
             error: 1e-3,
             hmax: None,
             hinit: None,
@@ -131,8 +136,8 @@ pub enum IntegratorNote {
     /// NEWMARK was named: linkage runs HHT-I3 with `alpha`.
     #[error("INTEGRATOR {name} is mapped to linkage's HHT-I3 integrator (α = {alpha})")]
     MappedToHht { name: String, alpha: f64 },
-    /// An Adams integrator linkage does not have (HASTIFF, ABAM, RKF45), or CONSTANT_BDF
-    /// (fixed step in Adams): linkage runs its variable-order, variable-step BDF.
+    /// An Adams integrator linkage does not have (HASTIFF, ABAM, RKF45): linkage runs its
+    /// variable-order, variable-step BDF.
     #[error(
         "INTEGRATOR {name} is run with linkage's variable-step BDF (GSTIFF), orders 1 … {kmax}"
     )]
@@ -183,6 +188,7 @@ pub fn resolve_integrator(ds: &Dataset) -> ResolvedIntegrator {
         method,
         kmax: stmt.kmax.unwrap_or(default.kmax),
         formulation,
+        constant_step: stmt.name.as_deref() == Some("CONSTANT_BDF"),
         error: stmt.error.unwrap_or(default.error),
         hmax: stmt.hmax,
         hinit: stmt.hinit,
@@ -199,7 +205,7 @@ pub fn resolve_integrator(ds: &Dataset) -> ResolvedIntegrator {
             name,
             alpha: settings.alpha,
         }),
-        Some(name) if !matches!(name.as_str(), "HHT" | "GSTIFF" | "WSTIFF") => {
+        Some(name) if !matches!(name.as_str(), "HHT" | "GSTIFF" | "WSTIFF" | "CONSTANT_BDF") => {
             notes.push(IntegratorNote::MappedToBdf {
                 name,
                 kmax: settings.kmax,
@@ -398,6 +404,21 @@ mod tests {
     }
 
     #[test]
+    fn constant_bdf_runs_the_bdf_at_a_constant_step() {
+        let r = resolve_integrator(&ds(
+            "t\nPART/1, GROUND\nINTEGRATOR/CONSTANT_BDF, HMAX = 1E-3\nEND\n",
+        ));
+        assert!(r.settings.constant_step);
+        assert_eq!(
+            (r.settings.method, r.settings.hmax),
+            (IntegratorMethod::Bdf, Some(1e-3))
+        );
+        assert!(r.notes.is_empty(), "{:?}", r.notes);
+        let r = resolve_integrator(&ds("t\nPART/1, GROUND\nINTEGRATOR/GSTIFF\nEND\n"));
+        assert!(!r.settings.constant_step);
+    }
+
+    #[test]
     fn gstiff_runs_the_bdf_with_the_values_given() {
         let r = resolve_integrator(&ds(
             "t\nPART/1, GROUND\nINTEGRATOR/GSTIFF, SI2, ERROR = 1E-4, HMAX = 0.01, HINIT = 1E-5, KMAX = 4, CORRECTOR = MODIFIED\nEND\n",
@@ -408,6 +429,7 @@ mod tests {
                 method: IntegratorMethod::Bdf,
                 kmax: 4,
                 formulation: Formulation::Si2,
+                constant_step: false,
                 error: 1e-4,
                 hmax: Some(0.01),
                 hinit: Some(1e-5),
