@@ -1,7 +1,9 @@
 //! `INTEGRATOR/` (ADM-REFERENCE §8.5, §9.4): the settings linkage integrates with, resolved
-//! beside IC and EQUILIBRIUM. Every Adams integrator name is accepted; linkage always
-//! integrates with HHT (index 3) and says so, and which arguments had no effect, in notes;
-//! values that cannot be used are left out with a warning naming what is used instead.
+//! beside IC and EQUILIBRIUM. Every Adams integrator name is accepted: GSTIFF, WSTIFF and
+//! CONSTANT_BDF (constant step) run the BDF in the I3 or SI2 formulation (SI1 as SI2), HHT and
+//! NEWMARK the HHT-α method (I3); the others run the BDF, said in a note, as are the arguments
+//! without effect; values that cannot be used are left out with a warning naming what is used
+//! instead.
 
 use super::{find, number, shown};
 // INTEGRATOR_TYPES: the integrator names Adams accepts (each maps to HHT).
