@@ -7,7 +7,7 @@ use crate::units::{text_line, units_json, Angle, CsvUnits, UnitsJson};
 use crate::verify::{equation_ref, EquationRef};
 use linkage_adm::Diagnostic;
 use linkage_model::frames::matrix_to_euler313;
-use linkage_model::settings::IntegratorMethod;
+use linkage_model::settings::{Formulation, IntegratorMethod};
 use linkage_model::Model;
 use linkage_solve::pipeline::Assembled;
 use linkage_solve::stages::dynamics::{DynamicRun, Output, RunError, StartingEquilibrium};
@@ -238,7 +238,7 @@ pub struct SimulateJson {
     pub outputs: usize,
     pub steps: usize,
     pub rejected_steps: usize,
-    /// The integrator and what its ERROR bounds, e.g. "BDF (GSTIFF), orders 1 … 6, ERROR = 0.001
+    /// The integrator and what its ERROR bounds, e.g. "BDF (GSTIFF, I3), orders 1 … 6, ERROR = 0.001
     /// over the run".
     pub integrator: String,
     pub kinematic: bool,
@@ -358,8 +358,18 @@ pub fn summary(a: &Assembled, run: &DynamicRun, warnings: &[Diagnostic]) -> Simu
     let i = &integrator.settings;
     let integrator_line = match i.method {
         IntegratorMethod::Bdf => format!(
-            "BDF (GSTIFF), orders 1 … {}, ERROR = {} over the run",
-            i.kmax, i.error
+            "BDF ({}, {}), orders 1 … {}, ERROR = {} over the run",
+            if i.constant_step {
+                "CONSTANT_BDF"
+            } else {
+                "GSTIFF"
+            },
+            match i.formulation {
+                Formulation::I3 => "I3",
+                Formulation::Si2 => "SI2",
+            },
+            i.kmax,
+            i.error
         ),
         IntegratorMethod::Hht => format!("HHT-α (α = {}), ERROR = {} per step", i.alpha, i.error),
     };

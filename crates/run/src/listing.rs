@@ -2,7 +2,7 @@
 //! `ACCGRAV/LIST` print them in the message file (Adams' layout: one `NAME = value` per line,
 //! angles in radians with their unit).
 
-use linkage_model::settings::IntegratorMethod;
+use linkage_model::settings::{Formulation, IntegratorMethod};
 use linkage_model::Model;
 use std::fmt::Write;
 
@@ -38,7 +38,10 @@ pub fn settings(keyword: &str, model: &Model) -> String {
             let i = &model.integrator.settings;
             let opt = |x: Option<f64>| x.map_or("(none)".to_string(), |v| v.to_string());
             let method = match i.method {
-                IntegratorMethod::Bdf => "BDF-I3 (GSTIFF)",
+                IntegratorMethod::Bdf => match i.formulation {
+                    Formulation::I3 => "BDF-I3 (GSTIFF)",
+                    Formulation::Si2 => "BDF-SI2 (GSTIFF)",
+                },
                 IntegratorMethod::Hht => "HHT-I3",
             };
             let _ = writeln!(s, " Current INTEGRATOR settings are ({method}):");

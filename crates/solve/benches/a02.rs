@@ -2,9 +2,11 @@
 //! INTEGRATOR ERROR = 1e-6 with 400 outputs, as the benchmark asks, for N = 2, 10 and 40 (the
 //! published N = 40 has 120 redundant equations and passes a singular pose every half turn).
 //! Accuracy against the exact one-degree-of-freedom reduction is asserted by
-//! `tests/benchmarks.rs` (measured at ERROR = 1e-6: 5.0e-5, 1.5e-4 and 1.4e-3 m); this bench
-//! gives the seconds, and prints the steps taken once per N.
+//! `tests/benchmarks.rs` (measured at ERROR = 1e-6, I3: 1.8e-5, 1.6e-4 and 1.2e-3 m; SI2:
+//! 2.8e-5, 3.9e-4, 1.1e-4 m); this bench gives the seconds of both formulations, and prints
+//! the steps taken once per case.
 
+use linkage_model::settings::Formulation;
 use linkage_model::Model;
 use linkage_solve::constraints::drivers::ExpressionDrivers;
 use linkage_solve::generate::iftomm_a02;
@@ -31,7 +33,7 @@ fn model(n: usize) -> Model {
 }
 
 /// The whole analysis (initial conditions, integration): steps taken.
-fn run_a02(m: &Model) -> usize {
+fn run_a02(m: &Model, formulation: Formulation) -> usize {
     let d = ExpressionDrivers::new(m).expect("functions parse");
     let a = Assembled::new(m, &d, &NoForces, &Tolerances::default());
     let times: Vec<f64> = (0..=OUTPUTS)
@@ -39,6 +41,7 @@ fn run_a02(m: &Model) -> usize {
         .collect();
     let settings = IntegratorSettings {
         error: 1e-6,
+        formulation,
         ..IntegratorSettings::default()
     };
     let r = run(&a, &times, &settings, Start::InitialConditions, |_| {});
@@ -50,6 +53,13 @@ fn run_a02(m: &Model) -> usize {
 #[divan::bench(args = [2, 10, 40], sample_count = 3)]
 fn a02_20_s(bencher: divan::Bencher, n: usize) {
     let m = model(n);
-    eprintln!("A02 N = {n}: {} steps", run_a02(&m));
-    bencher.bench_local(|| run_a02(&m));
+    eprintln!("A02 N = {n}, I3: {} steps", run_a02(&m, Formulation::I3));
+    bencher.bench_local(|| run_a02(&m, Formulation::I3));
+}
+
+#[divan::bench(args = [2, 10, 40], sample_count = 3)]
+fn a02_20_s_si2(bencher: divan::Bencher, n: usize) {
+    let m = model(n);
+    eprintln!("A02 N = {n}, SI2: {} steps", run_a02(&m, Formulation::Si2));
+    bencher.bench_local(|| run_a02(&m, Formulation::Si2));
 }

@@ -168,6 +168,10 @@ pub const MIXED_EIGENVECTOR: f64 = 1e-12;
 /// of the one before (modified Newton converging too slowly: a fresh matrix converges
 /// quadratically again, and refreshing costs less than several slow iterations).
 pub const MATRIX_REFRESH_RATE: f64 = 0.05;
+/// The longest run of steps that refactorise the iteration matrix at their first iteration
+/// after a matrix kept from an earlier step failed to converge (the run doubles with each
+/// successive failure: 1, 2, 4, …; dynamics corrector).
+pub const MATRIX_REUSE_BACKOFF: usize = 16;
 /// The least local error a dynamics step is ever asked for (positions, relative to the
 /// characteristic length): its share of ERROR over a long run can be smaller, but below this
 /// the estimate is rounding (MIN_INTEGRATOR_ERROR of the settings is the same level).

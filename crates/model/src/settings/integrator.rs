@@ -1,7 +1,9 @@
 //! `INTEGRATOR/` (ADM-REFERENCE §8.5, §9.4): the settings linkage integrates with, resolved
-//! beside IC and EQUILIBRIUM. Every Adams integrator name is accepted; linkage always
-//! integrates with HHT (index 3) and says so, and which arguments had no effect, in notes;
-//! values that cannot be used are left out with a warning naming what is used instead.
+//! beside IC and EQUILIBRIUM. Every Adams integrator name is accepted: GSTIFF, WSTIFF and
+//! CONSTANT_BDF (constant step) run the BDF in the I3 or SI2 formulation (SI1 as SI2), HHT and
+//! NEWMARK the HHT-α method (I3); the others run the BDF, said in a note, as are the arguments
+//! without effect; values that cannot be used are left out with a warning naming what is used
+//! instead.
 
 use super::{find, number, shown};
 // INTEGRATOR_TYPES: the integrator names Adams accepts (each maps to HHT).
@@ -17,12 +19,30 @@ pub enum IntegratorMethod {
     Bdf,
 }
 
+/// The form of the equations the BDF integrates (Adams' I3, SI2, SI1).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Formulation {
+    /// Index 3: the position constraints `Φ(q, t) = 0` with the equations of motion; velocities
+    /// are the BDF derivative of the positions (Adams' default).
+    I3,
+    /// Stabilised index 2: the velocity constraints `J v + Φ_t = 0` with the equations of
+    /// motion, the positions projected back onto `Φ = 0` after each step (the correction has
+    /// its own multipliers, so it does not change the velocities); velocities in the error test.
+    Si2,
+}
+
 /// Integrator settings (INTEGRATOR statement).
 #[derive(Clone, Debug, PartialEq)]
 pub struct IntegratorSettings {
     pub method: IntegratorMethod,
     /// Highest BDF order (KMAX, 1 … 6).
     pub kmax: usize,
+    /// The BDF's formulation (HHT integrates I3 only).
+    pub formulation: Formulation,
+    /// CONSTANT_BDF: the BDF steps at a constant size (HMAX, or the output interval when HMAX
+    /// is not given), its order still chosen step by step; the error estimate does not reject
+    /// steps (a corrector that fails still retries smaller, then returns to the step).
+    pub constant_step: bool,
     /// Error tolerance of the run: the error the steps may accumulate over the whole run, in
     /// positions (translations relative to the characteristic length, rotations in radians);
     /// each step of size h of a run of span T is allowed `ERROR·h/T` of local error.
@@ -41,6 +61,8 @@ impl Default for IntegratorSettings {
         IntegratorSettings {
             method: IntegratorMethod::Bdf,
             kmax: 6,
+            formulation: Formulation::I3,
+            constant_step: false,
             error: 1e-3,
             hmax: None,
             hinit: None,
@@ -116,15 +138,19 @@ pub enum IntegratorNote {
     /// NEWMARK was named: linkage runs HHT-I3 with `alpha`.
     #[error("INTEGRATOR {name} is mapped to linkage's HHT-I3 integrator (α = {alpha})")]
     MappedToHht { name: String, alpha: f64 },
-    /// An Adams integrator linkage does not have (HASTIFF, ABAM, RKF45), or CONSTANT_BDF
-    /// (fixed step in Adams): linkage runs its variable-order, variable-step BDF.
+    /// An Adams integrator linkage does not have (HASTIFF, ABAM, RKF45): linkage runs its
+    /// variable-order, variable-step BDF.
     #[error(
         "INTEGRATOR {name} is run with linkage's variable-step BDF (GSTIFF), orders 1 … {kmax}"
     )]
     MappedToBdf { name: String, kmax: usize },
-    /// SI2 or SI1 was asked for: linkage integrates the index-3 form.
-    #[error("INTEGRATOR {formulation}: linkage integrates the index-3 (I3) formulation")]
-    FormulationI3 { formulation: String },
+    /// SI1 was asked for: linkage integrates SI2 (both stabilise the index with the velocity
+    /// constraints).
+    #[error("INTEGRATOR SI1 is integrated with the SI2 formulation")]
+    Si1AsSi2,
+    /// SI2 or SI1 with HHT or NEWMARK, which integrate the index-3 form (as in Adams).
+    #[error("INTEGRATOR {formulation}: {name} integrates the index-3 (I3) formulation")]
+    FormulationI3 { name: String, formulation: String },
     /// Arguments given that linkage does not use.
     #[error("INTEGRATOR arguments without effect in linkage: {}", .arguments.join(", "))]
     WithoutEffect { arguments: Vec<String> },
@@ -151,9 +177,20 @@ pub fn resolve_integrator(ds: &Dataset) -> ResolvedIntegrator {
         Some(_) => IntegratorMethod::Bdf,
         None => default.method,
     };
+    let (formulations, ignored): (Vec<String>, Vec<String>) = stmt
+        .ignored
+        .into_iter()
+        .partition(|a| matches!(a.as_str(), "SI2" | "SI1" | "I3"));
+    let stabilised = formulations.last().filter(|f| f.as_str() != "I3");
+    let formulation = match (method, stabilised) {
+        (IntegratorMethod::Bdf, Some(_)) => Formulation::Si2,
+        _ => Formulation::I3,
+    };
     let settings = IntegratorSettings {
         method,
         kmax: stmt.kmax.unwrap_or(default.kmax),
+        formulation,
+        constant_step: stmt.name.as_deref() == Some("CONSTANT_BDF"),
         error: stmt.error.unwrap_or(default.error),
         hmax: stmt.hmax,
         hinit: stmt.hinit,
@@ -165,12 +202,12 @@ pub fn resolve_integrator(ds: &Dataset) -> ResolvedIntegrator {
             .max(MIN_INTEGRATOR_MAXIT),
     };
     let mut notes = Vec::new();
-    match stmt.name {
+    match stmt.name.clone() {
         Some(name) if name == "NEWMARK" => notes.push(IntegratorNote::MappedToHht {
             name,
             alpha: settings.alpha,
         }),
-        Some(name) if !matches!(name.as_str(), "HHT" | "GSTIFF" | "WSTIFF") => {
+        Some(name) if !matches!(name.as_str(), "HHT" | "GSTIFF" | "WSTIFF" | "CONSTANT_BDF") => {
             notes.push(IntegratorNote::MappedToBdf {
                 name,
                 kmax: settings.kmax,
@@ -178,12 +215,15 @@ pub fn resolve_integrator(ds: &Dataset) -> ResolvedIntegrator {
         }
         _ => {}
     }
-    let (formulations, ignored): (Vec<String>, Vec<String>) = stmt
-        .ignored
-        .into_iter()
-        .partition(|a| matches!(a.as_str(), "SI2" | "SI1"));
-    for formulation in formulations {
-        notes.push(IntegratorNote::FormulationI3 { formulation });
+    if let Some(formulation) = stabilised {
+        match method {
+            IntegratorMethod::Hht => notes.push(IntegratorNote::FormulationI3 {
+                name: stmt.name.clone().unwrap_or_default(),
+                formulation: formulation.clone(),
+            }),
+            IntegratorMethod::Bdf if formulation == "SI1" => notes.push(IntegratorNote::Si1AsSi2),
+            IntegratorMethod::Bdf => {}
+        }
     }
     if !ignored.is_empty() {
         notes.push(IntegratorNote::WithoutEffect { arguments: ignored });
@@ -366,6 +406,21 @@ mod tests {
     }
 
     #[test]
+    fn constant_bdf_runs_the_bdf_at_a_constant_step() {
+        let r = resolve_integrator(&ds(
+            "t\nPART/1, GROUND\nINTEGRATOR/CONSTANT_BDF, HMAX = 1E-3\nEND\n",
+        ));
+        assert!(r.settings.constant_step);
+        assert_eq!(
+            (r.settings.method, r.settings.hmax),
+            (IntegratorMethod::Bdf, Some(1e-3))
+        );
+        assert!(r.notes.is_empty(), "{:?}", r.notes);
+        let r = resolve_integrator(&ds("t\nPART/1, GROUND\nINTEGRATOR/GSTIFF\nEND\n"));
+        assert!(!r.settings.constant_step);
+    }
+
+    #[test]
     fn gstiff_runs_the_bdf_with_the_values_given() {
         let r = resolve_integrator(&ds(
             "t\nPART/1, GROUND\nINTEGRATOR/GSTIFF, SI2, ERROR = 1E-4, HMAX = 0.01, HINIT = 1E-5, KMAX = 4, CORRECTOR = MODIFIED\nEND\n",
@@ -375,6 +430,8 @@ mod tests {
             IntegratorSettings {
                 method: IntegratorMethod::Bdf,
                 kmax: 4,
+                formulation: Formulation::Si2,
+                constant_step: false,
                 error: 1e-4,
                 hmax: Some(0.01),
                 hinit: Some(1e-5),
@@ -386,10 +443,7 @@ mod tests {
         let notes: Vec<String> = r.notes.iter().map(ToString::to_string).collect();
         assert_eq!(
             notes,
-            [
-                "INTEGRATOR SI2: linkage integrates the index-3 (I3) formulation",
-                "INTEGRATOR arguments without effect in linkage: CORRECTOR",
-            ]
+            ["INTEGRATOR arguments without effect in linkage: CORRECTOR"]
         );
         assert!(r.warnings.is_empty());
         let r = resolve_integrator(&ds(

@@ -4,8 +4,9 @@
 pub mod integrator;
 
 pub use integrator::{
-    integrator_statement, resolve_integrator, IntegratorIssue, IntegratorMethod, IntegratorNote,
-    IntegratorSettings, IntegratorStatement, ResolvedIntegrator, MIN_INTEGRATOR_ERROR,
+    integrator_statement, resolve_integrator, Formulation, IntegratorIssue, IntegratorMethod,
+    IntegratorNote, IntegratorSettings, IntegratorStatement, ResolvedIntegrator,
+    MIN_INTEGRATOR_ERROR,
 };
 use linkage_adm::{Dataset, Diagnostic, Statement, Value};
 use std::sync::Arc;

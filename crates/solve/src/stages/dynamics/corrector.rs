@@ -7,6 +7,7 @@ use super::error::{IntegrationError, SingularSolve};
 use super::matrix::{Iterate, IterationMatrix, MatrixCoefficients};
 use super::output::ConsistentSolve;
 use super::problem::{unflat_into, Problem};
+use crate::constraints::drivers::MotionError;
 use crate::constraints::rows::{RowGradient, Velocities};
 use crate::constraints::system::RowUnit;
 use crate::physics::mass::{self, SingularInertia};
@@ -14,9 +15,10 @@ use crate::state::State;
 use crate::tolerances::{
     CORRECTOR_ACCELERATION_FLOOR, CORRECTOR_ACCELERATION_MIN, CORRECTOR_CONSTRAINT,
     CORRECTOR_ERROR_FRACTION, CORRECTOR_NOISE, CORRECTOR_RELATIVE, CORRECTOR_ROUNDING,
-    MATRIX_REFRESH_RATE,
+    MATRIX_REFRESH_RATE, MATRIX_REUSE_BACKOFF,
 };
 use glam::DVec3;
+use linkage_model::frames::exp_so3;
 use linkage_model::settings::IntegratorSettings;
 
 /// The weight of coordinate `i` (6 per part) in the convergence test and the error estimate:
@@ -90,6 +92,11 @@ pub(super) struct Workspace {
     /// Corrector iterations and iteration-matrix factorisations so far.
     pub newton_iterations: usize,
     pub factorisations: usize,
+    /// How many coming steps refactorise at their first iteration instead of trying the
+    /// previous step's matrix, and the length of that run after the next failure of a kept
+    /// matrix (doubling, up to [`MATRIX_REUSE_BACKOFF`]; 0 once a kept matrix converged).
+    refresh_first: usize,
+    backoff: usize,
 }
 
 impl Workspace {
@@ -112,6 +119,8 @@ impl Workspace {
             force_state: start.clone(),
             newton_iterations: 0,
             factorisations: 0,
+            refresh_first: 0,
+            backoff: 0,
             matrix,
             output: ConsistentSolve::new(p, start, SingularInertia::Regularise)?,
         })
@@ -130,6 +139,10 @@ pub(super) struct Scheme {
     pub matrix: MatrixCoefficients,
     /// HHT's α (0 for BDF): forces and inertia are taken at `t_{n+1} + αh`.
     pub alpha: f64,
+    /// SI2: the iteration holds the velocity constraints `J v + Φ_t = 0` (scaled by
+    /// `1/velocity`), and the positions are then projected onto `Φ = 0` by [`project`]; I3
+    /// (false): the position constraints (scaled by `1/position`).
+    pub stabilised: bool,
 }
 
 /// Newton iteration on `trial`'s accelerations and multipliers for the step of size `h` from
@@ -145,7 +158,11 @@ pub(super) struct Scheme {
 /// be only first order). Modified Newton: the matrix is kept across iterations and steps, and
 /// refreshed when there is none, when the step size is more than a factor 2 away from the one
 /// it was built for, when the last correction contracted by less than `MATRIX_REFRESH_RATE`,
-/// or when three iterations with a matrix from an earlier step did not converge. Leaves
+/// or when three iterations with a matrix from an earlier step did not converge. A kept matrix
+/// that failed so makes the next steps refactorise at their first iteration (1, 2, 4, … up to
+/// `MATRIX_REUSE_BACKOFF` steps after successive failures) before trying a kept one again: where
+/// the matrix changes fast from step to step (IFToMM A02, a chain of 40 loops) the kept matrix
+/// only costs two wasted iterations per step. Leaves
 /// `trial` placed and evaluated at the converged accelerations.
 #[allow(clippy::too_many_arguments)]
 pub(super) fn correct(
@@ -163,6 +180,7 @@ pub(super) fn correct(
         position,
         velocity,
         alpha,
+        stabilised,
         ..
     } = scheme;
     let n6 = 6 * p.n();
@@ -199,18 +217,31 @@ pub(super) fn correct(
         // when settling).
         let mut phi_ok = true;
         let constrained = p.force_state(&trial.s, &mut w.force_state);
-        for ((r, &row), &drive) in r2.iter_mut().zip(p.rows).zip(&w.drives) {
-            let raw = p.sys.residual(row, constrained, drive);
-            *r = raw / position;
-            let limit = match p.sys.rows[row].unit {
-                RowUnit::Length | RowUnit::Mixed => CORRECTOR_CONSTRAINT * length,
-                _ => CORRECTOR_CONSTRAINT,
+        for (k, ((r, &row), &drive)) in r2.iter_mut().zip(p.rows).zip(&w.drives).enumerate() {
+            // I3: Φ; SI2: the velocity constraint's residual times the step's `∂v/∂a`,
+            // which is the drift of Φ it causes over the step (both in position units).
+            let raw = if stabilised {
+                let target = velocity_target(p, row, constrained)?;
+                (w.grads[k].rate(&w.twists) - target) * velocity
+            } else {
+                p.sys.residual(row, constrained, drive)
             };
-            phi_ok &= raw.abs() <= limit;
+            *r = raw / position;
+            phi_ok &= raw.abs() <= constraint_limit(p, row, length);
+        }
+        let kept_failed = it > 0 && !fresh && (rate > MATRIX_REFRESH_RATE || it >= 3);
+        if kept_failed {
+            w.backoff = (2 * w.backoff).clamp(1, MATRIX_REUSE_BACKOFF);
+            w.refresh_first = w.backoff;
+        }
+        let first_fresh = it == 0 && w.refresh_first > 0;
+        if first_fresh {
+            w.refresh_first -= 1;
         }
         let stale = w.matrix.h.is_none_or(|hh| h > 2.0 * hh || h < 0.5 * hh)
             || rate > MATRIX_REFRESH_RATE
-            || (it >= 3 && !fresh);
+            || (it >= 3 && !fresh)
+            || first_fresh;
         if stale {
             w.matrix.h = None;
             let at = Iterate {
@@ -267,6 +298,10 @@ pub(super) fn correct(
                 || negligible)
         {
             converged = true;
+            if !fresh {
+                // The kept matrix did the job: keep trying it first.
+                w.backoff = 0;
+            }
             break;
         }
         // The rate compares two corrections made with the same matrix.
@@ -285,5 +320,99 @@ pub(super) fn correct(
     }
     // Final positions, velocities and force term from the converged accelerations.
     place(trial);
+    if stabilised {
+        project(p, settings, w, trial, position, tolerance)?;
+    }
     trial.evaluate(p, w)
+}
+
+/// The corrector's bound on a row's residual: `CORRECTOR_CONSTRAINT × L` for lengths,
+/// `CORRECTOR_CONSTRAINT` for dot products and angles.
+fn constraint_limit(p: &Problem, row: usize, length: f64) -> f64 {
+    match p.sys.rows[row].unit {
+        RowUnit::Length | RowUnit::Mixed => CORRECTOR_CONSTRAINT * length,
+        _ => CORRECTOR_CONSTRAINT,
+    }
+}
+
+/// The rate row `row`'s velocity constraint asks for: `J v = ḟ` for a motion (0 when time is
+/// frozen), `J v = −∂Φ/∂t` for a row that depends on time explicitly.
+fn velocity_target(p: &Problem, row: usize, s: &State) -> Result<f64, IntegrationError> {
+    let r = &p.sys.rows[row];
+    if r.driven {
+        p.drive_series(r.element, s.time)
+            .map(|f| f[1])
+            .ok_or_else(|| MotionError::at(p.model, p.drivers, r.element, s.time).into())
+    } else {
+        p.sys
+            .explicit_rate(row, s, p.time_rate())
+            .map(|x| -x)
+            .map_err(|e| p.row_error(row, &e))
+    }
+}
+
+/// SI2's position projection: `trial`'s positions moved onto `Φ = 0`, velocities untouched
+/// (the correction has its own multipliers: `q ← q + Δq` with
+/// `[M + c_K K_T + c_C C_T, Jᵀ; J, 0] [Δq/position; ν] = [0; −Φ/position]`, the factorised
+/// iteration matrix, so `J Δq = −Φ` with `Δq` of least kinetic-energy-like norm), repeated
+/// until `Φ` is within the corrector's bound and the last move is negligible against the
+/// step's allowed local error, at most MAXIT times. Leaves `w.grads` stale (the caller
+/// evaluates the trial again).
+fn project(
+    p: &Problem,
+    settings: &IntegratorSettings,
+    w: &mut Workspace,
+    trial: &mut Step,
+    position: f64,
+    tolerance: f64,
+) -> Result<(), IntegrationError> {
+    let n6 = 6 * p.n();
+    let length = p.model.characteristic_length;
+    for _ in 0..settings.maxit {
+        let constrained = p.force_state(&trial.s, &mut w.force_state);
+        let mut within = true;
+        w.rhs[..n6].fill(0.0);
+        for ((r, &row), &drive) in w.rhs[n6..].iter_mut().zip(p.rows).zip(&w.drives) {
+            let raw = p.sys.residual(row, constrained, drive);
+            within &= raw.abs()
+                <= (CORRECTOR_ERROR_FRACTION * tolerance).max(CORRECTOR_ROUNDING)
+                    * if matches!(p.sys.rows[row].unit, RowUnit::Length | RowUnit::Mixed) {
+                        length
+                    } else {
+                        1.0
+                    };
+            *r = -raw / position;
+        }
+        if within {
+            return Ok(());
+        }
+        w.matrix
+            .lu
+            .solve_in_place(&mut w.rhs)
+            .map_err(|_| IntegrationError::Singular(SingularSolve::Newton))?;
+        for (k, pose) in trial.s.poses.iter_mut().enumerate() {
+            let d = &w.rhs[6 * k..6 * k + 6];
+            pose.p += DVec3::new(d[0], d[1], d[2]) * position;
+            pose.r = exp_so3(DVec3::new(d[3], d[4], d[5]) * position) * pose.r;
+        }
+    }
+    let worst = p
+        .rows
+        .iter()
+        .zip(&w.drives)
+        .map(|(&row, &drive)| {
+            p.sys
+                .residual(row, p.force_state(&trial.s, &mut w.force_state), drive)
+                .abs()
+                / constraint_limit(p, row, length)
+        })
+        .fold(0.0, f64::max);
+    if worst <= 1.0 {
+        Ok(())
+    } else {
+        Err(IntegrationError::CorrectorNotConverged {
+            iterations: settings.maxit,
+            time: trial.s.time,
+        })
+    }
 }

@@ -203,6 +203,7 @@ impl<'p, 'a> Integrator<'p, 'a> {
             velocity: hht.gamma * h,
             matrix: hht.matrix_coefficients(h),
             alpha: hht.alpha,
+            stabilised: false,
         };
         let from: &Step = cur;
         correct(p, settings, w, from, trial, h, tolerance, scheme, |t| {

@@ -1,4 +1,5 @@
-//! Dynamic simulation (DESIGN §8, ADM-REFERENCE §8.5): the index-3 DAE integrated on the part
+//! Dynamic simulation (DESIGN §8, ADM-REFERENCE §8.5): the index-3 DAE (or, for the BDF, its
+//! stabilised index-2 form SI2: `bdf.rs`) integrated on the part
 //! configuration manifold by a variable-order, variable-step BDF (`bdf.rs`: Adams' GSTIFF and
 //! WSTIFF, the default) or by the HHT-α method (Negrut, Rampalli, Ottarsson, Sajdak 2007),
 //! described here; both use the same corrector (`corrector.rs`).
