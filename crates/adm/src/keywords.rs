@@ -299,6 +299,21 @@ const PART_ARGS: &[ArgDef] = &[
     arg("MATERIAL", Any),
 ];
 
+/// POINT_MASS (ADM-ELEMENTS §13): three translational degrees of freedom, no inertia.
+const POINT_MASS_ARGS: &[ArgDef] = &[
+    arg("MASS", Numbers),
+    arg("CM", Numbers),
+    arg("QG", Numbers),
+    arg("REULER", Numbers),
+    arg("XG", Numbers),
+    arg("ZG", Numbers),
+    arg("VX", Numbers),
+    arg("VY", Numbers),
+    arg("VZ", Numbers),
+    arg("EXACT", Words),
+    arg("MATERIAL", Any),
+];
+
 const MARKER_ARGS: &[ArgDef] = &[
     arg("PART", Numbers),
     arg("POINT_MASS", Numbers),
@@ -714,7 +729,7 @@ pub(crate) static DATASET_STATEMENTS: &[StatementDef] = &[
     stmt("OUTPUT", Absent, OUTPUT_ARGS, false),
     stmt("PART", Required, PART_ARGS, true),
     stmt("PINPUT", Required, NO_ARGS, false),
-    stmt("POINT_MASS", Required, NO_ARGS, false),
+    stmt("POINT_MASS", Required, POINT_MASS_ARGS, true),
     stmt("POUTPUT", Required, NO_ARGS, false),
     stmt("PREFERENCES", Absent, NO_ARGS, false),
     stmt("PTCV", Required, NO_ARGS, false),

@@ -66,6 +66,9 @@ pub struct Dataset {
     pub units: Option<Units>,
     pub accgrav: Option<Accgrav>,
     pub parts: Vec<Part>,
+    /// POINT_MASS statements, typed as parts that have a mass and no inertia (ADM-ELEMENTS
+    /// §13): `ip`, `im`, `vm`, `wm` and `WX, WY, WZ` are never set, `ground` is false.
+    pub point_masses: Vec<Part>,
     pub markers: Vec<Marker>,
     pub joints: Vec<Joint>,
     pub jprims: Vec<Jprim>,
@@ -103,6 +106,7 @@ impl Dataset {
             units: None,
             accgrav: None,
             parts: Vec::new(),
+            point_masses: Vec::new(),
             markers: Vec::new(),
             joints: Vec::new(),
             jprims: Vec::new(),

@@ -102,10 +102,11 @@ pub enum Use {
 }
 
 /// Statement kinds every analysis computes with.
-pub const MODELLED: [&str; 21] = [
+pub const MODELLED: [&str; 22] = [
     "UNITS",
     "ACCGRAV",
     "PART",
+    "POINT_MASS",
     "MARKER",
     "JOINT",
     "JPRIM",
@@ -172,10 +173,6 @@ fn not_modelled(keyword: &str) -> Option<(Reason, &'static str, &'static [Analys
     let refused = |why| Some((Reason::NotModelled, why, FORCE_ANALYSES));
     let unused = |why| Some((Reason::NotUsed, why, &[][..]));
     match keyword {
-        "POINT_MASS" => refused(
-            "a point mass (3 degrees of freedom, its weight and inertia) is not modelled; verify's \
-             DOF count leaves it out",
-        ),
         "FLEX_BODY" => refused(
             "a modal flexible body is not modelled; verify's DOF count leaves it out",
         ),
@@ -453,7 +450,7 @@ mod tests {
     #[test]
     fn every_unmodelled_statement_is_named_with_the_analyses_that_refuse_it() {
         let ds = dataset(
-            "PART/1, GROUND\nMARKER/2, PART = 1\nPOINT_MASS/3, MASS = 1\n\
+            "PART/1, GROUND\nMARKER/2, PART = 1\nFE_PART/3\n\
              SENSOR/4, VALUE = 1, HALT, FUNCTION = TIME\nCURVE/5, MATRIX = 6\n\
              SFORCE/7, I = 2, J = 2, TRANSLATION, FUNCTION = USER(1)\nGRAPHICS/8, CYLINDER\n\
              PINPUT/9, VARIABLES = 1",
@@ -466,7 +463,7 @@ mod tests {
         assert_eq!(
             got,
             [
-                ("POINT_MASS/3", Reason::NotModelled, 4),
+                ("FE_PART/3", Reason::NotModelled, 4),
                 ("SENSOR/4", Reason::NotModelled, 5),
                 ("CURVE/5", Reason::NotUsed, 6),
                 ("SFORCE/7", Reason::UserSubroutine, 7),
