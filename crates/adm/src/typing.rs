@@ -4,7 +4,8 @@
 //! - Types UNITS, ACCGRAV, PART, MARKER, JOINT, JPRIM, MOTION, COUPLER, GEAR and GCON
 //!   (ADM-REFERENCE §2.1–2.9), the force elements SFORCE, SPRINGDAMPER, BUSHING, FIELD, BEAM,
 //!   VFORCE, VTORQUE, GFORCE and the data elements VARIABLE, ARRAY, SPLINE (§2.10–2.11, see
-//!   [`forces`]), POINT_MASS (as a [`Part`] without inertia, [`point_mass`]) and the output
+//!   [`forces`]), POINT_MASS (as a [`Part`] without inertia, [`point_mass`]), SENSOR
+//!   ([`sensor`]) and the output
 //!   statement REQUEST (§2.12); every other statement stays in
 //!   generic form only.
 //! - Checks what one statement can tell: value counts (`QP` needs 3 numbers), ids being
@@ -157,6 +158,7 @@ impl Typer {
                 | "ACCGRAV"
                 | "PART"
                 | "POINT_MASS"
+                | "SENSOR"
                 | "MARKER"
                 | "JOINT"
                 | "JPRIM"
@@ -202,6 +204,11 @@ impl Typer {
             "PART" => {
                 let part = self.part(st, index);
                 self.ds.parts.push(part);
+            }
+            "SENSOR" => {
+                if let Some(sensor) = self.sensor(st, index) {
+                    self.ds.sensors.push(sensor);
+                }
             }
             "POINT_MASS" => {
                 let pm = self.point_mass(st, index);
@@ -1046,6 +1053,7 @@ impl Typer {
 
 mod forces;
 mod point_mass;
+mod sensor;
 
 #[cfg(test)]
 mod tests;

@@ -157,6 +157,8 @@ pub struct Model {
     pub arrays: Vec<crate::forces::Array>,
     /// SPLINE elements (referenced by `AKISPL`/`CUBSPL`).
     pub splines: Vec<crate::forces::Spline>,
+    /// SENSOR elements (evaluated by dynamic runs; `SENVAL(id)`).
+    pub sensors: Vec<crate::sensors::Sensor>,
     /// `IC/` settings (Adams defaults where not given).
     pub ic: crate::settings::IcSettings,
     /// `EQUILIBRIUM/` settings.

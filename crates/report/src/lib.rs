@@ -9,6 +9,7 @@ pub mod ic;
 pub mod linear;
 pub mod poses;
 pub mod reactions;
+pub mod sensors;
 pub mod simulate;
 pub mod statics;
 pub mod units;

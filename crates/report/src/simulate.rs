@@ -221,6 +221,10 @@ pub struct SimulateJson {
     pub removed_equations: Vec<EquationRef>,
     /// Every part at the last output.
     pub final_state: Vec<PartStateJson>,
+    /// The SENSORs that fired, in time order.
+    pub sensors: Vec<crate::sensors::SensorEventJson>,
+    /// `HALT` or `RETURN` when a sensor ended the run (at `end_time`, the run complete).
+    pub ended_by_sensor: Option<String>,
     pub notes: Vec<String>,
     pub warnings: Vec<String>,
     pub errors: Vec<String>,
@@ -314,6 +318,20 @@ pub fn summary(a: &Assembled, run: &DynamicRun, warnings: &[Diagnostic]) -> Simu
         }
         None => (false, 0.0, 0, 0, 0, false),
     };
+    let sensors = run
+        .simulation
+        .as_ref()
+        .map(|sim| crate::sensors::events_json(model, &sim.sensor_events))
+        .unwrap_or_default();
+    let ended_by_sensor = run.simulation.as_ref().and_then(|sim| {
+        let stop = sim.stopped_by_sensor?;
+        let last = sim.sensor_events.last()?;
+        Some(format!(
+            "{} ({})",
+            last.name,
+            crate::sensors::stop_name(stop)
+        ))
+    });
     let removed_equations =
         a.ic.analysis
             .redundant
@@ -352,6 +370,8 @@ pub fn summary(a: &Assembled, run: &DynamicRun, warnings: &[Diagnostic]) -> Simu
         start,
         removed_equations,
         final_state,
+        sensors,
+        ended_by_sensor,
         notes: integrator.notes.iter().map(ToString::to_string).collect(),
         warnings,
         errors,
@@ -453,6 +473,10 @@ pub fn to_text(j: &SimulateJson) -> String {
         );
         if !j.kinematic {
             let _ = writeln!(s, "Integrator: {}", j.integrator);
+        }
+        s.push_str(&crate::sensors::events_text(&j.sensors));
+        if let Some(by) = &j.ended_by_sensor {
+            let _ = writeln!(s, "The run was ended at time {} by {by}.", j.end_time);
         }
     } else {
         let _ = writeln!(s, "No simulation was run.");

@@ -63,8 +63,8 @@ impl Analysis {
 
 /// Analyses that compute forces: every one.
 const FORCE_ANALYSES: &[Analysis] = &Analysis::ALL;
-/// Analyses over time (where a SENSOR acts).
-const TIME_ANALYSES: &[Analysis] = &[Analysis::QuasiStatic, Analysis::Simulate];
+/// The quasi-static series: over time, but without the sensors a dynamic run evaluates.
+const QUASI_STATIC: &[Analysis] = &[Analysis::QuasiStatic];
 
 /// Why a statement is a finding.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
@@ -193,9 +193,10 @@ fn not_modelled(keyword: &str) -> Option<(Reason, &'static str, &'static [Analys
         "UCON" => refused("user constraints are not modelled"),
         "SENSOR" => Some((
             Reason::NotModelled,
-            "sensors are not evaluated (a HALT or RETURN would not stop the run); analyses at \
-             one time (ic, static, linear) do not use them",
-            TIME_ANALYSES,
+            "sensors are evaluated by dynamic runs (simulate) only: a quasi-static series would \
+             not stop at a HALT or RETURN; analyses at one time (ic, static, linear) do not use \
+             them",
+            QUASI_STATIC,
         )),
         "CURVE" => unused("curve data, read only by PTCV, CVCV and CURVE(), which linkage does not model"),
         "MATRIX" => unused("matrix data, read only by LSE, GSE, CURVE, NFORCE and FLEX_BODY, which linkage does not model"),
@@ -363,8 +364,9 @@ pub fn findings(ds: &Dataset) -> Vec<Finding> {
                     .collect();
                 if !acts.is_empty() {
                     detail = format!(
-                        "a {} sensor: sensors are not evaluated, so the run would not stop at \
-                         its event; analyses at one time (ic, static, linear) do not use them",
+                        "a {} sensor: sensors are evaluated by dynamic runs (simulate) only, so \
+                         a quasi-static series would not stop at its event; analyses at one \
+                         time (ic, static, linear) do not use them",
                         acts.join(" and ")
                     );
                 }
@@ -470,10 +472,13 @@ mod tests {
             ]
         );
         assert!(f[0].refuses(Analysis::Ic) && f[0].refuses(Analysis::Simulate));
-        assert!(f[1].refuses(Analysis::Simulate) && !f[1].refuses(Analysis::Static));
+        // A sensor acts in dynamic runs; a quasi-static series refuses it.
+        assert!(f[1].refuses(Analysis::QuasiStatic) && !f[1].refuses(Analysis::Simulate));
+        assert!(!f[1].refuses(Analysis::Static));
         assert!(f[2].refused_by.is_empty());
         assert_eq!(refusals(&ds, Analysis::Static).len(), 2);
-        assert_eq!(refusals(&ds, Analysis::Simulate).len(), 3);
+        assert_eq!(refusals(&ds, Analysis::Simulate).len(), 2);
+        assert_eq!(refusals(&ds, Analysis::QuasiStatic).len(), 3);
     }
 
     #[test]

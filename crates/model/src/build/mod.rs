@@ -18,6 +18,7 @@ mod mass;
 mod motions;
 mod parts;
 pub mod point_masses;
+mod sensors;
 mod units;
 mod vector_forces;
 
@@ -64,6 +65,7 @@ pub fn build_model(ds: &Dataset) -> Result<Built, Diagnostics> {
     let mut constraints = constraints(ds, &table, &mut cx);
     let forces = force_elements(ds, &table, &mut cx);
     let data = data::data_elements(ds, &mut cx);
+    let sensors = sensors::sensors(ds, &mut cx);
     point_masses::check_translational_use(&parts, &markers, &constraints, &forces, &mut cx);
     let mut markers = markers;
     point_masses::hold_rotations(&parts, &mut markers, &mut constraints);
@@ -85,6 +87,7 @@ pub fn build_model(ds: &Dataset) -> Result<Built, Diagnostics> {
         variables: data.variables,
         arrays: data.arrays,
         splines: data.splines,
+        sensors,
         characteristic_length: 1.0,
         ic,
         equilibrium,

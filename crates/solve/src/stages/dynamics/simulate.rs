@@ -1,12 +1,14 @@
 //! The simulate loop: step-size control on the local error estimate, output times hit exactly,
-//! consistent outputs, redundant rows checked after every step. A model without degrees of
-//! freedom is handed to the kinematic run.
+//! consistent outputs, redundant rows checked after every step, sensors evaluated after every
+//! step ([`super::sensors`]). A model without degrees of freedom is handed to the kinematic
+//! run.
 
 use super::error::IntegrationError;
 use super::output::Output;
 use super::problem::Problem;
 use super::redundant::{redundant_tolerance, redundant_violation};
 use super::results::{Failure, Simulation};
+use super::sensors::SensorWatch;
 use super::stepper::Stepper;
 use crate::state::State;
 use crate::tolerances::{
@@ -103,9 +105,22 @@ pub fn simulate_with(
         }
     };
     let mut next_output = 0;
+    // Sensors (not while settling at a frozen time): those true at the start fire there.
+    let mut sensors = SensorWatch::new(p.model).filter(|_| p.frozen_time.is_none());
+    let at_start = match sensors.as_mut().map(|w| w.start(p.model, &first)) {
+        Some(Ok(fired)) => fired,
+        Some(Err(e)) => {
+            sim.failure = Some(Failure::new(start.time, e));
+            return sim;
+        }
+        None => None,
+    };
     if times
         .first()
         .is_some_and(|t| (*t - start.time).abs() <= OUTPUT_AT_START * t_end.abs().max(1.0))
+        || at_start
+            .as_ref()
+            .is_some_and(|f| f.stop.is_some() || f.print)
     {
         if on_output(first) == AfterOutput::Stop {
             return sim;
@@ -118,6 +133,14 @@ pub fn simulate_with(
         .hinit
         .unwrap_or((span / 1000.0).min(hmax))
         .min(hmax);
+    if let Some(fired) = at_start {
+        sim.sensor_events.extend(fired.events);
+        if fired.stop.is_some() {
+            sim.stopped_by_sensor = fired.stop;
+            return sim;
+        }
+        h = fired.step.map_or(h, |x| x.min(hmax));
+    }
     let at_min_step = |hs: f64| hs <= settings.hmin * (1.0 + AT_MIN_STEP);
     let per_run = integ.error_per_run();
     // The least local error worth asking for: rounding, which grows with the distance of the
@@ -200,6 +223,45 @@ pub fn simulate_with(
                     .max(if hit { h } else { 0.0 })
                     .min(hmax)
                     .max(settings.hmin);
+                // Sensors: an event inside the step continues the run from its time.
+                if let Some(w) = sensors.as_mut() {
+                    match w.after_step(p, &mut integ, settings, span) {
+                        Ok(None) => {}
+                        Ok(Some(fired)) => {
+                            sim.sensor_events.extend(fired.events);
+                            let at = fired.output.time;
+                            if fired.stop.is_some() {
+                                sim.stopped_by_sensor = fired.stop;
+                                let _ = on_output(fired.output);
+                                return sim;
+                            }
+                            let printed = fired.print && (fired.before_step_end || !hit);
+                            if printed && on_output(fired.output.clone()) == AfterOutput::Stop {
+                                return sim;
+                            }
+                            h = fired.step.map_or(h, |x| x.min(hmax));
+                            if fired.restart || fired.before_step_end {
+                                match Stepper::new(
+                                    p,
+                                    &fired.output.state,
+                                    &fired.output.velocities,
+                                    settings,
+                                ) {
+                                    Ok((restarted, _)) => integ = restarted,
+                                    Err(e) => {
+                                        sim.failure = Some(Failure::new(at, e));
+                                        return sim;
+                                    }
+                                }
+                                continue;
+                            }
+                        }
+                        Err(e) => {
+                            sim.failure = Some(Failure::new(now, e));
+                            return sim;
+                        }
+                    }
+                }
                 if hit {
                     match integ.output() {
                         Ok(o) => {
