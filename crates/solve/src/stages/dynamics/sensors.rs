@@ -5,8 +5,10 @@
 //! - Each sensor watches `g(t) = FUNCTION − VALUE`, evaluated on the consistent output of every
 //!   accepted step (positions, velocities and time: `StateEnv`; accelerations and forces are
 //!   not available to a sensor). It is *true* as [`linkage_model::sensors::Sensor::holds`]
-//!   says and *fires* when it becomes true: at the start of the run, or after a step at whose
-//!   beginning it was false. It fires again only after having been false.
+//!   says and *fires* when it becomes true: after a step at whose beginning it was false. A
+//!   sensor true at the start of a run fires only after having been false (so a run that
+//!   continues after a RETURN goes on); after firing it fires again only after having been
+//!   false.
 //! - Event location: when a step from `t₀` to `t₁` carries `g` across the band `|g| ≤ ERROR`
 //!   (g changes sign, or GE/LE end beyond it), the event time `t*` is found by the secant
 //!   method on `g` (Illinois variant, keeping a bracket), or by bisection with `BISECTION`,
@@ -145,19 +147,15 @@ impl SensorWatch {
     }
 
     /// The sensors at the start of the run (`first`, the output at the start time): those
-    /// true there fire.
-    pub fn start(
-        &mut self,
-        model: &Model,
-        first: &Output,
-    ) -> Result<Option<Fired>, IntegrationError> {
+    /// true there are armed only once they have been false (a run that continues after a
+    /// RETURN does not stop again at once).
+    pub fn start(&mut self, model: &Model, first: &Output) -> Result<(), IntegrationError> {
         let g = self.gaps(model, first)?;
-        let firing: Vec<usize> = (0..g.len())
-            .filter(|&s| model.sensors[s].holds(g[s]))
-            .collect();
-        let fired = self.fire(model, first.clone(), &g, &firing, false)?;
+        for (s, sensor) in model.sensors.iter().enumerate() {
+            self.active[s] = sensor.holds(g[s]);
+        }
         self.last = Some((first.clone(), g));
-        Ok(fired)
+        Ok(())
     }
 
     /// After an accepted step of `integ`: evaluates the sensors on its output, locates an

@@ -105,22 +105,15 @@ pub fn simulate_with(
         }
     };
     let mut next_output = 0;
-    // Sensors (not while settling at a frozen time): those true at the start fire there.
+    // Sensors (not while settling at a frozen time), armed at the start.
     let mut sensors = SensorWatch::new(p.model).filter(|_| p.frozen_time.is_none());
-    let at_start = match sensors.as_mut().map(|w| w.start(p.model, &first)) {
-        Some(Ok(fired)) => fired,
-        Some(Err(e)) => {
-            sim.failure = Some(Failure::new(start.time, e));
-            return sim;
-        }
-        None => None,
-    };
+    if let Some(Err(e)) = sensors.as_mut().map(|w| w.start(p.model, &first)) {
+        sim.failure = Some(Failure::new(start.time, e));
+        return sim;
+    }
     if times
         .first()
         .is_some_and(|t| (*t - start.time).abs() <= OUTPUT_AT_START * t_end.abs().max(1.0))
-        || at_start
-            .as_ref()
-            .is_some_and(|f| f.stop.is_some() || f.print)
     {
         if on_output(first) == AfterOutput::Stop {
             return sim;
@@ -133,14 +126,6 @@ pub fn simulate_with(
         .hinit
         .unwrap_or((span / 1000.0).min(hmax))
         .min(hmax);
-    if let Some(fired) = at_start {
-        sim.sensor_events.extend(fired.events);
-        if fired.stop.is_some() {
-            sim.stopped_by_sensor = fired.stop;
-            return sim;
-        }
-        h = fired.step.map_or(h, |x| x.min(hmax));
-    }
     let at_min_step = |hs: f64| hs <= settings.hmin * (1.0 + AT_MIN_STEP);
     let per_run = integ.error_per_run();
     // The least local error worth asking for: rounding, which grows with the distance of the
