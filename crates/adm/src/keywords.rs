@@ -299,6 +299,21 @@ const PART_ARGS: &[ArgDef] = &[
     arg("MATERIAL", Any),
 ];
 
+/// POINT_MASS (ADM-ELEMENTS §13): three translational degrees of freedom, no inertia.
+const POINT_MASS_ARGS: &[ArgDef] = &[
+    arg("MASS", Numbers),
+    arg("CM", Numbers),
+    arg("QG", Numbers),
+    arg("REULER", Numbers),
+    arg("XG", Numbers),
+    arg("ZG", Numbers),
+    arg("VX", Numbers),
+    arg("VY", Numbers),
+    arg("VZ", Numbers),
+    arg("EXACT", Words),
+    arg("MATERIAL", Any),
+];
+
 const MARKER_ARGS: &[ArgDef] = &[
     arg("PART", Numbers),
     arg("POINT_MASS", Numbers),
@@ -548,10 +563,27 @@ const GSE_ARGS: &[ArgDef] = &[
     arg("INTERFACE", ArgKind::TextList),
 ];
 
+/// SENSOR (ADM-ELEMENTS §5).
 const SENSOR_ARGS: &[ArgDef] = &[
     arg("FUNCTION", Expr),
     arg("EVALUATE", Expr),
     arg("ROUTINE", Text),
+    arg("EVALUATE_ROUTINE", Text),
+    arg("VALUE", Numbers),
+    arg("EQ", Flag),
+    arg("GE", Flag),
+    arg("LE", Flag),
+    arg("ERROR", Numbers),
+    arg("HALT", Flag),
+    arg("RETURN", Flag),
+    arg("PRINT", Flag),
+    arg("RESTART", Flag),
+    arg("CODGEN", Flag),
+    arg("YYDUMP", Flag),
+    arg("DT", Numbers),
+    arg("STEPSIZE", Numbers),
+    arg("BISECTION", Flag),
+    arg("ANGULAR", Flag),
 ];
 
 /// REQUEST (ADM-REFERENCE §2.12): complete in datasets (typed), partial as a command.
@@ -714,14 +746,14 @@ pub(crate) static DATASET_STATEMENTS: &[StatementDef] = &[
     stmt("OUTPUT", Absent, OUTPUT_ARGS, false),
     stmt("PART", Required, PART_ARGS, true),
     stmt("PINPUT", Required, NO_ARGS, false),
-    stmt("POINT_MASS", Required, NO_ARGS, false),
+    stmt("POINT_MASS", Required, POINT_MASS_ARGS, true),
     stmt("POUTPUT", Required, NO_ARGS, false),
     stmt("PREFERENCES", Absent, NO_ARGS, false),
     stmt("PTCV", Required, NO_ARGS, false),
     stmt("REQUEST", Required, REQUEST_ARGS, true),
     stmt("RESULTS", Absent, RESULTS_ARGS, false),
     stmt("SECTION", Required, NO_ARGS, false),
-    stmt("SENSOR", Required, SENSOR_ARGS, false),
+    stmt("SENSOR", Required, SENSOR_ARGS, true),
     stmt("SFORCE", Required, SFORCE_ARGS, true),
     stmt("SPLINE", Required, SPLINE_ARGS, true),
     stmt("SPRINGDAMPER", Required, SPRINGDAMPER_ARGS, true),
@@ -823,7 +855,7 @@ pub(crate) static COMMANDS: &[StatementDef] = &[
     stmt("RELOAD", Absent, STATE_FILE_ARGS, false),
     stmt("REQUEST", Required, REQUEST_ARGS, false),
     stmt("SAVE", Absent, STATE_FILE_ARGS, false),
-    stmt("SENSOR", Required, SENSOR_ARGS, false),
+    stmt("SENSOR", Required, SENSOR_ARGS, true),
     stmt("SFORCE", Required, SFORCE_ARGS, false),
     stmt("SHOW", Absent, NO_ARGS, false),
     stmt("SIMULATE", Absent, SIMULATE_ARGS, false),

@@ -66,7 +66,12 @@ pub struct Dataset {
     pub units: Option<Units>,
     pub accgrav: Option<Accgrav>,
     pub parts: Vec<Part>,
+    /// POINT_MASS statements, typed as parts that have a mass and no inertia (ADM-ELEMENTS
+    /// §13): `ip`, `im`, `vm`, `wm` and `WX, WY, WZ` are never set, `ground` is false.
+    pub point_masses: Vec<Part>,
     pub markers: Vec<Marker>,
+    /// SENSOR statements (ADM-ELEMENTS §5).
+    pub sensors: Vec<Sensor>,
     pub joints: Vec<Joint>,
     pub jprims: Vec<Jprim>,
     pub motions: Vec<Motion>,
@@ -103,7 +108,9 @@ impl Dataset {
             units: None,
             accgrav: None,
             parts: Vec::new(),
+            point_masses: Vec::new(),
             markers: Vec::new(),
+            sensors: Vec::new(),
             joints: Vec::new(),
             jprims: Vec::new(),
             motions: Vec::new(),
@@ -383,6 +390,47 @@ pub struct Gcon {
     pub header: Header,
     pub i: Option<IdRef>,
     pub function: Option<Located<Function>>,
+}
+
+/// How a SENSOR compares its FUNCTION with VALUE.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum SensorCompare {
+    /// `EQ` (default): `|f − VALUE| ≤ ERROR`.
+    #[default]
+    Eq,
+    /// `GE`: `f ≥ VALUE − ERROR`.
+    Ge,
+    /// `LE`: `f ≤ VALUE + ERROR`.
+    Le,
+}
+
+/// What a SENSOR does when it fires (ADM-ELEMENTS §5).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct SensorActions {
+    pub halt: bool,
+    pub return_: bool,
+    pub print: bool,
+    pub restart: bool,
+    pub codgen: bool,
+    pub yydump: bool,
+}
+
+/// `SENSOR/id, FUNCTION=e, VALUE=r [, EQ|GE|LE] [, ERROR=r] [, actions] [, STEPSIZE=r]
+/// [, BISECTION] [, EVALUATE=e]` (ADM-ELEMENTS §5). Defaults are not filled in (`None` = not
+/// written).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Sensor {
+    pub header: Header,
+    pub function: Option<Located<Function>>,
+    pub value: Option<Located<f64>>,
+    pub compare: SensorCompare,
+    pub error: Option<Located<f64>>,
+    pub actions: SensorActions,
+    pub stepsize: Option<Located<f64>>,
+    pub dt: Option<Located<f64>>,
+    pub bisection: bool,
+    pub angular: bool,
+    pub evaluate: Option<Located<Function>>,
 }
 
 // ---- force elements (ADM-REFERENCE §2.10) ---------------------------------------------------

@@ -4,7 +4,9 @@
 //! - Types UNITS, ACCGRAV, PART, MARKER, JOINT, JPRIM, MOTION, COUPLER, GEAR and GCON
 //!   (ADM-REFERENCE §2.1–2.9), the force elements SFORCE, SPRINGDAMPER, BUSHING, FIELD, BEAM,
 //!   VFORCE, VTORQUE, GFORCE and the data elements VARIABLE, ARRAY, SPLINE (§2.10–2.11, see
-//!   [`forces`]), and the output statement REQUEST (§2.12); every other statement stays in
+//!   [`forces`]), POINT_MASS (as a [`Part`] without inertia, [`point_mass`]), SENSOR
+//!   ([`sensor`]) and the output
+//!   statement REQUEST (§2.12); every other statement stays in
 //!   generic form only.
 //! - Checks what one statement can tell: value counts (`QP` needs 3 numbers), ids being
 //!   non-negative integers, unit names, joint/jprim types, required arguments (JOINT `I`, `J`,
@@ -155,6 +157,8 @@ impl Typer {
             "UNITS"
                 | "ACCGRAV"
                 | "PART"
+                | "POINT_MASS"
+                | "SENSOR"
                 | "MARKER"
                 | "JOINT"
                 | "JPRIM"
@@ -200,6 +204,15 @@ impl Typer {
             "PART" => {
                 let part = self.part(st, index);
                 self.ds.parts.push(part);
+            }
+            "SENSOR" => {
+                if let Some(sensor) = self.sensor(st, index) {
+                    self.ds.sensors.push(sensor);
+                }
+            }
+            "POINT_MASS" => {
+                let pm = self.point_mass(st, index);
+                self.ds.point_masses.push(pm);
             }
             "MARKER" => {
                 if let Some(m) = self.marker(st, index) {
@@ -1039,6 +1052,8 @@ impl Typer {
 }
 
 mod forces;
+mod point_mass;
+mod sensor;
 
 #[cfg(test)]
 mod tests;

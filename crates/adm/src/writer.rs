@@ -181,6 +181,7 @@ impl Planner<'_> {
         let Some(part) = ds
             .parts
             .iter()
+            .chain(&ds.point_masses)
             .find(|p| p.header.statement == pose.statement)
         else {
             let msg = format!(
@@ -412,10 +413,12 @@ fn verify(ds: &Dataset, text: &str, poses: &[PartPose]) -> Result<(), Diagnostic
         let old = ds
             .parts
             .iter()
+            .chain(&ds.point_masses)
             .find(|p| p.header.statement == pose.statement);
         let new = written
             .parts
             .iter()
+            .chain(&written.point_masses)
             .find(|p| p.header.statement == pose.statement);
         let (Some(old), Some(new)) = (old, new) else {
             errors.push(error(

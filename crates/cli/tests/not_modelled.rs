@@ -1,5 +1,5 @@
-//! Nothing is dropped silently: every statement linkage does not model or run (POINT_MASS, a
-//! HALT SENSOR, CURVE, FE_PART, a USER subroutine, GSE) is named by verify with its file:line,
+//! Nothing is dropped silently: every statement linkage does not model or run (FLEX_BODY,
+//! NFORCE, CURVE, FE_PART, a USER subroutine, GSE) is named by verify with its file:line,
 //! every analysis that cannot run without it refuses with the whole list at once, and
 //! `--deactivate` runs the rest of the model with the report saying what was left out.
 
@@ -8,7 +8,7 @@ use common::*;
 use std::path::PathBuf;
 
 /// A pendulum (one revolute joint, gravity) and, after it, every kind of statement linkage
-/// does not model or run. Lines: POINT_MASS 10, SENSOR 12, CURVE 13, MATRIX 14, FE_PART 15,
+/// does not model or run. Lines: FLEX_BODY 10, NFORCE 12, CURVE 13, MATRIX 14, FE_PART 15,
 /// SFORCE 16, GSE 17.
 const EXTRAS: &str = "pendulum with extras
 UNITS/FORCE = NEWTON, MASS = KILOGRAM, LENGTH = METER, TIME = SECOND
@@ -19,9 +19,9 @@ PART/2, MASS = 1, CM = 20, IP = 1, 1, 1
 MARKER/20, PART = 2, QP = 1, 0, 0
 MARKER/21, PART = 2
 JOINT/1, REVOLUTE, I = 21, J = 10
-POINT_MASS/5, MASS = 2, CM = 50
-MARKER/50, POINT_MASS = 5
-SENSOR/3, VALUE = 0.5, GE, HALT, FUNCTION = TIME
+FLEX_BODY/5
+MARKER/50, FLEX_BODY = 5
+NFORCE/3
 CURVE/7, OPEN, MATRIX = 8
 MATRIX/8, FULL = RORDER, ROWS = 2, COLUMNS = 3, VALUES = 0, 0, 0, 1, 1, 1
 FE_PART/9, NODE_LABELS = 1, 2
@@ -32,10 +32,10 @@ RESULTS/FORMATTED
 END
 ";
 
-/// Every statement the analyses refuse (all but SENSOR/3 refused by statics at one time).
+/// Every statement the analyses refuse.
 const REFUSED: [(&str, u32); 5] = [
-    ("POINT_MASS/5", 10),
-    ("SENSOR/3", 12),
+    ("FLEX_BODY/5", 10),
+    ("NFORCE/3", 12),
     ("FE_PART/9", 15),
     ("SFORCE/4", 16),
     ("GSE/6", 17),
@@ -92,8 +92,8 @@ fn verify_names_every_statement_not_modelled_at_once_with_its_place() {
     assert_eq!(
         listed,
         [
-            ("POINT_MASS/5", 10, "not modelled"),
-            ("SENSOR/3", 12, "not modelled"),
+            ("FLEX_BODY/5", 10, "not modelled"),
+            ("NFORCE/3", 12, "not modelled"),
             ("CURVE/7", 13, "not used"),
             ("MATRIX/8", 14, "not used"),
             ("FE_PART/9", 15, "not modelled"),
@@ -103,7 +103,7 @@ fn verify_names_every_statement_not_modelled_at_once_with_its_place() {
     );
     assert_eq!(
         not_run[1]["refused_by"],
-        serde_json::json!(["static --end", "simulate"])
+        serde_json::json!(["ic", "static", "static --end", "linear", "simulate"])
     );
     assert_eq!(
         v["later_refused_by"],
@@ -125,7 +125,7 @@ fn simulate_refuses_with_the_whole_list_and_deactivate_runs_the_rest() {
             "{element} at line {line} not refused:\n{err}"
         );
     }
-    assert!(err.contains("--deactivate SENSOR/3"), "{err}");
+    assert!(err.contains("--deactivate NFORCE/3"), "{err}");
     assert!(
         !err.contains("CURVE"),
         "a curve nothing reads is not refused:\n{err}"
@@ -152,15 +152,15 @@ fn simulate_refuses_with_the_whole_list_and_deactivate_runs_the_rest() {
         "--steps",
         "2",
         "--deactivate",
-        "POINT_MASS/5,SENSOR,FE_PART_9",
+        "FLEX_BODY/5,NFORCE,FE_PART_9",
         "--deactivate",
         "sforce/4,GSE",
     ]);
     assert_eq!(code, 0, "{out}\n{err}");
     assert!(
         out.contains(
-            "left out on request (5): POINT_MASS_5 (POINT_MASS/5, line 10), SENSOR_3 \
-             (SENSOR/3, line 12), FE_PART_9 (FE_PART/9, line 15), SFORCE_4 (SFORCE/4, line \
+            "left out on request (5): FLEX_BODY_5 (FLEX_BODY/5, line 10), NFORCE_3 \
+             (NFORCE/3, line 12), FE_PART_9 (FE_PART/9, line 15), SFORCE_4 (SFORCE/4, line \
              16), GSE_6 (GSE/6, line 17)"
         ),
         "{out}"
@@ -179,28 +179,27 @@ fn simulate_refuses_with_the_whole_list_and_deactivate_runs_the_rest() {
         "--format",
         "json",
         "--deactivate",
-        "POINT_MASS,SENSOR,FE_PART,SFORCE,GSE",
+        "FLEX_BODY,NFORCE,FE_PART,SFORCE,GSE",
     ]);
     assert_eq!(code, 0, "{v}");
     assert_eq!(v["left_out"].as_array().unwrap().len(), 5, "{v}");
-    assert_eq!(v["left_out"][1]["element"], "SENSOR/3");
+    assert_eq!(v["left_out"][1]["element"], "NFORCE/3");
     assert_eq!(v["runs_without"].as_array().unwrap().len(), 2, "{v}");
 }
 
 #[test]
-fn statics_at_one_time_run_without_a_sensor_and_say_so() {
+fn statics_refuse_with_the_whole_list_and_run_without_unused_data() {
     let f = dataset("static", EXTRAS);
     let (code, _, err) = run(&["static", s(&f)]);
     assert_eq!(code, 2);
-    assert_eq!(err.matches(": error: ").count(), 4, "{err}");
-    assert!(!err.contains("SENSOR_3"), "{err}");
+    assert_eq!(err.matches(": error: ").count(), REFUSED.len(), "{err}");
     let (code, v) = json(&[
         "static",
         s(&f),
         "--format",
         "json",
         "--deactivate",
-        "POINT_MASS,FE_PART,SFORCE,GSE",
+        "FLEX_BODY,NFORCE,FE_PART,SFORCE,GSE",
     ]);
     assert_eq!(code, 0, "{v}");
     let without: Vec<&str> = v["runs_without"]
@@ -209,38 +208,33 @@ fn statics_at_one_time_run_without_a_sensor_and_say_so() {
         .iter()
         .map(|f| f["element"].as_str().unwrap())
         .collect();
-    assert_eq!(without, ["SENSOR/3", "CURVE/7", "MATRIX/8"]);
-    // A quasi-static series is over time: the sensor is refused there.
-    let (code, _, err) = run(&["static", s(&f), "--end", "1", "--steps", "2"]);
-    assert_eq!(code, 2);
-    assert!(err.contains("SENSOR_3"), "{err}");
+    assert_eq!(without, ["CURVE/7", "MATRIX/8"]);
 }
 
 #[test]
-fn ic_and_linear_refuse_a_point_mass_nothing_is_attached_to() {
-    let text = EXTRAS.replace("SENSOR/3", "!SENSOR/3");
-    let f = dataset("ic", &text);
+fn ic_and_linear_refuse_a_flexible_body_nothing_is_attached_to() {
+    let f = dataset("ic", EXTRAS);
     for command in ["ic", "linear"] {
         let (code, _, err) = run(&[command, s(&f)]);
         assert_eq!(code, 2, "{command}: {err}");
         assert!(
-            err.contains(&format!("{}:10:1: error: POINT_MASS_5", s(&f))),
+            err.contains(&format!("{}:10:1: error: FLEX_BODY_5", s(&f))),
             "{err}"
         );
         let (code, out, err) = run(&[
             command,
             s(&f),
             "--deactivate",
-            "POINT_MASS,FE_PART,SFORCE,GSE",
+            "FLEX_BODY,NFORCE,FE_PART,SFORCE,GSE",
         ]);
         assert_eq!(code, 0, "{command}: {out}\n{err}");
-        assert!(out.contains("left out on request (4)"), "{out}");
+        assert!(out.contains("left out on request (5)"), "{out}");
     }
 }
 
 #[test]
 fn a_model_that_does_not_build_names_every_refused_statement_too() {
-    // The joint uses a marker on the point mass: a build error, reported with the rest.
+    // The joint uses a marker on the flexible body: a build error, reported with the rest.
     let text = EXTRAS.replace(
         "JOINT/1, REVOLUTE, I = 21, J = 10",
         "JOINT/1, REVOLUTE, I = 21, J = 50",
@@ -248,7 +242,7 @@ fn a_model_that_does_not_build_names_every_refused_statement_too() {
     let f = dataset("build", &text);
     let (code, _, err) = run(&["simulate", s(&f), "--end", "1"]);
     assert_eq!(code, 2);
-    assert!(err.contains("is on a POINT_MASS"), "{err}");
+    assert!(err.contains("is on a FLEX_BODY"), "{err}");
     for (element, _) in REFUSED {
         assert!(err.contains(element), "{element} missing:\n{err}");
     }
@@ -283,7 +277,7 @@ fn a_command_file_runs_what_its_deactivate_and_the_option_leave() {
     }
     std::fs::write(
         &acf,
-        "m\nout\nDEACTIVATE/SENSOR, ID = 3\nsim/dyn, end = 0.1, steps = 2\nstop\n",
+        "m\nout\nDEACTIVATE/NFORCE, ID = 3\nsim/dyn, end = 0.1, steps = 2\nstop\n",
     )
     .unwrap();
     let (code, _, err) = run(&[
@@ -292,7 +286,7 @@ fn a_command_file_runs_what_its_deactivate_and_the_option_leave() {
         "--out-dir",
         s(&out_dir),
         "--deactivate",
-        "POINT_MASS,FE_PART,SFORCE,GSE",
+        "FLEX_BODY,FE_PART,SFORCE,GSE",
     ]);
     assert_eq!(code, 0, "{err}");
     let msg = std::fs::read_to_string(out_dir.join("out.msg")).unwrap();

@@ -50,7 +50,7 @@ impl Origin {
     }
 }
 
-/// A moving part. Its body frame B has its origin at the centre of mass and the axes of the
+/// A moving part (or point mass). Its body frame B has its origin at the centre of mass and the axes of the
 /// part's BCS.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Part {
@@ -71,6 +71,10 @@ pub struct Part {
     pub r_b_cm: DMat3,
     /// Coordinates named in `EXACT=`.
     pub exact: Vec<ExactCoord>,
+    /// A POINT_MASS: three translational degrees of freedom, zero inertia, its orientation
+    /// held at the input (`r_gb`) by the rotation hold the builder adds (an ORIENTATION
+    /// primitive to ground whose origin is the POINT_MASS statement).
+    pub point_mass: bool,
 }
 
 /// A marker fixed on a body (floating markers carry no fixed pose: `floating` is set and the

@@ -18,6 +18,7 @@ pub mod functions;
 pub mod inertia;
 pub mod model;
 pub mod requests;
+pub mod sensors;
 pub mod settings;
 pub mod units;
 

@@ -85,6 +85,9 @@ impl Constraint {
     /// Human description in Adams View style: `Revolute Joint`, `Inline Primitive`,
     /// `Rotational Motion`, `Coupler`, `Gear`, `General Constraint`.
     pub fn description(&self) -> String {
+        if self.origin.statement == crate::build::point_masses::POINT_MASS {
+            return "Point Mass Rotation Hold".into();
+        }
         match &self.kind {
             ConstraintKind::Joint { kind, .. } => format!("{} Joint", title_case(kind.keyword())),
             ConstraintKind::Jprim { kind, .. } => {
@@ -142,7 +145,8 @@ pub struct Model {
     pub parts: Vec<Part>,
     pub markers: Vec<Marker>,
     /// Joints, primitives, motions, couplers, gears and general constraints, in that order of
-    /// kinds and in definition order within each kind.
+    /// kinds and in definition order within each kind, then one rotation hold per point mass
+    /// (an ORIENTATION primitive to ground whose origin is the POINT_MASS statement).
     pub constraints: Vec<Constraint>,
     /// SFORCE, SPRINGDAMPER, BUSHING, FIELD, BEAM, VFORCE, VTORQUE and GFORCE elements, in
     /// that order of kinds and in definition order within each kind ([`crate::forces`]).
@@ -153,6 +157,8 @@ pub struct Model {
     pub arrays: Vec<crate::forces::Array>,
     /// SPLINE elements (referenced by `AKISPL`/`CUBSPL`).
     pub splines: Vec<crate::forces::Spline>,
+    /// SENSOR elements (evaluated by dynamic runs; `SENVAL(id)`).
+    pub sensors: Vec<crate::sensors::Sensor>,
     /// `IC/` settings (Adams defaults where not given).
     pub ic: crate::settings::IcSettings,
     /// `EQUILIBRIUM/` settings.

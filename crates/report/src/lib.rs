@@ -12,6 +12,7 @@ pub mod linear;
 pub use linkage_adm::num;
 pub mod poses;
 pub mod reactions;
+pub mod sensors;
 pub mod simulate;
 pub mod statics;
 pub mod units;

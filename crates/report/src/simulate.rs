@@ -248,6 +248,10 @@ pub struct SimulateJson {
     pub removed_equations: Vec<EquationRef>,
     /// Every part at the last output.
     pub final_state: Vec<PartStateJson>,
+    /// The SENSORs that fired, in time order.
+    pub sensors: Vec<crate::sensors::SensorEventJson>,
+    /// `HALT` or `RETURN` when a sensor ended the run (at `end_time`, the run complete).
+    pub ended_by_sensor: Option<String>,
     pub notes: Vec<String>,
     pub warnings: Vec<String>,
     pub errors: Vec<String>,
@@ -327,6 +331,13 @@ pub fn summary(a: &Assembled, run: &DynamicRun, warnings: &[Diagnostic]) -> Simu
                     f.time, f.message
                 ));
             }
+            if sim.kinematic && !model.sensors.is_empty() {
+                warnings.push(format!(
+                    "the {} SENSOR(s) were not evaluated: a kinematic run (no degrees of \
+                     freedom) does not evaluate sensors",
+                    model.sensors.len()
+                ));
+            }
             if sim.kinematic {
                 warnings.push("The data set is kinematically determinate (0 degrees of freedom): a kinematic analysis was run instead of integration (positions from the constraints at each output time, then velocities, accelerations and reactions).".into());
             }
@@ -341,6 +352,20 @@ pub fn summary(a: &Assembled, run: &DynamicRun, warnings: &[Diagnostic]) -> Simu
         }
         None => (false, 0.0, 0, 0, 0, false),
     };
+    let sensors = run
+        .simulation
+        .as_ref()
+        .map(|sim| crate::sensors::events_json(model, &sim.sensor_events))
+        .unwrap_or_default();
+    let ended_by_sensor = run.simulation.as_ref().and_then(|sim| {
+        let stop = sim.stopped_by_sensor?;
+        let last = sim.sensor_events.last()?;
+        Some(format!(
+            "{} ({})",
+            last.name,
+            crate::sensors::stop_name(stop)
+        ))
+    });
     let removed_equations =
         a.ic.analysis
             .redundant
@@ -389,6 +414,8 @@ pub fn summary(a: &Assembled, run: &DynamicRun, warnings: &[Diagnostic]) -> Simu
         start,
         removed_equations,
         final_state,
+        sensors,
+        ended_by_sensor,
         notes: integrator.notes.iter().map(ToString::to_string).collect(),
         warnings,
         errors,
@@ -491,6 +518,10 @@ pub fn to_text(j: &SimulateJson) -> String {
         );
         if !j.kinematic {
             let _ = writeln!(s, "Integrator: {}", j.integrator);
+        }
+        s.push_str(&crate::sensors::events_text(&j.sensors));
+        if let Some(by) = &j.ended_by_sensor {
+            let _ = writeln!(s, "The run was ended at time {} by {by}.", j.end_time);
         }
     } else {
         let _ = writeln!(s, "No simulation was run.");

@@ -81,8 +81,13 @@ pub struct VerifyJson {
     /// The analyses that refuse this model (`ic`, `static`, `static --end`, `linear`,
     /// `simulate`).
     pub later_refused_by: Vec<&'static str>,
+    /// Moving parts (point masses not included).
     pub moving_parts: usize,
+    /// POINT_MASS elements (3 degrees of freedom each).
+    pub point_masses: usize,
     pub constraint_counts: Vec<CountJson>,
+    /// The equations of the constraint elements (the point masses' held rotations not
+    /// included): Gruebler = 6·parts + 3·point masses − equations.
     pub constraint_equations: usize,
     pub gruebler: i64,
     pub rank: usize,
@@ -232,7 +237,8 @@ pub fn to_json(model: &Model, v: &Verification, warnings: &[Diagnostic]) -> Veri
         left_out: Vec::new(),
         not_run: Vec::new(),
         later_refused_by: Vec::new(),
-        moving_parts: v.moving_parts,
+        moving_parts: v.moving_parts - v.point_masses,
+        point_masses: v.point_masses,
         constraint_counts: v
             .counts
             .iter()
@@ -241,7 +247,7 @@ pub fn to_json(model: &Model, v: &Verification, warnings: &[Diagnostic]) -> Veri
                 count: *n,
             })
             .collect(),
-        constraint_equations: v.rows,
+        constraint_equations: v.rows - 3 * v.point_masses,
         gruebler: v.gruebler,
         rank: v.rank,
         dof: v.dof,
@@ -392,6 +398,13 @@ pub fn body_text(j: &VerifyJson) -> String {
         "{:>5} Moving Parts (not including ground)",
         j.moving_parts
     );
+    if j.point_masses > 0 {
+        let _ = writeln!(
+            s,
+            "{:>5} Point Masses (3 degrees of freedom each)",
+            j.point_masses
+        );
+    }
     for c in &j.constraint_counts {
         let _ = writeln!(s, "{:>5} {}", c.count, plural(c.count, &c.kind));
     }

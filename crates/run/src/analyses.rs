@@ -11,7 +11,9 @@ use linkage_adm::commands::SimulateKind;
 use linkage_model::Model;
 use linkage_solve::coverage::Analysis;
 use linkage_solve::pipeline::Assembled;
-use linkage_solve::stages::dynamics::{simulate_with, AfterOutput, IntegrationError, Output};
+use linkage_solve::stages::dynamics::{
+    simulate_with, AfterOutput, IntegrationError, Output, SensorStop,
+};
 use linkage_solve::stages::linearize::{self, LinearOptions};
 use linkage_solve::stages::plant;
 use linkage_solve::stages::statics;
@@ -372,6 +374,31 @@ pub fn dynamics(
     if let Some(e) = write_error {
         return Err(e);
     }
+    // Sensors: every event in the message file; HALT ends the command file, RETURN goes on
+    // with the next command.
+    let events = linkage_report::sensors::events_json(&model, &sim.sensor_events);
+    if !events.is_empty() {
+        sinks
+            .msg
+            .write(linkage_report::sensors::events_text(&events).trim_end())?;
+    }
+    if let (Some(stop), Some(e)) = (sim.stopped_by_sensor, events.last()) {
+        let how = linkage_report::sensors::stop_name(stop);
+        sinks.msg.write(&format!(
+            " {} ({how}) ended the simulation at time {}{}",
+            e.name,
+            e.time,
+            if stop == SensorStop::Halt {
+                "; the command file ends here"
+            } else {
+                "; the command file goes on"
+            }
+        ))?;
+    }
+    let halted = match (sim.stopped_by_sensor, events.last()) {
+        (Some(SensorStop::Halt), Some(e)) => Some(format!("{} at time {}", e.name, e.time)),
+        _ => None,
+    };
     let left = last.map(|o| Left {
         state: o.state,
         velocities: o.velocities,
@@ -381,6 +408,7 @@ pub fn dynamics(
     if let Some(left) = left {
         session.left = Some(left);
     }
+    session.halted = halted;
     if let Some(f) = failure {
         if matches!(f.cause, IntegrationError::Stopped) {
             return Err(RunError::Interrupted { time: f.time });

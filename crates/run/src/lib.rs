@@ -318,12 +318,24 @@ impl Runner {
                     self.execute(&nested, &ncf, &ntyped, depth + 1)?;
                 }
                 self.commands += 1;
+                if self.halted() {
+                    return Ok(());
+                }
                 continue;
             }
             self.command(entry, generic, &place)?;
             self.commands += 1;
+            // A SENSOR's HALT ends the command file, as STOP does.
+            if self.halted() {
+                return Ok(());
+            }
         }
         Ok(())
+    }
+
+    /// Whether a SENSOR's HALT ended the last simulation.
+    fn halted(&self) -> bool {
+        self.session.as_ref().is_some_and(|s| s.halted.is_some())
     }
 
     fn command(

@@ -57,6 +57,9 @@ pub struct Session {
     pub built: Built,
     /// `None` before the first analysis.
     pub left: Option<Left>,
+    /// A SENSOR's HALT ended the last simulation: the command file ends there (`SENSOR_1 at
+    /// time 1.0`).
+    pub halted: Option<String>,
 }
 
 /// Builds the model of a typed dataset with its drivers, forces and requests.
@@ -109,6 +112,7 @@ impl Session {
             inactive,
             built,
             left: None,
+            halted: None,
         })
     }
 

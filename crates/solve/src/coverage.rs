@@ -63,8 +63,8 @@ impl Analysis {
 
 /// Analyses that compute forces: every one.
 const FORCE_ANALYSES: &[Analysis] = &Analysis::ALL;
-/// Analyses over time (where a SENSOR acts).
-const TIME_ANALYSES: &[Analysis] = &[Analysis::QuasiStatic, Analysis::Simulate];
+/// The quasi-static series: over time, but without the sensors a dynamic run evaluates.
+const QUASI_STATIC: &[Analysis] = &[Analysis::QuasiStatic];
 
 /// Why a statement is a finding.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
@@ -102,10 +102,11 @@ pub enum Use {
 }
 
 /// Statement kinds every analysis computes with.
-pub const MODELLED: [&str; 21] = [
+pub const MODELLED: [&str; 22] = [
     "UNITS",
     "ACCGRAV",
     "PART",
+    "POINT_MASS",
     "MARKER",
     "JOINT",
     "JPRIM",
@@ -172,10 +173,6 @@ fn not_modelled(keyword: &str) -> Option<(Reason, &'static str, &'static [Analys
     let refused = |why| Some((Reason::NotModelled, why, FORCE_ANALYSES));
     let unused = |why| Some((Reason::NotUsed, why, &[][..]));
     match keyword {
-        "POINT_MASS" => refused(
-            "a point mass (3 degrees of freedom, its weight and inertia) is not modelled; verify's \
-             DOF count leaves it out",
-        ),
         "FLEX_BODY" => refused(
             "a modal flexible body is not modelled; verify's DOF count leaves it out",
         ),
@@ -196,9 +193,10 @@ fn not_modelled(keyword: &str) -> Option<(Reason, &'static str, &'static [Analys
         "UCON" => refused("user constraints are not modelled"),
         "SENSOR" => Some((
             Reason::NotModelled,
-            "sensors are not evaluated (a HALT or RETURN would not stop the run); analyses at \
-             one time (ic, static, linear) do not use them",
-            TIME_ANALYSES,
+            "sensors are evaluated by dynamic runs (simulate) only: a quasi-static series would \
+             not stop at a HALT or RETURN; analyses at one time (ic, static, linear) do not use \
+             them",
+            QUASI_STATIC,
         )),
         "CURVE" => unused("curve data, read only by PTCV, CVCV and CURVE(), which linkage does not model"),
         "MATRIX" => unused("matrix data, read only by LSE, GSE, CURVE, NFORCE and FLEX_BODY, which linkage does not model"),
@@ -366,8 +364,9 @@ pub fn findings(ds: &Dataset) -> Vec<Finding> {
                     .collect();
                 if !acts.is_empty() {
                     detail = format!(
-                        "a {} sensor: sensors are not evaluated, so the run would not stop at \
-                         its event; analyses at one time (ic, static, linear) do not use them",
+                        "a {} sensor: sensors are evaluated by dynamic runs (simulate) only, so \
+                         a quasi-static series would not stop at its event; analyses at one \
+                         time (ic, static, linear) do not use them",
                         acts.join(" and ")
                     );
                 }
@@ -453,7 +452,7 @@ mod tests {
     #[test]
     fn every_unmodelled_statement_is_named_with_the_analyses_that_refuse_it() {
         let ds = dataset(
-            "PART/1, GROUND\nMARKER/2, PART = 1\nPOINT_MASS/3, MASS = 1\n\
+            "PART/1, GROUND\nMARKER/2, PART = 1\nFE_PART/3\n\
              SENSOR/4, VALUE = 1, HALT, FUNCTION = TIME\nCURVE/5, MATRIX = 6\n\
              SFORCE/7, I = 2, J = 2, TRANSLATION, FUNCTION = USER(1)\nGRAPHICS/8, CYLINDER\n\
              PINPUT/9, VARIABLES = 1",
@@ -466,17 +465,20 @@ mod tests {
         assert_eq!(
             got,
             [
-                ("POINT_MASS/3", Reason::NotModelled, 4),
+                ("FE_PART/3", Reason::NotModelled, 4),
                 ("SENSOR/4", Reason::NotModelled, 5),
                 ("CURVE/5", Reason::NotUsed, 6),
                 ("SFORCE/7", Reason::UserSubroutine, 7),
             ]
         );
         assert!(f[0].refuses(Analysis::Ic) && f[0].refuses(Analysis::Simulate));
-        assert!(f[1].refuses(Analysis::Simulate) && !f[1].refuses(Analysis::Static));
+        // A sensor acts in dynamic runs; a quasi-static series refuses it.
+        assert!(f[1].refuses(Analysis::QuasiStatic) && !f[1].refuses(Analysis::Simulate));
+        assert!(!f[1].refuses(Analysis::Static));
         assert!(f[2].refused_by.is_empty());
         assert_eq!(refusals(&ds, Analysis::Static).len(), 2);
-        assert_eq!(refusals(&ds, Analysis::Simulate).len(), 3);
+        assert_eq!(refusals(&ds, Analysis::Simulate).len(), 2);
+        assert_eq!(refusals(&ds, Analysis::QuasiStatic).len(), 3);
     }
 
     #[test]

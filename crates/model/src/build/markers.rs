@@ -18,7 +18,7 @@ pub(crate) struct PlacedMarker {
     pub p: DVec3,
     /// Axes in the BCS.
     pub r: DMat3,
-    /// The carrier linkage does not model (POINT_MASS, FLEX_BODY, FE_PART), if any.
+    /// The carrier linkage does not model (FLEX_BODY, FE_PART), if any.
     pub unsupported: Option<&'static str>,
 }
 
@@ -51,7 +51,7 @@ pub(crate) fn markers<'d>(
             );
             continue;
         }
-        let (body, unsupported) = carrier(m, &parts.index, cx);
+        let (body, unsupported) = carrier(m, parts, cx);
         let p =
             m.qp.as_ref()
                 .map_or(DVec3::ZERO, |q| cx.point(&m.header.name, "QP", q));
@@ -73,11 +73,11 @@ pub(crate) fn markers<'d>(
 /// marker is put on ground; an element that uses it is refused).
 fn carrier(
     m: &linkage_adm::Marker,
-    part_index: &HashMap<u64, Body>,
+    parts: &PartStatements,
     cx: &mut Ctx,
 ) -> (Body, Option<&'static str>) {
     match m.carrier {
-        Some(MarkerCarrier::Part(r)) => match part_index.get(&r.id) {
+        Some(MarkerCarrier::Part(r)) => match parts.index.get(&r.id) {
             Some(b) => (*b, None),
             None => {
                 cx.error(
@@ -87,7 +87,16 @@ fn carrier(
                 (Body::Ground, None)
             }
         },
-        Some(MarkerCarrier::PointMass(_)) => (Body::Ground, Some("POINT_MASS")),
+        Some(MarkerCarrier::PointMass(r)) => match parts.point_mass_index.get(&r.id) {
+            Some(b) => (*b, None),
+            None => {
+                cx.error(
+                    r.span,
+                    format!("{}: POINT_MASS {} does not exist", m.header.name, r.id),
+                );
+                (Body::Ground, None)
+            }
+        },
         Some(MarkerCarrier::FlexBody(_)) => (Body::Ground, Some("FLEX_BODY")),
         Some(MarkerCarrier::FePart(_)) => (Body::Ground, Some("FE_PART")),
         None => {

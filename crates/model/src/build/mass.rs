@@ -35,7 +35,8 @@ pub(crate) fn moving_parts(
             None => cm,
         };
         let inertia = inertia_about_cm(p, mass, c, im.map(|m| &markers.placed[m]), cx);
-        if mass > 0.0 && p.ip.is_none() {
+        let point_mass = k >= parts.rigid;
+        if mass > 0.0 && p.ip.is_none() && !point_mass {
             cx.warn(
                 p.header.span,
                 format!("{name}: MASS given without IP: its inertia is zero"),
@@ -44,7 +45,7 @@ pub(crate) fn moving_parts(
         let (qg, r) = parts.bcs[k];
         cm_in_bcs.push(c);
         out.push(Part {
-            origin: origin("PART", &p.header),
+            origin: origin(if point_mass { "POINT_MASS" } else { "PART" }, &p.header),
             mass,
             inertia,
             p_gb: qg + r * c,
@@ -53,6 +54,7 @@ pub(crate) fn moving_parts(
             velocity: p.velocity,
             r_b_cm: cm.map_or(DMat3::IDENTITY, |m| markers.placed[m].r),
             exact: p.exact.clone(),
+            point_mass,
         });
     }
     (out, cm_in_bcs)

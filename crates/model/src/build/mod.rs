@@ -17,6 +17,8 @@ mod markers;
 mod mass;
 mod motions;
 mod parts;
+pub mod point_masses;
+mod sensors;
 mod units;
 mod vector_forces;
 
@@ -60,9 +62,13 @@ pub fn build_model(ds: &Dataset) -> Result<Built, Diagnostics> {
         parts: &parts,
         ground_name: &ground_name,
     };
-    let constraints = constraints(ds, &table, &mut cx);
+    let mut constraints = constraints(ds, &table, &mut cx);
     let forces = force_elements(ds, &table, &mut cx);
     let data = data::data_elements(ds, &mut cx);
+    let sensors = sensors::sensors(ds, &mut cx);
+    point_masses::check_translational_use(&parts, &markers, &constraints, &forces, &mut cx);
+    let mut markers = markers;
+    point_masses::hold_rotations(&parts, &mut markers, &mut constraints);
     if !cx.errors.is_empty() {
         return Err(Diagnostics(cx.errors));
     }
@@ -81,6 +87,7 @@ pub fn build_model(ds: &Dataset) -> Result<Built, Diagnostics> {
         variables: data.variables,
         arrays: data.arrays,
         splines: data.splines,
+        sensors,
         characteristic_length: 1.0,
         ic,
         equilibrium,
@@ -96,7 +103,8 @@ pub fn build_model(ds: &Dataset) -> Result<Built, Diagnostics> {
 }
 
 /// Every constraint, in the order joints, primitives, couplers, gears, motions, general
-/// constraints (definition order within each kind).
+/// constraints (definition order within each kind); the point masses' rotation holds
+/// ([`point_masses`]) are appended after them.
 fn constraints(ds: &Dataset, table: &MarkerTable, cx: &mut Ctx) -> Vec<Constraint> {
     let mut constraints = Vec::new();
     let joint_index = joints::joints(ds, table, cx, &mut constraints);

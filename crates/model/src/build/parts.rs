@@ -1,5 +1,5 @@
-//! `PART/`: ground and the moving parts, and each moving part's BCS (body coordinate system)
-//! in ground.
+//! `PART/` and `POINT_MASS/`: ground and the moving bodies, and each moving body's BCS (body
+//! coordinate system) in ground.
 
 use super::context::Ctx;
 use crate::bodies::Body;
@@ -14,8 +14,12 @@ pub(crate) struct PartStatements<'d> {
     pub ground: Option<&'d linkage_adm::Part>,
     /// Part id → the body it is ([`Body::Part`] indexes `moving`).
     pub index: HashMap<u64, Body>,
-    /// Moving parts in definition order.
+    /// POINT_MASS id → the body it is (its own id space: `PART/4` and `POINT_MASS/4` differ).
+    pub point_mass_index: HashMap<u64, Body>,
+    /// Moving parts in definition order, then the point masses in definition order.
     pub moving: Vec<&'d linkage_adm::Part>,
+    /// How many of `moving` are PART statements (the rest are point masses).
+    pub rigid: usize,
     /// BCS of each moving part in ground: origin `QG` and axes `R_G_bcs`.
     pub bcs: Vec<(DVec3, DMat3)>,
 }
@@ -57,6 +61,19 @@ pub(crate) fn parts<'d>(ds: &'d Dataset, cx: &mut Ctx) -> PartStatements<'d> {
             moving.push(p);
         }
     }
+    let rigid = moving.len();
+    let mut point_mass_index: HashMap<u64, Body> = HashMap::new();
+    for p in &ds.point_masses {
+        if point_mass_index.contains_key(&p.header.id) {
+            cx.error(
+                p.header.span,
+                format!("duplicate POINT_MASS id {}", p.header.id),
+            );
+            continue;
+        }
+        point_mass_index.insert(p.header.id, Body::Part(moving.len()));
+        moving.push(p);
+    }
     if ground.is_none() {
         // Placed at the first PART (where a GROUND part is expected), or at line 1.
         let at = ds.parts.first().map_or(Span::new(1, 1), |p| p.header.span);
@@ -69,7 +86,9 @@ pub(crate) fn parts<'d>(ds: &'d Dataset, cx: &mut Ctx) -> PartStatements<'d> {
     PartStatements {
         ground,
         index,
+        point_mass_index,
         moving,
+        rigid,
         bcs,
     }
 }

@@ -175,6 +175,7 @@ mod tests {
             velocity: [None; 6],
             r_b_cm: DMat3::IDENTITY,
             exact: Vec::new(),
+            point_mass: false,
         }
     }
 

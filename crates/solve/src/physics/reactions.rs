@@ -22,7 +22,8 @@ pub struct Reaction {
     pub torque: DVec3,
 }
 
-/// Reactions of every joint, primitive, motion and general constraint. `rows` are the rows in the solve with their
+/// Reactions of every joint, primitive, motion and general constraint (not the point masses'
+/// rotation holds, which carry no load: no torque acts on a point mass). `rows` are the rows in the solve with their
 /// gradients at `s`, `lambda` their multipliers in model force units. Rows not in the solve
 /// (redundant ones) carry zero, as in Adams.
 pub fn element_reactions(
@@ -56,7 +57,8 @@ pub fn element_reactions(
                 | ConstraintKind::Jprim { .. }
                 | ConstraintKind::Motion { .. }
                 | ConstraintKind::Gcon { .. }
-        ) {
+        ) || linkage_model::build::point_masses::is_rotation_hold(con)
+        {
             continue;
         }
         // A general constraint acts on its I marker's part (and whatever its expression

@@ -62,7 +62,11 @@ pub struct MasslessFreedom {
 #[derive(Clone, Debug)]
 pub struct Verification {
     pub system: System,
+    /// Moving bodies: parts and point masses.
     pub moving_parts: usize,
+    /// Point masses among them (3 degrees of freedom each: their 3 held rotations are among
+    /// `rows`, as a rotation hold each).
+    pub point_masses: usize,
     /// Parts with zero mass.
     pub massless_parts: Vec<usize>,
     /// Constraint elements counted by description (`Revolute Joint` → 2), in first-seen order.
@@ -396,6 +400,9 @@ fn analyse(
     let massless_free = massless_freedom(model, &sys, &state, &massless_parts, length, tol);
     let mut counts: Vec<(String, usize)> = Vec::new();
     for c in &model.constraints {
+        if linkage_model::build::point_masses::is_rotation_hold(c) {
+            continue;
+        }
         let d = c.description();
         match counts.iter_mut().find(|(k, _)| *k == d) {
             Some((_, n)) => *n += 1,
@@ -404,6 +411,7 @@ fn analyse(
     }
     Verification {
         moving_parts: n,
+        point_masses: model.parts.iter().filter(|p| p.point_mass).count(),
         massless_parts,
         counts,
         rows,

@@ -97,6 +97,9 @@ pub enum IntegrationError {
     /// A force element cannot be evaluated.
     #[error(transparent)]
     Force(#[from] ForceError),
+    /// A SENSOR's FUNCTION or EVALUATE cannot be evaluated.
+    #[error("{sensor}: the sensor cannot be evaluated: {cause}")]
+    Sensor { sensor: String, cause: String },
     /// A redundant row removed as consistent no longer holds (Adams: "consistent redundant
     /// constraint that becomes inconsistent"); `residual` in the row's report unit.
     #[error(

@@ -34,7 +34,8 @@
 //! iteration and workspace), `stepper.rs` (either behind one interface), `output.rs` (the consistent-output solve,
 //! shared with the kinematic run), `simulate.rs` (step-size
 //! control, outputs), `redundant.rs` (redundant-row checks), `results.rs` and `error.rs` (what a
-//! run returns), `run.rs` (the dataset-level run).
+//! run returns), `run.rs` (the dataset-level run), `sensors.rs` (SENSOR evaluation, event
+//! location by re-stepping, actions).
 //!
 //! Cost: [`Integrator`] holds every buffer a step needs (MuJoCo's "model read-only, data
 //! preallocated"): a step allocates nothing once the iteration matrix's sparsity pattern is
@@ -56,6 +57,7 @@ mod problem;
 mod redundant;
 mod results;
 mod run;
+mod sensors;
 mod simulate;
 mod stepper;
 
@@ -71,5 +73,6 @@ pub use run::{
     run, run_from, run_streamed, DynamicRun, RunError, RunProgress, Start, StartingEquilibrium,
     Stream, UnstableStart,
 };
+pub use sensors::{SensorEvent, SensorStop};
 pub use simulate::{simulate, simulate_with, AfterOutput};
 pub use stepper::Stepper;

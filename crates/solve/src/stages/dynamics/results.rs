@@ -41,6 +41,10 @@ pub struct Simulation {
     pub factorisations: usize,
     /// The model has no degrees of freedom: it was run kinematically.
     pub kinematic: bool,
+    /// The sensors that fired, in time order.
+    pub sensor_events: Vec<super::sensors::SensorEvent>,
+    /// A sensor's HALT or RETURN ended the run (complete, not failed) at the last event.
+    pub stopped_by_sensor: Option<super::sensors::SensorStop>,
 }
 
 impl Simulation {
@@ -55,6 +59,8 @@ impl Simulation {
             newton_iterations: 0,
             factorisations: 0,
             kinematic,
+            sensor_events: Vec::new(),
+            stopped_by_sensor: None,
         }
     }
 }

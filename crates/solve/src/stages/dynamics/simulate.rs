@@ -1,12 +1,14 @@
 //! The simulate loop: step-size control on the local error estimate, output times hit exactly,
-//! consistent outputs, redundant rows checked after every step. A model without degrees of
-//! freedom is handed to the kinematic run.
+//! consistent outputs, redundant rows checked after every step, sensors evaluated after every
+//! step ([`super::sensors`]). A model without degrees of freedom is handed to the kinematic
+//! run.
 
 use super::error::IntegrationError;
 use super::output::Output;
 use super::problem::Problem;
 use super::redundant::{redundant_tolerance, redundant_violation};
 use super::results::{Failure, Simulation};
+use super::sensors::SensorWatch;
 use super::stepper::Stepper;
 use crate::state::State;
 use crate::tolerances::{
@@ -104,6 +106,12 @@ pub fn simulate_with(
         }
     };
     let mut next_output = 0;
+    // Sensors (not while settling at a frozen time), armed at the start.
+    let mut sensors = SensorWatch::new(p.model).filter(|_| p.frozen_time.is_none());
+    if let Some(Err(e)) = sensors.as_mut().map(|w| w.start(p.model, &first)) {
+        sim.failure = Some(Failure::new(start.time, e));
+        return sim;
+    }
     if times
         .first()
         .is_some_and(|t| (*t - start.time).abs() <= OUTPUT_AT_START * t_end.abs().max(1.0))
@@ -216,6 +224,45 @@ pub fn simulate_with(
                         .min(hmax)
                         .max(settings.hmin),
                 );
+                // Sensors: an event inside the step continues the run from its time.
+                if let Some(w) = sensors.as_mut() {
+                    match w.after_step(p, &mut integ, settings, span) {
+                        Ok(None) => {}
+                        Ok(Some(fired)) => {
+                            sim.sensor_events.extend(fired.events);
+                            let at = fired.output.time;
+                            if fired.stop.is_some() {
+                                sim.stopped_by_sensor = fired.stop;
+                                let _ = on_output(fired.output);
+                                return sim;
+                            }
+                            let printed = fired.print && (fired.before_step_end || !hit);
+                            if printed && on_output(fired.output.clone()) == AfterOutput::Stop {
+                                return sim;
+                            }
+                            h = fired.step.map_or(h, |x| x.min(hmax));
+                            if fired.restart || fired.before_step_end {
+                                match Stepper::new(
+                                    p,
+                                    &fired.output.state,
+                                    &fired.output.velocities,
+                                    settings,
+                                ) {
+                                    Ok((restarted, _)) => integ = restarted,
+                                    Err(e) => {
+                                        sim.failure = Some(Failure::new(at, e));
+                                        return sim;
+                                    }
+                                }
+                                continue;
+                            }
+                        }
+                        Err(e) => {
+                            sim.failure = Some(Failure::new(now, e));
+                            return sim;
+                        }
+                    }
+                }
                 if hit {
                     match integ.output() {
                         Ok(o) => {
