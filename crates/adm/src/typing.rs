@@ -1039,6 +1039,7 @@ impl Typer {
 }
 
 mod forces;
+pub mod graphics;
 
 #[cfg(test)]
 mod tests;
