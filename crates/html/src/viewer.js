@@ -62,7 +62,7 @@
   var centre = mul(add(lo, hi), 0.5);
   var radius = Math.max(Math.sqrt(dot(sub(hi, lo), sub(hi, lo))) * 0.5, 1e-9);
   var up = unit(S.up), e1 = unit(S.across), e2 = cross(up, e1);
-  var yaw = 0.35, pitch = 0.3, dist = radius * 3.2;
+  var yaw = 0.35, pitch = 0.3, dist = radius * 2.3;
 
   function camera() {
     var d = add(mul(add(mul(e1, Math.cos(yaw)), mul(e2, Math.sin(yaw))), Math.cos(pitch)),
