@@ -102,7 +102,7 @@ impl History {
         let (seen, kept) = self.counts();
         (kept < seen).then(|| {
             format!(
-                "{kept} of {seen} outputs are plotted and animated (every {}-th output and the last).",
+                "{kept} of {seen} outputs are plotted and animated (one in {}, and the last).",
                 self.stride
             )
         })

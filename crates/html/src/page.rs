@@ -189,7 +189,7 @@ pub fn render(page: &Page) -> String {
         if shown < total {
             let _ = write!(
                 s,
-                " {}: {shown} of {total} outputs shown (every {}th).",
+                " {}: {shown} of {total} frames shown (one in {}).",
                 escape(&a.label),
                 svg::stride(total, MAX_FRAMES)
             );

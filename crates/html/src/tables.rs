@@ -141,6 +141,11 @@ fn list_table(
             }
         }
     }
+    // The name first (JSON objects come with their keys sorted).
+    if let Some(k) = columns.iter().position(|c| c.as_str() == "name") {
+        let name = columns.remove(k);
+        columns.insert(0, name);
+    }
     let level = level.min(4);
     let shown = rows.len().min(MAX_ROWS);
     let _ = write!(s, "<h{level}>{} ({} rows", escape(title), rows.len());
