@@ -199,9 +199,16 @@ pub fn run_static(args: &StaticArgs) -> ExitCode {
                 page.plots = plots;
             }
             (None, _) => {
-                // One equilibrium: from the input configuration to it.
+                // One equilibrium: from the input configuration to it, and the largest force
+                // imbalance of each Newton iteration.
                 let input = linkage_solve::state::State::input(&loaded.model);
                 let eq = result.steps.last().and_then(|(_, e)| e.as_ref().ok());
+                if let Some(e) = eq.filter(|e| !e.imbalance_history.is_empty()) {
+                    page.plots.push(linkage_html::series::imbalance_plot(
+                        &loaded.model,
+                        &e.imbalance_history,
+                    ));
+                }
                 let states: Vec<&linkage_solve::state::State> = std::iter::once(&input)
                     .chain(eq.map(|e| &e.state))
                     .collect();

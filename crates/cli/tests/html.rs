@@ -143,6 +143,26 @@ fn ic_static_series_and_linear_pages_are_written() {
         !counts.is_empty() && counts.iter().all(|&n| n == 5),
         "{counts:?}"
     );
+    // One equilibrium by Newton: the imbalance of every iteration (5 iterations, so 6
+    // residuals: the start and after each correction) on a log scale, falling.
+    let offset = root().join("mechanisms/pendulum_offset.adm");
+    let eq = dir.join("equilibrium.html");
+    let (code, v) = json(&["static", offset.to_str().unwrap(), "--format", "json"]);
+    assert_eq!(code, 0, "{v}");
+    let iterations = v["iterations"].as_u64().unwrap() as usize;
+    assert_eq!(
+        run(&[
+            "static",
+            offset.to_str().unwrap(),
+            "--html",
+            eq.to_str().unwrap()
+        ])
+        .0,
+        0
+    );
+    let html = read(&eq);
+    assert!(html.contains("largest imbalance per Newton iteration"));
+    assert_eq!(polyline_points(&html), [iterations + 1]);
     let pendulum = root().join("mechanisms/pendulum.adm");
     let lin = dir.join("linear.html");
     let (code, out, err) = run(&[

@@ -99,6 +99,26 @@ pub fn statics_series(model: &Model, j: &StaticJson) -> (Option<Frames>, Vec<Plo
     (Some(frames), plots)
 }
 
+/// The largest force imbalance of each Newton iteration of a static solve, as its base-10
+/// logarithm (the imbalance falls by orders of magnitude; an exact zero is left out).
+pub fn imbalance_plot(model: &Model, history: &[f64]) -> Plot {
+    let u = units_json(model, Angle::Degree, false);
+    Plot {
+        title: "Static equilibrium: largest imbalance per Newton iteration".into(),
+        x_label: "iteration".into(),
+        y_label: format!("log10 imbalance [{}]", u.force),
+        series: vec![Series {
+            name: "log10 max |imbalance|".into(),
+            points: history
+                .iter()
+                .enumerate()
+                .filter(|(_, v)| **v > 0.0)
+                .map(|(k, v)| (k as f64, v.log10()))
+                .collect(),
+        }],
+    }
+}
+
 /// One cycle of a mode shape about the operating point `base` (each moving part's CM
 /// position and orientation): part k at phase `ωt` is displaced by
 /// `s·Σ_c m_c cos(ωt + φ_c)` along ground axis c and turned by the rotation vector built the
