@@ -409,3 +409,71 @@ fn the_page_runs_in_a_browser_and_its_3d_view_draws_the_mechanism() {
         "the screenshot is not uniform"
     );
 }
+
+#[test]
+fn a_graphic_on_an_unknown_marker_is_a_warning_and_changes_no_result() {
+    let dir = scratch("bad-graphic");
+    let text = read(&root().join("examples/fourbar.adm")).replace(", CM = 304", ", CM = 9304");
+    let bad = dir.join("bad.adm");
+    std::fs::write(&bad, &text).unwrap();
+    let line = text
+        .lines()
+        .position(|l| l.contains("CM = 9304"))
+        .expect("the edited line")
+        + 1;
+    let (code, out, err) = run(&["verify", bad.to_str().unwrap()]);
+    assert_eq!(code, 0, "{out}{err}");
+    let all = format!("{out}{err}");
+    assert!(
+        all.contains(&format!(
+            "bad.adm:{line}:8: warning: GRAPHICS/3 refers to MARKER/9304"
+        )),
+        "{all}"
+    );
+    // The same run as the bundled example: the crank ends at 90°.
+    let (code, v) = json(&[
+        "simulate",
+        bad.to_str().unwrap(),
+        "--end",
+        "1",
+        "--steps",
+        "10",
+        "--format",
+        "json",
+    ]);
+    assert_eq!(code, 0, "{v}");
+    let crank = &v["final_state"][0];
+    assert!(
+        (crank["reuler"][0].as_f64().unwrap() - 90.0).abs() < 1e-9,
+        "{crank}"
+    );
+}
+
+#[test]
+fn corpus_graphics_are_all_drawn() {
+    let Some(corpus) = corpus() else {
+        return;
+    };
+    // A two-robot formation: 118 GRAPHICS (1 BOX, 108 EXTERNAL, 9 dynamic FORCE graphics);
+    // every one is typed and attached, none is warned about.
+    let model = corpus.join(
+        "baqumau__Mechatronics-baqumau__Robotics__Mobile_Robots__3WD_OMR_Formations__\
+         Dynamics_and_Control-ADAMS_and_MATLAB__twoRobotsPlant_1_v2020.adm",
+    );
+    let dir = scratch("corpus");
+    let page = dir.join("robots.html");
+    let (_, out, err) = run(&[
+        "verify",
+        model.to_str().unwrap(),
+        "--html",
+        page.to_str().unwrap(),
+    ]);
+    assert!(!format!("{out}{err}").contains("GRAPHICS"), "{out}{err}");
+    let html = read(&page);
+    assert_self_contained(&html);
+    // Each EXTERNAL is its marker's triad (its x axis in red), the box a solid of 12
+    // triangles.
+    assert_eq!(html.matches("\"c\":[220,40,40]").count(), 108);
+    assert!(html.contains("\"n\":\"BOX_360\""));
+    assert!(html.contains("EXTERNAL geometry drawn as its marker's triad"));
+}
