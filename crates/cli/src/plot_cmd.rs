@@ -114,7 +114,7 @@ fn ranges(series: &Series, picked: &[usize]) -> ((f64, f64), (f64, f64)) {
         }
     }
     let widen = |(lo, hi): (f64, f64)| {
-        if !(lo <= hi) {
+        if lo > hi {
             (0.0, 1.0)
         } else if hi - lo <= 1e-12 * lo.abs().max(hi.abs()) {
             let pad = lo.abs().max(1.0) * 0.05;

@@ -167,7 +167,7 @@ fn csv_series(
         let key = if matches!(component, "fx" | "fy" | "fz") {
             format!("{group}: reaction force on I")
         } else if group.contains("REQUEST_") {
-            format!("{group}")
+            group.to_string()
         } else {
             format!("{group}: CM position")
         };

@@ -69,7 +69,7 @@ impl History {
             requests: requests.to_vec(),
         };
         let poses: Vec<_> = o.state.poses.iter().map(|p| (p.p, p.r)).collect();
-        if self.seen % self.stride == 0 {
+        if self.seen.is_multiple_of(self.stride) {
             self.keep(row, poses);
             self.pending = None;
         } else {

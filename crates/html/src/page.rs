@@ -223,9 +223,9 @@ pub fn render(page: &Page) -> String {
     }
     s.push_str("<h2>Report</h2>");
     s.push_str(&crate::tables::report_tables(&page.report));
-    let _ = write!(
+    let _ = writeln!(
         s,
-        "<script type=\"application/json\" id=\"scene-data\">{}</script><script>{}</script></body></html>\n",
+        "<script type=\"application/json\" id=\"scene-data\">{}</script><script>{}</script></body></html>",
         scene_json(page),
         include_str!("viewer.js")
     );

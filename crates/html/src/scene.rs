@@ -288,9 +288,10 @@ fn joint_mesh(kind: JointType, size: f64) -> Mesh {
         ),
         JointType::Universal | JointType::Hooke | JointType::Convel => {
             let mut m = pin(size);
-            m.append(
-                &pin(size).transformed(DVec3::ZERO, DMat3::from_rotation_x(1.5707963267948966)),
-            );
+            m.append(&pin(size).transformed(
+                DVec3::ZERO,
+                DMat3::from_rotation_x(std::f64::consts::FRAC_PI_2),
+            ));
             m
         }
     }
@@ -365,7 +366,7 @@ mod tests {
         }
         assert_eq!(s.externals.len(), 1);
         assert!(
-            s.externals[0].to_ascii_lowercase() == "graphics_6: part.xmt_txt",
+            s.externals[0].eq_ignore_ascii_case("graphics_6: part.xmt_txt"),
             "{:?}",
             s.externals
         );

@@ -39,8 +39,8 @@ pub struct Plot {
 pub fn thin<T: Copy>(points: &[T], max: usize) -> Vec<T> {
     let stride = stride(points.len(), max);
     let mut out: Vec<T> = points.iter().step_by(stride).copied().collect();
-    if (points.len() - 1) % stride != 0 {
-        if let Some(last) = points.last() {
+    if let Some(last) = points.last() {
+        if !(points.len() - 1).is_multiple_of(stride) {
             out.push(*last);
         }
     }
@@ -100,7 +100,8 @@ pub fn svg(plot: &Plot) -> String {
         y0 = y0.min(*y);
         y1 = y1.max(*y);
     }
-    if !(x0 <= x1) {
+    // No finite point: a unit frame.
+    if x0 > x1 {
         (x0, x1, y0, y1) = (0.0, 1.0, 0.0, 1.0);
     }
     if x1 - x0 <= 0.0 {
@@ -234,6 +235,12 @@ mod tests {
         // x from 0 to 2 maps onto the plot's width.
         assert!(s.contains(&format!("{:.2},", LEFT)), "{s}");
         assert!(s.contains(&format!("{:.2},", WIDTH - RIGHT)), "{s}");
+    }
+
+    #[test]
+    fn thinning_nothing_gives_nothing() {
+        assert!(thin::<f64>(&[], MAX_POINTS).is_empty());
+        assert_eq!(thin(&[1, 2, 3], 2), [1, 3]);
     }
 
     #[test]
