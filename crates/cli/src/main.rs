@@ -221,6 +221,10 @@ enum Command {
         /// the outputs up to there are written, and the run fails (exit 1) saying so.
         #[arg(long, value_name = "SECONDS")]
         time_limit: Option<f64>,
+        /// With --html: plot these columns (one plot each: PART.x|y|z|vx|vy|vz,
+        /// ELEMENT.fx|fy|fz, REQUEST columns) instead of the default plots.
+        #[arg(long, value_name = "COLUMN", value_delimiter = ',', requires = "html")]
+        plot: Vec<String>,
     },
     /// Plot columns of a time history (CSV written by `simulate --out`, or a .req file)
     /// against time, as SVG or PNG (by the extension of --out).
@@ -390,6 +394,7 @@ fn main() -> ExitCode {
             time_limit,
             deactivate,
             html,
+            plot,
         } => simulate_cmd::run_simulate(&simulate_cmd::SimulateArgs {
             model: &model,
             format,
@@ -406,6 +411,7 @@ fn main() -> ExitCode {
             time_limit,
             deactivate: &deactivate,
             html: html.as_deref(),
+            plot: &plot,
         }),
         Command::Static {
             model,

@@ -36,6 +36,8 @@ pub struct SimulateArgs<'a> {
     pub deactivate: &'a [String],
     /// Where to write the HTML page (`--html`).
     pub html: Option<&'a Path>,
+    /// The columns the page plots (`--plot`; empty: the default plots).
+    pub plot: &'a [String],
 }
 
 /// The most integration steps an HMAX may imply (about a day of computing for a small model).
@@ -174,11 +176,15 @@ pub fn run_simulate(args: &SimulateArgs) -> ExitCode {
     };
     // The page keeps every k-th output (bounded memory) with its REQUEST values.
     let page_requests = requests.as_ref().filter(|r| !r.is_empty());
+    let request_columns = page_requests.map(RequestSet::columns).unwrap_or_default();
+    if let Err(e) = linkage_html::history::check_columns(&loaded.model, &request_columns, args.plot)
+    {
+        eprintln!("error: {e}");
+        return ExitCode::from(2);
+    }
     let mut history = args.html.map(|_| {
-        linkage_html::history::History::new(
-            times.len(),
-            page_requests.map(RequestSet::columns).unwrap_or_default(),
-        )
+        linkage_html::history::History::new(times.len(), request_columns.clone())
+            .with_columns(args.plot.to_vec())
     });
     let mut write_error: Option<String> = None;
     let mut on_output = |o: &Output| {

@@ -477,3 +477,40 @@ fn corpus_graphics_are_all_drawn() {
     assert!(html.contains("\"n\":\"BOX_360\""));
     assert!(html.contains("EXTERNAL geometry drawn as its marker's triad"));
 }
+
+#[test]
+fn plot_picks_the_columns_of_a_simulate_page() {
+    let dir = scratch("pick");
+    let page = dir.join("picked.html");
+    let (code, _, err) = run(&[
+        "simulate",
+        &example(),
+        "--end",
+        "1",
+        "--steps",
+        "20",
+        "--html",
+        page.to_str().unwrap(),
+        "--plot",
+        "crank.x,crank_pivot.fy",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let html = read(&page);
+    assert!(
+        html.contains("class=\"pt\">crank.x<") && html.contains("class=\"pt\">crank_pivot.fy<")
+    );
+    assert_eq!(polyline_points(&html), [21, 21]);
+    // An unknown column is an input error before the run.
+    let (code, _, err) = run(&[
+        "simulate",
+        &example(),
+        "--end",
+        "1",
+        "--html",
+        page.to_str().unwrap(),
+        "--plot",
+        "crank.q",
+    ]);
+    assert_eq!(code, 2);
+    assert!(err.contains("--plot crank.q: no such column"), "{err}");
+}

@@ -37,6 +37,56 @@ pub struct History {
     rows: Vec<Row>,
     pub frames: Frames,
     request_names: Vec<String>,
+    /// Columns picked for plotting (`--plot`); empty: the default plots.
+    picked: Vec<String>,
+}
+
+/// A column of the time history, as the CSV names it (without its unit).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Column {
+    Position(usize, usize),
+    Velocity(usize, usize),
+    Force(usize, usize),
+    Request(usize),
+}
+
+/// The column `name` stands for: `PART.x|y|z|vx|vy|vz`, `ELEMENT.fx|fy|fz`, or a REQUEST
+/// column of `requests`.
+fn column(model: &Model, requests: &[String], name: &str) -> Option<Column> {
+    if let Some(k) = requests.iter().position(|r| r == name) {
+        return Some(Column::Request(k));
+    }
+    let (owner, component) = name.rsplit_once('.')?;
+    let axis = |c: &str| ["x", "y", "z"].iter().position(|a| *a == c);
+    if let Some(k) = model.parts.iter().position(|p| p.origin.name == owner) {
+        if let Some(a) = axis(component) {
+            return Some(Column::Position(k, a));
+        }
+        return component
+            .strip_prefix('v')
+            .and_then(axis)
+            .map(|a| Column::Velocity(k, a));
+    }
+    let e = model
+        .constraints
+        .iter()
+        .position(|c| c.origin.name == owner)?;
+    component
+        .strip_prefix('f')
+        .and_then(axis)
+        .map(|a| Column::Force(e, a))
+}
+
+/// Checks the `--plot` names against the columns a run of `model` writes: the first unknown
+/// one is the error.
+pub fn check_columns(model: &Model, requests: &[String], names: &[String]) -> Result<(), String> {
+    match names.iter().find(|n| column(model, requests, n).is_none()) {
+        Some(n) => Err(format!(
+            "--plot {n}: no such column (PART.x|y|z|vx|vy|vz, ELEMENT.fx|fy|fz or a REQUEST \
+             column such as REQUEST_1.x)"
+        )),
+        None => Ok(()),
+    }
 }
 
 impl History {
@@ -52,7 +102,14 @@ impl History {
                 ..Frames::default()
             },
             request_names,
+            picked: Vec::new(),
         }
+    }
+
+    /// Plots these columns (one plot each) instead of the default plots.
+    pub fn with_columns(mut self, names: Vec<String>) -> History {
+        self.picked = names;
+        self
     }
 
     /// Records an output of the run (kept when its number is a multiple of the stride).
@@ -111,6 +168,9 @@ impl History {
     /// Position and velocity plots of the first parts, reaction-force plots of the first
     /// elements, and one plot per REQUEST (its columns grouped by the name before the dot).
     pub fn plots(&self, model: &Model) -> Vec<Plot> {
+        if !self.picked.is_empty() {
+            return self.picked_plots(model);
+        }
         let u = units_json(model, Angle::Degree, false);
         let mut plots = Vec::new();
         let xyz = |label: &str| ["x", "y", "z"].map(|c| format!("{label}{c}"));
@@ -161,6 +221,49 @@ impl History {
         }
         plots.extend(self.request_plots(&x_label));
         plots
+    }
+
+    /// One plot per picked column (unknown names, refused by [`check_columns`], are
+    /// skipped).
+    fn picked_plots(&self, model: &Model) -> Vec<Plot> {
+        let u = units_json(model, Angle::Degree, false);
+        self.picked
+            .iter()
+            .filter_map(|name| {
+                let c = column(model, &self.request_names, name)?;
+                let (y_label, value): (String, Box<dyn Fn(&Row) -> Option<f64>>) = match c {
+                    Column::Position(k, a) => (
+                        format!("position [{}]", u.length),
+                        Box::new(move |r: &Row| r.positions.get(k).map(|v| v[a])),
+                    ),
+                    Column::Velocity(k, a) => (
+                        format!("velocity [{}]", u.velocity),
+                        Box::new(move |r: &Row| r.velocities.get(k).map(|v| v[a])),
+                    ),
+                    Column::Force(e, a) => (
+                        format!("force [{}]", u.force),
+                        Box::new(move |r: &Row| r.forces.iter().find(|f| f.0 == e).map(|f| f.1[a])),
+                    ),
+                    Column::Request(k) => (
+                        "value".into(),
+                        Box::new(move |r: &Row| r.requests.get(k).copied()),
+                    ),
+                };
+                Some(Plot {
+                    title: name.clone(),
+                    x_label: format!("time [{}]", u.time),
+                    y_label,
+                    series: vec![Series {
+                        name: name.clone(),
+                        points: self
+                            .rows
+                            .iter()
+                            .filter_map(|r| value(r).map(|v| (r.time, v)))
+                            .collect(),
+                    }],
+                })
+            })
+            .collect()
     }
 
     fn request_plots(&self, x_label: &str) -> Vec<Plot> {
