@@ -50,6 +50,18 @@ enum Column {
     Request(usize),
 }
 
+impl Column {
+    /// The column's value in a kept output.
+    fn value(self, r: &Row) -> Option<f64> {
+        match self {
+            Column::Position(k, a) => r.positions.get(k).map(|v| v[a]),
+            Column::Velocity(k, a) => r.velocities.get(k).map(|v| v[a]),
+            Column::Force(e, a) => r.forces.iter().find(|f| f.0 == e).map(|f| f.1[a]),
+            Column::Request(k) => r.requests.get(k).copied(),
+        }
+    }
+}
+
 /// The column `name` stands for: `PART.x|y|z|vx|vy|vz`, `ELEMENT.fx|fy|fz`, or a REQUEST
 /// column of `requests`.
 fn column(model: &Model, requests: &[String], name: &str) -> Option<Column> {
@@ -231,23 +243,11 @@ impl History {
             .iter()
             .filter_map(|name| {
                 let c = column(model, &self.request_names, name)?;
-                let (y_label, value): (String, Box<dyn Fn(&Row) -> Option<f64>>) = match c {
-                    Column::Position(k, a) => (
-                        format!("position [{}]", u.length),
-                        Box::new(move |r: &Row| r.positions.get(k).map(|v| v[a])),
-                    ),
-                    Column::Velocity(k, a) => (
-                        format!("velocity [{}]", u.velocity),
-                        Box::new(move |r: &Row| r.velocities.get(k).map(|v| v[a])),
-                    ),
-                    Column::Force(e, a) => (
-                        format!("force [{}]", u.force),
-                        Box::new(move |r: &Row| r.forces.iter().find(|f| f.0 == e).map(|f| f.1[a])),
-                    ),
-                    Column::Request(k) => (
-                        "value".into(),
-                        Box::new(move |r: &Row| r.requests.get(k).copied()),
-                    ),
+                let y_label = match c {
+                    Column::Position(..) => format!("position [{}]", u.length),
+                    Column::Velocity(..) => format!("velocity [{}]", u.velocity),
+                    Column::Force(..) => format!("force [{}]", u.force),
+                    Column::Request(_) => "value".into(),
                 };
                 Some(Plot {
                     title: name.clone(),
@@ -258,7 +258,7 @@ impl History {
                         points: self
                             .rows
                             .iter()
-                            .filter_map(|r| value(r).map(|v| (r.time, v)))
+                            .filter_map(|r| c.value(r).map(|v| (r.time, v)))
                             .collect(),
                     }],
                 })
