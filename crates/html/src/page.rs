@@ -17,6 +17,15 @@ use std::fmt::Write;
 /// Most animation frames kept in a page; longer runs are thinned ([`crate::svg::thin`]).
 pub const MAX_FRAMES: usize = 400;
 
+/// Most pose numbers (7 per part per frame) an animation puts in a page: a model of many
+/// parts gets fewer frames (at least 2), so that the page stays tens of megabytes.
+pub const MAX_POSE_VALUES: usize = 3_000_000;
+
+/// The frames an animation of `parts` moving parts keeps at most.
+pub fn frame_budget(parts: usize) -> usize {
+    (MAX_POSE_VALUES / (7 * parts.max(1))).clamp(2, MAX_FRAMES)
+}
+
 /// Everything a page shows.
 #[derive(Clone, Debug, Default)]
 pub struct Page {
@@ -32,6 +41,34 @@ pub struct Page {
     pub plots: Vec<Plot>,
     /// Sentences shown under the view and the plots (what was thinned, and how).
     pub notes: Vec<String>,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn many_parts_get_fewer_frames() {
+        assert_eq!(frame_budget(3), MAX_FRAMES);
+        // 20,001 parts: 3e6 / 140007 = 21 frames (about 3 million numbers).
+        assert_eq!(frame_budget(20_001), 21);
+        assert_eq!(frame_budget(1_000_000), 2);
+    }
+
+    #[test]
+    fn a_page_refers_to_nothing_outside_it() {
+        let html = render(&Page {
+            analysis: "verify".into(),
+            report: serde_json::json!({"title": "</script><script>alert(1)</script>"}),
+            ..Page::default()
+        });
+        for bad in ["http://", "https://", " src=", "<link"] {
+            assert!(!html.contains(bad), "{bad}");
+        }
+        // The title is text, not markup.
+        assert!(!html.contains("<script>alert(1)"));
+        assert_eq!(html.matches("<script").count(), 3);
+    }
 }
 
 #[derive(Serialize)]
@@ -108,7 +145,8 @@ fn scene_json(page: &Page) -> String {
         .animations
         .iter()
         .map(|a| {
-            let index: Vec<usize> = svg::thin(&(0..a.times.len()).collect::<Vec<_>>(), MAX_FRAMES);
+            let budget = frame_budget(page.scene.parts.len());
+            let index: Vec<usize> = svg::thin(&(0..a.times.len()).collect::<Vec<_>>(), budget);
             AnimJson {
                 label: &a.label,
                 times: index.iter().map(|&k| a.times[k]).collect(),
@@ -183,15 +221,15 @@ pub fn render(page: &Page) -> String {
         s.push_str("</select>");
     }
     s.push_str("</div><p class=\"note\">Drag to orbit, wheel to zoom.");
+    let budget = frame_budget(page.scene.parts.len());
     for a in &page.animations {
         let total = a.total.max(a.times.len());
-        let shown = svg::thin(&(0..a.times.len()).collect::<Vec<_>>(), MAX_FRAMES).len();
+        let shown = svg::thin(&(0..a.times.len()).collect::<Vec<_>>(), budget).len();
         if shown < total {
             let _ = write!(
                 s,
-                " {}: {shown} of {total} frames shown (one in {}).",
-                escape(&a.label),
-                svg::stride(total, MAX_FRAMES)
+                " {}: {shown} of {total} outputs animated.",
+                escape(&a.label)
             );
         }
     }

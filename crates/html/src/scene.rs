@@ -31,6 +31,11 @@ pub const AXIS_COLOURS: [[u8; 3]; 3] = [[220, 40, 40], [40, 170, 40], [40, 70, 2
 /// Size of joint symbols and default triads, relative to the model's characteristic length.
 pub const SYMBOL_SCALE: f64 = 0.025;
 
+/// Above this many moving parts, parts without GRAPHICS are drawn as lines only, and above
+/// this many joints a joint is a short line along its z axis: a page of a 20,000-part chain
+/// stays tens of megabytes, not hundreds.
+pub const SOLID_SYMBOLS_LIMIT: usize = 500;
+
 /// One drawable: a mesh on a body (`None`: ground), or with one body per vertex.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Item {
@@ -206,9 +211,16 @@ fn stick_figures(model: &Model, drawn: &[bool], size: f64, items: &mut Vec<Item>
         if drawn[k] {
             continue;
         }
-        let mut m = mesh::ellipsoid([size * 1.5; 3], 10);
+        let light = model.parts.len() > SOLID_SYMBOLS_LIMIT;
+        let mut m = if light {
+            Mesh::default()
+        } else {
+            mesh::ellipsoid([size * 1.5; 3], 10)
+        };
         for mk in model.markers.iter().filter(|mk| mk.body == Body::Part(k)) {
-            if mk.p_bm.length() > 0.0 {
+            if light {
+                m.append(&mesh::polyline(&[DVec3::ZERO, mk.p_bm]));
+            } else if mk.p_bm.length() > 0.0 {
                 m.append(&mesh::link(
                     DVec3::ZERO,
                     mk.p_bm,
@@ -233,8 +245,13 @@ fn stick_figures(model: &Model, drawn: &[bool], size: f64, items: &mut Vec<Item>
 /// point joints, a cube for a fixed joint, a plate for a planar joint, crossed pins for a
 /// universal joint.
 fn joint_symbols(model: &Model, highlight: &[String], size: f64, s: &mut Scene) {
+    let light = model.constraints.len() > SOLID_SYMBOLS_LIMIT;
     for c in &model.constraints {
         let (shape, i) = match &c.kind {
+            ConstraintKind::Joint { i, .. } | ConstraintKind::Jprim { i, .. } if light => (
+                mesh::polyline(&[DVec3::new(0.0, 0.0, -size), DVec3::new(0.0, 0.0, size)]),
+                *i,
+            ),
             ConstraintKind::Joint { kind, i, .. } => (joint_mesh(*kind, size), *i),
             ConstraintKind::Jprim { kind, i, .. } => (jprim_mesh(*kind, size), *i),
             _ => continue,
