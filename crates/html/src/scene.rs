@@ -207,6 +207,15 @@ pub fn scene(model: &Model, highlight: &[String]) -> Scene {
 /// A part without GRAPHICS: a line from its CM to each of its markers and a small ball at the
 /// CM.
 fn stick_figures(model: &Model, drawn: &[bool], size: f64, items: &mut Vec<Item>) {
+    // Each part's markers, found in one pass (O(markers), not parts × markers).
+    let mut on_part: Vec<Vec<usize>> = vec![Vec::new(); model.parts.len()];
+    for (m, mk) in model.markers.iter().enumerate() {
+        if let Body::Part(k) = mk.body {
+            if !drawn[k] {
+                on_part[k].push(m);
+            }
+        }
+    }
     for (k, part) in model.parts.iter().enumerate() {
         if drawn[k] {
             continue;
@@ -217,7 +226,7 @@ fn stick_figures(model: &Model, drawn: &[bool], size: f64, items: &mut Vec<Item>
         } else {
             mesh::ellipsoid([size * 1.5; 3], 10)
         };
-        for mk in model.markers.iter().filter(|mk| mk.body == Body::Part(k)) {
+        for mk in on_part[k].iter().map(|&m| &model.markers[m]) {
             if light {
                 m.append(&mesh::polyline(&[DVec3::ZERO, mk.p_bm]));
             } else if mk.p_bm.length() > 0.0 {
@@ -246,6 +255,7 @@ fn stick_figures(model: &Model, drawn: &[bool], size: f64, items: &mut Vec<Item>
 /// universal joint.
 fn joint_symbols(model: &Model, highlight: &[String], size: f64, s: &mut Scene) {
     let light = model.constraints.len() > SOLID_SYMBOLS_LIMIT;
+    let highlight: std::collections::HashSet<&str> = highlight.iter().map(String::as_str).collect();
     for c in &model.constraints {
         let (shape, i) = match &c.kind {
             ConstraintKind::Joint { i, .. } | ConstraintKind::Jprim { i, .. } if light => (
@@ -256,9 +266,8 @@ fn joint_symbols(model: &Model, highlight: &[String], size: f64, s: &mut Scene) 
             ConstraintKind::Jprim { kind, i, .. } => (jprim_mesh(*kind, size), *i),
             _ => continue,
         };
-        let named = highlight
-            .iter()
-            .any(|h| *h == c.origin.name || *h == c.origin.element());
+        let named = highlight.contains(c.origin.name.as_str())
+            || highlight.contains(c.origin.element().as_str());
         if named {
             s.highlighted.push(c.origin.name.clone());
         }
