@@ -1054,6 +1054,7 @@ impl Typer {
 mod forces;
 mod point_mass;
 mod sensor;
+pub mod graphics;
 
 #[cfg(test)]
 mod tests;

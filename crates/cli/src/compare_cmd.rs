@@ -72,23 +72,23 @@ enum Source {
 }
 
 /// One signal of a file.
-struct Signal {
-    name: String,
+pub(crate) struct Signal {
+    pub(crate) name: String,
     /// The request id and component it belongs to, when known.
     request: Option<(u64, String)>,
     /// Degrees, compared modulo 360.
     angle: bool,
-    values: Vec<f64>,
+    pub(crate) values: Vec<f64>,
 }
 
 /// A file's time histories, one value per signal and output time.
-struct Series {
-    file: Arc<str>,
+pub(crate) struct Series {
+    pub(crate) file: Arc<str>,
     source: Source,
-    times: Vec<f64>,
+    pub(crate) times: Vec<f64>,
     /// The line of each output time (CSV only), for messages.
     lines: Vec<u32>,
-    signals: Vec<Signal>,
+    pub(crate) signals: Vec<Signal>,
 }
 
 fn error(file: &Arc<str>, span: Option<Span>, msg: impl Into<String>) -> Diagnostics {
@@ -100,7 +100,7 @@ fn is_angle(component: &str) -> bool {
 }
 
 /// Reads a request file or a CSV (see the module doc for which).
-fn load(path: &Path) -> Result<Series, Diagnostics> {
+pub(crate) fn load(path: &Path) -> Result<Series, Diagnostics> {
     let file: Arc<str> = Arc::from(path.display().to_string());
     let ext = path
         .extension()

@@ -10,7 +10,13 @@ use linkage_solve::tolerances::Tolerances;
 use std::path::Path;
 use std::process::ExitCode;
 
-pub fn run(model: &Path, format: Format, save: Option<&Path>, deactivate: &[String]) -> ExitCode {
+pub fn run(
+    model: &Path,
+    format: Format,
+    save: Option<&Path>,
+    html: Option<&Path>,
+    deactivate: &[String],
+) -> ExitCode {
     let loaded = match load(model, deactivate, Some(Analysis::Ic)) {
         Ok(l) => l,
         Err(d) => return input_error(&d, format),
@@ -29,7 +35,20 @@ pub fn run(model: &Path, format: Format, save: Option<&Path>, deactivate: &[Stri
     if let Some(why @ NotAssembled::Inconsistent { .. }) = assembled.failure() {
         report.errors.push(why.to_string());
     }
-    let failed = assembled.failure().is_some() || !report.errors.is_empty();
+    let mut failed = assembled.failure().is_some() || !report.errors.is_empty();
+    if let Some(out) = html {
+        // The view moves from the input configuration to the assembled one.
+        let mut page = crate::html_out::page(&loaded.model, "ic", &report, &[]);
+        let states = [State::input(&loaded.model), ic.assembly.state.clone()];
+        page.animations.push(crate::html_out::frames_of_states(
+            "input → assembled, time",
+            states.iter(),
+        ));
+        if let Err(e) = crate::html_out::write(&page, out) {
+            report.errors.push(e);
+            failed = true;
+        }
+    }
     if let Some(out) = save {
         if failed {
             report.errors.push(format!(

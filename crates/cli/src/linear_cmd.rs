@@ -23,6 +23,8 @@ pub struct LinearArgs<'a> {
     pub allow_unstable: bool,
     /// Statements to leave out (`--deactivate`).
     pub deactivate: &'a [String],
+    /// Where to write the HTML page (`--html`).
+    pub html: Option<&'a Path>,
 }
 
 /// The verdict on linearizing about an unstable static equilibrium, in one line with what to
@@ -41,6 +43,9 @@ fn unstable_operating_point(run: &LinearRun) -> Option<String> {
         linkage_adm::num::sci(stiffness, 4)
     ))
 }
+
+/// Most mode shapes a page animates.
+const MODES_ANIMATED: usize = 12;
 
 pub fn run_linear(args: &LinearArgs) -> ExitCode {
     let loaded = match load(args.model, args.deactivate, Some(Analysis::Linear)) {
@@ -84,6 +89,40 @@ pub fn run_linear(args: &LinearArgs) -> ExitCode {
         crate::common::coverage_json(&loaded, Analysis::Linear);
     if !args.allow_unstable && report.errors.is_empty() {
         report.errors.extend(unstable_operating_point(&result));
+    }
+    if let Some(out) = args.html {
+        let mut page = crate::html_out::page(&loaded.model, "linear", &report, &[]);
+        // The operating point: the static equilibrium, or the assembled configuration.
+        let at = match &result.equilibrium {
+            Some(Ok(eq)) => &eq.state,
+            _ => &assembled.ic.assembly.state,
+        };
+        let base: Vec<_> = at.poses.iter().map(|p| (p.p, p.r)).collect();
+        page.animations.extend(
+            report
+                .modes
+                .iter()
+                .filter(|m| m.frequency > 0.0)
+                .take(MODES_ANIMATED)
+                .filter_map(|m| {
+                    linkage_html::series::mode_frames(&base, m, loaded.model.characteristic_length)
+                }),
+        );
+        if page.animations.is_empty() {
+            page.animations.push(crate::html_out::frames_of_states(
+                "operating point",
+                [at].into_iter(),
+            ));
+        } else {
+            page.notes.push(format!(
+                "Mode shapes of the first {} modes of nonzero frequency are animated over one \
+                 cycle, scaled to be seen (the table gives their magnitudes).",
+                page.animations.len()
+            ));
+        }
+        if let Err(e) = crate::html_out::write(&page, out) {
+            report.errors.push(e);
+        }
     }
     match args.format {
         Format::Text => print!("{}", linkage_report::linear::to_text(&report)),

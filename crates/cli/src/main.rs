@@ -9,8 +9,10 @@
 
 mod common;
 mod compare_cmd;
+mod html_out;
 mod ic_cmd;
 mod linear_cmd;
+mod plot_cmd;
 mod run_cmd;
 mod simulate_cmd;
 mod static_cmd;
@@ -45,6 +47,9 @@ enum Command {
         /// them) or an element's name; comma-separated or repeated. The report names them.
         #[arg(long, value_name = "NAME", value_delimiter = ',')]
         deactivate: Vec<String>,
+        /// Also write the report as one self-contained HTML page (tables, plots, 3-D view).
+        #[arg(long, value_name = "OUT.html")]
+        html: Option<PathBuf>,
         /// Output format.
         #[arg(long, value_enum, default_value = "text")]
         format: Format,
@@ -69,6 +74,9 @@ enum Command {
         /// them) or an element's name; comma-separated or repeated. The report names them.
         #[arg(long, value_name = "NAME", value_delimiter = ',')]
         deactivate: Vec<String>,
+        /// Also write the report as one self-contained HTML page (tables, plots, 3-D view).
+        #[arg(long, value_name = "OUT.html")]
+        html: Option<PathBuf>,
         /// Output format.
         #[arg(long, value_enum, default_value = "text")]
         format: Format,
@@ -85,6 +93,9 @@ enum Command {
         /// them) or an element's name; comma-separated or repeated. The report names them.
         #[arg(long, value_name = "NAME", value_delimiter = ',')]
         deactivate: Vec<String>,
+        /// Also write the report as one self-contained HTML page (tables, plots, 3-D view).
+        #[arg(long, value_name = "OUT.html")]
+        html: Option<PathBuf>,
         /// Output format (csv: one row per output time).
         #[arg(long, value_enum, default_value = "text")]
         format: static_cmd::StaticFormat,
@@ -119,6 +130,9 @@ enum Command {
         /// them) or an element's name; comma-separated or repeated. The report names them.
         #[arg(long, value_name = "NAME", value_delimiter = ',')]
         deactivate: Vec<String>,
+        /// Also write the report as one self-contained HTML page (tables, plots, 3-D view).
+        #[arg(long, value_name = "OUT.html")]
+        html: Option<PathBuf>,
         /// Output format.
         #[arg(long, value_enum, default_value = "text")]
         format: Format,
@@ -156,6 +170,9 @@ enum Command {
         /// them first: KEYWORD/id, a statement kind or an element's name (as for simulate).
         #[arg(long, value_name = "NAME", value_delimiter = ',')]
         deactivate: Vec<String>,
+        /// Also write the report as one self-contained HTML page (tables, plots, 3-D view).
+        #[arg(long, value_name = "OUT.html")]
+        html: Option<PathBuf>,
         /// The dataset to run, in place of the one the command file names (or for a command
         /// file that names none).
         #[arg(long, value_name = "MODEL.adm")]
@@ -169,6 +186,9 @@ enum Command {
         /// them) or an element's name; comma-separated or repeated. The report names them.
         #[arg(long, value_name = "NAME", value_delimiter = ',')]
         deactivate: Vec<String>,
+        /// Also write the report as one self-contained HTML page (tables, plots, 3-D view).
+        #[arg(long, value_name = "OUT.html")]
+        html: Option<PathBuf>,
         /// Output format of the summary.
         #[arg(long, value_enum, default_value = "text")]
         format: Format,
@@ -201,6 +221,23 @@ enum Command {
         /// the outputs up to there are written, and the run fails (exit 1) saying so.
         #[arg(long, value_name = "SECONDS")]
         time_limit: Option<f64>,
+        /// With --html: plot these columns (one plot each: PART.x|y|z|vx|vy|vz,
+        /// ELEMENT.fx|fy|fz, REQUEST columns) instead of the default plots.
+        #[arg(long, value_name = "COLUMN", value_delimiter = ',', requires = "html")]
+        plot: Vec<String>,
+    },
+    /// Plot columns of a time history (CSV written by `simulate --out`, or a .req file)
+    /// against time, as SVG or PNG (by the extension of --out).
+    Plot {
+        /// The time history (.csv or .req).
+        file: PathBuf,
+        /// The columns to plot, by name without the unit suffix (`crank.x`), or for a .req
+        /// file `ID.COMPONENT` (`3.x` … as `compare` names them); comma-separated.
+        #[arg(long, value_delimiter = ',', required = true)]
+        columns: Vec<String>,
+        /// The image to write: .svg or .png.
+        #[arg(long, value_name = "plot.svg|plot.png")]
+        out: PathBuf,
     },
     /// Compare two time histories signal by signal: request files (.req, Adams or linkage) or
     /// CSV files written by `simulate --out`, matched by request id and component or by column
@@ -226,28 +263,44 @@ enum Command {
 
 /// The input and output files of a command, for the check that no output overwrites its input.
 fn input_and_output(command: &Command) -> Vec<(&std::path::Path, &std::path::Path)> {
+    fn pairs<'a>(
+        inputs: Vec<&'a std::path::Path>,
+        outputs: Vec<Option<&'a PathBuf>>,
+    ) -> Vec<(&'a std::path::Path, &'a std::path::Path)> {
+        inputs
+            .into_iter()
+            .flat_map(|i| outputs.iter().flatten().map(move |o| (i, o.as_path())))
+            .collect()
+    }
     match command {
         Command::Verify {
-            model,
-            save: Some(out),
-            ..
-        } => model.iter().map(|m| (m.as_path(), out.as_path())).collect(),
+            model, save, html, ..
+        } => pairs(
+            model.iter().map(PathBuf::as_path).collect(),
+            vec![save.as_ref(), html.as_ref()],
+        ),
         Command::Ic {
-            model,
-            save: Some(out),
-            ..
+            model, save, html, ..
         }
         | Command::Static {
+            model, save, html, ..
+        } => pairs(vec![model.as_path()], vec![save.as_ref(), html.as_ref()]),
+        Command::Simulate {
+            model, out, html, ..
+        } => pairs(vec![model.as_path()], vec![out.as_ref(), html.as_ref()]),
+        Command::Linear { model, html, .. } => pairs(vec![model.as_path()], vec![html.as_ref()]),
+        Command::Run {
+            command_file,
             model,
-            save: Some(out),
+            html,
             ..
+        } => {
+            let mut inputs = vec![command_file.as_path()];
+            inputs.extend(model.as_deref());
+            pairs(inputs, vec![html.as_ref()])
         }
-        | Command::Simulate {
-            model,
-            out: Some(out),
-            ..
-        } => vec![(model.as_path(), out.as_path())],
-        _ => Vec::new(),
+        Command::Plot { file, out, .. } => vec![(file.as_path(), out.as_path())],
+        Command::Compare { .. } => Vec::new(),
     }
 }
 
@@ -266,12 +319,15 @@ fn main() -> ExitCode {
             out_dir,
             model,
             deactivate,
+            html,
         } => run_cmd::run(
             &command_file,
             out_dir.as_deref(),
             model.as_deref(),
             &deactivate,
+            html.as_deref(),
         ),
+        Command::Plot { file, columns, out } => plot_cmd::run(&file, &columns, &out),
         Command::Verify {
             model,
             format,
@@ -279,6 +335,7 @@ fn main() -> ExitCode {
             apply,
             save,
             deactivate,
+            html,
         } => verify_cmd::run(&verify_cmd::VerifyArgs {
             models: &model,
             format,
@@ -286,13 +343,21 @@ fn main() -> ExitCode {
             apply,
             save: save.as_deref(),
             deactivate: &deactivate,
+            html: html.as_deref(),
         }),
         Command::Ic {
             model,
             format,
             save,
             deactivate,
-        } => ic_cmd::run(&model, format, save.as_deref(), &deactivate),
+            html,
+        } => ic_cmd::run(
+            &model,
+            format,
+            save.as_deref(),
+            html.as_deref(),
+            &deactivate,
+        ),
         Command::Linear {
             model,
             format,
@@ -303,6 +368,7 @@ fn main() -> ExitCode {
             shift,
             allow_unstable,
             deactivate,
+            html,
         } => linear_cmd::run_linear(&linear_cmd::LinearArgs {
             model: &model,
             format,
@@ -313,6 +379,7 @@ fn main() -> ExitCode {
             shift,
             allow_unstable,
             deactivate: &deactivate,
+            html: html.as_deref(),
         }),
         Command::Simulate {
             model,
@@ -326,6 +393,8 @@ fn main() -> ExitCode {
             allow_unstable,
             time_limit,
             deactivate,
+            html,
+            plot,
         } => simulate_cmd::run_simulate(&simulate_cmd::SimulateArgs {
             model: &model,
             format,
@@ -341,6 +410,8 @@ fn main() -> ExitCode {
             allow_unstable,
             time_limit,
             deactivate: &deactivate,
+            html: html.as_deref(),
+            plot: &plot,
         }),
         Command::Static {
             model,
@@ -352,6 +423,7 @@ fn main() -> ExitCode {
             allow_unstable,
             time_limit,
             deactivate,
+            html,
         } => static_cmd::run_static(&static_cmd::StaticArgs {
             model: &model,
             format,
@@ -361,6 +433,7 @@ fn main() -> ExitCode {
             allow_unstable,
             time_limit,
             deactivate: &deactivate,
+            html: html.as_deref(),
         }),
         Command::Compare {
             a,

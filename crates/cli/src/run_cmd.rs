@@ -14,6 +14,7 @@ pub fn run(
     out_dir: Option<&Path>,
     model: Option<&Path>,
     deactivate: &[String],
+    html: Option<&Path>,
 ) -> ExitCode {
     let interrupt = Arc::new(AtomicBool::new(false));
     let flag = Arc::clone(&interrupt);
@@ -40,11 +41,167 @@ pub fn run(
             println!("time histories: {}", csv.display());
         }
     }
-    match error {
+    let mut code = match &error {
         None => ExitCode::SUCCESS,
         Some(e) => {
             eprintln!("error: {e}");
             ExitCode::from(e.exit_code())
         }
+    };
+    if let Some(out) = html {
+        let errors: Vec<String> = error.iter().map(|e| e.to_string()).collect();
+        match run_page(command_file, summary.as_ref(), deactivate, errors) {
+            Ok(page) => match crate::html_out::write(&page, out) {
+                Ok(()) => println!("html page: {}", out.display()),
+                Err(e) => {
+                    eprintln!("error: {e}");
+                    code = ExitCode::from(1);
+                }
+            },
+            Err(e) => {
+                eprintln!("error: no html page: {e}");
+                code = ExitCode::from(1);
+            }
+        }
     }
+    code
+}
+
+/// The page of a command-file run: the model of its dataset, animated and plotted from the
+/// time histories the run wrote (its `.csv`: `PART.x … PART.phi`, reactions, REQUESTs).
+fn run_page(
+    command_file: &Path,
+    summary: Option<&linkage_run::RunSummary>,
+    deactivate: &[String],
+    errors: Vec<String>,
+) -> Result<linkage_html::Page, String> {
+    let summary = summary.ok_or("the run stopped before it opened its dataset")?;
+    let dataset = summary
+        .dataset
+        .as_ref()
+        .ok_or("the command file names no dataset")?;
+    let loaded = crate::common::load(dataset, deactivate, None).map_err(|d| d.to_string())?;
+    let report = serde_json::json!({
+        "file": command_file.display().to_string(),
+        "title": loaded.model.title,
+        "dataset": dataset.display().to_string(),
+        "commands": summary.commands,
+        "outputs": summary.outputs,
+        "message_file": summary.msg.display().to_string(),
+        "request_file": summary.req.as_ref().map(|p| p.display().to_string()),
+        "time_histories": summary.csv.as_ref().map(|p| p.display().to_string()),
+        "units": linkage_report::units::units_json(
+            &loaded.model,
+            linkage_report::units::Angle::Degree,
+            false
+        ),
+        "errors": errors,
+    });
+    let mut page = crate::html_out::page(&loaded.model, "run", &report, &[]);
+    let history = match &summary.csv {
+        Some(csv) if summary.outputs > 0 => {
+            Some(crate::compare_cmd::load(csv).map_err(|d| d.to_string())?)
+        }
+        _ => None,
+    };
+    if let Some(h) = history {
+        let (frames, plots) = csv_series(&loaded.model, &h);
+        page.animations.push(frames);
+        page.plots = plots;
+    }
+    Ok(page)
+}
+
+/// Frames (each part's `x y z` and 3-1-3 angles in degrees) and plots (each part's
+/// position, each element's reaction force, each REQUEST's columns) from a time-history CSV.
+fn csv_series(
+    model: &linkage_model::Model,
+    h: &crate::compare_cmd::Series,
+) -> (linkage_html::scene::Frames, Vec<linkage_html::svg::Plot>) {
+    use linkage_html::svg::{Plot, Series};
+    let column = |name: &str| h.signals.iter().find(|s| s.name == name);
+    let mut frames = linkage_html::scene::Frames {
+        label: "time".into(),
+        total: h.times.len(),
+        ..Default::default()
+    };
+    let part_columns: Vec<Option<[&crate::compare_cmd::Signal; 6]>> = model
+        .parts
+        .iter()
+        .map(|p| {
+            let n = &p.origin.name;
+            let c = ["x", "y", "z", "psi", "theta", "phi"].map(|c| column(&format!("{n}.{c}")));
+            c.iter()
+                .all(Option::is_some)
+                .then(|| c.map(|s| s.expect("checked")))
+        })
+        .collect();
+    for (k, &t) in h.times.iter().enumerate() {
+        frames.push(
+            t,
+            model.parts.iter().zip(&part_columns).map(|(p, c)| match c {
+                Some(c) => {
+                    let v = |i: usize| c[i].values.get(k).copied().unwrap_or(0.0);
+                    (
+                        glam::DVec3::new(v(0), v(1), v(2)),
+                        linkage_model::frames::euler313_to_matrix(
+                            [v(3), v(4), v(5)].map(f64::to_radians),
+                        ),
+                    )
+                }
+                None => (p.p_gb, p.r_gb),
+            }),
+        );
+    }
+    let units =
+        linkage_report::units::units_json(model, linkage_report::units::Angle::Degree, false);
+    let mut groups: Vec<(String, Vec<usize>)> = Vec::new();
+    for (k, s) in h.signals.iter().enumerate() {
+        let Some((group, component)) = s.name.rsplit_once('.') else {
+            continue;
+        };
+        if !matches!(component, "x" | "y" | "z" | "fx" | "fy" | "fz") && !group.contains("REQUEST_")
+        {
+            continue;
+        }
+        let key = if matches!(component, "fx" | "fy" | "fz") {
+            format!("{group}: reaction force on I")
+        } else if group.contains("REQUEST_") {
+            group.to_string()
+        } else {
+            format!("{group}: CM position")
+        };
+        match groups.iter_mut().find(|g| g.0 == key) {
+            Some(g) => g.1.push(k),
+            None => groups.push((key, vec![k])),
+        }
+    }
+    let plots = groups
+        .into_iter()
+        .take(3 * linkage_html::history::MAX_PLOTS_PER_KIND)
+        .map(|(title, cols)| Plot {
+            y_label: if title.ends_with("force on I") {
+                format!("force [{}]", units.force)
+            } else if title.ends_with("position") {
+                format!("position [{}]", units.length)
+            } else {
+                "value".into()
+            },
+            title,
+            x_label: format!("time [{}]", units.time),
+            series: cols
+                .iter()
+                .map(|&c| Series {
+                    name: h.signals[c].name.clone(),
+                    points: h
+                        .times
+                        .iter()
+                        .copied()
+                        .zip(h.signals[c].values.iter().copied())
+                        .collect(),
+                })
+                .collect(),
+        })
+        .collect();
+    (frames, plots)
 }

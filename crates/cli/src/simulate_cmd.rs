@@ -35,6 +35,10 @@ pub struct SimulateArgs<'a> {
     pub time_limit: Option<f64>,
     /// Statements to leave out (`--deactivate`).
     pub deactivate: &'a [String],
+    /// Where to write the HTML page (`--html`).
+    pub html: Option<&'a Path>,
+    /// The columns the page plots (`--plot`; empty: the default plots).
+    pub plot: &'a [String],
 }
 
 /// The most integration steps an HMAX may imply (about a day of computing for a small model).
@@ -85,7 +89,7 @@ pub fn run_simulate(args: &SimulateArgs) -> ExitCode {
     };
     // REQUESTs only shape the CSV: they are resolved (and their errors reported) only when
     // one is written.
-    let requests = match args.out {
+    let requests = match args.out.or(args.html) {
         Some(_) => match RequestSet::new(&loaded.model) {
             Ok(r) => Some(r),
             Err(d) => return input_error(&d, args.format),
@@ -174,8 +178,26 @@ pub fn run_simulate(args: &SimulateArgs) -> ExitCode {
             })
         }
     };
+    // The page keeps every k-th output (bounded memory) with its REQUEST values.
+    let page_requests = requests.as_ref().filter(|r| !r.is_empty());
+    let request_columns = page_requests.map(RequestSet::columns).unwrap_or_default();
+    if let Err(e) = linkage_html::history::check_columns(&loaded.model, &request_columns, args.plot)
+    {
+        eprintln!("error: {e}");
+        return ExitCode::from(2);
+    }
+    let mut history = args.html.map(|_| {
+        linkage_html::history::History::new(times.len(), request_columns.clone())
+            .with_columns(args.plot.to_vec())
+    });
     let mut write_error: Option<String> = None;
     let mut on_output = |o: &Output| {
+        if let Some(h) = history.as_mut() {
+            let values = page_requests
+                .and_then(|r| r.evaluate(assembled.model, &assembled.system, o).ok())
+                .unwrap_or_default();
+            h.record(o, &values);
+        }
         if let Some(c) = csv.as_mut() {
             if let Err(e) = c.write(&assembled, o) {
                 write_error = Some(format!("cannot write {}: {e}", c.path));
@@ -243,6 +265,17 @@ pub fn run_simulate(args: &SimulateArgs) -> ExitCode {
             report.errors.push(format!(
                 "the time limit of {secs} s was reached; the outputs up to it are written"
             ));
+        }
+    }
+    if let (Some(out), Some(h)) = (args.html, history.as_mut()) {
+        h.finish();
+        let mut page = crate::html_out::page(&loaded.model, "simulate", &report, &[]);
+        page.plots = h.plots(&loaded.model);
+        page.notes.extend(h.note());
+        page.notes.extend(h.plots_note(&loaded.model));
+        page.animations.push(h.frames.clone());
+        if let Err(e) = crate::html_out::write(&page, out) {
+            report.errors.push(e);
         }
     }
     // With `--out -` the time histories are standard output: the summary goes to stderr.

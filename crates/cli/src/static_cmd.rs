@@ -37,6 +37,8 @@ pub struct StaticArgs<'a> {
     pub time_limit: Option<f64>,
     /// Statements to leave out (`--deactivate`).
     pub deactivate: &'a [String],
+    /// Where to write the HTML page (`--html`).
+    pub html: Option<&'a Path>,
 }
 
 /// Adds the unstable-equilibrium verdict to `report` unless `allow` (see
@@ -136,6 +138,19 @@ pub fn run_static(args: &StaticArgs) -> ExitCode {
                 }
             }
         }
+        if let Some(out) = args.html {
+            let mut page = crate::html_out::page(&loaded.model, "static", &report, &[]);
+            let input = linkage_solve::state::State::input(&loaded.model);
+            let states: Vec<&linkage_solve::state::State> =
+                std::iter::once(&input).chain(eq_state.as_ref()).collect();
+            page.animations.push(crate::html_out::frames_of_states(
+                "input → settled, time",
+                states.into_iter(),
+            ));
+            if let Err(e) = crate::html_out::write(&page, out) {
+                report.errors.push(e);
+            }
+        }
         match args.format {
             StaticFormat::Json => {
                 print_json(&report);
@@ -181,6 +196,37 @@ pub fn run_static(args: &StaticArgs) -> ExitCode {
             "{} not written: no equilibrium was accepted",
             out.display()
         ));
+    }
+    if let Some(out) = args.html {
+        let mut page = crate::html_out::page(&loaded.model, "static", &report, &[]);
+        match linkage_html::series::statics_series(&loaded.model, &report) {
+            (Some(frames), plots) => {
+                page.animations.push(frames);
+                page.plots = plots;
+            }
+            (None, _) => {
+                // One equilibrium: from the input configuration to it, and the largest force
+                // imbalance of each Newton iteration.
+                let input = linkage_solve::state::State::input(&loaded.model);
+                let eq = result.steps.last().and_then(|(_, e)| e.as_ref().ok());
+                if let Some(e) = eq.filter(|e| !e.imbalance_history.is_empty()) {
+                    page.plots.push(linkage_html::series::imbalance_plot(
+                        &loaded.model,
+                        &e.imbalance_history,
+                    ));
+                }
+                let states: Vec<&linkage_solve::state::State> = std::iter::once(&input)
+                    .chain(eq.map(|e| &e.state))
+                    .collect();
+                page.animations.push(crate::html_out::frames_of_states(
+                    "input → equilibrium, time",
+                    states.into_iter(),
+                ));
+            }
+        }
+        if let Err(e) = crate::html_out::write(&page, out) {
+            report.errors.push(e);
+        }
     }
     match args.format {
         StaticFormat::Text => print!("{}", linkage_report::statics::to_text(&report)),

@@ -24,6 +24,8 @@ pub struct VerifyArgs<'a> {
     pub save: Option<&'a Path>,
     /// Statements to leave out (`--deactivate`).
     pub deactivate: &'a [String],
+    /// Where to write the HTML page (`--html`; one model).
+    pub html: Option<&'a Path>,
 }
 
 /// What verifying one model gave: its report (`None` for an input error, already printed in
@@ -83,6 +85,29 @@ fn verify_one(args: &VerifyArgs, model: &Path) -> Verified {
         }
         report.explain = Some(j);
     }
+    if let Some(out) = args.html {
+        // The elements with redundant or misaligned equations are drawn in red.
+        let mut highlight: Vec<String> = report
+            .redundant
+            .iter()
+            .map(|r| r.equation.name.to_string())
+            .chain(
+                report
+                    .misaligned
+                    .iter()
+                    .map(|m| m.equation.name.to_string()),
+            )
+            .collect();
+        highlight.dedup();
+        let mut page = crate::html_out::page(&loaded.model, "verify", &report, &highlight);
+        page.animations.push(crate::html_out::frames_of_states(
+            "input configuration, time",
+            [State::input(&loaded.model)].iter(),
+        ));
+        if let Err(e) = crate::html_out::write(&page, out) {
+            report.errors.push(e);
+        }
+    }
     let code = u8::from(!report.errors.is_empty());
     Verified {
         report: Ok(report),
@@ -103,6 +128,10 @@ fn print_text(report: &linkage_report::verify::VerifyJson) {
 /// JSON: one document, an array when there are several models). The exit code is the worst:
 /// 2 when a model has input errors, 1 when one fails, 0 otherwise.
 pub fn run(args: &VerifyArgs) -> ExitCode {
+    if args.models.len() > 1 && args.html.is_some() {
+        eprintln!("error: --html writes the page of one model: give a single dataset");
+        return ExitCode::from(2);
+    }
     if args.models.len() > 1 && args.apply.is_some() {
         eprintln!("error: --apply changes one model: give a single dataset");
         return ExitCode::from(2);

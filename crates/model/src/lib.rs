@@ -15,6 +15,7 @@ pub mod build;
 pub mod forces;
 pub mod frames;
 pub mod functions;
+pub mod graphics;
 pub mod inertia;
 pub mod model;
 pub mod requests;

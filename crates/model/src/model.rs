@@ -171,6 +171,8 @@ pub struct Model {
     /// The REQUESTs, resolved (their problems are reported by the analyses that write
     /// REQUEST columns).
     pub requests: crate::requests::Requests,
+    /// Display geometry (GRAPHICS) on the markers; changes no result.
+    pub graphics: Vec<crate::graphics::Graphic>,
 }
 
 impl Model {

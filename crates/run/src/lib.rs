@@ -81,6 +81,8 @@ pub struct RunSummary {
     pub outputs: usize,
     /// Commands carried out.
     pub commands: usize,
+    /// The dataset the run opened (as the session names it).
+    pub dataset: Option<PathBuf>,
 }
 
 /// A run that stopped: why, and what it wrote up to there.
@@ -182,6 +184,7 @@ impl Runner {
             csv: have_records.then(|| self.out_path("csv")),
             outputs: self.records.as_ref().map_or(0, |r| r.written),
             commands: self.commands,
+            dataset: self.session.as_ref().map(|s| PathBuf::from(s.file())),
         })
     }
 

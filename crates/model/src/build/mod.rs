@@ -93,9 +93,11 @@ pub fn build_model(ds: &Dataset) -> Result<Built, Diagnostics> {
         equilibrium,
         integrator: crate::settings::integrator::resolve_integrator(ds),
         requests: Default::default(),
+        graphics: Vec::new(),
     };
     model.characteristic_length = characteristic_length(&model);
     model.requests = crate::requests::resolve_requests(&model.markers, &model.forces, ds);
+    model.graphics = crate::graphics::resolve_graphics(ds, &model.markers, &mut cx.warnings);
     Ok(Built {
         model,
         warnings: cx.warnings,

@@ -79,6 +79,9 @@ impl Imbalance {
 /// instead of scaling (and stalling) every other part's step with it.
 pub const RUNAWAY_CORRECTION: f64 = 1e2;
 
+/// Most iterations whose imbalance an [`Equilibrium`] keeps.
+pub const IMBALANCE_HISTORY: usize = 10_000;
+
 /// Result of a static equilibrium solve.
 #[derive(Clone, Debug)]
 pub struct Equilibrium {
@@ -87,6 +90,10 @@ pub struct Equilibrium {
     pub iterations: usize,
     /// Largest force/torque imbalance at the end (model force units).
     pub imbalance: f64,
+    /// The largest imbalance at each iteration, the last one being `imbalance` (the first
+    /// [`IMBALANCE_HISTORY`] + 1 iterations; sized once before the iteration, which then
+    /// allocates nothing).
+    pub imbalance_history: Vec<f64>,
     /// The constraint rows in the solve and their multipliers (model force units).
     pub multipliers: Vec<(usize, f64)>,
     pub reactions: Vec<Reaction>,
@@ -230,6 +237,8 @@ pub fn equilibrium(
     let mut iterations = 0;
     let mut converged = false;
     let mut last_imbalance;
+    // At most IMBALANCE_HISTORY entries whatever MAXIT says (it is user input).
+    let mut imbalance_history = Vec::with_capacity(settings.maxit.min(IMBALANCE_HISTORY) + 1);
     // Constraints are held to the assembly accuracy (IC ERROR), not to the looser EQUILIBRIUM
     // ERROR, so that positions are as accurate as the initial conditions.
     let phi_length = model.ic.error.max(STATIC_CONSTRAINT_FLOOR * length);
@@ -256,6 +265,9 @@ pub fn equilibrium(
                 _ => v.abs() <= phi_angle,
             });
         last_imbalance = imbalance;
+        if imbalance_history.len() < imbalance_history.capacity() {
+            imbalance_history.push(imbalance);
+        }
         // Balanced to rounding: no Newton correction can improve the forces, and along a
         // free motion without stiffness (a part spinning about a vertical hinge) the
         // correction is that rounding divided by STABILITY × inertia, a drift of the pose
@@ -388,6 +400,7 @@ pub fn equilibrium(
         converged,
         iterations,
         imbalance: last_imbalance,
+        imbalance_history,
         multipliers,
         reactions,
         stability,
