@@ -1052,9 +1052,9 @@ impl Typer {
 }
 
 mod forces;
+pub mod graphics;
 mod point_mass;
 mod sensor;
-pub mod graphics;
 
 #[cfg(test)]
 mod tests;
