@@ -1,14 +1,8 @@
 //! `linkage static`: one static equilibrium at the start time, or a quasi-static series.
 
-use crate::common::{input_error, load, print_json, Loaded};
+use crate::common::{input_error, load, print_json};
 use crate::ic_cmd::save_configuration;
 use clap::ValueEnum;
-use linkage_adm::Diagnostics;
-use linkage_solve::coverage::Analysis;
-use linkage_solve::physics::applied::AppliedForces;
-use linkage_solve::pipeline::Assembled;
-use linkage_solve::stages::statics::run;
-use linkage_solve::tolerances::Tolerances;
 use std::path::Path;
 use std::process::ExitCode;
 
@@ -36,93 +30,41 @@ pub struct StaticArgs<'a> {
     pub deactivate: &'a [String],
 }
 
-/// Adds the unstable-equilibrium verdict to `report` unless `allow` (see
-/// [`linkage_report::statics::unstable_verdict`]).
-fn judge_stability(report: &mut linkage_report::statics::StaticJson, allow: bool) {
-    if allow {
-        return;
-    }
-    if let Some(why) = linkage_report::statics::unstable_verdict(report) {
-        report.errors.push(why);
-    }
-}
-
-/// The model's applied force elements.
-fn forces(loaded: &Loaded, analysis: Analysis) -> Result<Box<dyn AppliedForces>, Diagnostics> {
-    crate::common::applied_forces(loaded, analysis)
-}
-
-/// Fills in what the report says about left-out statements and those it ran without.
-fn with_coverage(
-    mut report: linkage_report::statics::StaticJson,
-    loaded: &Loaded,
-    analysis: Analysis,
-) -> linkage_report::statics::StaticJson {
-    (report.left_out, report.runs_without) = crate::common::coverage_json(loaded, analysis);
-    report
-}
-
 pub fn run_static(args: &StaticArgs) -> ExitCode {
     let json_errors = if args.format == StaticFormat::Json {
         crate::common::Format::Json
     } else {
         crate::common::Format::Text
     };
-    let analysis = if args.series.is_some() {
-        Analysis::QuasiStatic
-    } else {
-        Analysis::Static
+    let api_args = linkage_api::statics::StaticArgs {
+        series: args.series,
+        settle: args.settle,
+        allow_unstable: args.allow_unstable,
+        time_limit: args.time_limit,
+        csv: args.format == StaticFormat::Csv,
     };
+    let analysis = linkage_api::statics::analysis(&api_args);
     let loaded = match load(args.model, args.deactivate, Some(analysis)) {
         Ok(l) => l,
         Err(d) => return input_error(&d, json_errors),
     };
-    let applied = match forces(&loaded, analysis) {
-        Ok(f) => f,
-        Err(d) => return input_error(&d, json_errors),
-    };
-    let assemble = || {
-        Assembled::new(
-            &loaded.model,
-            &loaded.drivers,
-            applied.as_ref(),
-            &Tolerances::default(),
-        )
-    };
-    if args.settle || (loaded.model.equilibrium.dynamic && args.series.is_none()) {
-        let assembled = assemble();
-        let bar = crate::common::Progress::on_terminal();
-        let limit = loaded.model.equilibrium.settling_time;
-        let deadline = args
-            .time_limit
-            .map(|secs| std::time::Instant::now() + std::time::Duration::from_secs_f64(secs));
-        let out_of_time = || deadline.is_some_and(|d| std::time::Instant::now() >= d);
-        let settled = linkage_solve::stages::settle::settle_until(
-            &assembled,
-            |elapsed| bar.settling(elapsed, limit),
-            &out_of_time,
-        );
-        bar.finish();
-        let eq_state = settled
-            .as_ref()
-            .ok()
-            .and_then(|o| o.settled_equilibrium())
-            .map(|e| e.state.clone());
-        let mut report = with_coverage(
-            linkage_report::statics::settling_json(&assembled, settled, &loaded.warnings),
-            &loaded,
-            analysis,
-        );
-        judge_stability(&mut report, args.allow_unstable);
-        if let (Some(secs), true) = (args.time_limit, out_of_time()) {
-            if !report.errors.is_empty() {
-                report.errors.push(format!(
-                    "the time limit of {secs} s was reached while settling"
-                ));
-            }
+    let bar = crate::common::Progress::on_terminal();
+    let run = linkage_api::statics::statics(&loaded, &api_args, &|elapsed, limit| {
+        bar.settling(elapsed, limit)
+    });
+    bar.finish();
+    let run = match run {
+        Ok(r) => r,
+        Err(linkage_api::Error::Input(d)) => return input_error(&d, json_errors),
+        Err(e) => {
+            eprintln!("error: {e}");
+            return ExitCode::from(e.exit_code());
         }
-        if let (Some(out), Some(state)) = (args.save, &eq_state) {
-            if report.converged && report.errors.is_empty() {
+    };
+    let mut report = run.report;
+    if run.settled {
+        if let (Some(out), Some(state)) = (args.save, &run.state) {
+            if run.ok {
                 if let Err(e) = save_configuration(&loaded.dataset, &loaded.model, state, out) {
                     report
                         .errors
@@ -143,28 +85,10 @@ pub fn run_static(args: &StaticArgs) -> ExitCode {
             ExitCode::from(1)
         };
     }
-    let times = match args.series {
-        Some((end, steps)) => match crate::common::output_times(end, Some(steps), None) {
-            Ok(t) => t,
-            Err(e) => {
-                eprintln!("error: {e}");
-                return ExitCode::from(2);
-            }
-        },
-        None => vec![0.0],
-    };
-    let assembled = assemble();
-    let result = run(&assembled, &times);
-    let mut report = with_coverage(
-        linkage_report::statics::to_json(&assembled, &result, &loaded.warnings),
-        &loaded,
-        analysis,
-    );
-    judge_stability(&mut report, args.allow_unstable);
-    let ok = result.converged() && report.errors.is_empty();
+    let ok = run.ok;
     if let (Some(out), true) = (args.save, ok) {
-        if let Some((_, Ok(eq))) = result.steps.last() {
-            if let Err(e) = save_configuration(&loaded.dataset, &loaded.model, &eq.state, out) {
+        if let Some(state) = &run.state {
+            if let Err(e) = save_configuration(&loaded.dataset, &loaded.model, state, out) {
                 report
                     .errors
                     .push(format!("cannot write {}: {e}", out.display()));
@@ -181,10 +105,7 @@ pub fn run_static(args: &StaticArgs) -> ExitCode {
         StaticFormat::Json => {
             print_json(&report);
         }
-        StaticFormat::Csv => print!(
-            "{}",
-            linkage_report::statics::to_csv(&loaded.model, &result)
-        ),
+        StaticFormat::Csv => print!("{}", run.csv.unwrap_or_default()),
     }
     // CSV rows carry no errors: they always go to standard error.
     let shown = args.format != StaticFormat::Csv && crate::common::stdout_is_terminal();

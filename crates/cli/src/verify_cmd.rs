@@ -49,11 +49,8 @@ fn verify_one(args: &VerifyArgs, model: &Path) -> Verified {
         loaded.dataset = Dataset::empty(loaded.dataset.file.clone());
     }
     let tol = Tolerances::default();
-    let v = linkage_solve::stages::verify::verify(&loaded.model, &loaded.drivers, &tol);
-    let mut report = linkage_report::verify::to_json(&loaded.model, &v, &loaded.warnings);
-    report.left_out = linkage_report::coverage::left_out_json(&loaded.left_out);
-    report.not_run = loaded.findings.iter().map(Into::into).collect();
-    report.later_refused_by = linkage_report::coverage::refusing_analyses(&loaded.findings);
+    let v = linkage_api::verify::verification(&loaded, &tol);
+    let mut report = linkage_api::verify::report(&loaded, &v);
     if args.explain || args.apply.is_some() {
         let ex = explain(&loaded.model, &loaded.drivers, &tol, &v);
         let mut j = linkage_report::explain::to_json(&loaded.model, &ex);

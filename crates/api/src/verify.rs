@@ -1,0 +1,27 @@
+//! The verify report of a loaded model (the CLI adds `--explain` and `--apply` to it).
+
+use crate::source::Loaded;
+use linkage_report::verify::VerifyJson;
+use linkage_solve::stages::verify::Verification;
+use linkage_solve::tolerances::Tolerances;
+
+/// The verification of `loaded` (rank analysis at the input configuration).
+pub fn verification(loaded: &Loaded, tol: &Tolerances) -> Verification {
+    linkage_solve::stages::verify::verify(&loaded.model, &loaded.drivers, tol)
+}
+
+/// The verify report of `loaded` from its verification `v`: DOF, redundant and misaligned
+/// equations, and what the dataset leaves out or later analyses refuse. Its `errors` are the
+/// verdict (exit code 1 when not empty).
+pub fn report(loaded: &Loaded, v: &Verification) -> VerifyJson {
+    let mut report = linkage_report::verify::to_json(&loaded.model, v, &loaded.warnings);
+    report.left_out = linkage_report::coverage::left_out_json(&loaded.left_out);
+    report.not_run = loaded.findings.iter().map(Into::into).collect();
+    report.later_refused_by = linkage_report::coverage::refusing_analyses(&loaded.findings);
+    report
+}
+
+/// `linkage verify --format json` of `loaded`.
+pub fn verify(loaded: &Loaded) -> VerifyJson {
+    report(loaded, &verification(loaded, &Tolerances::default()))
+}
