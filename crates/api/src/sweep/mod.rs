@@ -8,9 +8,9 @@
 //! - `i.json`: the analysis's JSON report, as the CLI prints it (for input errors,
 //!   `{"errors": […], "warnings": []}` as the CLI prints them);
 //! - `i.csv`: the time histories (simulate);
-//! - `i.status.json`: `{index, values, status, exit_code, message}` — `status` is `ok`,
-//!   `failed` (exit code 1: the analysis ran and failed; `message` is its errors) or
-//!   `input error` (exit code 2).
+//! - `i.status.json`: `{index, values, status, exit_code, message}` — `status` is `ok` or
+//!   `failed`, `exit_code` the CLI's (1: the analysis ran and failed, 2: input errors, e.g. a
+//!   value the model refuses) and `message` the run's errors, one per line.
 //!
 //! and `DIR/plan.json` (the model, analysis, varied arguments and the number of runs), the
 //! same for every shard: a shard refuses a DIR that holds another sweep's plan. A failing run
@@ -51,7 +51,7 @@ pub struct RunRecord {
     pub index: usize,
     /// The varied values, in `[[vary]]` order.
     pub values: Vec<f64>,
-    /// `ok`, `failed` or `input error`.
+    /// `ok` or `failed`.
     pub status: String,
     /// The CLI's exit code for this run: 0, 1 or 2.
     pub exit_code: u8,
@@ -174,12 +174,7 @@ fn run_one(base: &Source, spec: &Spec, index: usize, runs: &Path) -> Result<RunR
     let record = RunRecord {
         index,
         values,
-        status: match exit_code {
-            0 => "ok",
-            2 => "input error",
-            _ => "failed",
-        }
-        .to_string(),
+        status: if exit_code == 0 { "ok" } else { "failed" }.to_string(),
         exit_code,
         message,
     };
