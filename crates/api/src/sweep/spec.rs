@@ -90,6 +90,7 @@ struct SpecFile {
     deactivate: Vec<String>,
     analysis: Job,
     sampling: Option<Sampling>,
+    #[serde(default)]
     vary: Vec<Vary>,
 }
 
