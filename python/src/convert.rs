@@ -23,7 +23,12 @@ pub fn to_python(py: Python<'_>, value: &Value) -> PyResult<PyObject> {
         Value::Number(n) => match (n.as_i64(), n.as_u64()) {
             (Some(i), _) => i.into_pyobject(py)?.into_any().unbind(),
             (None, Some(u)) => u.into_pyobject(py)?.into_any().unbind(),
-            _ => n.as_f64().unwrap_or(f64::NAN).into_pyobject(py)?.into_any().unbind(),
+            _ => n
+                .as_f64()
+                .unwrap_or(f64::NAN)
+                .into_pyobject(py)?
+                .into_any()
+                .unbind(),
         },
         Value::String(s) => s.into_pyobject(py)?.into_any().unbind(),
         Value::Array(items) => {
@@ -32,9 +37,15 @@ pub fn to_python(py: Python<'_>, value: &Value) -> PyResult<PyObject> {
             }
             let rows: Option<Vec<Vec<f64>>> = items
                 .iter()
-                .map(|v| v.as_array().filter(|r| !r.is_empty()).and_then(|r| numbers(r)))
+                .map(|v| {
+                    v.as_array()
+                        .filter(|r| !r.is_empty())
+                        .and_then(|r| numbers(r))
+                })
                 .collect();
-            if let Some(rows) = rows.filter(|r| !r.is_empty() && r.iter().all(|x| x.len() == r[0].len())) {
+            if let Some(rows) =
+                rows.filter(|r| !r.is_empty() && r.iter().all(|x| x.len() == r[0].len()))
+            {
                 return Ok(PyArray2::from_vec2(py, &rows)?.into_any().unbind());
             }
             let list = PyList::empty(py);
@@ -83,7 +94,10 @@ pub fn csv_columns(py: Python<'_>, text: &str) -> PyResult<PyObject> {
     for line in lines {
         let row = fields(line);
         for (k, column) in columns.iter_mut().enumerate() {
-            let x = row.get(k).and_then(|f| f.trim().parse::<f64>().ok()).unwrap_or(f64::NAN);
+            let x = row
+                .get(k)
+                .and_then(|f| f.trim().parse::<f64>().ok())
+                .unwrap_or(f64::NAN);
             column.push(x);
         }
     }

@@ -47,7 +47,11 @@ fn analysis_error(py: Python<'_>, report: &serde_json::Value, extra: &[(&str, Py
     let messages: Vec<String> = report
         .get("errors")
         .and_then(|e| e.as_array())
-        .map(|e| e.iter().filter_map(|m| m.as_str().map(String::from)).collect())
+        .map(|e| {
+            e.iter()
+                .filter_map(|m| m.as_str().map(String::from))
+                .collect()
+        })
         .unwrap_or_default();
     let err = AnalysisError::new_err(messages.join("\n"));
     let value = err.value(py);
@@ -88,7 +92,12 @@ fn arg_value(value: &Bound<'_, PyAny>) -> PyResult<ArgValue> {
 
 impl Model {
     /// Runs `job` (its CSV to `csv`) and returns the report, raising on errors.
-    fn run(&mut self, py: Python<'_>, job: &Job, csv: Option<CsvTarget>) -> PyResult<(serde_json::Value, u8)> {
+    fn run(
+        &mut self,
+        py: Python<'_>,
+        job: &Job,
+        csv: Option<CsvTarget>,
+    ) -> PyResult<(serde_json::Value, u8)> {
         let source = &self.source;
         let deactivate = &self.deactivate;
         let result = py.allow_threads(|| {
@@ -119,7 +128,13 @@ impl Model {
     /// Sets argument `argument` of statement `statement` ("SPRINGDAMPER/1", or a settings
     /// statement such as "EQUILIBRIUM") to `value` for the analyses that follow, as a command
     /// file's redefinition does.
-    fn set(&mut self, py: Python<'_>, statement: &str, argument: &str, value: &Bound<'_, PyAny>) -> PyResult<()> {
+    fn set(
+        &mut self,
+        py: Python<'_>,
+        statement: &str,
+        argument: &str,
+        value: &Bound<'_, PyAny>,
+    ) -> PyResult<()> {
         let value = arg_value(value)?;
         self.source
             .set(statement, argument, &value)
