@@ -170,3 +170,37 @@ def test_run_acf_equals_linkage_run(cli, tmp_path):
     assert Path(summary["csv"]).read_text() == (tmp_path / "cli" / Path(summary["csv"]).name).read_text()
     with pytest.raises(linkage.InputError):
         linkage.run_acf(str(tmp_path / "missing.acf"), out_dir=str(tmp_path))
+
+
+def read_summary(path):
+    with open(path, newline="") as f:
+        return list(csv.DictReader(f))
+
+
+def test_sweep_over_k_sharded_equals_whole_and_matches_the_package(cli, tmp_path):
+    spec = tmp_path / "sweep.toml"
+    spec.write_text(
+        f'model = "{SPRING_MASS}"\n[analysis]\nkind = "linear"\n'
+        '[[vary]]\nstatement = "SPRINGDAMPER/1"\nargument = "K"\nvalues = [200.0, -5.0, 800.0, 1800.0]\n'
+    )
+    whole, split = tmp_path / "whole", tmp_path / "split"
+    assert cli("sweep", spec, "--out", whole)[0] == 0
+    for shard in ("1/2", "2/2"):
+        assert cli("sweep", spec, "--out", split, "--shard", shard)[0] == 0
+    for d in (whole, split):
+        code, _, err = cli("sweep", "merge", d)
+        assert code == 0, err
+    assert (whole / "summary.csv").read_text() == (split / "summary.csv").read_text()
+    rows = read_summary(whole / "summary.csv")
+    # The negative rate is refused by the model: recorded as failed, with its message; the
+    # runs after it still ran.
+    assert rows[1]["status"] == "failed" and rows[1]["exit_code"] == "2"
+    assert "K must not be negative" in rows[1]["message"]
+    m = linkage.load(str(SPRING_MASS))
+    for row in (rows[0], rows[2], rows[3]):
+        k = float(row["SPRINGDAMPER/1 K"])
+        assert row["status"] == "ok"
+        m.set("SPRINGDAMPER/1", "K", k)
+        f = m.linear()["modes"][0]["frequency"]
+        assert float(row["frequency_1"]) == f
+        assert f == pytest.approx(math.sqrt(k / 2.0) / (2 * math.pi), rel=1e-9)

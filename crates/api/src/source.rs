@@ -351,3 +351,80 @@ pub fn coverage_json(
         linkage_report::coverage::runs_without_json(&loaded.findings, analysis),
     )
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn spring_mass() -> Source {
+        let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/spring_mass.adm");
+        Source::read(&path).expect("the example reads")
+    }
+
+    /// The numbers of argument `key` of statement `keyword`/`id`.
+    fn numbers(s: &Source, keyword: &str, id: Option<u64>, key: &str) -> Vec<f64> {
+        let st = s
+            .statements
+            .iter()
+            .find(|st| st.keyword == keyword && st.id == id)
+            .expect("statement");
+        st.arg(key)
+            .expect("argument")
+            .values
+            .iter()
+            .filter_map(|v| match v {
+                Value::Number { value, .. } => Some(*value),
+                _ => None,
+            })
+            .collect()
+    }
+
+    #[test]
+    fn set_replaces_or_adds_an_argument_as_a_redefinition_does() {
+        let mut s = spring_mass();
+        s.set("spring/1", "k", &ArgValue::Number(400.0))
+            .expect("K changes");
+        assert_eq!(numbers(&s, "SPRINGDAMPER", Some(1), "K"), vec![400.0]);
+        s.set("MARKER/101", "QP", &ArgValue::Numbers(vec![0.0, 0.0, 2.0]))
+            .expect("QP changes");
+        assert_eq!(numbers(&s, "MARKER", Some(101), "QP"), vec![0.0, 0.0, 2.0]);
+        // A settings statement the dataset lacks is added.
+        s.set("EQUILIBRIUM", "STABILITY", &ArgValue::Number(1e-3))
+            .expect("added");
+        assert_eq!(numbers(&s, "EQUILIBRIUM", None, "STABILITY"), vec![1e-3]);
+        // The changed model builds, with the new spring rate in force.
+        let loaded = s.load(&[], Some(Analysis::Linear)).expect("builds");
+        let report = crate::job::Job::Linear {
+            static_first: false,
+            no_damping: false,
+            no_vectors: false,
+            modes: None,
+            shift: None,
+            allow_unstable: false,
+        }
+        .run(&loaded, None)
+        .expect("runs")
+        .report;
+        // f = sqrt(k/m)/2π with k = 400 N/m, m = 2 kg (rounding only: 1e-12 relative).
+        let f = report["modes"][0]["frequency"].as_f64().expect("a mode");
+        let expected = (400.0f64 / 2.0).sqrt() / std::f64::consts::TAU;
+        assert!((f - expected).abs() < 1e-12 * expected, "{f} vs {expected}");
+    }
+
+    #[test]
+    fn a_change_that_cannot_be_is_refused_and_nothing_changes() {
+        let mut s = spring_mass();
+        let message = |r: Result<(), Diagnostics>| r.expect_err("refused").to_string();
+        let none = message(s.set("SPRINGDAMPER/7", "K", &ArgValue::Number(1.0)));
+        assert!(none.contains("no SPRINGDAMPER/7"), "{none}");
+        let bad_id = message(s.set("SPRINGDAMPER/x", "K", &ArgValue::Number(1.0)));
+        assert!(bad_id.contains("whole number"), "{bad_id}");
+        let nan = message(s.set("SPRINGDAMPER/1", "K", &ArgValue::Number(f64::NAN)));
+        assert!(nan.contains("finite"), "{nan}");
+        // A value of the wrong kind is a typing error at the argument it replaces.
+        let typed = message(s.set("SPRINGDAMPER/1", "K", &ArgValue::Expression("1 +".into())));
+        assert!(typed.contains("spring_mass.adm:25:"), "{typed}");
+        assert_eq!(numbers(&s, "SPRINGDAMPER", Some(1), "K"), vec![800.0]);
+        assert!(!s.changed);
+    }
+}

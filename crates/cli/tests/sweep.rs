@@ -254,3 +254,61 @@ fn the_example_spec_runs() {
     assert!(rows.iter().all(|r| r["status"] == "ok"));
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// Runs `linkage sweep SPEC --out OUT` with the environment `vars` (and no other scheduler
+/// variable).
+fn sweep_with_env(spec: &Path, out: &Path, vars: &[(&str, &str)]) -> (i32, String) {
+    let mut cmd = std::process::Command::new(env!("CARGO_BIN_EXE_linkage"));
+    cmd.args([
+        "sweep",
+        spec.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    for v in [
+        "SLURM_ARRAY_TASK_ID",
+        "SLURM_ARRAY_TASK_MIN",
+        "SLURM_ARRAY_TASK_COUNT",
+        "JOB_COMPLETION_INDEX",
+        "JOB_COMPLETIONS",
+    ] {
+        cmd.env_remove(v);
+    }
+    cmd.envs(vars.iter().copied());
+    let o = cmd.output().unwrap();
+    (
+        o.status.code().unwrap_or(-1),
+        String::from_utf8_lossy(&o.stdout).into_owned(),
+    )
+}
+
+#[test]
+fn slurm_and_kubernetes_environments_choose_the_shard() {
+    let dir = scratch("env");
+    let spec = spec(&dir, LINEAR_OVER_K);
+    let whole = dir.join("whole");
+    assert_eq!(sweep_with_env(&spec, &whole, &[]).0, 0);
+    assert!(whole.join("shard-1-of-1").is_dir());
+    // A Slurm array --array=1-2 does half, a Kubernetes indexed Job of 2 the other half.
+    let split = dir.join("split");
+    let slurm = [
+        ("SLURM_ARRAY_TASK_ID", "1"),
+        ("SLURM_ARRAY_TASK_MIN", "1"),
+        ("SLURM_ARRAY_TASK_COUNT", "2"),
+    ];
+    let (code, out) = sweep_with_env(&spec, &split, &slurm);
+    assert_eq!(code, 0);
+    assert!(out.contains("shard 1/2: 4 run(s)"), "{out}");
+    let k8s = [("JOB_COMPLETION_INDEX", "1"), ("JOB_COMPLETIONS", "2")];
+    let (code, out) = sweep_with_env(&spec, &split, &k8s);
+    assert_eq!(code, 0);
+    assert!(out.contains("shard 2/2: 3 run(s)"), "{out}");
+    for d in [&whole, &split] {
+        assert_eq!(sweep(&["merge", d.to_str().unwrap()]).0, 0);
+    }
+    assert_eq!(
+        std::fs::read_to_string(whole.join("summary.csv")).unwrap(),
+        std::fs::read_to_string(split.join("summary.csv")).unwrap()
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
