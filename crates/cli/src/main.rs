@@ -16,6 +16,7 @@ mod plot_cmd;
 mod run_cmd;
 mod simulate_cmd;
 mod static_cmd;
+mod sweep_cmd;
 mod verify_cmd;
 
 use clap::{Parser, Subcommand};
@@ -239,6 +240,29 @@ enum Command {
         #[arg(long, value_name = "plot.svg|plot.png")]
         out: PathBuf,
     },
+    /// Parameter sweep: run SPEC.toml's analysis over its varied arguments, each run's JSON
+    /// report (and CSV for simulate) under --out DIR; `linkage sweep merge DIR` writes
+    /// DIR/summary.csv. Shards (--shard K/N, or from SLURM_ARRAY_TASK_ID/COUNT or a
+    /// Kubernetes indexed Job's JOB_COMPLETION_INDEX with JOB_COMPLETIONS) run the indices
+    /// i ≡ K−1 (mod N).
+    #[command(args_conflicts_with_subcommands = true, subcommand_negates_reqs = true)]
+    Sweep {
+        #[command(subcommand)]
+        action: Option<SweepAction>,
+        /// The sweep spec (.toml): model, [analysis], [[vary]] tables, [sampling].
+        #[arg(required = true, value_name = "SPEC.toml")]
+        spec: Option<PathBuf>,
+        /// Directory of the runs' records (shared by every shard of the sweep).
+        #[arg(long, value_name = "DIR", required = true)]
+        out: Option<PathBuf>,
+        /// Run only the indices i with i mod N = K − 1 (default: from the job scheduler's
+        /// environment, else every run).
+        #[arg(long, value_name = "K/N")]
+        shard: Option<String>,
+        /// Runs at once on this machine (threads; default: the number of CPUs).
+        #[arg(long, value_name = "J", value_parser = clap::value_parser!(u64).range(1..))]
+        jobs: Option<u64>,
+    },
     /// Compare two time histories signal by signal: request files (.req, Adams or linkage) or
     /// CSV files written by `simulate --out`, matched by request id and component or by column
     /// name, at B's output times (A interpolated linearly in time). Exit code 1 when a signal's
@@ -258,6 +282,16 @@ enum Command {
         /// Output format.
         #[arg(long, value_enum, default_value = "text")]
         format: Format,
+    },
+}
+
+#[derive(Subcommand)]
+enum SweepAction {
+    /// Gather every shard's records into DIR/summary.csv (one row per run); refuses when a
+    /// run is missing or recorded twice.
+    Merge {
+        /// The --out directory of the sweep.
+        dir: PathBuf,
     },
 }
 
@@ -300,7 +334,7 @@ fn input_and_output(command: &Command) -> Vec<(&std::path::Path, &std::path::Pat
             pairs(inputs, vec![html.as_ref()])
         }
         Command::Plot { file, out, .. } => vec![(file.as_path(), out.as_path())],
-        Command::Compare { .. } => Vec::new(),
+        Command::Compare { .. } | Command::Sweep { .. } => Vec::new(),
     }
 }
 
@@ -435,6 +469,28 @@ fn main() -> ExitCode {
             deactivate: &deactivate,
             html: html.as_deref(),
         }),
+        Command::Sweep {
+            action: Some(SweepAction::Merge { dir }),
+            ..
+        } => sweep_cmd::merge(&dir),
+        Command::Sweep {
+            action: None,
+            spec,
+            out,
+            shard,
+            jobs,
+        } => match (spec, out) {
+            (Some(spec), Some(out)) => sweep_cmd::run(
+                &spec,
+                &out,
+                shard.as_deref(),
+                jobs.map(|j| usize::try_from(j).unwrap_or(usize::MAX)),
+            ),
+            _ => {
+                eprintln!("error: linkage sweep needs SPEC.toml and --out DIR");
+                ExitCode::from(2)
+            }
+        },
         Command::Compare {
             a,
             b,

@@ -21,7 +21,7 @@ pub enum StaticFormat {
 
 /// Options of `linkage static`.
 /// Wall-clock seconds after which damped settling stops when `--time-limit` is not given.
-pub const DEFAULT_SETTLE_TIME_LIMIT: f64 = 600.0;
+pub use linkage_api::statics::DEFAULT_SETTLE_TIME_LIMIT;
 
 pub struct StaticArgs<'a> {
     pub model: &'a Path,

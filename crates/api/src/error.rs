@@ -1,0 +1,45 @@
+//! Why an analysis produced no report: the input errors that the CLI answers with exit code 2,
+//! and an output that could not be written (exit code 1).
+
+use linkage_adm::Diagnostics;
+
+/// Why an analysis produced no report.
+#[derive(Debug, thiserror::Error)]
+pub enum Error {
+    /// Errors in the dataset or in what it refers to (file:line:column each).
+    #[error("{0}")]
+    Input(Diagnostics),
+    /// Output times that cannot be (`--end`, `--steps`, `--dtout`).
+    #[error("{0}")]
+    Times(#[from] crate::times::OutputTimesError),
+    /// An argument of the analysis itself (not of the dataset) that cannot be.
+    #[error("{0}")]
+    Argument(String),
+    /// An output file that could not be opened (`cannot write FILE: why`).
+    #[error("{0}")]
+    Output(String),
+}
+
+impl From<Diagnostics> for Error {
+    fn from(d: Diagnostics) -> Error {
+        Error::Input(d)
+    }
+}
+
+impl Error {
+    /// The exit code of the CLI: 2 for input errors, 1 for an output that failed.
+    pub fn exit_code(&self) -> u8 {
+        match self {
+            Error::Input(_) | Error::Times(_) | Error::Argument(_) => 2,
+            Error::Output(_) => 1,
+        }
+    }
+
+    /// One message per error (a diagnostic each, with its file:line:column).
+    pub fn messages(&self) -> Vec<String> {
+        match self {
+            Error::Input(d) => d.0.iter().map(ToString::to_string).collect(),
+            other => vec![other.to_string()],
+        }
+    }
+}

@@ -1,0 +1,430 @@
+//! A dataset as read, with the argument changes asked for before an analysis
+//! (`Source::set`), and the model built from it (`Loaded`).
+//!
+//! Changes go through the command files' redefinition machinery
+//! ([`linkage_adm::amend::redefine`], then [`linkage_adm::amend::retype`]), so `set("SPRINGDAMPER/1",
+//! "K", 4000.0)` means exactly what `SPRINGDAMPER/1, K = 4000` means in a command file; an
+//! error in the changed statement is reported at the statement's file:line:column.
+
+use linkage_adm::amend::Selected;
+use linkage_adm::statement::{Argument, ExprText, Statement, Value};
+use linkage_adm::{Dataset, Diagnostic, Diagnostics, Span};
+use linkage_model::Model;
+use linkage_solve::constraints::drivers::ExpressionDrivers;
+use linkage_solve::coverage::{self, Analysis, Finding};
+use std::collections::BTreeSet;
+use std::path::Path;
+
+/// A dataset read, built and with its functions parsed.
+pub struct Loaded {
+    /// The dataset without the statements left out on request.
+    pub dataset: Dataset,
+    pub model: Model,
+    pub drivers: ExpressionDrivers,
+    /// Dataset, model and function warnings.
+    pub warnings: Vec<Diagnostic>,
+    /// The statements left out on request (`--deactivate`).
+    pub left_out: Vec<Selected>,
+    /// Every statement of the dataset some analysis refuses or runs without.
+    pub findings: Vec<Finding>,
+}
+
+/// The value given to a statement argument by [`Source::set`].
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+#[serde(untagged)]
+pub enum ArgValue {
+    /// `K = 4000`.
+    Number(f64),
+    /// `QG = 0, 0, 1`.
+    Numbers(Vec<f64>),
+    /// `FUNCTION = 1000*TIME` (an expression, written as in a dataset).
+    Expression(String),
+}
+
+impl std::fmt::Display for ArgValue {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            ArgValue::Number(x) => write!(f, "{x}"),
+            ArgValue::Numbers(xs) => {
+                let parts: Vec<String> = xs.iter().map(f64::to_string).collect();
+                write!(f, "{}", parts.join(", "))
+            }
+            ArgValue::Expression(e) => write!(f, "{e}"),
+        }
+    }
+}
+
+/// A dataset as read, and its statements with every change made by [`Source::set`].
+#[derive(Clone)]
+pub struct Source {
+    read: Dataset,
+    statements: Vec<Statement>,
+    changed: bool,
+}
+
+impl Source {
+    /// Reads the dataset at `path` (syntax and typing errors come with file:line:column).
+    pub fn read(path: &Path) -> Result<Source, Diagnostics> {
+        Ok(Source::from_dataset(linkage_adm::read_dataset(path)?))
+    }
+
+    pub fn from_dataset(read: Dataset) -> Source {
+        Source {
+            statements: read.statements.clone(),
+            read,
+            changed: false,
+        }
+    }
+
+    /// The dataset's file name, as diagnostics give it.
+    pub fn file(&self) -> &str {
+        &self.read.file
+    }
+
+    /// Sets argument `argument` of the statement `statement` (`KEYWORD/id`, the keyword as in
+    /// a dataset, abbreviations included; a settings statement such as `EQUILIBRIUM` without
+    /// id) to `value`, as a command-file redefinition does: the argument replaces the one of
+    /// the same keyword (or unambiguous prefix), or is added. The change is checked by typing
+    /// the dataset again; its errors are returned and the source is left unchanged.
+    pub fn set(
+        &mut self,
+        statement: &str,
+        argument: &str,
+        value: &ArgValue,
+    ) -> Result<(), Diagnostics> {
+        let error = |message: String| {
+            Diagnostics(vec![Diagnostic::error(
+                self.read.file.clone(),
+                None,
+                message,
+            )])
+        };
+        let (keyword, id) = parse_element(statement).map_err(error)?;
+        let keyword = self.resolve_keyword(&keyword, id).map_err(error)?;
+        let key = argument.trim().to_ascii_uppercase();
+        if key.is_empty() || !key.chars().all(|c| c.is_ascii_alphanumeric() || c == '_') {
+            return Err(error(format!("`{argument}` is not an argument keyword")));
+        }
+        // The new value is placed where the statement is, so that a typing error in it
+        // points at the statement it changes.
+        let at = self
+            .statements
+            .iter()
+            .find(|s| s.keyword == keyword && (id.is_none() || s.id == id))
+            .map_or(Span::default(), |s| {
+                s.args
+                    .iter()
+                    .find(|a| a.key == key)
+                    .map_or(s.span, |a| a.span)
+            });
+        let values = match value {
+            ArgValue::Number(x) => vec![number(*x, at)],
+            ArgValue::Numbers(xs) => xs.iter().map(|x| number(*x, at)).collect(),
+            ArgValue::Expression(text) => vec![Value::Expr(ExprText {
+                text: text.clone(),
+                origins: vec![(0, at)],
+            })],
+        };
+        if values.is_empty() {
+            return Err(error(format!(
+                "{statement}, {key} = needs at least one value"
+            )));
+        }
+        if let Some(bad) = values.iter().find_map(|v| match v {
+            Value::Number { value, .. } if !value.is_finite() => Some(*value),
+            _ => None,
+        }) {
+            return Err(error(format!(
+                "{statement}, {key} = {bad}: a value must be a finite number"
+            )));
+        }
+        let change = Statement {
+            keyword: keyword.clone(),
+            known: true,
+            id,
+            args: vec![Argument {
+                key,
+                values,
+                span: at,
+            }],
+            span: at,
+            lines: (at.line, at.line),
+            view_name: None,
+        };
+        let mut statements = self.statements.clone();
+        linkage_adm::amend::redefine(&mut statements, &change).map_err(|e| error(e.to_string()))?;
+        // Typing the amended statements checks the new value now, not at the next analysis.
+        linkage_adm::amend::retype(&self.read, &statements, &BTreeSet::new())?;
+        self.statements = statements;
+        self.changed = true;
+        Ok(())
+    }
+
+    /// The statement keyword `keyword` stands for: one of the dataset's statement keywords
+    /// that it names in full or abbreviates (at least three letters, as the language allows).
+    fn resolve_keyword(&self, keyword: &str, id: Option<u64>) -> Result<String, String> {
+        let mut kinds: Vec<&str> = self
+            .statements
+            .iter()
+            .map(|s| s.keyword.as_str())
+            .filter(|k| *k == keyword || (keyword.len() >= 3 && k.starts_with(keyword)))
+            .collect();
+        kinds.sort_unstable();
+        kinds.dedup();
+        match kinds.as_slice() {
+            [k] => Ok((*k).to_string()),
+            [] if id.is_none() => Ok(keyword.to_string()),
+            [] => Err(format!(
+                "the dataset has no {keyword}/{}: only a statement of the dataset can be changed",
+                id.unwrap_or(0)
+            )),
+            many if many.contains(&keyword) => Ok(keyword.to_string()),
+            many => Err(format!(
+                "{keyword} is ambiguous: it could be {}",
+                many.join(", ")
+            )),
+        }
+    }
+
+    /// The dataset with the changes made, without the statements `deactivate` names, built and
+    /// with its functions checked. `analysis` is the analysis the model is loaded for
+    /// (`None`: verify). When the model does not build, the input errors also name every
+    /// statement that `analysis` (verify: any analysis) would refuse, so that all of them
+    /// come at once.
+    pub fn load(
+        &self,
+        deactivate: &[String],
+        analysis: Option<Analysis>,
+    ) -> Result<Loaded, Diagnostics> {
+        let left_out = if deactivate.is_empty() {
+            Vec::new()
+        } else {
+            linkage_adm::amend::select(&self.statements, deactivate).map_err(|e| {
+                Diagnostics(vec![Diagnostic::error(self.read.file.clone(), None, e)])
+            })?
+        };
+        let dataset = if left_out.is_empty() && !self.changed {
+            self.read.clone()
+        } else {
+            let inactive: BTreeSet<(String, u64)> =
+                left_out.iter().map(|s| (s.keyword.clone(), s.id)).collect();
+            linkage_adm::amend::retype(&self.read, &self.statements, &inactive)?
+        };
+        build(dataset, left_out, analysis)
+    }
+}
+
+fn number(value: f64, span: Span) -> Value {
+    Value::Number {
+        value,
+        degrees: false,
+        span,
+    }
+}
+
+/// `KEYWORD/id` (or `KEYWORD` for a settings statement) upper-cased, or why it is not one.
+fn parse_element(element: &str) -> Result<(String, Option<u64>), String> {
+    let text = element.trim();
+    let (keyword, id) = match text.split_once('/') {
+        Some((k, "")) => (k, None),
+        Some((k, id)) => (
+            k,
+            Some(id.trim().parse::<u64>().map_err(|_| {
+                format!("`{element}`: the id after the slash must be a whole number")
+            })?),
+        ),
+        None => (text, None),
+    };
+    let keyword = keyword.trim().to_ascii_uppercase();
+    if keyword.is_empty() || !keyword.chars().all(|c| c.is_ascii_alphabetic() || c == '_') {
+        return Err(format!(
+            "`{element}` is not a statement (KEYWORD/id, e.g. SPRINGDAMPER/1)"
+        ));
+    }
+    Ok((keyword, id))
+}
+
+/// Reads the dataset at `path`, leaves out the statements `deactivate` names, builds it and
+/// checks its functions (see [`Source::load`]).
+pub fn load(
+    path: &Path,
+    deactivate: &[String],
+    analysis: Option<Analysis>,
+) -> Result<Loaded, Diagnostics> {
+    Source::read(path)?.load(deactivate, analysis)
+}
+
+/// Builds `dataset` (the statements `left_out` already removed from it).
+fn build(
+    dataset: Dataset,
+    left_out: Vec<Selected>,
+    analysis: Option<Analysis>,
+) -> Result<Loaded, Diagnostics> {
+    let findings = coverage::findings(&dataset);
+    let built = linkage_model::build_model(&dataset)
+        .and_then(|b| ExpressionDrivers::new(&b.model).map(|d| (b, d)));
+    let (built, drivers) = match built {
+        Ok(b) => b,
+        Err(mut d) => {
+            d.0.extend(refused_as_diagnostics(&findings, analysis, &d.0));
+            return Err(d);
+        }
+    };
+    let mut warnings = built.warnings;
+    warnings.extend(drivers.warnings().iter().cloned());
+    Ok(Loaded {
+        dataset,
+        model: built.model,
+        drivers,
+        warnings,
+        left_out,
+        findings,
+    })
+}
+
+/// The findings `analysis` refuses (verify, `None`: that any analysis refuses) as
+/// diagnostics, leaving out those at a line some diagnostic of `already` is at: errors for an
+/// analysis, notes for verify.
+fn refused_as_diagnostics(
+    findings: &[Finding],
+    analysis: Option<Analysis>,
+    already: &[Diagnostic],
+) -> Vec<Diagnostic> {
+    findings
+        .iter()
+        .filter(|f| match analysis {
+            Some(a) => f.refuses(a),
+            None => !f.refused_by.is_empty(),
+        })
+        .filter(|f| {
+            !already
+                .iter()
+                .any(|d| d.span.is_some_and(|s| s.line == f.span.line))
+        })
+        .map(|f| {
+            let mut d = refusal(f);
+            if analysis.is_none() {
+                d.severity = linkage_adm::Severity::Note;
+            }
+            d
+        })
+        .collect()
+}
+
+/// The input error of an analysis refusing `f`, with the option that runs without it.
+fn refusal(f: &Finding) -> Diagnostic {
+    f.error().with_hint(format!(
+        "--deactivate {} runs the rest of the model without it",
+        f.element
+    ))
+}
+
+/// The applied force elements of a loaded model (gravity is applied by the analyses), or the
+/// input errors of `analysis`: every statement it refuses, all at once.
+pub fn applied_forces(
+    loaded: &Loaded,
+    analysis: Analysis,
+) -> Result<Box<dyn linkage_solve::physics::applied::AppliedForces>, Diagnostics> {
+    let refused: Vec<Diagnostic> = loaded
+        .findings
+        .iter()
+        .filter(|f| f.refuses(analysis))
+        .map(refusal)
+        .collect();
+    if !refused.is_empty() {
+        return Err(Diagnostics(refused));
+    }
+    let forces = linkage_solve::physics::forces::ForceSet::new(&loaded.model)?;
+    Ok(Box::new(forces))
+}
+
+/// What a report of `analysis` says about the statements left out and those it ran without.
+pub fn coverage_json(
+    loaded: &Loaded,
+    analysis: Analysis,
+) -> (
+    Vec<linkage_report::coverage::LeftOutJson>,
+    Vec<linkage_report::coverage::FindingJson>,
+) {
+    (
+        linkage_report::coverage::left_out_json(&loaded.left_out),
+        linkage_report::coverage::runs_without_json(&loaded.findings, analysis),
+    )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn spring_mass() -> Source {
+        let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/spring_mass.adm");
+        Source::read(&path).expect("the example reads")
+    }
+
+    /// The numbers of argument `key` of statement `keyword`/`id`.
+    fn numbers(s: &Source, keyword: &str, id: Option<u64>, key: &str) -> Vec<f64> {
+        let st = s
+            .statements
+            .iter()
+            .find(|st| st.keyword == keyword && st.id == id)
+            .expect("statement");
+        st.arg(key)
+            .expect("argument")
+            .values
+            .iter()
+            .filter_map(|v| match v {
+                Value::Number { value, .. } => Some(*value),
+                _ => None,
+            })
+            .collect()
+    }
+
+    #[test]
+    fn set_replaces_or_adds_an_argument_as_a_redefinition_does() {
+        let mut s = spring_mass();
+        s.set("spring/1", "k", &ArgValue::Number(400.0))
+            .expect("K changes");
+        assert_eq!(numbers(&s, "SPRINGDAMPER", Some(1), "K"), vec![400.0]);
+        s.set("MARKER/101", "QP", &ArgValue::Numbers(vec![0.0, 0.0, 2.0]))
+            .expect("QP changes");
+        assert_eq!(numbers(&s, "MARKER", Some(101), "QP"), vec![0.0, 0.0, 2.0]);
+        // A settings statement the dataset lacks is added.
+        s.set("EQUILIBRIUM", "STABILITY", &ArgValue::Number(1e-3))
+            .expect("added");
+        assert_eq!(numbers(&s, "EQUILIBRIUM", None, "STABILITY"), vec![1e-3]);
+        // The changed model builds, with the new spring rate in force.
+        let loaded = s.load(&[], Some(Analysis::Linear)).expect("builds");
+        let report = crate::job::Job::Linear {
+            static_first: false,
+            no_damping: false,
+            no_vectors: false,
+            modes: None,
+            shift: None,
+            allow_unstable: false,
+        }
+        .run(&loaded, None)
+        .expect("runs")
+        .report;
+        // f = sqrt(k/m)/2π with k = 400 N/m, m = 2 kg (rounding only: 1e-12 relative).
+        let f = report["modes"][0]["frequency"].as_f64().expect("a mode");
+        let expected = (400.0f64 / 2.0).sqrt() / std::f64::consts::TAU;
+        assert!((f - expected).abs() < 1e-12 * expected, "{f} vs {expected}");
+    }
+
+    #[test]
+    fn a_change_that_cannot_be_is_refused_and_nothing_changes() {
+        let mut s = spring_mass();
+        let message = |r: Result<(), Diagnostics>| r.expect_err("refused").to_string();
+        let none = message(s.set("SPRINGDAMPER/7", "K", &ArgValue::Number(1.0)));
+        assert!(none.contains("no SPRINGDAMPER/7"), "{none}");
+        let bad_id = message(s.set("SPRINGDAMPER/x", "K", &ArgValue::Number(1.0)));
+        assert!(bad_id.contains("whole number"), "{bad_id}");
+        let nan = message(s.set("SPRINGDAMPER/1", "K", &ArgValue::Number(f64::NAN)));
+        assert!(nan.contains("finite"), "{nan}");
+        // A value of the wrong kind is a typing error at the argument it replaces.
+        let typed = message(s.set("SPRINGDAMPER/1", "K", &ArgValue::Expression("1 +".into())));
+        assert!(typed.contains("spring_mass.adm:25:"), "{typed}");
+        assert_eq!(numbers(&s, "SPRINGDAMPER", Some(1), "K"), vec![800.0]);
+        assert!(!s.changed);
+    }
+}

@@ -1,0 +1,71 @@
+//! The output times of a run from `--end` with `--steps` or `--dtout`.
+
+/// The most output times a run may ask for: every output keeps each part's state, so a
+/// mistyped count (`--dtout 1e-9` over `--end 1e9`) is refused rather than exhausting memory.
+pub const MAX_OUTPUT_TIMES: usize = 1_000_000;
+
+/// Slack on the number of `--dtout` intervals in `--end` (a count, so relative to one
+/// interval): an `--end` that is a multiple of `--dtout` up to rounding (`0.3 / 0.1` is
+/// 2.9999999999999996) gets no extra sliver interval at its end.
+pub const INTERVAL_COUNT_SLACK: f64 = 1e-9;
+
+/// Why `--end`, `--steps` or `--dtout` cannot give output times (an input error: exit code 2).
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum OutputTimesError {
+    #[error("--end must be a positive time, not {end}")]
+    EndNotPositive { end: f64 },
+    #[error("--dtout must be a positive time, not {dtout}")]
+    DtoutNotPositive { dtout: f64 },
+    /// `count` outputs (more than [`MAX_OUTPUT_TIMES`]) every `dtout` up to `end`.
+    #[error(
+        "--dtout {dtout} over --end {end} asks for {count:.3e} outputs; at most {} are allowed",
+        MAX_OUTPUT_TIMES
+    )]
+    TooManyIntervals { dtout: f64, end: f64, count: f64 },
+    #[error("--steps must be at least 1")]
+    NoSteps,
+    #[error(
+        "--steps {steps} asks for more than the {} outputs allowed",
+        MAX_OUTPUT_TIMES
+    )]
+    TooManySteps { steps: usize },
+}
+
+/// Output times from 0 to `end`: `steps` equal intervals, or every `dtout` (the last one
+/// shortened to land on `end`); 100 intervals when neither is given. An input error (for
+/// exit code 2) when `end` or `dtout` is not a positive finite time, `steps` is 0, or the run
+/// would have more than [`MAX_OUTPUT_TIMES`] outputs.
+pub fn output_times(
+    end: f64,
+    steps: Option<usize>,
+    dtout: Option<f64>,
+) -> Result<Vec<f64>, OutputTimesError> {
+    if !(end > 0.0 && end.is_finite()) {
+        return Err(OutputTimesError::EndNotPositive { end });
+    }
+    let intervals = match (steps, dtout) {
+        (_, Some(dtout)) => {
+            if !(dtout > 0.0 && dtout.is_finite()) {
+                return Err(OutputTimesError::DtoutNotPositive { dtout });
+            }
+            let n = (end / dtout - INTERVAL_COUNT_SLACK).ceil().max(1.0);
+            if n > MAX_OUTPUT_TIMES as f64 {
+                return Err(OutputTimesError::TooManyIntervals {
+                    dtout,
+                    end,
+                    count: n,
+                });
+            }
+            return Ok((0..=n as usize)
+                .map(|k| (k as f64 * dtout).min(end))
+                .collect());
+        }
+        (Some(0), None) => return Err(OutputTimesError::NoSteps),
+        (Some(n), None) => n,
+        (None, None) => 100,
+    };
+    if intervals > MAX_OUTPUT_TIMES {
+        return Err(OutputTimesError::TooManySteps { steps: intervals });
+    }
+    Ok(linkage_solve::stages::statics::output_times(end, intervals))
+}
