@@ -6,6 +6,7 @@ use linkage_report::linear::LinearJson;
 use linkage_solve::coverage::Analysis;
 use linkage_solve::pipeline::Assembled;
 use linkage_solve::stages::linearize::{run, EigenMethod, LinearOptions, LinearRun, DEFAULT_MODES};
+use linkage_solve::state::State;
 use linkage_solve::tolerances::Tolerances;
 
 /// What `linkage linear` asks for.
@@ -45,15 +46,22 @@ fn unstable_operating_point(run: &LinearRun) -> Option<String> {
         return None;
     };
     Some(format!(
-        "the static equilibrium linearized about is UNSTABLE (negative stiffness {stiffness:.3e} \
-         along a free motion): `linkage static --settle` finds a stable one by damped dynamics; \
-         --allow-unstable accepts this one"
+        "the static equilibrium linearized about is UNSTABLE (negative stiffness {} along a \
+         free motion): `linkage static --settle` finds a stable one by damped dynamics; \
+         --allow-unstable accepts this one",
+        linkage_adm::num::sci(stiffness, 4)
     ))
 }
 
 /// `linkage linear --format json` of `loaded`: eigenvalues, frequencies, damping ratios and
 /// mode shapes; its `errors` are the verdict.
 pub fn linear(loaded: &Loaded, args: &LinearArgs) -> Result<LinearJson, Diagnostics> {
+    linear_at(loaded, args).map(|(report, _)| report)
+}
+
+/// [`linear`] and its operating point: the static equilibrium (with `static_first`, when
+/// found) or the assembled configuration.
+pub fn linear_at(loaded: &Loaded, args: &LinearArgs) -> Result<(LinearJson, State), Diagnostics> {
     let forces = applied_forces(loaded, Analysis::Linear)?;
     let assembled = Assembled::new(
         &loaded.model,
@@ -72,5 +80,9 @@ pub fn linear(loaded: &Loaded, args: &LinearArgs) -> Result<LinearJson, Diagnost
     if !args.allow_unstable && report.errors.is_empty() {
         report.errors.extend(unstable_operating_point(&result));
     }
-    Ok(report)
+    let at = match &result.equilibrium {
+        Some(Ok(eq)) => eq.state.clone(),
+        _ => assembled.ic.assembly.state.clone(),
+    };
+    Ok((report, at))
 }

@@ -76,7 +76,7 @@ impl CsvStream<'_> {
 
 /// An HMAX that would need more steps than any run can take over `end` (a typing error),
 /// placed at the HMAX argument of the INTEGRATOR statement that set it.
-fn check_hmax(loaded: &Loaded, end: f64) -> Result<(), Error> {
+pub fn check_hmax(loaded: &Loaded, end: f64) -> Result<(), Error> {
     let Some(hmax) = loaded.model.integrator.settings.hmax else {
         return Ok(());
     };
@@ -95,8 +95,11 @@ fn check_hmax(loaded: &Loaded, end: f64) -> Result<(), Error> {
         loaded.dataset.file.clone(),
         at,
         format!(
-            "INTEGRATOR HMAX = {hmax:e} over --end {end} needs at least {steps:.3e} steps \
-             (at most {MAX_STEPS:.0e} are allowed)"
+            "INTEGRATOR HMAX = {} over --end {end} needs at least {} steps (at most {} are \
+             allowed)",
+            linkage_adm::num::general(hmax, 6),
+            linkage_adm::num::sci(steps, 4),
+            linkage_adm::num::general(MAX_STEPS, 6)
         ),
     );
     Err(Error::Input(linkage_adm::Diagnostics(vec![d])))

@@ -42,6 +42,8 @@ pub struct StaticRun {
     pub state: Option<State>,
     /// `--format csv` (Newton statics with `StaticArgs::csv` only).
     pub csv: Option<String>,
+    /// Newton statics of one equilibrium: the largest force imbalance of each iteration.
+    pub imbalance_history: Vec<f64>,
 }
 
 /// The analysis of `args`: quasi-static for a series, static otherwise.
@@ -119,6 +121,7 @@ pub fn statics(
             settled: true,
             state,
             csv: None,
+            imbalance_history: Vec::new(),
         });
     }
     let times = match args.series {
@@ -138,11 +141,16 @@ pub fn statics(
     let csv = args
         .csv
         .then(|| linkage_report::statics::to_csv(&loaded.model, &result));
+    let imbalance_history = match result.steps.as_slice() {
+        [(_, Ok(eq))] => eq.imbalance_history.clone(),
+        _ => Vec::new(),
+    };
     Ok(StaticRun {
         report,
         ok,
         settled: false,
         state,
         csv,
+        imbalance_history,
     })
 }

@@ -18,7 +18,8 @@ pub enum OutputTimesError {
     DtoutNotPositive { dtout: f64 },
     /// `count` outputs (more than [`MAX_OUTPUT_TIMES`]) every `dtout` up to `end`.
     #[error(
-        "--dtout {dtout} over --end {end} asks for {count:.3e} outputs; at most {} are allowed",
+        "--dtout {dtout} over --end {end} asks for {} outputs; at most {} are allowed",
+        linkage_adm::num::sci(*.count, 4),
         MAX_OUTPUT_TIMES
     )]
     TooManyIntervals { dtout: f64, end: f64, count: f64 },

@@ -4,9 +4,7 @@ use crate::common::{input_error, load, print_json, Format};
 use linkage_adm::Dataset;
 use linkage_model::Model;
 use linkage_solve::coverage::Analysis;
-use linkage_solve::pipeline::{Assembled, NotAssembled};
 use linkage_solve::state::State;
-use linkage_solve::tolerances::Tolerances;
 use std::path::Path;
 use std::process::ExitCode;
 
@@ -21,25 +19,15 @@ pub fn run(
         Ok(l) => l,
         Err(d) => return input_error(&d, format),
     };
-    let tol = Tolerances::default();
-    let forces = match crate::common::applied_forces(&loaded, Analysis::Ic) {
-        Ok(f) => f,
+    let run = match linkage_api::ic::ic(&loaded) {
+        Ok(r) => r,
         Err(d) => return input_error(&d, format),
     };
-    let assembled = Assembled::new(&loaded.model, &loaded.drivers, forces.as_ref(), &tol);
-    let ic = &assembled.ic;
-    let mut report = linkage_report::ic::to_json(&loaded.model, ic, &loaded.warnings);
-    (report.left_out, report.runs_without) = crate::common::coverage_json(&loaded, Analysis::Ic);
-    // An assembly that did not converge has its own error; an inconsistent redundancy is named
-    // here, as the one line of the verdict.
-    if let Some(why @ NotAssembled::Inconsistent { .. }) = assembled.failure() {
-        report.errors.push(why.to_string());
-    }
-    let mut failed = assembled.failure().is_some() || !report.errors.is_empty();
+    let (mut report, mut failed) = (run.report, run.failed);
     if let Some(out) = html {
         // The view moves from the input configuration to the assembled one.
         let mut page = crate::html_out::page(&loaded.model, "ic", &report, &[]);
-        let states = [State::input(&loaded.model), ic.assembly.state.clone()];
+        let states = [State::input(&loaded.model), run.state.clone()];
         page.animations.push(crate::html_out::frames_of_states(
             "input → assembled, time",
             states.iter(),
@@ -55,9 +43,7 @@ pub fn run(
                 "{} not written: the model could not be assembled",
                 out.display()
             ));
-        } else if let Err(e) =
-            save_configuration(&loaded.dataset, &loaded.model, &ic.assembly.state, out)
-        {
+        } else if let Err(e) = save_configuration(&loaded.dataset, &loaded.model, &run.state, out) {
             report
                 .errors
                 .push(format!("cannot write {}: {e}", out.display()));

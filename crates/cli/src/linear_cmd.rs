@@ -1,10 +1,8 @@
 //! `linkage linear`: eigenvalues and modes about an operating point.
 
-use crate::common::{applied_forces, input_error, load, print_json, Format};
+use crate::common::{input_error, load, print_json, Format};
 use linkage_solve::coverage::Analysis;
-use linkage_solve::pipeline::Assembled;
-use linkage_solve::stages::linearize::{run, EigenMethod, LinearOptions, LinearRun, DEFAULT_MODES};
-use linkage_solve::tolerances::Tolerances;
+use linkage_solve::stages::linearize::LinearOptions;
 use std::path::Path;
 use std::process::ExitCode;
 
@@ -27,23 +25,6 @@ pub struct LinearArgs<'a> {
     pub html: Option<&'a Path>,
 }
 
-/// The verdict on linearizing about an unstable static equilibrium, in one line with what to
-/// try (`None` when the operating point is not a converged, unstable equilibrium).
-fn unstable_operating_point(run: &LinearRun) -> Option<String> {
-    let Some(Ok(eq)) = &run.equilibrium else {
-        return None;
-    };
-    let (false, stiffness) = eq.stability? else {
-        return None;
-    };
-    Some(format!(
-        "the static equilibrium linearized about is UNSTABLE (negative stiffness {} along a \
-         free motion): `linkage static --settle` finds a stable one by damped dynamics; \
-         --allow-unstable accepts this one",
-        linkage_adm::num::sci(stiffness, 4)
-    ))
-}
-
 /// Most mode shapes a page animates.
 const MODES_ANIMATED: usize = 12;
 
@@ -52,51 +33,31 @@ pub fn run_linear(args: &LinearArgs) -> ExitCode {
         Ok(l) => l,
         Err(d) => return input_error(&d, args.format),
     };
-    let forces = match applied_forces(&loaded, Analysis::Linear) {
-        Ok(f) => f,
-        Err(d) => return input_error(&d, args.format),
-    };
-    if args.shift.is_some_and(|f| !f.is_finite()) {
-        eprintln!("error: --shift must be a finite frequency");
-        return ExitCode::from(2);
-    }
-    let method = match (args.modes, args.shift) {
-        (None, None) => EigenMethod::Auto,
-        (modes, shift) => EigenMethod::ShiftInvert {
-            modes: modes.unwrap_or(DEFAULT_MODES),
-            shift: shift.map(|f| f * std::f64::consts::TAU),
-        },
+    let method = match linkage_api::linear::eigen_method(args.modes, args.shift) {
+        Ok(m) => m,
+        Err(e) => {
+            eprintln!("error: {e}");
+            return ExitCode::from(2);
+        }
     };
     let opts = LinearOptions {
         damping: args.damping,
         vectors: args.vectors,
         method,
     };
-    let assembled = Assembled::new(
-        &loaded.model,
-        &loaded.drivers,
-        forces.as_ref(),
-        &Tolerances::default(),
-    );
-    let result = run(&assembled, args.static_first, opts);
-    let mut report = linkage_report::linear::to_json(
-        &loaded.model,
-        &result,
-        args.static_first,
-        &loaded.warnings,
-    );
-    (report.left_out, report.runs_without) =
-        crate::common::coverage_json(&loaded, Analysis::Linear);
-    if !args.allow_unstable && report.errors.is_empty() {
-        report.errors.extend(unstable_operating_point(&result));
-    }
+    let linear = linkage_api::linear::LinearArgs {
+        static_first: args.static_first,
+        options: opts,
+        allow_unstable: args.allow_unstable,
+    };
+    let (mut report, at) = match linkage_api::linear::linear_at(&loaded, &linear) {
+        Ok(r) => r,
+        Err(d) => return input_error(&d, args.format),
+    };
     if let Some(out) = args.html {
         let mut page = crate::html_out::page(&loaded.model, "linear", &report, &[]);
         // The operating point: the static equilibrium, or the assembled configuration.
-        let at = match &result.equilibrium {
-            Some(Ok(eq)) => &eq.state,
-            _ => &assembled.ic.assembly.state,
-        };
+        let at = &at;
         let base: Vec<_> = at.poses.iter().map(|p| (p.p, p.r)).collect();
         page.animations.extend(
             report

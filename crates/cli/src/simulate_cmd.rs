@@ -4,7 +4,6 @@
 use crate::common::{
     applied_forces, input_error, is_stdout, load, output_times, print_json, Format, Progress,
 };
-use linkage_report::num::{general, sci};
 use linkage_report::simulate::CsvHistory;
 use linkage_solve::coverage::Analysis;
 use linkage_solve::physics::requests::RequestSet;
@@ -40,9 +39,6 @@ pub struct SimulateArgs<'a> {
     /// The columns the page plots (`--plot`; empty: the default plots).
     pub plot: &'a [String],
 }
-
-/// The most integration steps an HMAX may imply (about a day of computing for a small model).
-const MAX_STEPS: f64 = 1e9;
 
 /// The CSV of `--out`, written row by row as the outputs come (bounded memory whatever their
 /// number; each row flushed, so a run that stops keeps whole rows). REQUEST columns follow the
@@ -108,30 +104,12 @@ pub fn run_simulate(args: &SimulateArgs) -> ExitCode {
     // notes and warnings.
     let integrator = &loaded.model.integrator;
     // A step size bound that would need more steps than any run can take is a typing error.
-    if let Some(hmax) = integrator.settings.hmax {
-        let steps = args.end / hmax;
-        if steps > MAX_STEPS {
-            // Placed at the HMAX argument of the INTEGRATOR statement that set it.
-            let at = loaded
-                .dataset
-                .statements
-                .iter()
-                .rev()
-                .filter(|st| st.keyword == "INTEGRATOR")
-                .find_map(|st| st.args.iter().find(|a| a.key == "HMAX").map(|a| a.span));
-            let d = linkage_adm::Diagnostic::error(
-                loaded.dataset.file.clone(),
-                at,
-                format!(
-                    "INTEGRATOR HMAX = {} over --end {} needs at least {} steps (at most {} \
-                     are allowed)",
-                    general(hmax, 6),
-                    args.end,
-                    sci(steps, 4),
-                    general(MAX_STEPS, 6)
-                ),
-            );
-            return input_error(&linkage_adm::Diagnostics(vec![d]), args.format);
+    match linkage_api::simulate::check_hmax(&loaded, args.end) {
+        Ok(()) => {}
+        Err(linkage_api::Error::Input(d)) => return input_error(&d, args.format),
+        Err(e) => {
+            eprintln!("error: {e}");
+            return ExitCode::from(e.exit_code());
         }
     }
     let bar = Progress::on_terminal();

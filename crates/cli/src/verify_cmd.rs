@@ -5,7 +5,6 @@ use linkage_adm::{Dataset, Diagnostics};
 use linkage_report::explain::AppliedJson;
 use linkage_solve::stages::explain::repair::realize;
 use linkage_solve::stages::explain::{dense, explain, generic, Mobility, Proposal};
-use linkage_solve::stages::verify::compile;
 use linkage_solve::state::State;
 use linkage_solve::tolerances::Tolerances;
 use std::path::Path;
@@ -52,28 +51,8 @@ fn verify_one(args: &VerifyArgs, model: &Path) -> Verified {
         loaded.dataset = Dataset::empty(loaded.dataset.file.clone());
     }
     let tol = Tolerances::default();
-    let v = linkage_solve::stages::verify::verify(&loaded.model, &loaded.drivers, &tol);
-    let mut report = linkage_report::verify::to_json(&loaded.model, &v, &loaded.warnings);
-    if !v.assembled || !v.idealized.is_empty() {
-        // Not assembled at the input: the counts at the repaired input pose may differ from
-        // those at the pose the assembly reaches, which every analysis uses. Assemble (no
-        // forces are needed for the displacements) and report those too.
-        let ic = linkage_solve::stages::ic::initial_conditions(
-            &loaded.model,
-            &compile(&loaded.model, &State::input(&loaded.model), &[]),
-            &loaded.drivers,
-            &linkage_solve::physics::applied::NoForces,
-            &tol,
-        );
-        report.after_assembly = Some(linkage_report::verify::after_assembly_json(
-            &loaded.model,
-            ic.assembly.converged,
-            &ic.analysis,
-        ));
-    }
-    report.left_out = linkage_report::coverage::left_out_json(&loaded.left_out);
-    report.not_run = loaded.findings.iter().map(Into::into).collect();
-    report.later_refused_by = linkage_report::coverage::refusing_analyses(&loaded.findings);
+    let v = linkage_api::verify::verification(&loaded, &tol);
+    let mut report = linkage_api::verify::report(&loaded, &v);
     if args.explain || args.apply.is_some() {
         let ex = explain(&loaded.model, &loaded.drivers, &tol, &v);
         let mut j = linkage_report::explain::to_json(&loaded.model, &ex);
