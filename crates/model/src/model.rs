@@ -81,11 +81,14 @@ pub struct Constraint {
     pub kind: ConstraintKind,
 }
 
+/// Statement keyword of a point mass's rotation hold (its origin is the POINT_MASS statement).
+pub const POINT_MASS_STATEMENT: &str = "POINT_MASS";
+
 impl Constraint {
     /// Human description in Adams View style: `Revolute Joint`, `Inline Primitive`,
     /// `Rotational Motion`, `Coupler`, `Gear`, `General Constraint`.
     pub fn description(&self) -> String {
-        if self.origin.statement == crate::build::point_masses::POINT_MASS {
+        if self.origin.statement == POINT_MASS_STATEMENT {
             return "Point Mass Rotation Hold".into();
         }
         match &self.kind {

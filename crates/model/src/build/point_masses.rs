@@ -18,7 +18,7 @@ use glam::{DMat3, DVec3};
 use linkage_adm::{ForceDof, JointType, JprimType, MotionAxis};
 
 /// Statement keyword of the rotation hold's origin (it is the POINT_MASS statement).
-pub const POINT_MASS: &str = "POINT_MASS";
+pub use crate::model::POINT_MASS_STATEMENT as POINT_MASS;
 
 /// Whether constraint `c` is the rotation hold of a point mass (not a dataset element).
 pub fn is_rotation_hold(c: &Constraint) -> bool {
