@@ -177,6 +177,7 @@ impl Job {
                     csv,
                     progress: &mut |_| {},
                     interrupted: &|| false,
+                    observe: None,
                 };
                 to_value(&crate::simulate::simulate(loaded, args)?)?
             }

@@ -24,6 +24,10 @@ pub struct CsvTarget {
     pub open: Box<dyn FnOnce() -> std::io::Result<Box<dyn Write>> + Send>,
 }
 
+/// A front end's view of each output and its REQUEST values (see
+/// [`SimulateArgs::observe`]).
+pub type Observer<'o> = dyn FnMut(&Output, &[f64]) + 'o;
+
 /// What `linkage simulate` asks for (the output times already from `--end`/`--steps`/`--dtout`).
 pub struct SimulateArgs<'a> {
     pub times: &'a [f64],
@@ -38,6 +42,9 @@ pub struct SimulateArgs<'a> {
     pub progress: &'a mut dyn FnMut(RunProgress),
     /// Stops the run after the step it is in when true (Ctrl-C).
     pub interrupted: &'a dyn Fn() -> bool,
+    /// Called with every output and its REQUEST values (empty when the model has none): how
+    /// a front end keeps a history of its own (the CLI's `--html` page).
+    pub observe: Option<&'a mut Observer<'a>>,
 }
 
 /// The CSV of `--out`, written row by row as the outputs come (bounded memory whatever their
@@ -111,9 +118,9 @@ pub fn simulate(loaded: &Loaded, args: SimulateArgs) -> Result<SimulateJson, Err
     let forces = applied_forces(loaded, Analysis::Simulate)?;
     // REQUESTs only shape the CSV: they are resolved (and their errors reported) only when
     // one is written.
-    let requests = match args.csv {
-        Some(_) => Some(RequestSet::new(&loaded.model)?),
-        None => None,
+    let requests = match (&args.csv, &args.observe) {
+        (None, None) => None,
+        _ => Some(RequestSet::new(&loaded.model)?),
     };
     let end = args.times.last().copied().unwrap_or(0.0);
     // INTEGRATOR settings, resolved by the model (GSTIFF/WSTIFF run the BDF, HHT/NEWMARK
@@ -146,7 +153,15 @@ pub fn simulate(loaded: &Loaded, args: SimulateArgs) -> Result<SimulateJson, Err
         }
     };
     let mut write_error: Option<String> = None;
+    let mut observe = args.observe;
+    let observed_requests = requests.as_ref().filter(|r| !r.is_empty());
     let mut on_output = |o: &Output| {
+        if let Some(f) = observe.as_mut() {
+            let values = observed_requests
+                .and_then(|r| r.evaluate(assembled.model, &assembled.system, o).ok())
+                .unwrap_or_default();
+            f(o, &values);
+        }
         if let Some(c) = csv.as_mut() {
             if let Err(e) = c.write(&assembled, o) {
                 write_error = Some(format!("cannot write {}: {e}", c.path));

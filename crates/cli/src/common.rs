@@ -7,7 +7,6 @@ use std::process::ExitCode;
 
 // Loading a dataset and the analyses' shared pieces live in the library that the Python
 // package and sweeps use too.
-pub use linkage_api::source::{applied_forces, coverage_json};
 pub use linkage_api::{load, output_times, Loaded};
 
 #[derive(Clone, Copy, ValueEnum, PartialEq, Eq, Debug)]
