@@ -130,10 +130,9 @@ fn csv_series(
         .iter()
         .map(|p| {
             let n = &p.origin.name;
-            let c = ["x", "y", "z", "psi", "theta", "phi"].map(|c| column(&format!("{n}.{c}")));
-            c.iter()
-                .all(Option::is_some)
-                .then(|| c.map(|s| s.expect("checked")))
+            let [x, y, z, psi, theta, phi] =
+                ["x", "y", "z", "psi", "theta", "phi"].map(|c| column(&format!("{n}.{c}")));
+            Some([x?, y?, z?, psi?, theta?, phi?])
         })
         .collect();
     for (k, &t) in h.times.iter().enumerate() {
