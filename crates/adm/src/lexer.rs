@@ -312,6 +312,8 @@ impl<'a> Lexer<'a> {
                 mark: Mark::LineBreak,
             });
         }
+        // One character per byte at most: one reservation per piece instead of the doublings.
+        raw.chars.reserve(piece.end.saturating_sub(piece.start));
         let mut col = col_of(text, piece.start);
         let mut first_nonblank = true;
         for c in text.get(piece.start..piece.end).unwrap_or("").chars() {

@@ -25,5 +25,5 @@ pub mod times;
 pub mod verify;
 
 pub use error::Error;
-pub use source::{applied_forces, coverage_json, load, ArgValue, Loaded, Source};
+pub use source::{applied_forces, coverage_json, load, load_model, ArgValue, Loaded, Source};
 pub use times::{output_times, OutputTimesError, INTERVAL_COUNT_SLACK, MAX_OUTPUT_TIMES};

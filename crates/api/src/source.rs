@@ -58,8 +58,9 @@ impl std::fmt::Display for ArgValue {
 #[derive(Clone)]
 pub struct Source {
     read: Dataset,
-    statements: Vec<Statement>,
-    changed: bool,
+    /// The statements with the changes made; `None` until [`Source::set`] changes one (the
+    /// dataset's own statements then stand, without a second copy of them).
+    amended: Option<Vec<Statement>>,
 }
 
 impl Source {
@@ -70,10 +71,14 @@ impl Source {
 
     pub fn from_dataset(read: Dataset) -> Source {
         Source {
-            statements: read.statements.clone(),
             read,
-            changed: false,
+            amended: None,
         }
+    }
+
+    /// The statements with every change made so far.
+    fn statements(&self) -> &[Statement] {
+        self.amended.as_deref().unwrap_or(&self.read.statements)
     }
 
     /// The dataset's file name, as diagnostics give it.
@@ -108,7 +113,7 @@ impl Source {
         // The new value is placed where the statement is, so that a typing error in it
         // points at the statement it changes.
         let at = self
-            .statements
+            .statements()
             .iter()
             .find(|s| s.keyword == keyword && (id.is_none() || s.id == id))
             .map_or(Span::default(), |s| {
@@ -151,12 +156,11 @@ impl Source {
             lines: (at.line, at.line),
             view_name: None,
         };
-        let mut statements = self.statements.clone();
+        let mut statements = self.statements().to_vec();
         linkage_adm::amend::redefine(&mut statements, &change).map_err(|e| error(e.to_string()))?;
         // Typing the amended statements checks the new value now, not at the next analysis.
         linkage_adm::amend::retype(&self.read, &statements, &BTreeSet::new())?;
-        self.statements = statements;
-        self.changed = true;
+        self.amended = Some(statements);
         Ok(())
     }
 
@@ -164,7 +168,7 @@ impl Source {
     /// that it names in full or abbreviates (at least three letters, as the language allows).
     fn resolve_keyword(&self, keyword: &str, id: Option<u64>) -> Result<String, String> {
         let mut kinds: Vec<&str> = self
-            .statements
+            .statements()
             .iter()
             .map(|s| s.keyword.as_str())
             .filter(|k| *k == keyword || (keyword.len() >= 3 && k.starts_with(keyword)))
@@ -196,21 +200,72 @@ impl Source {
         deactivate: &[String],
         analysis: Option<Analysis>,
     ) -> Result<Loaded, Diagnostics> {
+        let (dataset, left_out) = match self.amended_dataset(deactivate)? {
+            Some(amended) => amended,
+            None => (self.read.clone(), Vec::new()),
+        };
+        build(dataset, left_out, analysis)
+    }
+
+    /// [`Source::load`] for a source used once: the dataset as read is moved into the
+    /// [`Loaded`] rather than copied, so that a large model is held once while it is built.
+    pub fn into_loaded(
+        self,
+        deactivate: &[String],
+        analysis: Option<Analysis>,
+    ) -> Result<Loaded, Diagnostics> {
+        let (dataset, left_out) = match self.amended_dataset(deactivate)? {
+            Some(amended) => amended,
+            None => (self.read, Vec::new()),
+        };
+        build(dataset, left_out, analysis)
+    }
+
+    /// [`Source::into_loaded`] for a caller that needs only the model (verify without a
+    /// change to save): the text and the raw statements the model builder reads only in
+    /// their typed form ([`linkage_model::TYPED_ONLY`]) are freed before the model is built,
+    /// and the returned [`Loaded::dataset`] is empty but for its file name.
+    pub fn into_model(
+        self,
+        deactivate: &[String],
+        analysis: Option<Analysis>,
+    ) -> Result<Loaded, Diagnostics> {
+        let (mut dataset, left_out) = match self.amended_dataset(deactivate)? {
+            Some(amended) => amended,
+            None => (self.read, Vec::new()),
+        };
+        let findings = coverage::findings(&dataset);
+        dataset.text = String::new();
+        dataset
+            .statements
+            .retain(|s| !linkage_model::TYPED_ONLY.contains(&s.keyword.as_str()));
+        dataset.statements.shrink_to_fit();
+        let mut loaded = build_found(dataset, left_out, analysis, findings)?;
+        loaded.dataset = Dataset::empty(loaded.dataset.file.clone());
+        Ok(loaded)
+    }
+
+    /// The dataset typed again from the changed statements without those `deactivate` names,
+    /// with the statements left out; `None` when nothing is changed or left out (the dataset
+    /// as read stands).
+    fn amended_dataset(
+        &self,
+        deactivate: &[String],
+    ) -> Result<Option<(Dataset, Vec<Selected>)>, Diagnostics> {
         let left_out = if deactivate.is_empty() {
             Vec::new()
         } else {
-            linkage_adm::amend::select(&self.statements, deactivate).map_err(|e| {
+            linkage_adm::amend::select(self.statements(), deactivate).map_err(|e| {
                 Diagnostics(vec![Diagnostic::error(self.read.file.clone(), None, e)])
             })?
         };
-        let dataset = if left_out.is_empty() && !self.changed {
-            self.read.clone()
-        } else {
-            let inactive: BTreeSet<(String, u64)> =
-                left_out.iter().map(|s| (s.keyword.clone(), s.id)).collect();
-            linkage_adm::amend::retype(&self.read, &self.statements, &inactive)?
-        };
-        build(dataset, left_out, analysis)
+        if left_out.is_empty() && self.amended.is_none() {
+            return Ok(None);
+        }
+        let inactive: BTreeSet<(String, u64)> =
+            left_out.iter().map(|s| (s.keyword.clone(), s.id)).collect();
+        let dataset = linkage_adm::amend::retype(&self.read, self.statements(), &inactive)?;
+        Ok(Some((dataset, left_out)))
     }
 }
 
@@ -251,7 +306,17 @@ pub fn load(
     deactivate: &[String],
     analysis: Option<Analysis>,
 ) -> Result<Loaded, Diagnostics> {
-    Source::read(path)?.load(deactivate, analysis)
+    Source::read(path)?.into_loaded(deactivate, analysis)
+}
+
+/// Reads the dataset at `path` and builds its model, keeping nothing of the dataset but its
+/// file name (see [`Source::into_model`]).
+pub fn load_model(
+    path: &Path,
+    deactivate: &[String],
+    analysis: Option<Analysis>,
+) -> Result<Loaded, Diagnostics> {
+    Source::read(path)?.into_model(deactivate, analysis)
 }
 
 /// Builds `dataset` (the statements `left_out` already removed from it).
@@ -261,6 +326,16 @@ fn build(
     analysis: Option<Analysis>,
 ) -> Result<Loaded, Diagnostics> {
     let findings = coverage::findings(&dataset);
+    build_found(dataset, left_out, analysis, findings)
+}
+
+/// [`build`] with the dataset's findings already made.
+fn build_found(
+    dataset: Dataset,
+    left_out: Vec<Selected>,
+    analysis: Option<Analysis>,
+    findings: Vec<Finding>,
+) -> Result<Loaded, Diagnostics> {
     let built = linkage_model::build_model(&dataset)
         .and_then(|b| ExpressionDrivers::new(&b.model).map(|d| (b, d)));
     let (built, drivers) = match built {
@@ -364,7 +439,7 @@ mod tests {
     /// The numbers of argument `key` of statement `keyword`/`id`.
     fn numbers(s: &Source, keyword: &str, id: Option<u64>, key: &str) -> Vec<f64> {
         let st = s
-            .statements
+            .statements()
             .iter()
             .find(|st| st.keyword == keyword && st.id == id)
             .expect("statement");
@@ -425,6 +500,29 @@ mod tests {
         let typed = message(s.set("SPRINGDAMPER/1", "K", &ArgValue::Expression("1 +".into())));
         assert!(typed.contains("spring_mass.adm:25:"), "{typed}");
         assert_eq!(numbers(&s, "SPRINGDAMPER", Some(1), "K"), vec![800.0]);
-        assert!(!s.changed);
+        assert!(s.amended.is_none());
+    }
+
+    #[test]
+    fn a_model_built_without_the_raw_statements_is_the_same_model() {
+        // The four-bar has GRAPHICS, which the builder types from their raw statements.
+        let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/fourbar.adm");
+        let mut s = Source::read(&path).expect("the example reads");
+        // Settings statements are raw statements the model builder reads.
+        s.set("EQUILIBRIUM", "STABILITY", &ArgValue::Number(1e-3))
+            .expect("added");
+        s.set("INTEGRATOR", "ERROR", &ArgValue::Number(1e-5))
+            .expect("added");
+        s.set("IC", "ERROR", &ArgValue::Number(1e-7))
+            .expect("added");
+        let whole = s.load(&[], None).expect("builds");
+        let lean = s.into_model(&[], None).expect("builds");
+        assert_eq!(format!("{:?}", whole.model), format!("{:?}", lean.model));
+        assert_eq!(lean.model.integrator.settings.error, 1e-5);
+        assert_eq!(lean.model.ic.error, 1e-7);
+        assert!(lean.dataset.statements.is_empty() && lean.dataset.text.is_empty());
+        assert!(whole.dataset.statements.len() > 10);
+        assert!(!whole.model.graphics.is_empty());
+        assert_eq!(whole.findings.len(), lean.findings.len());
     }
 }

@@ -1,7 +1,7 @@
 //! `linkage verify` (with `--explain`, `--apply K --save OUT.adm`).
 
 use crate::common::{load, print_json, Format, Loaded};
-use linkage_adm::{Dataset, Diagnostics};
+use linkage_adm::Diagnostics;
 use linkage_report::explain::AppliedJson;
 use linkage_solve::stages::explain::repair::realize;
 use linkage_solve::stages::explain::{dense, explain, generic, Mobility, Proposal};
@@ -36,7 +36,15 @@ struct Verified {
 
 /// Verifies one model: the report and its verdict (1 when its `errors` list is not empty).
 fn verify_one(args: &VerifyArgs, model: &Path) -> Verified {
-    let mut loaded = match load(model, args.deactivate, None) {
+    // Only --apply reads the dataset again; otherwise its text and statements (most of the
+    // memory of a large model: about 8 kB per part of a four-bar chain) are freed as soon as
+    // the model no longer needs them.
+    let loaded = if args.apply.is_none() {
+        linkage_api::load_model(model, args.deactivate, None)
+    } else {
+        load(model, args.deactivate, None)
+    };
+    let loaded = match loaded {
         Ok(l) => l,
         Err(d) => {
             return Verified {
@@ -45,11 +53,6 @@ fn verify_one(args: &VerifyArgs, model: &Path) -> Verified {
             }
         }
     };
-    if args.apply.is_none() {
-        // Only --apply reads the dataset again: free its text and statements (most of the
-        // memory of a large model: about 8 kB per part of a four-bar chain) before verifying.
-        loaded.dataset = Dataset::empty(loaded.dataset.file.clone());
-    }
     let tol = Tolerances::default();
     let v = linkage_api::verify::verification(&loaded, &tol);
     let mut report = linkage_api::verify::report(&loaded, &v);

@@ -23,5 +23,5 @@ pub mod sensors;
 pub mod settings;
 pub mod units;
 
-pub use build::build_model;
+pub use build::{build_model, TYPED_ONLY};
 pub use model::*;

@@ -461,24 +461,19 @@ pub fn body_text(j: &VerifyJson) -> String {
                     ""
                 };
                 let _ = writeln!(s, "   {l:<w$}{:<36} {status}{tie}", r.equation.equation);
-                let deps: Vec<String> = r
-                    .depends_on
-                    .iter()
-                    .take(6)
-                    .map(|d| {
-                        format!(
-                            "{:+.4} {} {}",
-                            d.coefficient, d.equation.name, d.equation.short
-                        )
-                    })
-                    .collect();
-                if !deps.is_empty() {
-                    let more = if r.depends_on.len() > 6 {
-                        format!(" … ({} more)", r.depends_on.len() - 6)
-                    } else {
-                        String::new()
-                    };
-                    let _ = writeln!(s, "   {:<w$}  = {}{more}", "", deps.join(", "));
+                if !r.depends_on.is_empty() {
+                    let _ = write!(s, "   {:<w$}  = ", "");
+                    for (k, d) in r.depends_on.iter().take(6).enumerate() {
+                        if k > 0 {
+                            s.push_str(", ");
+                        }
+                        push_coefficient(&mut s, d.coefficient);
+                        let _ = write!(s, " {} {}", d.equation.name, d.equation.short);
+                    }
+                    if r.depends_on.len() > 6 {
+                        let _ = write!(s, " … ({} more)", r.depends_on.len() - 6);
+                    }
+                    s.push('\n');
                 }
             }
         }
@@ -591,4 +586,53 @@ pub fn body_text(j: &VerifyJson) -> String {
         }
     );
     s
+}
+
+/// Appends `x` signed with four decimals (`+7071.4214`, `-0.6124`), as `{:+.4}` writes it.
+/// Coefficients of a redundancy are many (six per redundant row), so the common case is
+/// printed from the integer `round(x·10⁴)` rather than through the exact float formatter.
+fn push_coefficient(s: &mut String, x: f64) {
+    use std::fmt::Write as _;
+    let scaled = (x * 1e4).round();
+    if scaled.is_finite() && scaled.abs() < 1e15 {
+        let n = scaled.abs() as u64;
+        let sign = if x.is_sign_negative() && n > 0 {
+            '-'
+        } else {
+            '+'
+        };
+        let _ = write!(s, "{sign}{}.{:04}", n / 10_000, n % 10_000);
+    } else {
+        let _ = write!(s, "{x:+.4}");
+    }
+}
+
+#[cfg(test)]
+mod coefficient_tests {
+    use super::push_coefficient;
+
+    #[test]
+    fn coefficients_print_as_the_float_formatter_does() {
+        for x in [
+            7071.421356,
+            -7071.421356,
+            0.612372,
+            -0.353553,
+            1.0,
+            -1.0,
+            10000.5,
+            123.45678,
+        ] {
+            let mut s = String::new();
+            push_coefficient(&mut s, x);
+            assert_eq!(s, format!("{x:+.4}"));
+        }
+        // Rounding noise is 0 without a sign; huge values fall back to the formatter.
+        let mut s = String::new();
+        push_coefficient(&mut s, -1e-9);
+        assert_eq!(s, "+0.0000");
+        s.clear();
+        push_coefficient(&mut s, -3e20);
+        assert_eq!(s, format!("{:+.4}", -3e20));
+    }
 }

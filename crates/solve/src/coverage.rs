@@ -316,18 +316,21 @@ pub fn findings(ds: &Dataset) -> Vec<Finding> {
         if use_ == Use::Bookkeeping {
             continue;
         }
-        let element = match st.id {
+        // The names are formatted only for a statement that is a finding (most are not).
+        let element = || match st.id {
             Some(id) => format!("{}/{id}", st.keyword),
             None => st.keyword.clone(),
         };
-        let name = st.view_name.clone().unwrap_or_else(|| match st.id {
-            Some(id) => format!("{}_{id}", st.keyword),
-            None => st.keyword.clone(),
-        });
+        let name = || {
+            st.view_name.clone().unwrap_or_else(|| match st.id {
+                Some(id) => format!("{}_{id}", st.keyword),
+                None => st.keyword.clone(),
+            })
+        };
         let finding =
             |span: Span, reason: Reason, detail: String, refused_by: &[Analysis]| Finding {
-                element: element.clone(),
-                name: name.clone(),
+                element: element(),
+                name: name(),
                 keyword: st.keyword.clone(),
                 id: st.id,
                 statement: index,

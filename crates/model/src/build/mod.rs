@@ -32,6 +32,14 @@ use lookup::MarkerTable;
 /// Relative tolerance of the inertia validity check (principal moments, triangle inequality).
 pub const INERTIA_RELATIVE_TOLERANCE: f64 = 1e-9;
 
+/// Statement kinds the builder reads only in their typed form ([`Dataset::parts`],
+/// [`Dataset::markers`], …), never as raw statements ([`Dataset::statements`]): a dataset
+/// without the raw statements of these kinds builds the same model. They are the bulk of a
+/// large model, so dropping them before building means a large model is never held as text,
+/// raw statements and model at once. (Elements typed on demand from their raw statements —
+/// settings, GRAPHICS, contacts, finite-element parts — must not be listed here.)
+pub const TYPED_ONLY: [&str; 5] = ["PART", "MARKER", "JOINT", "JPRIM", "MOTION"];
+
 /// The model and the non-fatal findings made while building it (dataset warnings included).
 pub struct Built {
     pub model: Model,

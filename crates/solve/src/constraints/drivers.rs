@@ -150,7 +150,21 @@ impl ExpressionDrivers {
         let mut functions = Vec::with_capacity(model.constraints.len());
         let mut errors = Vec::new();
         let mut warnings = Vec::new();
-        let frames = MarkerFrames::new(model);
+        // Marker frames and the input state are needed only to check GCON functions.
+        let needs_frames = model.constraints.iter().any(|c| {
+            matches!(
+                c.kind,
+                ConstraintKind::Gcon {
+                    expr: Some(Ok(_)),
+                    ..
+                }
+            )
+        });
+        let frames = if needs_frames {
+            MarkerFrames::new(model)
+        } else {
+            MarkerFrames::default()
+        };
         let input = State::input(model);
         for c in &model.constraints {
             if let ConstraintKind::Gcon {

@@ -328,7 +328,8 @@ impl Quantity {
                 add_outer(h, &gc, &gc, -k * sn * cs);
                 true
             }
-            Quantity::Euler { i, j, .. } => {
+            Quantity::Euler(e) => {
+                let (i, j) = (&e.i, &e.j);
                 let mut parts: Vec<usize> =
                     [i.body, j.body].iter().filter_map(|b| b.part()).collect();
                 parts.dedup();

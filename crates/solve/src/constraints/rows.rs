@@ -84,7 +84,10 @@ impl BodyFrame {
 }
 
 /// A geometric quantity of body-fixed points and directions.
-#[derive(Clone, Copy, Debug, PartialEq)]
+///
+/// The rare Euler-angle quantity is boxed: a row's term is as large as the largest variant,
+/// and rows of joints (nearly all rows of a large model) hold dot products and projections.
+#[derive(Clone, Debug, PartialEq)]
 pub enum Quantity {
     /// `a·b`.
     Dot(BodyDir, BodyDir),
@@ -102,12 +105,23 @@ pub enum Quantity {
     },
     /// Euler angle `k` (0, 1, 2) of frame `i` relative to frame `j` in sequence `seq`
     /// (`R_jᵀ R_i = Rx(b1)·Ry(b2)·Rz(b3)` for body 1-2-3, …).
-    Euler {
-        i: BodyFrame,
-        j: BodyFrame,
-        seq: EulerSeq,
-        k: usize,
-    },
+    Euler(Box<EulerAngle>),
+}
+
+/// Euler angle `k` (0, 1, 2) of frame `i` relative to frame `j` in sequence `seq`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct EulerAngle {
+    pub i: BodyFrame,
+    pub j: BodyFrame,
+    pub seq: EulerSeq,
+    pub k: usize,
+}
+
+impl Quantity {
+    /// Euler angle `k` of frame `i` relative to frame `j` in sequence `seq`.
+    pub fn euler(i: BodyFrame, j: BodyFrame, seq: EulerSeq, k: usize) -> Quantity {
+        Quantity::Euler(Box::new(EulerAngle { i, j, seq, k }))
+    }
 }
 
 /// Euler-angle sequences used by motions and measures.
@@ -300,7 +314,8 @@ impl Quantity {
                 let (sn, c) = angle_parts(x.eval(s), x_ref.eval(s), y_ref.eval(s));
                 sn.atan2(c)
             }
-            Quantity::Euler { i, j, seq, k } => {
+            Quantity::Euler(e) => {
+                let EulerAngle { i, j, seq, k } = &**e;
                 let (_, ri) = i.eval(s);
                 let (_, rj) = j.eval(s);
                 seq.angles(&(rj.transpose() * ri))[*k]
@@ -339,7 +354,8 @@ impl Quantity {
                 g.add(x.body, fc, DVec3::ZERO, vx.cross(vxr));
                 g.add(x_ref.body, fc, DVec3::ZERO, vxr.cross(vx));
             }
-            Quantity::Euler { i, j, seq, k } => {
+            Quantity::Euler(e) => {
+                let EulerAngle { i, j, seq, k } = &**e;
                 let (_, ri) = i.eval(s);
                 let (_, rj) = j.eval(s);
                 let b = seq.angles(&(rj.transpose() * ri));
@@ -381,7 +397,8 @@ impl Quantity {
                 let cs = dot_series(&x, &dir_series(x_ref, s, v, acc));
                 atan2_series(sn, cs)
             }
-            Quantity::Euler { i, j, seq, k } => {
+            Quantity::Euler(e) => {
+                let EulerAngle { i, j, seq, k } = &**e;
                 let (_, ri) = i.eval(s);
                 let (_, rj) = j.eval(s);
                 let b = seq.angles(&(rj.transpose() * ri));

@@ -445,12 +445,7 @@ impl System {
                                 j: fj.origin(),
                                 e: fj.axis(k),
                             };
-                            let ang = |k: usize| Quantity::Euler {
-                                i: fi,
-                                j: fj,
-                                seq: EulerSeq::Body123,
-                                k,
-                            };
+                            let ang = |k: usize| Quantity::euler(fi, fj, EulerSeq::Body123, k);
                             match axis {
                                 MotionAxis::X => {
                                     ("Translation Along Xj", "DX", RowUnit::Length, proj(0))
@@ -834,26 +829,26 @@ mod tests {
             p_b: DVec3::ZERO,
             r_b: DMat3::IDENTITY,
         };
-        let angle = joint_coordinate(frame, frame, CouplerDof::Rotation);
-        let proj = joint_coordinate(frame, frame, CouplerDof::Translation);
+        let a = || joint_coordinate(frame, frame, CouplerDof::Rotation);
+        let proj = || joint_coordinate(frame, frame, CouplerDof::Translation);
         // SCREW: translation − PITCH/2π · angle: one pitch.
-        let p = turn_period(&[(1.0, proj), (-0.02 / TAU, angle)]).unwrap();
+        let p = turn_period(&[(1.0, proj()), (-0.02 / TAU, a())]).unwrap();
         assert!((p - 0.02).abs() < 1e-15, "{p}");
         // Ratio 2 (and its rounding): half a turn of the first joint.
-        let p = turn_period(&[(1.0, angle), (-0.5, angle)]).unwrap();
+        let p = turn_period(&[(1.0, a()), (-0.5, a())]).unwrap();
         assert!((p - TAU / 2.0).abs() < 1e-15, "{p}");
-        let p = turn_period(&[(0.1, angle), (-0.19999999999999998, angle)]).unwrap();
+        let p = turn_period(&[(0.1, a()), (-0.19999999999999998, a())]).unwrap();
         assert!((p - 0.1 * TAU).abs() < 1e-12, "{p}");
         // 3:2.
-        let p = turn_period(&[(3.0, angle), (2.0, angle)]).unwrap();
+        let p = turn_period(&[(3.0, a()), (2.0, a())]).unwrap();
         assert!((p - TAU).abs() < 1e-12, "{p}");
         // Incommensurate, and no angle at all.
-        assert_eq!(turn_period(&[(1.0, angle), (-0.333333, angle)]), None);
+        assert_eq!(turn_period(&[(1.0, a()), (-0.333333, a())]), None);
         assert_eq!(
-            turn_period(&[(1.0, angle), (std::f64::consts::SQRT_2, angle)]),
+            turn_period(&[(1.0, a()), (std::f64::consts::SQRT_2, a())]),
             None
         );
-        assert_eq!(turn_period(&[(1.0, proj)]), None);
+        assert_eq!(turn_period(&[(1.0, proj())]), None);
         // Wrapping into (−P/2, P/2].
         assert!((wrap_period(0.75, 1.0) + 0.25).abs() < 1e-15);
         assert!((wrap_period(-0.5, 1.0) - 0.5).abs() < 1e-15);

@@ -133,12 +133,7 @@ impl PositionEnv<'_> {
                 e: fk.axis(axis),
             })
         };
-        let euler = |seq, k| Quantity::Euler {
-            i: fi,
-            j: fj,
-            seq,
-            k,
-        };
+        let euler = |seq, k| Quantity::euler(fi, fj, seq, k);
         Ok(Some(match kind {
             MeasureKind::Dx => proj(0)?,
             MeasureKind::Dy => proj(1)?,

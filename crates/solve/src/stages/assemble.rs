@@ -198,12 +198,7 @@ pub fn hard_rows(model: &Model) -> Vec<HardRow> {
                         ExactCoord::Theta => 1,
                         _ => 2,
                     };
-                    let q = Quantity::Euler {
-                        i: bcs,
-                        j: ground,
-                        seq: EulerSeq::Body313,
-                        k: k3,
-                    };
+                    let q = Quantity::euler(bcs, ground, EulerSeq::Body313, k3);
                     (q, RowUnit::Angle)
                 }
             };

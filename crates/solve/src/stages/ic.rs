@@ -342,7 +342,7 @@ pub fn velocity_ic(
             let q = hard
                 .iter()
                 .find(|h| h.name == con.origin.name && h.kind == kind)
-                .map(|h| h.quantity)
+                .map(|h| h.quantity.clone())
                 .or_else(|| {
                     let (i, j) = con.markers()?;
                     let f = |m: usize| crate::constraints::rows::BodyFrame {

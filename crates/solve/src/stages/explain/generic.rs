@@ -312,7 +312,7 @@ pub fn generic_mobility(
         let stuck: Vec<usize> = (0..drivable.len())
             .filter(|k| !driven.contains(k))
             .filter(|&k| {
-                let (_, _, q, step) = drivable[k];
+                let (_, _, q, step) = &drivable[k];
                 (q.value(&cur) - q.value(s)).abs() < 0.1 * step
             })
             .collect();
@@ -321,14 +321,15 @@ pub fn generic_mobility(
         }
         let k = stuck[rng.index(stuck.len())];
         driven.push(k);
-        let (e, rotation, quantity, step) = drivable[k];
+        let (e, rotation, quantity, step) = drivable[k].clone();
         let sign = if rng.next() < 0.0 { -1.0 } else { 1.0 };
+        let target = quantity.value(&cur) + sign * step;
         let hard = HardRow {
             name: model.constraints[e].origin.name.clone(),
             kind: HardKind::Driven,
             label: HardKind::Driven.label().into(),
             quantity,
-            target: quantity.value(&cur) + sign * step,
+            target,
             unit: if rotation {
                 RowUnit::Angle
             } else {
