@@ -10,6 +10,7 @@
 mod context;
 mod couplings;
 mod data;
+pub mod fe_parts;
 mod forces;
 mod joints;
 mod lookup;
@@ -52,8 +53,11 @@ pub fn build_model(ds: &Dataset) -> Result<Built, Diagnostics> {
     let gravity = ds.accgrav.as_ref().map_or(DVec3::ZERO, |g| v3(g.gravity));
     let part_statements = parts::parts(ds, &mut cx);
     let marker_statements = markers::markers(ds, &part_statements, &mut cx);
-    let (parts, cm_in_bcs) = mass::moving_parts(&part_statements, &marker_statements, &mut cx);
-    let markers = mass::body_markers(&marker_statements, &cm_in_bcs);
+    let (mut parts, cm_in_bcs) =
+        mass::moving_parts(&part_statements, &marker_statements, &mut cx);
+    let mut markers = mass::body_markers(&marker_statements, &cm_in_bcs);
+    let mut marker_statements = marker_statements;
+    let fe_parts = fe_parts::fe_parts(ds, &mut parts, &mut markers, &mut marker_statements, &mut cx);
     let ground_name = part_statements.ground_name();
     let table = MarkerTable {
         index: &marker_statements.index,
@@ -94,6 +98,7 @@ pub fn build_model(ds: &Dataset) -> Result<Built, Diagnostics> {
         integrator: crate::settings::integrator::resolve_integrator(ds),
         requests: Default::default(),
         graphics: Vec::new(),
+        fe_parts,
     };
     model.characteristic_length = characteristic_length(&model);
     model.requests = crate::requests::resolve_requests(&model.markers, &model.forces, ds);
