@@ -310,10 +310,14 @@ pub fn to_json(model: &Model, v: &Verification, warnings: &[Diagnostic]) -> Veri
             .iter()
             .map(|&e| model.constraints[e].origin.name.clone())
             .collect(),
+        // An FE part is named by itself, not by the node that stands for it.
         unconstrained_parts: v
             .unconstrained_parts
             .iter()
-            .map(|&k| part_name(k))
+            .map(|&k| match model.fe_node(k) {
+                Some((f, _)) => model.fe_parts[f].origin.name.clone(),
+                None => part_name(k),
+            })
             .collect(),
         ungrounded_parts: v.ungrounded_parts.iter().map(|&k| part_name(k)).collect(),
         massless_parts: v.massless_free.iter().map(|f| part_name(f.part)).collect(),

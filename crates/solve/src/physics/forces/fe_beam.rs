@@ -137,7 +137,7 @@ impl BeamElementLaw {
             }
         }
         let l0 = self.length;
-        let axial = if self.tension_only && u.value() <= 0.0 {
+        let axial = if self.tension_only && u.value() < 0.0 {
             R::cst(0.0)
         } else {
             u.scale(self.axial / l0)
