@@ -355,3 +355,64 @@ fn loads(data: &FeData, fe: &mut [FePart], ms: &MarkerStatements, cx: &mut Ctx) 
         });
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use crate::build::test_support::{errors, ok};
+    use crate::Body;
+    use glam::DVec3;
+
+    /// Three nodes along the BCS x axis (1 m elements), the BCS at (1, 2, 3) turned 90° about
+    /// z; markers on node 3 (with an offset), at S = 0.45 and on node 1.
+    const BEAM: &str = "FE_PART/7, TYPE = 3DBEAM, NODE_LABELS = 1, 2, 3, QG = 1, 2, 3, REULER = 90D, 0, 0\n\
+        , COORDINATES = 1, 0, 0, 0, 0, 0, 0, 2, 1, 0, 0, 0, 0, 0, 3, 2, 0, 0, 0, 0, 0\n\
+        , SECTION = 4, MATERIAL = 5\n\
+        SECTION/4, AREA = 2, IYY = 3, IZZ = 1, JXX = 4\n\
+        MATERIAL/5, DENSITY = 10, YOUNGS_MODULUS = 100, POISSONS_RATIO = 0.25\n\
+        MARKER/70, FE_PART = 7, NODE_LABEL = 3, QP = 2, 0.5, 0\n\
+        MARKER/71, FE_PART = 7, S = 0.45\nMARKER/72, FE_PART = 7, NODE_LABEL = 1";
+
+    #[test]
+    fn nodes_are_bodies_with_lumped_mass_and_markers_ride_on_them() {
+        let b = ok(BEAM);
+        let m = &b.model;
+        let p = &m.fe_parts[0];
+        assert_eq!(p.nodes.len(), 3);
+        assert_eq!(p.elements.len(), 2);
+        assert_eq!(p.shear_modulus, 40.0);
+        // Node 2 at QG + R·(1, 0, 0) = (1, 3, 3); half of each adjacent element: m = ρ·A·1.
+        let n2 = &m.parts[p.nodes[1].part];
+        assert_eq!(n2.origin.name, "FE_PART_7.node_2");
+        assert!((n2.p_gb - DVec3::new(1.0, 3.0, 3.0)).length() < 1e-12);
+        assert!((n2.mass - 20.0).abs() < 1e-12);
+        // Rotary inertia ρ·ΣL/2·(Iyy + Izz, Iyy, Izz).
+        assert!((n2.inertia.x_axis.x - 40.0).abs() < 1e-12);
+        assert!((n2.inertia.y_axis.y - 30.0).abs() < 1e-12);
+        assert!((m.parts[p.nodes[0].part].mass - 10.0).abs() < 1e-12);
+        // Marker 70 on node 3 keeps its offset (0, 0.5, 0) in the BCS = (−0.5, 0, 0) in ground.
+        let k70 = m.markers.iter().position(|x| x.id == 70).unwrap();
+        assert_eq!(m.markers[k70].body, Body::Part(p.nodes[2].part));
+        let (pg, _) = m.marker_in_ground(k70);
+        assert!((pg - DVec3::new(0.5, 4.0, 3.0)).length() < 1e-12, "{pg:?}");
+        // S = 0.45 snaps to node 2 (S = 0.5).
+        let k71 = m.markers.iter().position(|x| x.id == 71).unwrap();
+        assert_eq!(m.markers[k71].body, Body::Part(p.nodes[1].part));
+        assert_eq!(m.fe_marker_nodes(0), [0, 1, 2]);
+        assert_eq!(m.fe_node(p.nodes[2].part), Some((0, 2)));
+        assert_eq!(m.fe_node(0), None);
+    }
+
+    #[test]
+    fn fe_reference_errors_name_the_statement() {
+        let e = errors(&BEAM.replace("MATERIAL = 5", "MATERIAL = 6"));
+        assert!(e.iter().any(|x| x.2.contains("MATERIAL 6 does not exist")), "{e:?}");
+        let e = errors(&BEAM.replace("NODE_LABEL = 3, QP", "NODE_LABEL = 9, QP"));
+        assert!(e.iter().any(|x| x.2.contains("has no node 9")), "{e:?}");
+        let e = errors(&format!("{BEAM}\nMARKER/73, FE_PART = 7"));
+        assert!(e.iter().any(|x| x.2.contains("needs NODE_LABEL or S")), "{e:?}");
+        let e = errors(&BEAM.replace("2, 1, 0, 0, 0, 0, 0, 3", "2, 0, 0, 0, 0, 0, 0, 3"));
+        assert!(e.iter().any(|x| x.2.contains("coincide")), "{e:?}");
+        let e = errors(&format!("{BEAM}\nFE_NODE/1, FE_PART = 8, LABEL = 1"));
+        assert!(e.iter().any(|x| x.2.contains("FE_PART 8 does not exist")), "{e:?}");
+    }
+}
