@@ -470,7 +470,11 @@ pub fn body_text(j: &VerifyJson) -> String {
                 f.normal_modes,
                 f.normal_modes_requested,
                 f.constraint_modes,
-                if labels.is_empty() { "none".to_string() } else { labels.join(", ") },
+                if labels.is_empty() {
+                    "none".to_string()
+                } else {
+                    labels.join(", ")
+                },
                 f.rigid_body_modes,
                 f.gruebler_dof,
                 f.nodal_dof

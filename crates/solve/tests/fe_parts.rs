@@ -45,7 +45,13 @@ fn beam(n: usize, kind: &str, damping: &str, extra: &str) -> String {
     let (a, i, j) = (area(), second_moment(), 0.1406 * B.powi(4));
     let labels: Vec<String> = (1..=n).map(|k| k.to_string()).collect();
     let coords: Vec<String> = (0..n)
-        .map(|k| format!("{}, {}, 0, 0, 0, 0, 0", k + 1, L * k as f64 / (n - 1) as f64))
+        .map(|k| {
+            format!(
+                "{}, {}, 0, 0, 0, 0, 0",
+                k + 1,
+                L * k as f64 / (n - 1) as f64
+            )
+        })
         .collect();
     let sections: Vec<String> = (0..n)
         .map(|k| format!("{}, {a}, {i}, {i}, 0, {j}", k + 1))
@@ -153,11 +159,18 @@ fn small_tip_load_deflects_the_cantilever_by_pl3_over_3ei() {
     let (m, eq) = equilibrium(&cantilever(
         21,
         "",
-        &format!("VFORCE/1, I = 11, JFLOAT = 12, RM = 1, FX = 0, FY = {}, FZ = 0", -p),
+        &format!(
+            "VFORCE/1, I = 11, JFLOAT = 12, RM = 1, FX = 0, FY = {}, FZ = 0",
+            -p
+        ),
     ));
     let tip = eq.state.poses[node(&m, 21)].p;
     let expected = p * L.powi(3) / (3.0 * E * second_moment());
-    assert!((-tip.y / expected - 1.0).abs() < 0.01, "{} vs {expected}", -tip.y);
+    assert!(
+        (-tip.y / expected - 1.0).abs() < 0.01,
+        "{} vs {expected}",
+        -tip.y
+    );
     assert_eq!(eq.stability.map(|s| s.0), Some(true));
 }
 
@@ -167,7 +180,11 @@ fn cantilever_first_bending_frequency_is_1_875_squared_times_the_beam_scale() {
     let f1 = 1.875104f64.powi(2) * beam_scale() / TAU;
     // Two bending planes (square section): the two lowest modes.
     for m in &lin.modes[..2] {
-        assert!((m.frequency / f1 - 1.0).abs() < 0.01, "{} vs {f1}", m.frequency);
+        assert!(
+            (m.frequency / f1 - 1.0).abs() < 0.01,
+            "{} vs {f1}",
+            m.frequency
+        );
     }
     assert_eq!(lin.zero_eigenvalues, 0);
 }
@@ -218,11 +235,19 @@ fn rayleigh_damping_gives_the_mode_its_damping_ratio() {
     let lin = linear(&cantilever(21, ", CRATIOK = 1E-4", ""));
     let m = &lin.modes[0];
     let zeta = 1e-4 * TAU * m.frequency / 2.0;
-    assert!((m.damping_ratio / zeta - 1.0).abs() < 0.01, "{} vs {zeta}", m.damping_ratio);
+    assert!(
+        (m.damping_ratio / zeta - 1.0).abs() < 0.01,
+        "{} vs {zeta}",
+        m.damping_ratio
+    );
     let lin = linear(&cantilever(21, ", CRATIOM = 2", ""));
     let m = &lin.modes[0];
     let zeta = 2.0 / (2.0 * TAU * m.frequency);
-    assert!((m.damping_ratio / zeta - 1.0).abs() < 0.01, "{} vs {zeta}", m.damping_ratio);
+    assert!(
+        (m.damping_ratio / zeta - 1.0).abs() < 0.01,
+        "{} vs {zeta}",
+        m.damping_ratio
+    );
     assert!((TAU * m.frequency / omega - 1.0).abs() < 0.01);
 }
 
@@ -230,12 +255,21 @@ fn rayleigh_damping_gives_the_mode_its_damping_ratio() {
 fn hanging_cable_stretches_by_rho_g_l_squared_over_2e() {
     // A vertical 3DCABLE hung from its top node by a SPHERICAL joint, under its own weight:
     // the tip moves down ρ·g·L²/(2E) (exact for the lumped masses too).
-    let text = beam(11, "3DCABLE", "", "JOINT/1, SPHERICAL, I = 10, J = 1\nACCGRAV/, JGRAV = -9.80665")
-        .replace("ACCGRAV/, JGRAV = -9.80665", "ACCGRAV/, IGRAV = 9.80665");
+    let text = beam(
+        11,
+        "3DCABLE",
+        "",
+        "JOINT/1, SPHERICAL, I = 10, J = 1\nACCGRAV/, JGRAV = -9.80665",
+    )
+    .replace("ACCGRAV/, JGRAV = -9.80665", "ACCGRAV/, IGRAV = 9.80665");
     let (m, eq) = equilibrium(&text);
     let tip = eq.state.poses[node(&m, 11)].p;
     let expected = L + RHO * G * L * L / (2.0 * E);
-    assert!((tip.x / expected - 1.0).abs() < 1e-9, "{} vs {expected}", tip.x);
+    assert!(
+        (tip.x / expected - 1.0).abs() < 1e-9,
+        "{} vs {expected}",
+        tip.x
+    );
 }
 
 #[test]
@@ -246,7 +280,10 @@ fn suddenly_loaded_cantilever_swings_about_its_static_deflection() {
     let (m, d, f) = load(&cantilever(
         11,
         "",
-        &format!("VFORCE/1, I = 11, JFLOAT = 12, RM = 1, FX = 0, FY = {}, FZ = 0", -p),
+        &format!(
+            "VFORCE/1, I = 11, JFLOAT = 12, RM = 1, FX = 0, FY = {}, FZ = 0",
+            -p
+        ),
     ));
     let a = Assembled::new(&m, &d, &f, &Tolerances::default());
     let period = TAU / (1.875104f64.powi(2) * beam_scale());
@@ -261,11 +298,15 @@ fn suddenly_loaded_cantilever_swings_about_its_static_deflection() {
     let k = node(&m, 11);
     let y: Vec<f64> = sim.outputs.iter().map(|o| -o.state.poses[k].p.y).collect();
     let statics = p * L.powi(3) / (3.0 * E * second_moment());
-    let (imax, ymax) = y
-        .iter()
-        .enumerate()
-        .fold((0, 0.0), |acc, (i, v)| if *v > acc.1 { (i, *v) } else { acc });
-    assert!((ymax / (2.0 * statics) - 1.0).abs() < 0.1, "{ymax} vs {}", 2.0 * statics);
+    let (imax, ymax) = y.iter().enumerate().fold(
+        (0, 0.0),
+        |acc, (i, v)| if *v > acc.1 { (i, *v) } else { acc },
+    );
+    assert!(
+        (ymax / (2.0 * statics) - 1.0).abs() < 0.1,
+        "{ymax} vs {}",
+        2.0 * statics
+    );
     assert!((18..=22).contains(&imax), "largest at output {imax} of 40");
     let mean = y.iter().sum::<f64>() / y.len() as f64;
     assert!((mean / statics - 1.0).abs() < 0.1, "{mean} vs {statics}");
@@ -304,7 +345,11 @@ fn corpus_beam_counts_as_the_chapter_says_and_runs() {
     let modes = fe_modes(&m, 0, 20);
     assert_eq!(modes.boundary_labels, [1, 4, 6]);
     assert_eq!(
-        (modes.count.normal_modes, modes.count.constraint_modes, modes.count.total()),
+        (
+            modes.count.normal_modes,
+            modes.count.constraint_modes,
+            modes.count.total()
+        ),
         (18, 18, 42)
     );
     assert_eq!(fe_modes(&m, 0, 10).count.total(), 34);
@@ -318,7 +363,13 @@ fn corpus_beam_counts_as_the_chapter_says_and_runs() {
     let a = Assembled::new(&m, &d, &f, &Tolerances::default());
     assert!(a.failure().is_none());
     let times = [0.0, 0.05, 0.1];
-    let r = run(&a, &times, &IntegratorSettings::default(), Start::InitialConditions, |_| {});
+    let r = run(
+        &a,
+        &times,
+        &IntegratorSettings::default(),
+        Start::InitialConditions,
+        |_| {},
+    );
     let sim = r.simulation.unwrap_or_else(|| panic!("{:?}", r.error));
     assert!(sim.failure.is_none(), "{:?}", sim.failure);
     let drop = 0.5 * 9806.65 * 0.1 * 0.1;
@@ -327,12 +378,21 @@ fn corpus_beam_counts_as_the_chapter_says_and_runs() {
         let y0 = m.parts[n.part].p_gb.y;
         let y = at_end[n.part].p.y;
         // The integrator's default ERROR (1e-3 over the run).
-        assert!((y0 - y - drop).abs() < 1e-3 * drop, "node {}: {}", n.label, y0 - y);
+        assert!(
+            (y0 - y - drop).abs() < 1e-3 * drop,
+            "node {}: {}",
+            n.label,
+            y0 - y
+        );
     }
     for e in &m.fe_parts[0].elements {
         let (a, b) = (m.fe_parts[0].nodes[e.a].part, m.fe_parts[0].nodes[e.b].part);
         let l = (at_end[b].p - at_end[a].p).length();
-        assert!((l / e.length - 1.0).abs() < 1e-9, "element stretched: {l} vs {}", e.length);
+        assert!(
+            (l / e.length - 1.0).abs() < 1e-9,
+            "element stretched: {l} vs {}",
+            e.length
+        );
     }
 }
 
@@ -361,5 +421,8 @@ fn corpus_beam_clamped_at_node_1_sags_under_gravity() {
     // w·L⁴/(8·E·Iyy… Izz): bending about z uses Izz = 1.302e5 mm⁴.
     let w = 7.801e-6 * 2500.0 * 9806.65 / 1000.0; // N/mm
     let straight = w * 1300f64.powi(4) / (8.0 * 20700.0 * 1.302083333e5);
-    assert!(sag > 0.3 * straight && sag < 3.0 * straight, "{sag} vs {straight}");
+    assert!(
+        sag > 0.3 * straight && sag < 3.0 * straight,
+        "{sag} vs {straight}"
+    );
 }

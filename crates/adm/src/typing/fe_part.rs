@@ -183,9 +183,7 @@ impl Typer {
         let labels = self.fe_labels(st, &name)?;
         let nodes = self.fe_coordinates(st, &name, &labels)?;
         let sections = self.fe_sections(st, &name, &labels)?;
-        let Some(material) = self.required_id(st, "MATERIAL", "MATERIAL") else {
-            return None;
-        };
+        let material = self.required_id(st, "MATERIAL", "MATERIAL")?;
         let cratiok = self.non_negative(st, "CRATIOK")?;
         let cratiom = self.non_negative(st, "CRATIOM")?;
         Some(FePartStatement {
@@ -256,7 +254,10 @@ impl Typer {
             labels.push(id.id);
         }
         if labels.len() < 2 {
-            self.error(arg.span, format!("{name}: an FE_PART needs at least 2 nodes"));
+            self.error(
+                arg.span,
+                format!("{name}: an FE_PART needs at least 2 nodes"),
+            );
             return None;
         }
         Some(labels)
@@ -288,7 +289,10 @@ impl Typer {
             let (label, span) = chunk[0];
             let known = labels.iter().find(|&&l| l as f64 == label);
             let Some(&label) = known else {
-                self.error(span, format!("{name}: {key} names node {label}, not in NODE_LABELS"));
+                self.error(
+                    span,
+                    format!("{name}: {key} names node {label}, not in NODE_LABELS"),
+                );
                 return None;
             };
             if out.iter().any(|(l, _, _)| *l == label) {
@@ -375,7 +379,11 @@ impl Typer {
             None => Some(0.0),
             Some(r) if r.value >= 0.0 && r.value.is_finite() => Some(r.value),
             Some(r) => {
-                let msg = format!("{}: {key} must be ≥ 0 (found {})", super::label(st), r.value);
+                let msg = format!(
+                    "{}: {key} must be ≥ 0 (found {})",
+                    super::label(st),
+                    r.value
+                );
                 self.error(r.span, msg);
                 None
             }
@@ -400,10 +408,11 @@ impl Typer {
             jxx: self.required_real(st, "JXX")?,
         };
         let what = header.name.clone();
-        self.section_ok(&c, st.span, &what).then_some(SectionStatement {
-            header,
-            constants: c,
-        })
+        self.section_ok(&c, st.span, &what)
+            .then_some(SectionStatement {
+                header,
+                constants: c,
+            })
     }
 
     fn material(&mut self, st: &Statement, index: usize) -> Option<MaterialStatement> {
@@ -522,7 +531,10 @@ mod tests {
         assert_eq!(s[2].1.iyz, 0.5);
         assert_eq!(s[0].1.jxx, 5.0);
         let m = &d.materials[0];
-        assert_eq!((m.density, m.youngs_modulus, m.poissons_ratio), (7.8e-6, 2.1e5, 0.3));
+        assert_eq!(
+            (m.density, m.youngs_modulus, m.poissons_ratio),
+            (7.8e-6, 2.1e5, 0.3)
+        );
         assert_eq!(d.nodes[0].s, Some(0.5));
         assert!(d.loads[0].force[1].is_some());
         assert!(matches!(

@@ -74,7 +74,11 @@ fn fe_part(
     cx: &mut Ctx,
 ) -> Option<FePart> {
     let name = &st.header.name;
-    let Some(material) = data.materials.iter().find(|m| m.header.id == st.material.id) else {
+    let Some(material) = data
+        .materials
+        .iter()
+        .find(|m| m.header.id == st.material.id)
+    else {
         cx.error(
             st.material.span,
             format!("{name}: MATERIAL {} does not exist", st.material.id),
@@ -91,7 +95,10 @@ fn fe_part(
             vec![s.constants; st.nodes.len()]
         }
     };
-    let bcs_p = st.qg.as_ref().map_or(DVec3::ZERO, |q| cx.point(name, "QG", q));
+    let bcs_p = st
+        .qg
+        .as_ref()
+        .map_or(DVec3::ZERO, |q| cx.point(name, "QG", q));
     let bcs_r = st
         .reuler
         .as_ref()
@@ -99,15 +106,19 @@ fn fe_part(
     let poses: Vec<(DVec3, DMat3)> = st
         .nodes
         .iter()
-        .map(|n| (bcs_p + bcs_r * v3(n.position), bcs_r * euler313_to_matrix(n.angles)))
+        .map(|n| {
+            (
+                bcs_p + bcs_r * v3(n.position),
+                bcs_r * euler313_to_matrix(n.angles),
+            )
+        })
         .collect();
     let mut elements = Vec::with_capacity(poses.len() - 1);
     for a in 0..poses.len() - 1 {
         let b = a + 1;
         let chord = poses[b].0 - poses[a].0;
         let length = chord.length();
-        if length.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) || !length.is_finite()
-        {
+        if length.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) || !length.is_finite() {
             cx.error(
                 st.nodes[b].span,
                 format!(
@@ -255,9 +266,11 @@ fn place_markers(
         };
         let name = &st.header.name;
         let Some(p) = fe.iter().find(|p| p.origin.id == r.id) else {
-            if !ds.statements.iter().any(|s| {
-                s.keyword == "FE_PART" && s.id == Some(r.id)
-            }) {
+            if !ds
+                .statements
+                .iter()
+                .any(|s| s.keyword == "FE_PART" && s.id == Some(r.id))
+            {
                 cx.error(r.span, format!("{name}: FE_PART {} does not exist", r.id));
             }
             continue;
@@ -279,11 +292,10 @@ fn place_markers(
                 }
             },
             Some(FeMarkerNode::S(s)) => {
-                let nearest = p.nodes.iter().min_by(|a, b| {
-                    (a.s - s.value)
-                        .abs()
-                        .total_cmp(&(b.s - s.value).abs())
-                });
+                let nearest = p
+                    .nodes
+                    .iter()
+                    .min_by(|a, b| (a.s - s.value).abs().total_cmp(&(b.s - s.value).abs()));
                 match nearest {
                     Some(n) => n,
                     None => continue,
@@ -364,7 +376,8 @@ mod tests {
 
     /// Three nodes along the BCS x axis (1 m elements), the BCS at (1, 2, 3) turned 90° about
     /// z; markers on node 3 (with an offset), at S = 0.45 and on node 1.
-    const BEAM: &str = "FE_PART/7, TYPE = 3DBEAM, NODE_LABELS = 1, 2, 3, QG = 1, 2, 3, REULER = 90D, 0, 0\n\
+    const BEAM: &str =
+        "FE_PART/7, TYPE = 3DBEAM, NODE_LABELS = 1, 2, 3, QG = 1, 2, 3, REULER = 90D, 0, 0\n\
         , COORDINATES = 1, 0, 0, 0, 0, 0, 0, 2, 1, 0, 0, 0, 0, 0, 3, 2, 0, 0, 0, 0, 0\n\
         , SECTION = 4, MATERIAL = 5\n\
         SECTION/4, AREA = 2, IYY = 3, IZZ = 1, JXX = 4\n\
@@ -405,14 +418,23 @@ mod tests {
     #[test]
     fn fe_reference_errors_name_the_statement() {
         let e = errors(&BEAM.replace("MATERIAL = 5", "MATERIAL = 6"));
-        assert!(e.iter().any(|x| x.2.contains("MATERIAL 6 does not exist")), "{e:?}");
+        assert!(
+            e.iter().any(|x| x.2.contains("MATERIAL 6 does not exist")),
+            "{e:?}"
+        );
         let e = errors(&BEAM.replace("NODE_LABEL = 3, QP", "NODE_LABEL = 9, QP"));
         assert!(e.iter().any(|x| x.2.contains("has no node 9")), "{e:?}");
         let e = errors(&format!("{BEAM}\nMARKER/73, FE_PART = 7"));
-        assert!(e.iter().any(|x| x.2.contains("needs NODE_LABEL or S")), "{e:?}");
+        assert!(
+            e.iter().any(|x| x.2.contains("needs NODE_LABEL or S")),
+            "{e:?}"
+        );
         let e = errors(&BEAM.replace("2, 1, 0, 0, 0, 0, 0, 3", "2, 0, 0, 0, 0, 0, 0, 3"));
         assert!(e.iter().any(|x| x.2.contains("coincide")), "{e:?}");
         let e = errors(&format!("{BEAM}\nFE_NODE/1, FE_PART = 8, LABEL = 1"));
-        assert!(e.iter().any(|x| x.2.contains("FE_PART 8 does not exist")), "{e:?}");
+        assert!(
+            e.iter().any(|x| x.2.contains("FE_PART 8 does not exist")),
+            "{e:?}"
+        );
     }
 }

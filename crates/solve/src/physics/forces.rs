@@ -440,9 +440,10 @@ impl Builder<'_> {
                 }
                 let mut ok = true;
                 let names = ["FX", "FY", "FZ", "TX", "TY", "TZ"];
-                let force = [0, 1, 2].map(|c| self.optional(&l.force[c], &l.origin, names[c], &mut ok));
-                let torque =
-                    [0, 1, 2].map(|c| self.optional(&l.torque[c], &l.origin, names[3 + c], &mut ok));
+                let force =
+                    [0, 1, 2].map(|c| self.optional(&l.force[c], &l.origin, names[c], &mut ok));
+                let torque = [0, 1, 2]
+                    .map(|c| self.optional(&l.torque[c], &l.origin, names[3 + c], &mut ok));
                 if !ok {
                     continue;
                 }

@@ -164,7 +164,12 @@ pub fn fe_modes(model: &Model, fe: usize, requested: usize) -> FeModes {
 /// Natural frequencies (cycles per time unit, ascending) of `(K_ii, M_ii)` on the
 /// coordinates `dofs`: `M^{-1/2} K M^{-1/2}` by a symmetric eigensolution (M is positive
 /// definite for a beam: masses and rotary inertias). Empty when the eigensolution fails.
-pub fn fixed_boundary_frequencies(k: &Mat<f64>, m: &Mat<f64>, dofs: &[usize], ucf: f64) -> Vec<f64> {
+pub fn fixed_boundary_frequencies(
+    k: &Mat<f64>,
+    m: &Mat<f64>,
+    dofs: &[usize],
+    ucf: f64,
+) -> Vec<f64> {
     let n = dofs.len();
     if n == 0 {
         return Vec::new();

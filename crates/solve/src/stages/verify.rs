@@ -446,8 +446,7 @@ fn analyse(
     }
     Verification {
         moving_parts: n,
-        point_masses: model.parts.iter().filter(|p| p.point_mass).count()
-            - cable_holds / 3,
+        point_masses: model.parts.iter().filter(|p| p.point_mass).count() - cable_holds / 3,
         fe_nodes,
         hold_rows,
         fe_parts,

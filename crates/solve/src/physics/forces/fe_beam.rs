@@ -120,7 +120,9 @@ impl BeamElementLaw {
         let mut ta = theta(&fa);
         let mut tb = theta(&fb);
         if self.cratiok > 0.0 {
-            let dv = kin.cm_velocity::<R>(self.b).sub(&kin.cm_velocity::<R>(self.a));
+            let dv = kin
+                .cm_velocity::<R>(self.b)
+                .sub(&kin.cm_velocity::<R>(self.a));
             let (wa, wb) = (kin.omega::<R>(self.a), kin.omega::<R>(self.b));
             let spin = e1.dot(&wa.add(&wb)).scale(0.5);
             let w_e = e1.cross(&dv).times(&inv_l).add(&e1.times(&spin));
