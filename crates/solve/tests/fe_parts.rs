@@ -175,6 +175,22 @@ fn small_tip_load_deflects_the_cantilever_by_pl3_over_3ei() {
 }
 
 #[test]
+fn distributed_fe_load_deflects_the_cantilever_by_wl4_over_8ei() {
+    // FE_LOAD: w per unit length along ground −y, lumped on the nodes by their tributary
+    // lengths; the tip deflects w·L⁴/(8·E·I) (lumped instead of consistent nodal loads:
+    // h²/(3L²) = 0.08 % off with 20 elements).
+    let w = 0.02;
+    let (m, eq) = equilibrium(&cantilever(
+        21,
+        "",
+        &format!("FE_LOAD/1, FE_PART = 3, RM = 1, FY = -{w}"),
+    ));
+    let tip = eq.state.poses[node(&m, 21)].p;
+    let expected = w * L.powi(4) / (8.0 * E * second_moment());
+    assert!((-tip.y / expected - 1.0).abs() < 0.01, "{} vs {expected}", -tip.y);
+}
+
+#[test]
 fn cantilever_first_bending_frequency_is_1_875_squared_times_the_beam_scale() {
     let lin = linear(&cantilever(21, "", ""));
     let f1 = 1.875104f64.powi(2) * beam_scale() / TAU;
