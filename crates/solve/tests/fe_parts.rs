@@ -187,7 +187,11 @@ fn distributed_fe_load_deflects_the_cantilever_by_wl4_over_8ei() {
     ));
     let tip = eq.state.poses[node(&m, 21)].p;
     let expected = w * L.powi(4) / (8.0 * E * second_moment());
-    assert!((-tip.y / expected - 1.0).abs() < 0.01, "{} vs {expected}", -tip.y);
+    assert!(
+        (-tip.y / expected - 1.0).abs() < 0.01,
+        "{} vs {expected}",
+        -tip.y
+    );
 }
 
 #[test]
