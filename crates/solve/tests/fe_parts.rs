@@ -294,11 +294,13 @@ fn hanging_cable_stretches_by_rho_g_l_squared_over_2e() {
 
 #[test]
 fn suddenly_loaded_cantilever_swings_about_its_static_deflection() {
-    // Undamped, from rest: the tip swings between 0 and about twice the static deflection
-    // (the first mode carries 97 % of it), at the first bending frequency.
+    // Undamped, from rest, six nodes: the tip swings about the static deflection δ (its mean
+    // over a first-mode period is δ) and is farthest, about 2δ, half a period in (the first
+    // mode carries 97 % of δ; the BDF's numerical damping at ERROR = 1e-4 takes ~10 % off the
+    // peak, hence the peak's wider bound).
     let p = 0.01;
     let (m, d, f) = load(&cantilever(
-        11,
+        6,
         "",
         &format!(
             "VFORCE/1, I = 11, JFLOAT = 12, RM = 1, FX = 0, FY = {}, FZ = 0",
@@ -309,27 +311,24 @@ fn suddenly_loaded_cantilever_swings_about_its_static_deflection() {
     let period = TAU / (1.875104f64.powi(2) * beam_scale());
     let times: Vec<f64> = (0..=40).map(|k| period * k as f64 / 40.0).collect();
     let settings = IntegratorSettings {
-        error: 1e-6,
+        error: 1e-4,
         ..Default::default()
     };
     let r = run(&a, &times, &settings, Start::InitialConditions, |_| {});
     let sim = r.simulation.unwrap_or_else(|| panic!("{:?}", r.error));
     assert!(sim.failure.is_none(), "{:?}", sim.failure);
-    let k = node(&m, 11);
+    let k = node(&m, 6);
     let y: Vec<f64> = sim.outputs.iter().map(|o| -o.state.poses[k].p.y).collect();
     let statics = p * L.powi(3) / (3.0 * E * second_moment());
     let (imax, ymax) = y.iter().enumerate().fold(
         (0, 0.0),
         |acc, (i, v)| if *v > acc.1 { (i, *v) } else { acc },
     );
-    assert!(
-        (ymax / (2.0 * statics) - 1.0).abs() < 0.1,
-        "{ymax} vs {}",
-        2.0 * statics
-    );
-    assert!((18..=22).contains(&imax), "largest at output {imax} of 40");
+    let peak = ymax / (2.0 * statics);
+    assert!((0.85..1.02).contains(&peak), "peak {ymax} = {peak} × 2δ");
+    assert!((19..=21).contains(&imax), "largest at output {imax} of 40");
     let mean = y.iter().sum::<f64>() / y.len() as f64;
-    assert!((mean / statics - 1.0).abs() < 0.1, "{mean} vs {statics}");
+    assert!((mean / statics - 1.0).abs() < 0.02, "{mean} vs {statics}");
 }
 
 fn corpus_file() -> Option<PathBuf> {
