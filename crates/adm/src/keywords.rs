@@ -321,6 +321,7 @@ const MARKER_ARGS: &[ArgDef] = &[
     arg("FE_PART", Numbers),
     arg("NODE_ID", Numbers),
     arg("NODE_LABEL", Numbers),
+    arg("S", Numbers),
     arg("QP", Numbers),
     arg("REULER", Numbers),
     arg("ZP", Numbers),
@@ -700,6 +701,68 @@ const INTEGRATOR_ARGS: &[ArgDef] = &[
 
 const NO_ARGS: &[ArgDef] = &[];
 
+/// FE_PART (ADM-ELEMENTS §18): a nonlinear finite-element beam.
+const FE_PART_ARGS: &[ArgDef] = &[
+    arg("TYPE", Text),
+    arg("NODE_LABELS", Numbers),
+    arg("COORDINATES", Numbers),
+    arg("SECTION", Numbers),
+    arg("MATERIAL", Numbers),
+    arg("CRATIOK", Numbers),
+    arg("CRATIOM", Numbers),
+    arg("QG", Numbers),
+    arg("REULER", Numbers),
+];
+
+/// FE_NODE (ADM-ELEMENTS §18): Adams View's record of one node of an FE_PART.
+const FE_NODE_ARGS: &[ArgDef] = &[
+    arg("FE_PART", Numbers),
+    arg("LABEL", Numbers),
+    arg("S", Numbers),
+    arg("ANGLE", Numbers),
+    arg("SECTION_NODE", Numbers),
+    arg("QG", Numbers),
+    arg("REULER", Numbers),
+];
+
+/// SECTION (ADM-ELEMENTS §18): cross-section constants.
+const SECTION_ARGS: &[ArgDef] = &[
+    arg("TYPE", Text),
+    arg("RECT_BASE", Numbers),
+    arg("RECT_HEIGHT", Numbers),
+    arg("RADIUS", Numbers),
+    arg("INNER_RADIUS", Numbers),
+    arg("OUTER_RADIUS", Numbers),
+    arg("THICKNESS", Numbers),
+    arg("AREA", Numbers),
+    arg("IYY", Numbers),
+    arg("IZZ", Numbers),
+    arg("IYZ", Numbers),
+    arg("JXX", Numbers),
+];
+
+/// MATERIAL (ADM-ELEMENTS §18).
+const MATERIAL_ARGS: &[ArgDef] = &[
+    arg("NAME", Text),
+    arg("DENSITY", Numbers),
+    arg("YOUNGS_MODULUS", Numbers),
+    arg("POISSONS_RATIO", Numbers),
+];
+
+/// FE_LOAD (ADM-ELEMENTS §18): a distributed load on an FE_PART.
+const FE_LOAD_ARGS: &[ArgDef] = &[
+    arg("FE_PART", Numbers),
+    arg("RM", Numbers),
+    arg("FX", Expr),
+    arg("FY", Expr),
+    arg("FZ", Expr),
+    arg("TX", Expr),
+    arg("TY", Expr),
+    arg("TZ", Expr),
+    arg("FUNCTION", Expr),
+    arg("ROUTINE", Text),
+];
+
 /// Statements of a dataset (ADM-REFERENCE §1.5, plus FE_NODE and SECTION seen in real files).
 pub(crate) static DATASET_STATEMENTS: &[StatementDef] = &[
     stmt("ACCGRAV", Absent, ACCGRAV_ARGS, true),
@@ -715,9 +778,9 @@ pub(crate) static DATASET_STATEMENTS: &[StatementDef] = &[
     stmt("END", Absent, NO_ARGS, false),
     stmt("ENVIRONMENT", Absent, NO_ARGS, false),
     stmt("EQUILIBRIUM", Absent, EQUILIBRIUM_ARGS, false),
-    stmt("FE_LOAD", Required, FUNCTION_ARGS, false),
-    stmt("FE_NODE", Required, NO_ARGS, false),
-    stmt("FE_PART", Required, NO_ARGS, false),
+    stmt("FE_LOAD", Required, FE_LOAD_ARGS, true),
+    stmt("FE_NODE", Required, FE_NODE_ARGS, true),
+    stmt("FE_PART", Required, FE_PART_ARGS, true),
     stmt("FEMDATA", Required, NO_ARGS, false),
     stmt("FIELD", Required, FIELD_ARGS, true),
     stmt("FLEX_BODY", Required, NO_ARGS, false),
@@ -736,7 +799,7 @@ pub(crate) static DATASET_STATEMENTS: &[StatementDef] = &[
     stmt("LSE", Required, NO_ARGS, false),
     stmt("LSOLVER", Absent, NO_ARGS, false),
     stmt("MARKER", Required, MARKER_ARGS, true),
-    stmt("MATERIAL", Required, NO_ARGS, false),
+    stmt("MATERIAL", Required, MATERIAL_ARGS, true),
     stmt("MATRIX", Required, FILE_DATA_ARGS, false),
     stmt("MFORCE", Required, FUNCTION_ARGS, false),
     stmt("MOTION", Required, MOTION_ARGS, true),
@@ -752,7 +815,7 @@ pub(crate) static DATASET_STATEMENTS: &[StatementDef] = &[
     stmt("PTCV", Required, NO_ARGS, false),
     stmt("REQUEST", Required, REQUEST_ARGS, true),
     stmt("RESULTS", Absent, RESULTS_ARGS, false),
-    stmt("SECTION", Required, NO_ARGS, false),
+    stmt("SECTION", Required, SECTION_ARGS, true),
     stmt("SENSOR", Required, SENSOR_ARGS, true),
     stmt("SFORCE", Required, SFORCE_ARGS, true),
     stmt("SPLINE", Required, SPLINE_ARGS, true),

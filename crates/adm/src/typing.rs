@@ -1051,6 +1051,7 @@ impl Typer {
     }
 }
 
+pub mod fe_part;
 mod forces;
 pub mod graphics;
 mod point_mass;

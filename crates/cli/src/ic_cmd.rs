@@ -80,7 +80,8 @@ pub enum SaveError {
 }
 
 /// Writes the dataset with every moved part's QG/REULER at configuration `state` (markers keep
-/// their place on their part because they are given in the part's frame).
+/// their place on their part because they are given in the part's frame). FE_PART nodes are
+/// not parts of the dataset: their COORDINATES are written as read.
 pub fn save_configuration(
     ds: &Dataset,
     model: &Model,
@@ -92,6 +93,9 @@ pub fn save_configuration(
         .iter()
         .enumerate()
         .filter(|(k, p)| {
+            if model.fe_node(*k).is_some() {
+                return false;
+            }
             let s = state.poses[*k];
             (s.p - p.p_gb).length() > 0.0 || s.r != p.r_gb
         })

@@ -1,5 +1,5 @@
 //! Nothing is dropped silently: every statement linkage does not model or run (FLEX_BODY,
-//! NFORCE, CURVE, FE_PART, a USER subroutine, GSE) is named by verify with its file:line,
+//! NFORCE, CURVE, UCON, a USER subroutine, GSE) is named by verify with its file:line,
 //! every analysis that cannot run without it refuses with the whole list at once, and
 //! `--deactivate` runs the rest of the model with the report saying what was left out.
 
@@ -8,7 +8,7 @@ use common::*;
 use std::path::PathBuf;
 
 /// A pendulum (one revolute joint, gravity) and, after it, every kind of statement linkage
-/// does not model or run. Lines: FLEX_BODY 10, NFORCE 12, CURVE 13, MATRIX 14, FE_PART 15,
+/// does not model or run. Lines: FLEX_BODY 10, NFORCE 12, CURVE 13, MATRIX 14, UCON 15,
 /// SFORCE 16, GSE 17.
 const EXTRAS: &str = "pendulum with extras
 UNITS/FORCE = NEWTON, MASS = KILOGRAM, LENGTH = METER, TIME = SECOND
@@ -24,7 +24,7 @@ MARKER/50, FLEX_BODY = 5
 NFORCE/3
 CURVE/7, OPEN, MATRIX = 8
 MATRIX/8, FULL = RORDER, ROWS = 2, COLUMNS = 3, VALUES = 0, 0, 0, 1, 1, 1
-FE_PART/9, NODE_LABELS = 1, 2
+UCON/9, FUNCTION = 0
 SFORCE/4, ROTATIONAL, I = 21, J = 10, FUNCTION = USER(1, 2)
 GSE/6, NS = 1, FUNCTION = USER(1)
 GRAPHICS/1, CYLINDER, CM = 20
@@ -36,7 +36,7 @@ END
 const REFUSED: [(&str, u32); 5] = [
     ("FLEX_BODY/5", 10),
     ("NFORCE/3", 12),
-    ("FE_PART/9", 15),
+    ("UCON/9", 15),
     ("SFORCE/4", 16),
     ("GSE/6", 17),
 ];
@@ -96,7 +96,7 @@ fn verify_names_every_statement_not_modelled_at_once_with_its_place() {
             ("NFORCE/3", 12, "not modelled"),
             ("CURVE/7", 13, "not used"),
             ("MATRIX/8", 14, "not used"),
-            ("FE_PART/9", 15, "not modelled"),
+            ("UCON/9", 15, "not modelled"),
             ("SFORCE/4", 16, "USER subroutine"),
             ("GSE/6", 17, "not modelled"),
         ]
@@ -152,7 +152,7 @@ fn simulate_refuses_with_the_whole_list_and_deactivate_runs_the_rest() {
         "--steps",
         "2",
         "--deactivate",
-        "FLEX_BODY/5,NFORCE,FE_PART_9",
+        "FLEX_BODY/5,NFORCE,UCON_9",
         "--deactivate",
         "sforce/4,GSE",
     ]);
@@ -160,7 +160,7 @@ fn simulate_refuses_with_the_whole_list_and_deactivate_runs_the_rest() {
     assert!(
         out.contains(
             "left out on request (5): FLEX_BODY_5 (FLEX_BODY/5, line 10), NFORCE_3 \
-             (NFORCE/3, line 12), FE_PART_9 (FE_PART/9, line 15), SFORCE_4 (SFORCE/4, line \
+             (NFORCE/3, line 12), UCON_9 (UCON/9, line 15), SFORCE_4 (SFORCE/4, line \
              16), GSE_6 (GSE/6, line 17)"
         ),
         "{out}"
@@ -179,7 +179,7 @@ fn simulate_refuses_with_the_whole_list_and_deactivate_runs_the_rest() {
         "--format",
         "json",
         "--deactivate",
-        "FLEX_BODY,NFORCE,FE_PART,SFORCE,GSE",
+        "FLEX_BODY,NFORCE,UCON,SFORCE,GSE",
     ]);
     assert_eq!(code, 0, "{v}");
     assert_eq!(v["left_out"].as_array().unwrap().len(), 5, "{v}");
@@ -199,7 +199,7 @@ fn statics_refuse_with_the_whole_list_and_run_without_unused_data() {
         "--format",
         "json",
         "--deactivate",
-        "FLEX_BODY,NFORCE,FE_PART,SFORCE,GSE",
+        "FLEX_BODY,NFORCE,UCON,SFORCE,GSE",
     ]);
     assert_eq!(code, 0, "{v}");
     let without: Vec<&str> = v["runs_without"]
@@ -225,7 +225,7 @@ fn ic_and_linear_refuse_a_flexible_body_nothing_is_attached_to() {
             command,
             s(&f),
             "--deactivate",
-            "FLEX_BODY,NFORCE,FE_PART,SFORCE,GSE",
+            "FLEX_BODY,NFORCE,UCON,SFORCE,GSE",
         ]);
         assert_eq!(code, 0, "{command}: {out}\n{err}");
         assert!(out.contains("left out on request (5)"), "{out}");
@@ -286,7 +286,7 @@ fn a_command_file_runs_what_its_deactivate_and_the_option_leave() {
         "--out-dir",
         s(&out_dir),
         "--deactivate",
-        "FLEX_BODY,FE_PART,SFORCE,GSE",
+        "FLEX_BODY,UCON,SFORCE,GSE",
     ]);
     assert_eq!(code, 0, "{err}");
     let msg = std::fs::read_to_string(out_dir.join("out.msg")).unwrap();

@@ -91,6 +91,9 @@ impl Constraint {
         if self.origin.statement == POINT_MASS_STATEMENT {
             return "Point Mass Rotation Hold".into();
         }
+        if self.origin.statement == crate::fe_parts::FE_PART_STATEMENT {
+            return "Cable Node Rotation Hold".into();
+        }
         match &self.kind {
             ConstraintKind::Joint { kind, .. } => format!("{} Joint", title_case(kind.keyword())),
             ConstraintKind::Jprim { kind, .. } => {
@@ -176,6 +179,9 @@ pub struct Model {
     pub requests: crate::requests::Requests,
     /// Display geometry (GRAPHICS) on the markers; changes no result.
     pub graphics: Vec<crate::graphics::Graphic>,
+    /// FE_PARTs: their nodes are parts (after the dataset's parts and point masses), their
+    /// elements force elements ([`crate::fe_parts`]).
+    pub fe_parts: Vec<crate::fe_parts::FePart>,
 }
 
 impl Model {
@@ -194,6 +200,34 @@ impl Model {
                 (p.p_gb + p.r_gb * mk.p_bm, p.r_gb * mk.r_bm)
             }
         }
+    }
+
+    /// The FE part and node (indices into [`Model::fe_parts`] and its `nodes`) of part `k`,
+    /// when part k is an FE node.
+    pub fn fe_node(&self, k: usize) -> Option<(usize, usize)> {
+        let first = self.fe_parts.first()?.nodes.first()?.part;
+        if k < first {
+            return None;
+        }
+        self.fe_parts
+            .iter()
+            .enumerate()
+            .find_map(|(f, p)| p.node_of_part(k).map(|n| (f, n)))
+    }
+
+    /// The nodes of FE part `f` that markers of the dataset are on (indices into its
+    /// `nodes`, ascending): the boundary of its Craig–Bampton partition.
+    pub fn fe_marker_nodes(&self, f: usize) -> Vec<usize> {
+        let p = &self.fe_parts[f];
+        let mut out: Vec<usize> = self
+            .markers
+            .iter()
+            .filter(|m| m.id != 0)
+            .filter_map(|m| p.node_of_part(m.body.part()?))
+            .collect();
+        out.sort_unstable();
+        out.dedup();
+        out
     }
 
     /// Display name of a body.

@@ -60,6 +60,30 @@ pub struct CountJson {
     pub count: usize,
 }
 
+/// An FE_PART in the counts: the chapter's equivalent linear flexible body (fixed-boundary
+/// normal modes + 6 constraint modes per node markers use + 6 rigid-body modes) and its true
+/// nodal degrees of freedom.
+#[derive(Clone, Debug, Serialize, PartialEq)]
+pub struct FePartJson {
+    pub name: String,
+    pub nodes: usize,
+    pub elements: usize,
+    /// Labels of the nodes markers use (the Craig–Bampton boundary).
+    pub marker_nodes: Vec<u64>,
+    /// Normal modes asked for (20, or MSC_NLFE_MNFSWAP_EIGENVALUES).
+    pub normal_modes_requested: usize,
+    /// Normal modes available: at most the interior degrees of freedom.
+    pub normal_modes: usize,
+    pub constraint_modes: usize,
+    pub rigid_body_modes: usize,
+    /// normal + constraint + rigid-body modes: what the Gruebler count takes.
+    pub gruebler_dof: usize,
+    /// Degrees of freedom of the node bodies (what the DOF by rank uses).
+    pub nodal_dof: usize,
+    /// The fixed-boundary natural frequencies (cycles per time unit), lowest first.
+    pub normal_frequencies: Vec<f64>,
+}
+
 #[derive(Clone, Debug, Serialize, PartialEq)]
 pub struct MasslessJson {
     pub name: String,
@@ -85,6 +109,8 @@ pub struct VerifyJson {
     pub moving_parts: usize,
     /// POINT_MASS elements (3 degrees of freedom each).
     pub point_masses: usize,
+    /// FE_PARTs, each counted as Adams' equivalent linear flexible body.
+    pub fe_parts: Vec<FePartJson>,
     pub constraint_counts: Vec<CountJson>,
     /// The equations of the constraint elements (the point masses' held rotations not
     /// included): Gruebler = 6·parts + 3·point masses − equations.
@@ -237,8 +263,25 @@ pub fn to_json(model: &Model, v: &Verification, warnings: &[Diagnostic]) -> Veri
         left_out: Vec::new(),
         not_run: Vec::new(),
         later_refused_by: Vec::new(),
-        moving_parts: v.moving_parts - v.point_masses,
+        moving_parts: v.moving_parts - v.point_masses - v.fe_nodes,
         point_masses: v.point_masses,
+        fe_parts: v
+            .fe_parts
+            .iter()
+            .map(|m| FePartJson {
+                name: model.fe_parts[m.fe].origin.name.clone(),
+                nodes: m.nodes,
+                elements: m.elements,
+                marker_nodes: m.boundary_labels.clone(),
+                normal_modes_requested: m.count.requested,
+                normal_modes: m.count.normal_modes,
+                constraint_modes: m.count.constraint_modes,
+                rigid_body_modes: m.count.rigid_modes,
+                gruebler_dof: m.count.total(),
+                nodal_dof: m.nodal_dof,
+                normal_frequencies: m.normal_frequencies.clone(),
+            })
+            .collect(),
         constraint_counts: v
             .counts
             .iter()
@@ -247,7 +290,7 @@ pub fn to_json(model: &Model, v: &Verification, warnings: &[Diagnostic]) -> Veri
                 count: *n,
             })
             .collect(),
-        constraint_equations: v.rows - 3 * v.point_masses,
+        constraint_equations: v.rows - v.hold_rows,
         gruebler: v.gruebler,
         rank: v.rank,
         dof: v.dof,
@@ -267,10 +310,14 @@ pub fn to_json(model: &Model, v: &Verification, warnings: &[Diagnostic]) -> Veri
             .iter()
             .map(|&e| model.constraints[e].origin.name.clone())
             .collect(),
+        // An FE part is named by itself, not by the node that stands for it.
         unconstrained_parts: v
             .unconstrained_parts
             .iter()
-            .map(|&k| part_name(k))
+            .map(|&k| match model.fe_node(k) {
+                Some((f, _)) => model.fe_parts[f].origin.name.clone(),
+                None => part_name(k),
+            })
             .collect(),
         ungrounded_parts: v.ungrounded_parts.iter().map(|&k| part_name(k)).collect(),
         massless_parts: v.massless_free.iter().map(|f| part_name(f.part)).collect(),
@@ -404,6 +451,42 @@ pub fn body_text(j: &VerifyJson) -> String {
             "{:>5} Point Masses (3 degrees of freedom each)",
             j.point_masses
         );
+    }
+    if !j.fe_parts.is_empty() {
+        let _ = writeln!(
+            s,
+            "{:>5} FE Parts (equivalent linear flexible bodies)",
+            j.fe_parts.len()
+        );
+        for f in &j.fe_parts {
+            let labels: Vec<String> = f.marker_nodes.iter().map(u64::to_string).collect();
+            let _ = writeln!(
+                s,
+                "        {}: {} nodes; {} normal modes ({} requested) + {} constraint modes \
+                 (marker nodes: {}) + {} rigid-body modes = {} in the Gruebler count; \
+                 {} nodal degrees of freedom",
+                f.name,
+                f.nodes,
+                f.normal_modes,
+                f.normal_modes_requested,
+                f.constraint_modes,
+                if labels.is_empty() {
+                    "none".to_string()
+                } else {
+                    labels.join(", ")
+                },
+                f.rigid_body_modes,
+                f.gruebler_dof,
+                f.nodal_dof
+            );
+            if let Some(first) = f.normal_frequencies.first() {
+                let _ = writeln!(
+                    s,
+                    "        first fixed-boundary normal mode {} cycles per time unit",
+                    linkage_adm::num::general(*first, 6)
+                );
+            }
+        }
     }
     for c in &j.constraint_counts {
         let _ = writeln!(s, "{:>5} {}", c.count, plural(c.count, &c.kind));

@@ -102,7 +102,7 @@ pub enum Use {
 }
 
 /// Statement kinds every analysis computes with.
-pub const MODELLED: [&str; 22] = [
+pub const MODELLED: [&str; 27] = [
     "UNITS",
     "ACCGRAV",
     "PART",
@@ -125,6 +125,11 @@ pub const MODELLED: [&str; 22] = [
     "VARIABLE",
     "ARRAY",
     "SPLINE",
+    "FE_PART",
+    "FE_NODE",
+    "SECTION",
+    "MATERIAL",
+    "FE_LOAD",
 ];
 
 /// Statement kinds that hold settings or outputs of some analyses, read by those.
@@ -176,14 +181,10 @@ fn not_modelled(keyword: &str) -> Option<(Reason, &'static str, &'static [Analys
         "FLEX_BODY" => refused(
             "a modal flexible body is not modelled; verify's DOF count leaves it out",
         ),
-        "FE_PART" => refused(
-            "a finite-element part is not modelled; verify's DOF count leaves it out",
-        ),
         "CONTACT" => refused("contact forces are not modelled"),
         "FRICTION" => refused("joint friction is not modelled"),
         "NFORCE" => refused("multi-point force elements are not modelled"),
         "MFORCE" => refused("modal forces are not modelled"),
-        "FE_LOAD" => refused("loads on finite-element parts are not modelled"),
         "GSE" | "LSE" | "TFSISO" | "DIFF" => {
             refused("state equations (GSE, LSE, TFSISO, DIFF) are not modelled")
         }
@@ -201,9 +202,6 @@ fn not_modelled(keyword: &str) -> Option<(Reason, &'static str, &'static [Analys
         "CURVE" => unused("curve data, read only by PTCV, CVCV and CURVE(), which linkage does not model"),
         "MATRIX" => unused("matrix data, read only by LSE, GSE, CURVE, NFORCE and FLEX_BODY, which linkage does not model"),
         "SURFACE" => unused("surface data, read only by CONTACT, which linkage does not model"),
-        "FE_NODE" | "SECTION" | "MATERIAL" => {
-            unused("data of an FE_PART, which linkage does not model")
-        }
         "FEMDATA" => unused("finite-element output requests are not written"),
         "MREQUEST" => unused("multiple requests are not written (REQUEST is)"),
         "KINEMATICS" => unused(
@@ -455,7 +453,7 @@ mod tests {
     #[test]
     fn every_unmodelled_statement_is_named_with_the_analyses_that_refuse_it() {
         let ds = dataset(
-            "PART/1, GROUND\nMARKER/2, PART = 1\nFE_PART/3\n\
+            "PART/1, GROUND\nMARKER/2, PART = 1\nFLEX_BODY/3\n\
              SENSOR/4, VALUE = 1, HALT, FUNCTION = TIME\nCURVE/5, MATRIX = 6\n\
              SFORCE/7, I = 2, J = 2, TRANSLATION, FUNCTION = USER(1)\nGRAPHICS/8, CYLINDER\n\
              PINPUT/9, VARIABLES = 1",
@@ -468,7 +466,7 @@ mod tests {
         assert_eq!(
             got,
             [
-                ("FE_PART/3", Reason::NotModelled, 4),
+                ("FLEX_BODY/3", Reason::NotModelled, 4),
                 ("SENSOR/4", Reason::NotModelled, 5),
                 ("CURVE/5", Reason::NotUsed, 6),
                 ("SFORCE/7", Reason::UserSubroutine, 7),

@@ -2,7 +2,9 @@
 //!
 //! One builder per statement family, called in a fixed order (the order of the diagnostics):
 //! units, parts, markers, mass properties, joints and primitives, couplers and gears, motions,
-//! general constraints, force elements, data elements; then, for a model without errors, the
+//! general constraints, force elements, data elements (FE parts right after the markers:
+//! their nodes are parts, the markers on them re-placed, [`fe_parts`]); then, for a model
+//! without errors, the
 //! analysis settings (IC, EQUILIBRIUM, INTEGRATOR). Every problem is collected (not just the
 //! first) and returned as diagnostics carrying the position of the offending argument or
 //! statement.
@@ -10,6 +12,7 @@
 mod context;
 mod couplings;
 mod data;
+pub mod fe_parts;
 mod forces;
 mod joints;
 mod lookup;
@@ -48,7 +51,7 @@ pub struct Built {
 
 /// Builds the model. Errors: unknown or duplicate ids, a joint whose markers are on the same
 /// part, zero or several GROUND parts, negative mass, non-physical inertia, markers on
-/// carriers linkage does not model (POINT_MASS, FLEX_BODY, FE_PART) used by constraints or
+/// carriers linkage does not model (FLEX_BODY) used by constraints or
 /// forces, invalid force or data elements ([`crate::forces`]), …
 pub fn build_model(ds: &Dataset) -> Result<Built, Diagnostics> {
     let mut cx = Ctx {
@@ -59,9 +62,16 @@ pub fn build_model(ds: &Dataset) -> Result<Built, Diagnostics> {
     let units = units::build_units(ds, &mut cx);
     let gravity = ds.accgrav.as_ref().map_or(DVec3::ZERO, |g| v3(g.gravity));
     let part_statements = parts::parts(ds, &mut cx);
-    let marker_statements = markers::markers(ds, &part_statements, &mut cx);
-    let (parts, cm_in_bcs) = mass::moving_parts(&part_statements, &marker_statements, &mut cx);
-    let markers = mass::body_markers(&marker_statements, &cm_in_bcs);
+    let mut marker_statements = markers::markers(ds, &part_statements, &mut cx);
+    let (mut parts, cm_in_bcs) = mass::moving_parts(&part_statements, &marker_statements, &mut cx);
+    let mut markers = mass::body_markers(&marker_statements, &cm_in_bcs);
+    let fe_parts = fe_parts::fe_parts(
+        ds,
+        &mut parts,
+        &mut markers,
+        &mut marker_statements,
+        &mut cx,
+    );
     let ground_name = part_statements.ground_name();
     let table = MarkerTable {
         index: &marker_statements.index,
@@ -75,7 +85,6 @@ pub fn build_model(ds: &Dataset) -> Result<Built, Diagnostics> {
     let data = data::data_elements(ds, &mut cx);
     let sensors = sensors::sensors(ds, &mut cx);
     point_masses::check_translational_use(&parts, &markers, &constraints, &forces, &mut cx);
-    let mut markers = markers;
     point_masses::hold_rotations(&parts, &mut markers, &mut constraints);
     if !cx.errors.is_empty() {
         return Err(Diagnostics(cx.errors));
@@ -102,6 +111,7 @@ pub fn build_model(ds: &Dataset) -> Result<Built, Diagnostics> {
         integrator: crate::settings::integrator::resolve_integrator(ds),
         requests: Default::default(),
         graphics: Vec::new(),
+        fe_parts,
     };
     model.characteristic_length = characteristic_length(&model);
     model.requests = crate::requests::resolve_requests(&model.markers, &model.forces, ds);

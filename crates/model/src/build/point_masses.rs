@@ -22,7 +22,7 @@ pub use crate::model::POINT_MASS_STATEMENT as POINT_MASS;
 
 /// Whether constraint `c` is the rotation hold of a point mass (not a dataset element).
 pub fn is_rotation_hold(c: &Constraint) -> bool {
-    c.origin.statement == POINT_MASS
+    c.origin.statement == POINT_MASS || c.origin.statement == crate::fe_parts::FE_PART_STATEMENT
 }
 
 /// Appends, for every point mass, two markers (one at its centre of mass with its body axes,

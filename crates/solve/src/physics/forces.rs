@@ -7,6 +7,7 @@
 //! | SFORCE, SPRINGDAMPER | [`scalar`] | scalar along the line J→I (repelling > 0) or torque about z_j |
 //! | BUSHING, FIELD, BEAM | [`six_dof`] (+ [`beam`]) | `F = −K·(q − q₀) − C·q̇ + F₀` in J's axes, at I |
 //! | VFORCE, VTORQUE, GFORCE | [`vector`] | expression components along RM's axes, at I |
+//! | FE_PART elements, FE_LOAD | [`fe_beam`] | corotational beam between node bodies; Rayleigh damping; lumped loads |
 //!
 //! Conventions shared by all elements:
 //! - Every element produces at most two *loads*: a force (at a point) and a torque on a body.
@@ -35,6 +36,7 @@
 pub mod algebra;
 pub mod beam;
 pub mod data;
+pub mod fe_beam;
 pub mod scalar;
 pub mod six_dof;
 pub mod vector;
@@ -100,6 +102,9 @@ pub enum Law {
     Scalar(Box<scalar::ScalarLaw>),
     SixDof(Box<six_dof::SixDofLaw>),
     Vector(Box<vector::VectorLaw>),
+    FeBeam(Box<fe_beam::BeamElementLaw>),
+    FeDamping(Box<fe_beam::NodeDampingLaw>),
+    FeLoad(Box<fe_beam::NodeLoadLaw>),
 }
 
 impl Law {
@@ -108,6 +113,9 @@ impl Law {
             Law::Scalar(l) => l.loads(cx),
             Law::SixDof(l) => l.loads(cx),
             Law::Vector(l) => l.loads(cx),
+            Law::FeBeam(l) => l.loads(cx),
+            Law::FeDamping(l) => l.loads(cx),
+            Law::FeLoad(l) => l.loads(cx),
         }
     }
 }
@@ -392,6 +400,70 @@ impl Builder<'_> {
     }
 }
 
+impl Builder<'_> {
+    /// The elements of every FE part: its beam elements (`FE_PART_2 element 3 (FE_PART/2,
+    /// line 40)`), the mass-proportional damping of its nodes, its FE_LOADs on each node.
+    fn fe_elements(&mut self, out: &mut Vec<Element>) {
+        let model = self.model;
+        for p in &model.fe_parts {
+            for (k, e) in p.elements.iter().enumerate() {
+                out.push(Element {
+                    label: format!(
+                        "{} element {} ({}, line {})",
+                        p.origin.name,
+                        k + 1,
+                        p.origin.element(),
+                        p.origin.span.line
+                    ),
+                    law: Law::FeBeam(Box::new(fe_beam::BeamElementLaw::new(p, e))),
+                });
+            }
+            if p.cratiom > 0.0 {
+                for n in &p.nodes {
+                    let part = &model.parts[n.part];
+                    out.push(Element {
+                        label: format!("{} (CRATIOM)", part.origin.label()),
+                        law: Law::FeDamping(Box::new(fe_beam::NodeDampingLaw {
+                            body: Body::Part(n.part),
+                            cratiom: p.cratiom,
+                            mass: part.mass,
+                            inertia: part.inertia,
+                        })),
+                    });
+                }
+            }
+            for l in &p.loads {
+                if let Some(u) = &l.user {
+                    self.errors
+                        .extend(parse_function(&model.file, u, &l.origin, "FUNCTION").err());
+                    continue;
+                }
+                let mut ok = true;
+                let names = ["FX", "FY", "FZ", "TX", "TY", "TZ"];
+                let force =
+                    [0, 1, 2].map(|c| self.optional(&l.force[c], &l.origin, names[c], &mut ok));
+                let torque = [0, 1, 2]
+                    .map(|c| self.optional(&l.torque[c], &l.origin, names[3 + c], &mut ok));
+                if !ok {
+                    continue;
+                }
+                for (n, node) in p.nodes.iter().enumerate() {
+                    out.push(Element {
+                        label: label(&l.origin),
+                        law: Law::FeLoad(Box::new(fe_beam::NodeLoadLaw {
+                            body: Body::Part(node.part),
+                            tributary: p.tributary[n],
+                            rm: l.rm.map(|m| marker_frame(model, m)),
+                            force: force.clone(),
+                            torque: torque.clone(),
+                        })),
+                    });
+                }
+            }
+        }
+    }
+}
+
 impl ForceSet {
     /// Builds the force set of `model`: every expression parsed once, every reference to a
     /// data element checked. Errors are located in the dataset (see the module docs).
@@ -412,6 +484,7 @@ impl ForceSet {
                 });
             }
         }
+        b.fe_elements(&mut elements);
         errors.append(&mut b.errors);
         if !errors.is_empty() {
             errors.sort_by_key(|d| d.span);

@@ -4,6 +4,7 @@
 pub mod assemble;
 pub mod dynamics;
 pub mod explain;
+pub mod fe_modes;
 pub mod ic;
 pub mod kinematics;
 pub mod linearize;

@@ -62,11 +62,19 @@ pub struct MasslessFreedom {
 #[derive(Clone, Debug)]
 pub struct Verification {
     pub system: System,
-    /// Moving bodies: parts and point masses.
+    /// Moving bodies: parts, point masses and FE nodes.
     pub moving_parts: usize,
     /// Point masses among them (3 degrees of freedom each: their 3 held rotations are among
     /// `rows`, as a rotation hold each).
     pub point_masses: usize,
+    /// FE nodes among them (their part counted as an equivalent linear flexible body in the
+    /// Gruebler count, see `fe_parts`).
+    pub fe_nodes: usize,
+    /// Rotation-hold rows among `rows` (3 per point mass and per 3DCABLE node).
+    pub hold_rows: usize,
+    /// Each FE part's Craig–Bampton reduction and chapter count
+    /// ([`crate::stages::fe_modes`]).
+    pub fe_parts: Vec<crate::stages::fe_modes::FeModes>,
     /// Parts with zero mass.
     pub massless_parts: Vec<usize>,
     /// Constraint elements counted by description (`Revolute Joint` → 2), in first-seen order.
@@ -399,8 +407,10 @@ fn analyse(
     let massless_parts: Vec<usize> = (0..n).filter(|&k| model.parts[k].mass <= 0.0).collect();
     let massless_free = massless_freedom(model, &sys, &state, &massless_parts, length, tol);
     let mut counts: Vec<(String, usize)> = Vec::new();
+    let mut hold_rows = 0;
     for c in &model.constraints {
         if linkage_model::build::point_masses::is_rotation_hold(c) {
+            hold_rows += 3;
             continue;
         }
         let d = c.description();
@@ -409,20 +419,48 @@ fn analyse(
             None => counts.push((d, 1)),
         }
     }
+    // FE parts: the Gruebler count takes the equivalent linear flexible body (Adams'
+    // chapter) in place of the node bodies' 6 (cable: 3) columns each; the DOF by rank keeps
+    // every nodal coordinate.
+    let requested = linkage_model::fe_parts::requested_normal_modes();
+    let fe_parts: Vec<_> = (0..model.fe_parts.len())
+        .map(|f| crate::stages::fe_modes::fe_modes(model, f, requested))
+        .collect();
+    let fe_nodes: usize = model.fe_parts.iter().map(|p| p.nodes.len()).sum();
+    let rigid = n - fe_nodes;
+    let cable_holds: usize = fe_parts
+        .iter()
+        .filter(|m| m.nodal_dof == 3 * m.nodes)
+        .map(|m| 3 * m.nodes)
+        .sum();
+    let chapter: usize = fe_parts.iter().map(|m| m.count.total()).sum();
+    let is_fe = |k: usize| model.fe_node(k).is_some();
+    let mut unconstrained_parts: Vec<usize> = (0..n)
+        .filter(|&k| topo.degree[k] == 0 && !is_fe(k))
+        .collect();
+    // An FE part none of whose nodes is constrained: named by its first node.
+    for p in &model.fe_parts {
+        if p.nodes.iter().all(|nd| topo.degree[nd.part] == 0) {
+            unconstrained_parts.extend(p.nodes.first().map(|nd| nd.part));
+        }
+    }
     Verification {
         moving_parts: n,
-        point_masses: model.parts.iter().filter(|p| p.point_mass).count(),
+        point_masses: model.parts.iter().filter(|p| p.point_mass).count() - cable_holds / 3,
+        fe_nodes,
+        hold_rows,
+        fe_parts,
         massless_parts,
         counts,
         rows,
-        gruebler: 6 * n as i64 - rows as i64,
+        gruebler: 6 * rigid as i64 + chapter as i64 - (rows - cable_holds) as i64,
         rank: ra.rank,
         dof: 6 * n as i64 - ra.rank as i64,
         redundant,
         misaligned,
         idealized: broken,
         assembled,
-        unconstrained_parts: (0..n).filter(|&k| topo.degree[k] == 0).collect(),
+        unconstrained_parts,
         ungrounded_parts: (0..n)
             .filter(|&k| topo.degree[k] > 0 && !topo.grounded[k])
             .collect(),
