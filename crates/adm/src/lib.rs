@@ -40,6 +40,7 @@ pub use commands::{
 pub use diagnostic::{Diagnostic, Diagnostics, Severity, Span};
 pub use statement::{Argument, ExprText, Statement, Value};
 pub use typed::*;
+pub use typing::contact;
 pub use typing::graphics;
 
 use std::path::Path;

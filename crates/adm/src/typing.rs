@@ -1051,6 +1051,7 @@ impl Typer {
     }
 }
 
+pub mod contact;
 mod forces;
 pub mod graphics;
 mod point_mass;

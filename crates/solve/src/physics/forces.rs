@@ -7,6 +7,7 @@
 //! | SFORCE, SPRINGDAMPER | [`scalar`] | scalar along the line J→I (repelling > 0) or torque about z_j |
 //! | BUSHING, FIELD, BEAM | [`six_dof`] (+ [`beam`]) | `F = −K·(q − q₀) − C·q̇ + F₀` in J's axes, at I |
 //! | VFORCE, VTORQUE, GFORCE | [`vector`] | expression components along RM's axes, at I |
+//! | CONTACT | [`contact`] | IMPACT or POISSON normal force and Coulomb friction per incident |
 //!
 //! Conventions shared by all elements:
 //! - Every element produces at most two *loads*: a force (at a point) and a torque on a body.
@@ -34,6 +35,7 @@
 
 pub mod algebra;
 pub mod beam;
+pub mod contact;
 pub mod data;
 pub mod scalar;
 pub mod six_dof;
@@ -100,6 +102,7 @@ pub enum Law {
     Scalar(Box<scalar::ScalarLaw>),
     SixDof(Box<six_dof::SixDofLaw>),
     Vector(Box<vector::VectorLaw>),
+    Contact(Box<contact::ContactLaw>),
 }
 
 impl Law {
@@ -108,6 +111,7 @@ impl Law {
             Law::Scalar(l) => l.loads(cx),
             Law::SixDof(l) => l.loads(cx),
             Law::Vector(l) => l.loads(cx),
+            Law::Contact(l) => l.loads(cx),
         }
     }
 }
@@ -317,6 +321,17 @@ impl Builder<'_> {
         let model = self.model;
         let frame = |m: usize| marker_frame(model, m);
         Some(match kind {
+            ForceKind::Contact(c) => match contact::ContactLaw::new(model, c) {
+                Ok(l) => Law::Contact(Box::new(l)),
+                Err(why) => {
+                    self.errors.push(Diagnostic::error(
+                        model.file.clone(),
+                        Some(origin.span),
+                        format!("{}: {why}", label(origin)),
+                    ));
+                    return None;
+                }
+            },
             ForceKind::Sforce(s) => {
                 let f = self.expr(&s.function, origin, "FUNCTION")?;
                 Law::Scalar(Box::new(scalar::ScalarLaw::sforce(
