@@ -166,11 +166,14 @@ fn dropped_cube_comes_to_rest_on_the_slab_carrying_its_weight() {
 #[test]
 fn block_sliding_on_a_plane_decelerates_at_mu_dynamic_g() {
     // The cube starts resting at its rest height with vx = 2 m/s; above the friction
-    // transition velocity the friction is μd·m·g, so vx(t) = 2 − μd·g·t.
+    // transition velocity the friction is μd·m·g, so vx(t) = 2 − μd·g·t. An ORIENTATION
+    // primitive keeps it from rocking under the friction moment (free, it rocks on its front
+    // edge and the normal force oscillates about m·g).
     let z0 = 0.1 - rest_penetration();
     let friction = ", COULOMB_FRICTION = ON, MU_STATIC = 0.4, MU_DYNAMIC = 0.3, \
                     STICTION_TRANSITION_VELOCITY = 0.01, FRICTION_TRANSITION_VELOCITY = 0.1";
-    let (m, d, f) = load(&cube(z0, false, friction, ", VX = 2"));
+    let body = cube(z0, false, friction, ", VX = 2") + "\nJPRIM/1, ORIENTATION, I = 20, J = 1";
+    let (m, d, f) = load(&body);
     let out = simulate(&m, &d, &f, 0.5, 1e-3);
     let at = |t: f64| {
         out.iter()
@@ -180,7 +183,7 @@ fn block_sliding_on_a_plane_decelerates_at_mu_dynamic_g() {
     let (a, b) = (at(0.1), at(0.5));
     let decel = (a.velocities[0].0.x - b.velocities[0].0.x) / (b.time - a.time);
     let want = 0.3 * G;
-    assert!((decel - want).abs() < 0.01 * want, "deceleration {decel}, want {want}");
+    assert!((decel - want).abs() < 1e-3 * want, "deceleration {decel}, want {want}");
     // Sliding, not stuck: still faster than the friction transition velocity.
     assert!(b.velocities[0].0.x > 0.1);
 }
@@ -238,7 +241,8 @@ fn stl_mesh_cube_rests_like_the_box_it_describes() {
     assert!(eq.converged, "{:?}", eq.worst);
     let z = eq.state.poses[0].p.z;
     let want = 0.1 - rest_penetration();
-    assert!((z - want).abs() < 1e-9, "rest height {z}, want {want}");
+    // STL coordinates are f32: the half-side 0.1 is stored as 0.1 + 1.5e-9.
+    assert!((z - want).abs() < 1e-8, "rest height {z}, want {want}");
     let _ = std::fs::remove_dir_all(&dir);
 }
 

@@ -316,6 +316,7 @@ pub fn type_graphics(ds: &Dataset) -> (Vec<Graphic>, Vec<Diagnostic>) {
     let mut reader = Reader {
         file: ds.file.clone(),
         warnings: Vec::new(),
+        text: &ds.text,
     };
     let graphics = ds
         .statements
@@ -346,12 +347,27 @@ fn canonical(written: &str) -> Option<&'static str> {
     }
 }
 
-struct Reader {
+struct Reader<'t> {
     file: std::sync::Arc<str>,
     warnings: Vec<Diagnostic>,
+    /// The dataset's text, for file names as written (the lexer upper-cases bare words).
+    text: &'t str,
 }
 
-impl Reader {
+/// The bare word that starts at `span` in `text` (1-based line, 1-based character column),
+/// as written: up to a comma, blank or comment.
+fn as_written(text: &str, span: Span) -> Option<String> {
+    let line = text.lines().nth(usize::try_from(span.line).ok()?.checked_sub(1)?)?;
+    let from = usize::try_from(span.col).ok()?.checked_sub(1)?;
+    let word: String = line
+        .chars()
+        .skip(from)
+        .take_while(|c| !matches!(c, ',' | ' ' | '\t' | '!' | '\\'))
+        .collect();
+    (!word.is_empty()).then_some(word)
+}
+
+impl Reader<'_> {
     fn warn(&mut self, span: Span, msg: String) {
         self.warnings
             .push(Diagnostic::warning(self.file.clone(), Some(span), msg));
@@ -529,7 +545,12 @@ impl Reader {
             "EXTERNAL" => {
                 let rm = self.marker(st, "RM");
                 let file = Self::arg(st, "FILE").and_then(|a| match a.values.first() {
-                    Some(Value::Word { text, .. } | Value::Str { text, .. }) => Some(text.clone()),
+                    Some(Value::Word { text, span }) => Some(
+                        as_written(self.text, *span)
+                            .filter(|w| w.eq_ignore_ascii_case(text))
+                            .unwrap_or_else(|| text.clone()),
+                    ),
+                    Some(Value::Str { text, .. }) => Some(text.clone()),
                     Some(Value::Expr(e)) => Some(e.text.trim().to_string()),
                     _ => None,
                 });
@@ -650,7 +671,7 @@ mod tests {
             matches!(g[5].shape, Shape::Arc { angle, segments: 8, .. } if (angle - std::f64::consts::FRAC_PI_2).abs() < 1e-15)
         );
         assert!(
-            matches!(&g[6].shape, Shape::External { rm, file: Some(f) } if rm.id == 2335 && f.eq_ignore_ascii_case("Only_AGV.xmt_txt"))
+            matches!(&g[6].shape, Shape::External { rm, file: Some(f) } if rm.id == 2335 && f == "Only_AGV.xmt_txt")
         );
         assert_eq!(g[7].shape.kind(), "FORCE");
         assert_eq!(g[8].shape.markers().len(), 2);

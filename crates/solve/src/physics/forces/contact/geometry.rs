@@ -74,6 +74,8 @@ pub struct Placed {
     pub in_body: Placement,
     /// Mesh vertex ids of each triangle (for incident grouping); `None` for convex solids.
     pub triangles: Option<std::sync::Arc<Vec<[u32; 3]>>>,
+    /// The radius of a sphere or point (0): its contact point is `centre ∓ radius·n`.
+    pub radius: Option<f64>,
 }
 
 impl fmt::Debug for Placed {
@@ -184,6 +186,7 @@ fn shape(solid: &Solid) -> Result<(SharedShape, Placement, Option<Vec<[u32; 3]>>
 /// A geometry of the model as a placed parry shape.
 pub fn place(model: &Model, g: &ContactGeometry) -> Result<Placed, String> {
     let (shape, local, triangles) = shape(&g.solid)?;
+    let radius = shape.as_ball().map(|b| b.radius);
     let mk = &model.markers[g.marker];
     let marker = Placement {
         p: mk.p_bm,
@@ -194,18 +197,24 @@ pub fn place(model: &Model, g: &ContactGeometry) -> Result<Placed, String> {
         shape,
         in_body: marker.then(&local),
         triangles: triangles.map(std::sync::Arc::new),
+        radius,
     })
 }
 
-/// A penetrating point of an incident: the material point of each body (body frame) and
-/// the depth (> 0) there, at the configuration it was found.
+/// A penetrating point of an incident: a material point of each body (body frame) and the
+/// depth (> 0) there, at the configuration it was found. On a sphere (or point) the material
+/// point is its centre and the contact point is `centre − r_i·n` (I) or `centre + r_j·n`
+/// (J): the contact point of a sphere does not turn with it.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct IncidentPoint {
-    /// On the I body, deepest inside J (body frame of I).
+    /// On the I body, deepest inside J (body frame of I), or the centre of I's sphere.
     pub on_i: DVec3,
-    /// On the J body's surface (body frame of J).
+    /// On the J body's surface (body frame of J), or the centre of J's sphere.
     pub on_j: DVec3,
     pub depth: f64,
+    /// Sphere radii of the I and J geometries (0 for other solids).
+    pub r_i: f64,
+    pub r_j: f64,
 }
 
 /// A connected region of penetration.
@@ -342,11 +351,17 @@ pub fn incidents(
             let p1 = gv(world_a * c.local_p1);
             let p2 = gv(world_b * c.local_p2);
             let depth = -c.dist;
-            let on_i = inv_i * (p1 - body_i.p);
-            let on_j = inv_j * (p2 - body_j.p);
+            let (on_i, r_i) = match a.radius {
+                Some(r) => (inv_i * (wa.p - body_i.p), r),
+                None => (inv_i * (p1 - body_i.p), 0.0),
+            };
+            let (on_j, r_j) = match b.radius {
+                Some(r) => (inv_j * (wb.p - body_j.p), r),
+                None => (inv_j * (p2 - body_j.p), 0.0),
+            };
             let same = inc.points.iter().position(|q| {
-                (body_i.p + body_i.r * q.on_i - p1).length() <= merge
-                    && (body_j.p + body_j.r * q.on_j - p2).length() <= merge
+                (body_i.p + body_i.r * q.on_i - (body_i.p + body_i.r * on_i)).length() <= merge
+                    && (body_j.r * q.on_j - body_j.r * on_j).length() <= merge
             });
             if same.is_some() {
                 continue;
@@ -355,7 +370,13 @@ pub fn incidents(
                 inc.deepest = inc.points.len();
                 inc.normal_j = inv_j * n_world.normalize_or_zero();
             }
-            inc.points.push(IncidentPoint { on_i, on_j, depth });
+            inc.points.push(IncidentPoint {
+                on_i,
+                on_j,
+                depth,
+                r_i,
+                r_j,
+            });
         }
     }
     out.extend(

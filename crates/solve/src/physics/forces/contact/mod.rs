@@ -8,14 +8,14 @@
 //!
 //! - the penetration `g` and its rate `ġ` are those of the deepest point:
 //!   `g = (P_j − P_i)·n`, `ġ = (v_Pj − v_Pi)·n + (P_j − P_i)·(ω_j × n)`, with `P_i` the
-//!   material point of I deepest inside J, `P_j` its match on J's surface and `n` fixed in J;
+//!   material point of I deepest inside J, `P_j` its match on J's surface and `n` fixed in J
+//!   (on a sphere the point is `centre ∓ r·n`: it does not turn with the sphere);
 //! - the normal force `Fn(g, ġ)` is the IMPACT or POISSON law ([`laws`]);
 //! - friction (if on) opposes the slip velocity `v_t` of I on J at the incident,
 //!   `v = Σ w_k (v_Pi,k − v_Pj,k)`, `v_t = v − (v·n) n`, with magnitude `μ(|v_t|)·Fn`;
 //! - the incident's force `Fn·n + F_t` is shared among its points in proportion to
-//!   `w_k = g_k^e / Σ g^e` (e the IMPACT exponent, 1 for POISSON) and applied at each point's
-//!   midpoint `(P_i,k + P_j,k)/2`: +share on I, −share on J at the same point (zero net
-//!   force and moment). A box resting flat on a plane therefore carries its whole weight
+//!   `w_k = g_k^e / Σ g^e` (e the IMPACT exponent, 1 for POISSON) and applied at each point
+//!   `P_i,k` of I: +share on I, −share on J at the same point (zero net force and moment). A box resting flat on a plane therefore carries its whole weight
 //!   through one incident, `k·g^e = m·g`, spread evenly over its four corners.
 //!
 //! Derivatives: the points are material points of each body and `n` a direction fixed in J,
@@ -153,9 +153,18 @@ impl ContactLaw {
             share: R,
         }
         let mut pts: Vec<Pt<R>> = Vec::with_capacity(inc.points.len());
+        // Contact points: material points, or a sphere's centre ∓ r·n.
+        let at_i = |p: &geometry::IncidentPoint| {
+            kin.point::<R>(&material(self.body_i, p.on_i))
+                .sub(&n.times(&R::cst(p.r_i)))
+        };
+        let at_j = |p: &geometry::IncidentPoint| {
+            kin.point::<R>(&material(self.body_j, p.on_j))
+                .add(&n.times(&R::cst(p.r_j)))
+        };
         for p in &inc.points {
-            let pi = kin.point::<R>(&material(self.body_i, p.on_i));
-            let pj = kin.point::<R>(&material(self.body_j, p.on_j));
+            let pi = at_i(p);
+            let pj = at_j(p);
             let g = pj.sub(&pi).dot(&n);
             let share = if g.value() > 0.0 {
                 laws::pow(&g, e)
@@ -168,13 +177,17 @@ impl ContactLaw {
         if total.value() <= 0.0 {
             return Vec::new();
         }
-        let deep = &inc.points[inc.deepest];
         let g = pts[inc.deepest].g.clone();
         if g.value() <= 0.0 {
             return Vec::new();
         }
-        let vi = kin.point_velocity::<R>(&material(self.body_i, deep.on_i));
-        let vj = kin.point_velocity::<R>(&material(self.body_j, deep.on_j));
+        // Velocity of the material point of body b at the place `at`: v + ω × (at − c).
+        let velocity = |b: Body, at: &V3<R>| {
+            kin.cm_velocity::<R>(b)
+                .add(&kin.omega::<R>(b).cross(&at.sub(&kin.cm::<R>(b))))
+        };
+        let vi = velocity(self.body_i, &pts[inc.deepest].pi);
+        let vj = velocity(self.body_j, &pts[inc.deepest].pj);
         let w_j = kin.omega::<R>(self.body_j);
         let gap = pts[inc.deepest].pj.sub(&pts[inc.deepest].pi);
         let gdot = vj.sub(&vi).dot(&n).add(&gap.dot(&w_j.cross(&n)));
@@ -186,9 +199,9 @@ impl ContactLaw {
         let mut f = n.times(&fn_);
         if self.friction.mode != linkage_adm::contact::FrictionMode::Off {
             let mut v = V3::<R>::zero();
-            for (p, w) in inc.points.iter().zip(&weights) {
-                let vi = kin.point_velocity::<R>(&material(self.body_i, p.on_i));
-                let vj = kin.point_velocity::<R>(&material(self.body_j, p.on_j));
+            for (p, w) in pts.iter().zip(&weights) {
+                let vi = velocity(self.body_i, &p.pi);
+                let vj = velocity(self.body_j, &p.pj);
                 v = v.add(&vi.sub(&vj).times(w));
             }
             let v_t = v.sub(&n.times(&v.dot(&n)));
@@ -198,7 +211,7 @@ impl ContactLaw {
         }
         pts.iter()
             .zip(&weights)
-            .map(|(p, w)| (p.pi.add(&p.pj).times(&R::cst(0.5)), f.times(w)))
+            .map(|(p, w)| (p.pi.clone(), f.times(w)))
             .collect()
     }
 }
