@@ -76,7 +76,13 @@ fn contact_function_gives_the_weight_on_i_and_its_reaction_on_j() {
     assert!((last[col("REQUEST_1.f3")] + w).abs() < 1e-3 * w, "{last:?}");
     assert!((last[col("REQUEST_1.f4")] - w).abs() < 1e-3 * w, "{last:?}");
     // The first row: 5 mm above the slab, no force.
-    let first: Vec<f64> = text.lines().nth(1).unwrap().split(',').map(|x| x.parse().unwrap()).collect();
+    let first: Vec<f64> = text
+        .lines()
+        .nth(1)
+        .unwrap()
+        .split(',')
+        .map(|x| x.parse().unwrap())
+        .collect();
     assert_eq!(first[col("REQUEST_1.f2")], 0.0);
 }
 

@@ -19,15 +19,17 @@ fn contact_files(text: &str) -> BTreeSet<String> {
         if t.is_empty() || t.starts_with('!') {
             continue;
         }
+        // Blanks dropped: `, IGEOM = 7` becomes `,IGEOM=7`.
+        let t: String = t.chars().filter(|c| !c.is_whitespace()).collect();
         match statements.last_mut() {
-            Some(last) if t.starts_with(',') => last.push_str(t),
-            _ => statements.push(t.to_string()),
+            Some(last) if t.starts_with(',') => last.push_str(&t),
+            _ => statements.push(t),
         }
     }
     let upper: Vec<String> = statements.iter().map(|s| s.to_ascii_uppercase()).collect();
     let value = |s: &str, key: &str| -> Option<String> {
-        let at = s.find(&format!("{key} ="))?;
-        Some(s[at + key.len() + 2..].trim_start().to_string())
+        let at = s.find(&format!("{key}="))?;
+        Some(s[at + key.len() + 1..].to_string())
     };
     let ids = |s: &str, key: &str| -> Vec<String> {
         value(s, key)
@@ -54,9 +56,9 @@ fn contact_files(text: &str) -> BTreeSet<String> {
         if !used.contains(&id) || !s.contains(",EXTERNAL") {
             continue;
         }
-        if let Some(at) = s.find(",FILE =") {
-            let f = raw[at + 7..].trim_start();
-            files.insert(f.split(',').next().unwrap_or(f).trim().to_string());
+        if let Some(at) = s.find(",FILE=") {
+            let f = &raw[at + 6..];
+            files.insert(f.split(',').next().unwrap_or(f).to_string());
         }
     }
     files
@@ -71,12 +73,19 @@ fn corpus_contacts_name_their_missing_files_and_the_rest_of_each_model_runs() {
         .filter(|p| p.extension().is_some_and(|x| x == "adm"))
         .filter(|p| {
             std::fs::read_to_string(p)
-                .map(|t| t.lines().any(|l| l.to_ascii_uppercase().starts_with("CONTACT/")))
+                .map(|t| {
+                    t.lines()
+                        .any(|l| l.to_ascii_uppercase().starts_with("CONTACT/"))
+                })
                 .unwrap_or(false)
         })
         .collect();
     datasets.sort();
-    assert!(datasets.len() >= 12, "{} datasets with CONTACT", datasets.len());
+    assert!(
+        datasets.len() >= 12,
+        "{} datasets with CONTACT",
+        datasets.len()
+    );
     let (mut named, mut ran) = (0, 0);
     for f in &datasets {
         let path = f.to_str().unwrap();
@@ -118,5 +127,8 @@ fn corpus_contacts_name_their_missing_files_and_the_rest_of_each_model_runs() {
         datasets.len()
     );
     assert!(named >= 12, "{named} files named");
-    assert!(ran >= 1, "no corpus contact model ran with its contacts deactivated");
+    assert!(
+        ran >= 1,
+        "no corpus contact model ran with its contacts deactivated"
+    );
 }

@@ -90,7 +90,10 @@ fn sphere_bounces_on_a_plane_with_the_restitution_coefficient() {
         .map(|o| o.state.poses[0].p.z)
         .fold(f64::NEG_INFINITY, f64::max);
     let ratio = ((apex - 0.1) / 0.4).sqrt();
-    assert!((ratio - e).abs() < 0.01 * e, "rebound ratio {ratio}, want {e}");
+    assert!(
+        (ratio - e).abs() < 0.01 * e,
+        "rebound ratio {ratio}, want {e}"
+    );
     // The contact only pushes, never pulls, and only while the ball touches.
     for o in &out {
         let fz = contact_force(&f, o).z;
@@ -144,7 +147,11 @@ fn cube_rests_on_a_slab_at_the_impact_penetration_in_statics() {
     let v = vec![(glam::DVec3::ZERO, glam::DVec3::ZERO)];
     let mut q = vec![0.0; 6];
     f.add_forces(&eq.state, &v, &mut q).unwrap();
-    assert!((q[2] - 10.0 * G).abs() < 1e-6 * 10.0 * G, "normal force {}", q[2]);
+    assert!(
+        (q[2] - 10.0 * G).abs() < 1e-6 * 10.0 * G,
+        "normal force {}",
+        q[2]
+    );
     // Flat on the slab: no moment about the CM.
     assert!(q[3].abs() < 1e-9 && q[4].abs() < 1e-9, "{q:?}");
 }
@@ -157,7 +164,10 @@ fn dropped_cube_comes_to_rest_on_the_slab_carrying_its_weight() {
     let last = out.last().unwrap();
     let z = last.state.poses[0].p.z;
     let want = 0.1 - rest_penetration();
-    assert!((z - want).abs() < 1e-3 * rest_penetration(), "{z} vs {want}");
+    assert!(
+        (z - want).abs() < 1e-3 * rest_penetration(),
+        "{z} vs {want}"
+    );
     let fc = contact_force(&f, last);
     assert!((fc.z - 10.0 * G).abs() < 1e-3 * 10.0 * G, "{fc}");
     assert!(fc.x.abs() < 1e-6 && fc.y.abs() < 1e-6, "{fc}");
@@ -183,7 +193,10 @@ fn block_sliding_on_a_plane_decelerates_at_mu_dynamic_g() {
     let (a, b) = (at(0.1), at(0.5));
     let decel = (a.velocities[0].0.x - b.velocities[0].0.x) / (b.time - a.time);
     let want = 0.3 * G;
-    assert!((decel - want).abs() < 1e-3 * want, "deceleration {decel}, want {want}");
+    assert!(
+        (decel - want).abs() < 1e-3 * want,
+        "deceleration {decel}, want {want}"
+    );
     // Sliding, not stuck: still faster than the friction transition velocity.
     assert!(b.velocities[0].0.x > 0.1);
 }
@@ -228,10 +241,7 @@ fn stl_mesh_cube_rests_like_the_box_it_describes() {
         "GRAPHICS/1, EXTERNAL, RM = 20, FILE = cube.stl",
     );
     let file = dir.join("stl.adm");
-    let (m, d, f) = load_text(
-        file.to_str().unwrap(),
-        &format!("{HEADER}{body}\nEND\n"),
-    );
+    let (m, d, f) = load_text(file.to_str().unwrap(), &format!("{HEADER}{body}\nEND\n"));
     assert!(Path::new(&dir.join("cube.stl")).exists());
     let r = linkage_solve::stages::statics::run(
         &Assembled::new(&m, &d, &f, &Tolerances::default()),

@@ -222,7 +222,10 @@ impl Reader {
                 None
             }
             Ok(Some((v, span))) if !ok(v) => {
-                self.error(span, format!("{}: {key} must be {what} (got {v})", label(st)));
+                self.error(
+                    span,
+                    format!("{}: {key} must be {what} (got {v})", label(st)),
+                );
                 None
             }
             Ok(Some((v, _))) => Some(v),
@@ -269,7 +272,11 @@ impl Reader {
             match canonical(&a.key) {
                 None => self.warn(
                     a.span,
-                    format!("{}: {} is not an argument of CONTACT; ignored", label(st), a.key),
+                    format!(
+                        "{}: {} is not an argument of CONTACT; ignored",
+                        label(st),
+                        a.key
+                    ),
                 ),
                 Some("AUGMENTED_LAGRANGIAN_FORMULATION") => self.warn(
                     a.span,
@@ -333,7 +340,10 @@ impl Reader {
         let poisson = Self::arg(st, "POISSON").is_some();
         match (impact, poisson) {
             (true, true) => {
-                self.error(st.span, format!("{}: give IMPACT or POISSON, not both", label(st)));
+                self.error(
+                    st.span,
+                    format!("{}: give IMPACT or POISSON, not both", label(st)),
+                );
                 None
             }
             (false, false) => {
@@ -468,7 +478,10 @@ mod tests {
         assert!(d.is_empty(), "{d:?}");
         let c = &c[0];
         assert_eq!(c.igeom.iter().map(|g| g.id).collect::<Vec<_>>(), [33792]);
-        assert_eq!(c.jgeom.iter().map(|g| g.id).collect::<Vec<_>>(), [4117, 4118]);
+        assert_eq!(
+            c.jgeom.iter().map(|g| g.id).collect::<Vec<_>>(),
+            [4117, 4118]
+        );
         assert_eq!(
             c.normal,
             NormalLaw::Impact {

@@ -357,7 +357,9 @@ struct Reader<'t> {
 /// The bare word that starts at `span` in `text` (1-based line, 1-based character column),
 /// as written: up to a comma, blank or comment.
 fn as_written(text: &str, span: Span) -> Option<String> {
-    let line = text.lines().nth(usize::try_from(span.line).ok()?.checked_sub(1)?)?;
+    let line = text
+        .lines()
+        .nth(usize::try_from(span.line).ok()?.checked_sub(1)?)?;
     let from = usize::try_from(span.col).ok()?.checked_sub(1)?;
     let word: String = line
         .chars()

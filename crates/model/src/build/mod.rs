@@ -7,10 +7,10 @@
 //! first) and returned as diagnostics carrying the position of the offending argument or
 //! statement.
 
+mod contacts;
 mod context;
 mod couplings;
 mod data;
-mod contacts;
 mod forces;
 mod joints;
 mod lookup;

@@ -169,11 +169,7 @@ fn shape(solid: &Solid) -> Result<(SharedShape, Placement, Option<Vec<[u32; 3]>>
             (SharedShape::cylinder(0.0, *radius), y_to_z(0.0), None)
         }
         Solid::Point => (SharedShape::ball(0.0), Placement::IDENTITY, None),
-        Solid::HalfSpace => (
-            SharedShape::halfspace(PVec::Z),
-            Placement::IDENTITY,
-            None,
-        ),
+        Solid::HalfSpace => (SharedShape::halfspace(PVec::Z), Placement::IDENTITY, None),
         Solid::Mesh(m) => {
             let v: Vec<PVec> = m.vertices.iter().map(|&q| pv(q)).collect();
             let shape = SharedShape::trimesh(v, m.triangles.clone())
@@ -289,7 +285,9 @@ pub fn incidents(
     let n = manifolds.len();
     let mut parent: Vec<usize> = (0..n).collect();
     let tri = |p: &Placed, s: u32| -> Option<[u32; 3]> {
-        p.triangles.as_ref().and_then(|t| t.get(s as usize).copied())
+        p.triangles
+            .as_ref()
+            .and_then(|t| t.get(s as usize).copied())
     };
     let any_mesh = a.triangles.is_some() || b.triangles.is_some();
     for x in 0..n {

@@ -185,6 +185,9 @@ mod tests {
         assert!((ft.value() - glam::DVec3::new(-1.8, -2.4, 0.0)).length() < 1e-12);
         // At rest the direction is the slope's limit: zero force, finite derivative.
         let z = V3::<f64>::constant(glam::DVec3::ZERO);
-        assert_eq!(friction_force(&f, &10.0, &z).expect("on").value(), glam::DVec3::ZERO);
+        assert_eq!(
+            friction_force(&f, &10.0, &z).expect("on").value(),
+            glam::DVec3::ZERO
+        );
     }
 }

@@ -63,8 +63,16 @@ impl ContactLaw {
         let place = |g: &linkage_model::contacts::ContactGeometry| {
             geometry::place(model, g).map_err(|why| format!("GRAPHICS/{}: {why}", g.graphic))
         };
-        let i = c.i_geometries.iter().map(place).collect::<Result<Vec<_>, _>>()?;
-        let j = c.j_geometries.iter().map(place).collect::<Result<Vec<_>, _>>()?;
+        let i = c
+            .i_geometries
+            .iter()
+            .map(place)
+            .collect::<Result<Vec<_>, _>>()?;
+        let j = c
+            .j_geometries
+            .iter()
+            .map(place)
+            .collect::<Result<Vec<_>, _>>()?;
         for a in &i {
             for b in &j {
                 if !geometry::supported(a, b) {
