@@ -278,3 +278,109 @@ fn cube_on_the_slab_vibrates_at_the_contact_stiffness_frequency() {
     let got = l.modes[0].frequency;
     assert!((got - want).abs() < 1e-6 * want, "{got} Hz, want {want}");
 }
+
+/// `∂Q/∂q` and `∂Q/∂v` of the force set (dense 6 × 6 for one part) against central
+/// differences of `Q` at `(s, v)`.
+fn check_jacobians(
+    f: &ForceSet,
+    s: &linkage_solve::state::State,
+    v: &[(glam::DVec3, glam::DVec3)],
+) {
+    let q = |s: &linkage_solve::state::State, v: &[(glam::DVec3, glam::DVec3)]| {
+        let mut out = vec![0.0; 6];
+        f.add_forces(s, v, &mut out).unwrap();
+        out
+    };
+    let (mut dq, mut dv) = (Vec::new(), Vec::new());
+    f.add_jacobians(s, v, &mut dq, Some(&mut dv)).unwrap();
+    let dense = |t: &[(usize, usize, f64)]| {
+        let mut m = [[0.0; 6]; 6];
+        for &(r, c, x) in t {
+            m[r][c] += x;
+        }
+        m
+    };
+    let (aq, av) = (dense(&dq), dense(&dv));
+    // Relative to the largest derivative.
+    let scale = aq
+        .iter()
+        .chain(&av)
+        .flatten()
+        .fold(1.0_f64, |a, x| a.max(x.abs()));
+    let h = 1e-7;
+    for c in 0..6 {
+        let unit = |x: f64| {
+            let mut e = [0.0; 6];
+            e[c] = x;
+            (
+                glam::DVec3::new(e[0], e[1], e[2]),
+                glam::DVec3::new(e[3], e[4], e[5]),
+            )
+        };
+        let shifted = |x: f64| {
+            let mut t = s.clone();
+            let (dx, dth) = unit(x);
+            t.increment(0, dx, dth);
+            q(&t, v)
+        };
+        let moved = |x: f64| {
+            let (dv_, dw) = unit(x);
+            q(s, &[(v[0].0 + dv_, v[0].1 + dw)])
+        };
+        let (qp, qm, vp, vm) = (shifted(h), shifted(-h), moved(h), moved(-h));
+        for r in 0..6 {
+            let nq = (qp[r] - qm[r]) / (2.0 * h);
+            let nv = (vp[r] - vm[r]) / (2.0 * h);
+            assert!(
+                (aq[r][c] - nq).abs() < 1e-6 * scale,
+                "∂Q{r}/∂q{c}: {} vs {nq}",
+                aq[r][c]
+            );
+            assert!(
+                (av[r][c] - nv).abs() < 1e-6 * scale,
+                "∂Q{r}/∂v{c}: {} vs {nv}",
+                av[r][c]
+            );
+        }
+    }
+}
+
+#[test]
+fn contact_jacobians_match_finite_differences() {
+    // A tilted cube with one corner 1 mm into the slab, sliding and spinning (friction in
+    // its transition band), and a rolling ball pressed into the plane.
+    let friction = ", COULOMB_FRICTION = ON, MU_STATIC = 0.4, MU_DYNAMIC = 0.3, \
+                    STICTION_TRANSITION_VELOCITY = 0.01, FRICTION_TRANSITION_VELOCITY = 1";
+    let tilt = ", REULER = 10D, 20D, 5D";
+    let (m, _, f) = load(&cube(0.1, false, friction, tilt));
+    let mut s = linkage_solve::state::State::input(&m);
+    // Put the lowest corner 1 mm below the slab's top.
+    let r = s.poses[0].r;
+    let lowest = (0..8)
+        .map(|k| {
+            let c = |b: usize| if k & b != 0 { 0.1 } else { -0.1 };
+            (r * glam::DVec3::new(c(1), c(2), c(4))).z
+        })
+        .fold(f64::INFINITY, f64::min);
+    s.poses[0].p.z = -lowest - 1e-3;
+    let v = [(
+        glam::DVec3::new(0.3, -0.2, -0.05),
+        glam::DVec3::new(0.5, 1.0, 2.0),
+    )];
+    let mut q = vec![0.0; 6];
+    f.add_forces(&s, &v, &mut q).unwrap();
+    assert!(q[2] > 0.0, "the corner is in contact: {q:?}");
+    check_jacobians(&f, &s, &v);
+
+    let ball = ball(0.099, 0.5).replace(
+        "RESTITUTION_COEFFICIENT = 0.5",
+        &format!("RESTITUTION_COEFFICIENT = 0.5{friction}"),
+    );
+    let (m, _, f) = load(&ball);
+    let s = linkage_solve::state::State::input(&m);
+    let v = [(
+        glam::DVec3::new(0.2, 0.1, -0.5),
+        glam::DVec3::new(1.0, -2.0, 0.5),
+    )];
+    check_jacobians(&f, &s, &v);
+}

@@ -77,10 +77,18 @@ mod tests {
             CONTACT/1, IGEOM = 1, JGEOM = 2, IMPACT, STIFFNESS = 1, DAMPING = 0, DMAX = 1, \
             EXPONENT = 1\n\
             CONTACT/2, IGEOM = 1, JGEOM = 3, IMPACT, STIFFNESS = 1, DAMPING = 0, DMAX = 1, \
+            EXPONENT = 1\n\
+            GRAPHICS/4, CURVE, CID = 1, CRM = 1\n\
+            CONTACT/3, IGEOM = 4, JGEOM = 3, IMPACT, STIFFNESS = 1, DAMPING = 0, DMAX = 1, \
             EXPONENT = 1\nEND\n";
         let ds = linkage_adm::parse_dataset(Arc::from("t.adm"), text).unwrap();
         let f = findings(&ds);
-        assert_eq!(f.len(), 1, "{f:?}");
+        assert_eq!(f.len(), 2, "{f:?}");
+        // A CURVE geometry is named as not modelled, with the reason.
+        assert_eq!(f[1].element, "CONTACT/3");
+        assert_eq!(f[1].reason, Reason::NotModelled);
+        assert!(f[1].detail.contains("CURVE"), "{}", f[1].detail);
+        assert!(f[1].refuses(Analysis::Simulate));
         assert_eq!(f[0].element, "CONTACT/1");
         assert_eq!(f[0].reason, Reason::ExternalFileMissing);
         assert!(f[0].detail.contains("nowhere.xmt_txt"), "{}", f[0].detail);

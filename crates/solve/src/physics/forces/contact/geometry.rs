@@ -95,8 +95,11 @@ fn hull(points: &[DVec3]) -> Result<SharedShape, String> {
         .ok_or_else(|| "its convex hull is degenerate (a zero dimension?)".to_string())
 }
 
+/// A parry shape, its placement in the solid's (marker) frame and, for a mesh, its triangles.
+type Shaped = (SharedShape, Placement, Option<Vec<[u32; 3]>>);
+
 /// The parry shape of a solid and its placement in the solid's (marker) frame.
-fn shape(solid: &Solid) -> Result<(SharedShape, Placement, Option<Vec<[u32; 3]>>), String> {
+fn shape(solid: &Solid) -> Result<Shaped, String> {
     let at = |p: DVec3| Placement {
         p,
         r: DMat3::IDENTITY,
