@@ -1052,6 +1052,7 @@ impl Typer {
 }
 
 pub mod fe_part;
+pub mod contact;
 mod forces;
 pub mod graphics;
 mod point_mass;

@@ -249,6 +249,8 @@ named_enum! {
         Vtorque => "VTORQUE",
         /// `GFORCE(id, jflag, comp, rm)`.
         Gforce => "GFORCE",
+        /// `CONTACT(id, jflag, comp, rm)`: summed over the contact's incidents.
+        Contact => "CONTACT",
     }
 }
 

@@ -196,6 +196,17 @@ pub fn scene(model: &Model, highlight: &[String]) -> Scene {
                     file.as_deref().unwrap_or("(no FILE)")
                 ));
             }
+            Shape::Point { rm } => {
+                for (axis, c) in mesh::triad(size * 0.5).into_iter().zip(AXIS_COLOURS) {
+                    push(on_marker(*rm, axis), c, None);
+                }
+            }
+            Shape::Plane { rm, limits } => {
+                let [x0, x1, y0, y1] = *limits;
+                let corners = [(x0, y0), (x1, y0), (x1, y1), (x0, y1), (x0, y0)]
+                    .map(|(x, y)| DVec3::new(x, y, 0.0));
+                push(on_marker(*rm, mesh::polyline(&corners)), colour, None)
+            }
             Shape::Other { .. } => {}
         }
     }

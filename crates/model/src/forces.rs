@@ -37,6 +37,8 @@ pub enum ForceKind {
     Beam(Box<Beam>),
     /// VFORCE, VTORQUE and GFORCE.
     Vector(Box<VectorForce>),
+    /// CONTACT between the geometries of two parts ([`crate::contacts`]).
+    Contact(Box<crate::contacts::Contact>),
 }
 
 /// `SFORCE`: a scalar force along the line J→I (or a torque about z_j), given by an

@@ -13,6 +13,7 @@
 pub mod bodies;
 pub mod build;
 pub mod fe_parts;
+pub mod contacts;
 pub mod forces;
 pub mod frames;
 pub mod functions;

@@ -20,6 +20,8 @@
 //! and every other analysis refuses with all of its own at once ([`refusals`]). Unknown
 //! statements (not Adams keywords) are findings too.
 
+mod contact;
+
 use linkage_adm::{Dataset, Diagnostic, Span, Statement, Value};
 use std::path::Path;
 use std::sync::Arc;
@@ -102,7 +104,7 @@ pub enum Use {
 }
 
 /// Statement kinds every analysis computes with.
-pub const MODELLED: [&str; 27] = [
+pub const MODELLED: [&str; 28] = [
     "UNITS",
     "ACCGRAV",
     "PART",
@@ -122,6 +124,7 @@ pub const MODELLED: [&str; 27] = [
     "VFORCE",
     "VTORQUE",
     "GFORCE",
+    "CONTACT",
     "VARIABLE",
     "ARRAY",
     "SPLINE",
@@ -181,7 +184,6 @@ fn not_modelled(keyword: &str) -> Option<(Reason, &'static str, &'static [Analys
         "FLEX_BODY" => refused(
             "a modal flexible body is not modelled; verify's DOF count leaves it out",
         ),
-        "CONTACT" => refused("contact forces are not modelled"),
         "FRICTION" => refused("joint friction is not modelled"),
         "NFORCE" => refused("multi-point force elements are not modelled"),
         "MFORCE" => refused("modal forces are not modelled"),
@@ -201,7 +203,7 @@ fn not_modelled(keyword: &str) -> Option<(Reason, &'static str, &'static [Analys
         )),
         "CURVE" => unused("curve data, read only by PTCV, CVCV and CURVE(), which linkage does not model"),
         "MATRIX" => unused("matrix data, read only by LSE, GSE, CURVE, NFORCE and FLEX_BODY, which linkage does not model"),
-        "SURFACE" => unused("surface data, read only by CONTACT, which linkage does not model"),
+        "SURFACE" => unused("surface data is not read (CONTACT geometries are GRAPHICS)"),
         "FEMDATA" => unused("finite-element output requests are not written"),
         "MREQUEST" => unused("multiple requests are not written (REQUEST is)"),
         "KINEMATICS" => unused(
@@ -309,6 +311,7 @@ fn file_exists(dataset_file: &str, name: &str) -> bool {
 /// the module documentation). Cost: one pass over the statements and their arguments.
 pub fn findings(ds: &Dataset) -> Vec<Finding> {
     let mut out = Vec::new();
+    let contacts = contact::ContactGeometries::new(ds);
     for (index, st) in ds.statements.iter().enumerate() {
         let use_ = statement_use(&st.keyword);
         if use_ == Use::Bookkeeping {
@@ -382,6 +385,11 @@ pub fn findings(ds: &Dataset) -> Vec<Finding> {
             continue;
         }
         // Modelled or settings statements: what linkage cannot run or read in them.
+        if let Some(c) = contacts.as_ref().filter(|_| st.keyword == "CONTACT") {
+            for (span, reason, detail) in c.problems(ds, index) {
+                out.push(finding(span, reason, detail, FORCE_ANALYSES));
+            }
+        }
         if let Some((key, span)) = user {
             let (detail, refused): (String, &[Analysis]) = match st.keyword.as_str() {
                 "REQUEST" => (

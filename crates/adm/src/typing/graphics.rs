@@ -6,7 +6,9 @@
 //!   arguments are resolved here, by exact spelling or unambiguous prefix (`COR` = `CORNER`).
 //! - One [`Graphic`] per GRAPHICS statement whose shape linkage can draw: CYLINDER, FRUSTUM,
 //!   BOX, ELLIPSOID, CIRCLE, ARC, OUTLINE, LINK, SPDP and EXTERNAL (the last kept as its
-//!   reference marker and file name). Other kinds (FORCE, CURVE, POINT, PLANE, TORUS…) are
+//!   reference marker and file name), and the contact geometries POINT (`RM`: its origin)
+//!   and PLANE (`RM`: its xy plane, `XMIN`…`YMAX` the drawn rectangle; spelling
+//!   [unconfirmed], from the Adams View plane's limits). Other kinds (FORCE, CURVE, TORUS…) are
 //!   kept as [`Shape::Other`] with their kind: they are display-only and change no result.
 //! - A shape missing an argument it cannot be drawn without (CYLINDER without `CM`, a BOX
 //!   without `CORNER`, …) or with a value that is not a number gives a *warning* at the
@@ -68,8 +70,12 @@ const GRAPHICS_KEYS: &[&str] = &[
     "TORUS",
     "WIDTH",
     "X",
+    "XMAX",
+    "XMIN",
     "XSCALE",
     "Y",
+    "YMAX",
+    "YMIN",
     "YSCALE",
     "Z",
     "ZSCALE",
@@ -160,8 +166,13 @@ pub enum Shape<M = IdRef> {
         coils: u32,
         diameter: Option<f64>,
     },
-    /// Geometry in a file linkage cannot read (Parasolid, …): drawn as `rm`'s triad.
+    /// Geometry in a file (STL, OBJ, Parasolid, …): drawn as `rm`'s triad; CONTACT reads
+    /// STL and OBJ files, in `rm`'s frame.
     External { rm: M, file: Option<String> },
+    /// A point at `rm`'s origin (a contact geometry).
+    Point { rm: M },
+    /// The xy plane of `rm` (its +z side is outside), drawn over `[xmin, xmax] × [ymin, ymax]`.
+    Plane { rm: M, limits: [f64; 4] },
     /// Another kind (FORCE, CURVE, POINT, PLANE, TORUS, …): kept by name, not drawn.
     Other { kind: String },
 }
@@ -178,7 +189,9 @@ impl<M: Copy> Shape<M> {
             Shape::Box { corner, .. } => vec![*corner],
             Shape::Outline { markers } => markers.clone(),
             Shape::Link { i, j, .. } | Shape::SpringDamper { i, j, .. } => vec![*i, *j],
-            Shape::External { rm, .. } => vec![*rm],
+            Shape::External { rm, .. } | Shape::Point { rm } | Shape::Plane { rm, .. } => {
+                vec![*rm]
+            }
             Shape::Other { .. } => Vec::new(),
         }
     }
@@ -196,6 +209,8 @@ impl<M: Copy> Shape<M> {
             Shape::Link { .. } => "LINK",
             Shape::SpringDamper { .. } => "SPDP",
             Shape::External { .. } => "EXTERNAL",
+            Shape::Point { .. } => "POINT",
+            Shape::Plane { .. } => "PLANE",
             Shape::Other { kind } => kind,
         }
     }
@@ -285,6 +300,11 @@ impl<M: Copy> Shape<M> {
                 rm: g(*rm)?,
                 file: file.clone(),
             },
+            Shape::Point { rm } => Shape::Point { rm: g(*rm)? },
+            Shape::Plane { rm, limits } => Shape::Plane {
+                rm: g(*rm)?,
+                limits: *limits,
+            },
             Shape::Other { kind } => Shape::Other { kind: kind.clone() },
         })
     }
@@ -296,6 +316,7 @@ pub fn type_graphics(ds: &Dataset) -> (Vec<Graphic>, Vec<Diagnostic>) {
     let mut reader = Reader {
         file: ds.file.clone(),
         warnings: Vec::new(),
+        text: &ds.text,
     };
     let graphics = ds
         .statements
@@ -326,12 +347,29 @@ fn canonical(written: &str) -> Option<&'static str> {
     }
 }
 
-struct Reader {
+struct Reader<'t> {
     file: std::sync::Arc<str>,
     warnings: Vec<Diagnostic>,
+    /// The dataset's text, for file names as written (the lexer upper-cases bare words).
+    text: &'t str,
 }
 
-impl Reader {
+/// The bare word that starts at `span` in `text` (1-based line, 1-based character column),
+/// as written: up to a comma, blank or comment.
+fn as_written(text: &str, span: Span) -> Option<String> {
+    let line = text
+        .lines()
+        .nth(usize::try_from(span.line).ok()?.checked_sub(1)?)?;
+    let from = usize::try_from(span.col).ok()?.checked_sub(1)?;
+    let word: String = line
+        .chars()
+        .skip(from)
+        .take_while(|c| !matches!(c, ',' | ' ' | '\t' | '!' | '\\'))
+        .collect();
+    (!word.is_empty()).then_some(word)
+}
+
+impl Reader<'_> {
     fn warn(&mut self, span: Span, msg: String) {
         self.warnings
             .push(Diagnostic::warning(self.file.clone(), Some(span), msg));
@@ -509,7 +547,12 @@ impl Reader {
             "EXTERNAL" => {
                 let rm = self.marker(st, "RM");
                 let file = Self::arg(st, "FILE").and_then(|a| match a.values.first() {
-                    Some(Value::Word { text, .. } | Value::Str { text, .. }) => Some(text.clone()),
+                    Some(Value::Word { text, span }) => Some(
+                        as_written(self.text, *span)
+                            .filter(|w| w.eq_ignore_ascii_case(text))
+                            .unwrap_or_else(|| text.clone()),
+                    ),
+                    Some(Value::Str { text, .. }) => Some(text.clone()),
                     Some(Value::Expr(e)) => Some(e.text.trim().to_string()),
                     _ => None,
                 });
@@ -517,6 +560,21 @@ impl Reader {
                     rm: self.required(st, "RM", rm)?,
                     file,
                 }
+            }
+            "POINT" => {
+                let rm = self.marker(st, "RM");
+                Shape::Point {
+                    rm: self.required(st, "RM", rm)?,
+                }
+            }
+            "PLANE" => {
+                let rm = self.marker(st, "RM");
+                let rm = self.required(st, "RM", rm)?;
+                let mut limits = [0.0; 4];
+                for (l, key) in limits.iter_mut().zip(["XMIN", "XMAX", "YMIN", "YMAX"]) {
+                    *l = self.number(st, key).unwrap_or(0.0);
+                }
+                Shape::Plane { rm, limits }
             }
             other => Shape::Other {
                 kind: other.to_string(),
@@ -571,10 +629,16 @@ mod tests {
              GRAPHICS/6, ARC, CM = 3, RADIUS = 2, RANGLE = 90D, SEG = 8\n\
              GRAPHICS/7, EXTERNAL, RM = 2335, FILE = Only_AGV.xmt_txt, ELEMENT = SOLID3\n\
              GRAPHICS/8, FORCE, ETYPE = SFORCE, EID = 1, EMARKER = 176\n\
-             GRAPHICS/9, LINK, I = 3, J = 4, WIDTH = 0.1, DEPTH = 0.05",
+             GRAPHICS/9, LINK, I = 3, J = 4, WIDTH = 0.1, DEPTH = 0.05\n\
+             GRAPHICS/10, POINT, RM = 6\n\
+             GRAPHICS/11, PLANE, RM = 7, XMIN = -1, XMAX = 2, YMIN = -3, YMAX = 4",
         );
         assert!(w.is_empty(), "{w:?}");
-        assert_eq!(g.len(), 9);
+        assert_eq!(g.len(), 11);
+        assert!(matches!(g[9].shape, Shape::Point { rm } if rm.id == 6));
+        assert!(
+            matches!(g[10].shape, Shape::Plane { rm, limits } if rm.id == 7 && limits == [-1.0, 2.0, -3.0, 4.0])
+        );
         match &g[0].shape {
             Shape::Cylinder {
                 cm,
@@ -609,7 +673,7 @@ mod tests {
             matches!(g[5].shape, Shape::Arc { angle, segments: 8, .. } if (angle - std::f64::consts::FRAC_PI_2).abs() < 1e-15)
         );
         assert!(
-            matches!(&g[6].shape, Shape::External { rm, file: Some(f) } if rm.id == 2335 && f.eq_ignore_ascii_case("Only_AGV.xmt_txt"))
+            matches!(&g[6].shape, Shape::External { rm, file: Some(f) } if rm.id == 2335 && f == "Only_AGV.xmt_txt")
         );
         assert_eq!(g[7].shape.kind(), "FORCE");
         assert_eq!(g[8].shape.markers().len(), 2);

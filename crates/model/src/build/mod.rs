@@ -9,6 +9,7 @@
 //! first) and returned as diagnostics carrying the position of the offending argument or
 //! statement.
 
+mod contacts;
 mod context;
 mod couplings;
 mod data;
@@ -81,7 +82,9 @@ pub fn build_model(ds: &Dataset) -> Result<Built, Diagnostics> {
         ground_name: &ground_name,
     };
     let mut constraints = constraints(ds, &table, &mut cx);
-    let forces = force_elements(ds, &table, &mut cx);
+    let mut forces = force_elements(ds, &table, &mut cx);
+    let graphics = crate::graphics::resolve_graphics(ds, &markers, &mut cx.warnings);
+    forces.extend(contacts::contacts(ds, &graphics, &markers, &mut cx));
     let data = data::data_elements(ds, &mut cx);
     let sensors = sensors::sensors(ds, &mut cx);
     point_masses::check_translational_use(&parts, &markers, &constraints, &forces, &mut cx);
@@ -110,12 +113,11 @@ pub fn build_model(ds: &Dataset) -> Result<Built, Diagnostics> {
         equilibrium,
         integrator: crate::settings::integrator::resolve_integrator(ds),
         requests: Default::default(),
-        graphics: Vec::new(),
+        graphics,
         fe_parts,
     };
     model.characteristic_length = characteristic_length(&model);
     model.requests = crate::requests::resolve_requests(&model.markers, &model.forces, ds);
-    model.graphics = crate::graphics::resolve_graphics(ds, &model.markers, &mut cx.warnings);
     Ok(Built {
         model,
         warnings: cx.warnings,

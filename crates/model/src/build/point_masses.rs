@@ -109,6 +109,8 @@ pub(crate) fn check_translational_use(
             ForceKind::Field(x) => (vec![x.i, x.j], true),
             ForceKind::Beam(b) => (vec![b.i, b.j], true),
             ForceKind::Vector(v) => (vec![v.i, v.jfloat], v.kind != VectorKind::Vforce),
+            // Forces at contact points; a point mass's rotation hold takes their moments.
+            ForceKind::Contact(c) => (vec![c.i, c.j], false),
         };
         if !turns {
             continue;

@@ -8,6 +8,7 @@
 //! | BUSHING, FIELD, BEAM | [`six_dof`] (+ [`beam`]) | `F = −K·(q − q₀) − C·q̇ + F₀` in J's axes, at I |
 //! | VFORCE, VTORQUE, GFORCE | [`vector`] | expression components along RM's axes, at I |
 //! | FE_PART elements, FE_LOAD | [`fe_beam`] | corotational beam between node bodies; Rayleigh damping; lumped loads |
+//! | CONTACT | [`contact`] | IMPACT or POISSON normal force and Coulomb friction per incident |
 //!
 //! Conventions shared by all elements:
 //! - Every element produces at most two *loads*: a force (at a point) and a torque on a body.
@@ -35,6 +36,7 @@
 
 pub mod algebra;
 pub mod beam;
+pub mod contact;
 pub mod data;
 pub mod fe_beam;
 pub mod scalar;
@@ -105,6 +107,7 @@ pub enum Law {
     FeBeam(Box<fe_beam::BeamElementLaw>),
     FeDamping(Box<fe_beam::NodeDampingLaw>),
     FeLoad(Box<fe_beam::NodeLoadLaw>),
+    Contact(Box<contact::ContactLaw>),
 }
 
 impl Law {
@@ -116,6 +119,7 @@ impl Law {
             Law::FeBeam(l) => l.loads(cx),
             Law::FeDamping(l) => l.loads(cx),
             Law::FeLoad(l) => l.loads(cx),
+            Law::Contact(l) => l.loads(cx),
         }
     }
 }
@@ -325,6 +329,17 @@ impl Builder<'_> {
         let model = self.model;
         let frame = |m: usize| marker_frame(model, m);
         Some(match kind {
+            ForceKind::Contact(c) => match contact::ContactLaw::new(model, c) {
+                Ok(l) => Law::Contact(Box::new(l)),
+                Err(why) => {
+                    self.errors.push(Diagnostic::error(
+                        model.file.clone(),
+                        Some(origin.span),
+                        format!("{}: {why}", label(origin)),
+                    ));
+                    return None;
+                }
+            },
             ForceKind::Sforce(s) => {
                 let f = self.expr(&s.function, origin, "FUNCTION")?;
                 Law::Scalar(Box::new(scalar::ScalarLaw::sforce(

@@ -252,6 +252,7 @@ fn force_markers(model: &Model, kind: &ForceKind) -> (usize, Option<usize>, Body
         ForceKind::Field(f) => pair(f.i, f.j),
         ForceKind::Beam(b) => pair(b.i, b.j),
         ForceKind::Vector(v) => (v.i, None, v.reaction),
+        ForceKind::Contact(c) => pair(c.i, c.j),
     }
 }
 
@@ -269,6 +270,7 @@ fn statement_of(kind: ElementForce) -> &'static str {
         ElementForce::Vforce => "VFORCE",
         ElementForce::Vtorque => "VTORQUE",
         ElementForce::Gforce => "GFORCE",
+        ElementForce::Contact => "CONTACT",
     }
 }
 
@@ -298,8 +300,9 @@ struct Memo {
 ///   FORCE-request wrench of the module docs (elements between i's part and j's part, force
 ///   on i's part, torque about i's origin), components along k's axes;
 /// - element forces `JOINT/JPRIM/MOTION(id, jflag, comp, rm)` from the output's reactions and
-///   `SFORCE/SPDP/BUSH/FIELD/BEAM/VFORCE/VTORQUE/GFORCE(id, jflag, comp, rm)` from the force
-///   elements: jflag 0 the force on the I marker and the torque about its origin, jflag 1 the
+///   `SFORCE/SPDP/BUSH/FIELD/BEAM/VFORCE/VTORQUE/GFORCE/CONTACT(id, jflag, comp, rm)` from the
+///   force elements (a CONTACT's I and J markers are those of its first IGEOM and JGEOM
+///   geometries; its force is the sum over its incidents): jflag 0 the force on the I marker and the torque about its origin, jflag 1 the
 ///   force on the J marker (minus the I force for constraints) and the torque about J's origin
 ///   (about I's point for VFORCE/VTORQUE/GFORCE, whose floating J marker sits there); comp 1
 ///   FM, 2–4 FX–FZ, 5 TM, 6–8 TX–TZ, resolved in rm's axes (0 = ground);

@@ -49,6 +49,8 @@ pub trait Real: Clone {
     fn sqrt(&self) -> Self;
     /// `atan2(s, c)`; the caller makes sure `(s, c) ≠ (0, 0)`.
     fn atan2(s: &Self, c: &Self) -> Self;
+    /// `f(self)` given its value `f(x)` and slope `f'(x)` (the chain rule: `d f = f'·d x`).
+    fn chain(&self, value: f64, slope: f64) -> Self;
     /// Evaluates an expression (with gradient for [`Dual`]).
     fn evaluate<E: Env + ?Sized>(expr: &Expr, env: &E) -> Result<Self, EvalError>;
 }
@@ -93,6 +95,9 @@ impl Real for f64 {
     }
     fn atan2(s: &Self, c: &Self) -> Self {
         s.atan2(*c)
+    }
+    fn chain(&self, value: f64, _: f64) -> Self {
+        value
     }
     fn evaluate<E: Env + ?Sized>(expr: &Expr, env: &E) -> Result<Self, EvalError> {
         evaluate(expr, env)
@@ -142,6 +147,9 @@ impl Real for Dual {
         let (sv, cv) = (Dual::value(s), Dual::value(c));
         let den = sv * sv + cv * cv;
         (s.scale(cv / den) - c.scale(sv / den)).map(sv.atan2(cv), 1.0)
+    }
+    fn chain(&self, value: f64, slope: f64) -> Self {
+        self.map(value, slope)
     }
     fn evaluate<E: Env + ?Sized>(expr: &Expr, env: &E) -> Result<Self, EvalError> {
         evaluate_with_gradient(expr, env)
