@@ -14,6 +14,7 @@ pub mod bodies;
 pub mod build;
 pub mod forces;
 pub mod frames;
+pub mod friction;
 pub mod functions;
 pub mod graphics;
 pub mod inertia;

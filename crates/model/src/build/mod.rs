@@ -11,6 +11,7 @@ mod context;
 mod couplings;
 mod data;
 mod forces;
+mod friction;
 mod joints;
 mod lookup;
 mod markers;
@@ -66,6 +67,7 @@ pub fn build_model(ds: &Dataset) -> Result<Built, Diagnostics> {
     let forces = force_elements(ds, &table, &mut cx);
     let data = data::data_elements(ds, &mut cx);
     let sensors = sensors::sensors(ds, &mut cx);
+    let frictions = friction::frictions(ds, &constraints, &parts, &markers, &mut cx);
     point_masses::check_translational_use(&parts, &markers, &constraints, &forces, &mut cx);
     let mut markers = markers;
     point_masses::hold_rotations(&parts, &mut markers, &mut constraints);
@@ -88,6 +90,7 @@ pub fn build_model(ds: &Dataset) -> Result<Built, Diagnostics> {
         arrays: data.arrays,
         splines: data.splines,
         sensors,
+        frictions,
         characteristic_length: 1.0,
         ic,
         equilibrium,
