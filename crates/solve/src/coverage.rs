@@ -102,7 +102,7 @@ pub enum Use {
 }
 
 /// Statement kinds every analysis computes with.
-pub const MODELLED: [&str; 22] = [
+pub const MODELLED: [&str; 23] = [
     "UNITS",
     "ACCGRAV",
     "PART",
@@ -122,6 +122,7 @@ pub const MODELLED: [&str; 22] = [
     "VFORCE",
     "VTORQUE",
     "GFORCE",
+    "FRICTION",
     "VARIABLE",
     "ARRAY",
     "SPLINE",
@@ -180,7 +181,6 @@ fn not_modelled(keyword: &str) -> Option<(Reason, &'static str, &'static [Analys
             "a finite-element part is not modelled; verify's DOF count leaves it out",
         ),
         "CONTACT" => refused("contact forces are not modelled"),
-        "FRICTION" => refused("joint friction is not modelled"),
         "NFORCE" => refused("multi-point force elements are not modelled"),
         "MFORCE" => refused("modal forces are not modelled"),
         "FE_LOAD" => refused("loads on finite-element parts are not modelled"),

@@ -1,0 +1,233 @@
+//! FRICTION on joints against closed forms: a block on a ramp that sticks or slides, a disc
+//! spun down by the friction of its pin, the preload brake of the FAST models, a block held
+//! on a ramp in static equilibrium.
+
+use linkage_model::Model;
+use linkage_solve::constraints::drivers::ExpressionDrivers;
+use linkage_solve::physics::applied::AppliedForces;
+use linkage_solve::physics::forces::ForceSet;
+use linkage_solve::pipeline::Assembled;
+use linkage_solve::stages::dynamics::{run, IntegratorSettings, Output, Start};
+use linkage_solve::tolerances::Tolerances;
+use std::sync::Arc;
+
+const G: f64 = 9.80665;
+
+fn load(text: &str) -> (Model, ExpressionDrivers, ForceSet) {
+    let ds = linkage_adm::parse_dataset(Arc::from("t.adm"), text).unwrap_or_else(|e| panic!("{e}"));
+    let m = linkage_model::build_model(&ds)
+        .unwrap_or_else(|e| panic!("{e}"))
+        .model;
+    let d = ExpressionDrivers::new(&m).unwrap();
+    let f = ForceSet::new(&m).unwrap_or_else(|e| panic!("{e}"));
+    (m, d, f)
+}
+
+/// The outputs of a dynamic run of `text` from its initial conditions to `end`, `steps`
+/// outputs, INTEGRATOR ERROR `error`.
+fn simulate(text: &str, end: f64, steps: usize, error: f64) -> Vec<Output> {
+    let (m, d, f) = load(text);
+    let times: Vec<f64> = (0..=steps).map(|k| end * k as f64 / steps as f64).collect();
+    let settings = IntegratorSettings {
+        error,
+        ..Default::default()
+    };
+    let a = Assembled::new(&m, &d, &f, &Tolerances::default());
+    let r = run(&a, &times, &settings, Start::InitialConditions, |_| {});
+    let sim = r.simulation.unwrap_or_else(|| panic!("{:?}", r.error));
+    assert!(sim.failure.is_none(), "{:?}", sim.failure);
+    assert_eq!(sim.outputs.len(), steps + 1);
+    sim.outputs
+}
+
+/// A 2 kg block on a translational joint along ground z, on a ramp inclined by `deg`:
+/// gravity has `−g cos θ` across the joint (y) and `−g sin θ` along it (z).
+fn ramp(deg: f64, friction: &str) -> String {
+    let (s, c) = deg.to_radians().sin_cos();
+    format!(
+        "block on a ramp\nUNITS/, FORCE = NEWTON, MASS = KILOGRAM, LENGTH = METER, TIME = SECOND\n\
+PART/1, GROUND\nMARKER/11, PART = 1\n\
+PART/2, MASS = 2, CM = 20, IP = 0.1, 0.1, 0.1\nMARKER/20, PART = 2\nMARKER/21, PART = 2\n\
+JOINT/1, TRANSLATIONAL, I = 21, J = 11\n\
+FRICTION/1, JOINT = 1, MU_STATIC = 0.5, MU_DYNAMIC = 0.3, INPUTS = REACTION_FORCE{friction}\n\
+ACCGRAV/, JGRAV = {}, KGRAV = {}\nEND\n",
+        -G * c,
+        -G * s
+    )
+}
+
+/// tan 20° = 0.364 < μs = 0.5: the block sticks. Over 3 s it creeps only by the stiction
+/// deformation of its load, `Δmax·tan θ/μs` = 7.28 mm (Δmax = 10 mm, the default), never
+/// beyond Δmax, and comes to rest there.
+#[test]
+fn a_block_on_a_ramp_below_the_friction_angle_sticks() {
+    let out = simulate(&ramp(20.0, ""), 3.0, 60, 1e-6);
+    let z0 = out[0].state.poses[0].p.z;
+    let creep = out
+        .iter()
+        .map(|o| (o.state.poses[0].p.z - z0).abs())
+        .fold(0.0, f64::max);
+    assert!(creep < 0.01, "creep {creep}");
+    let last = out.last().unwrap();
+    let held = 0.01 * 20f64.to_radians().tan() / 0.5;
+    let dz = z0 - last.state.poses[0].p.z;
+    assert!((dz - held).abs() < 1e-4, "{dz} vs {held}");
+    assert!(
+        last.velocities[0].0.length() < 1e-4,
+        "{:?}",
+        last.velocities[0]
+    );
+}
+
+/// tan 30° = 0.577 > μs = 0.5: the block slides, and once beyond the transition velocity
+/// (1.5·vs = 0.15 m/s) it accelerates at `g(sin θ − μd cos θ)` = 2.3554 m/s². The friction
+/// reported is `μd·m g cos θ` against the slip.
+#[test]
+fn a_block_on_a_ramp_above_the_friction_angle_slides_at_the_dynamic_rate() {
+    let text = ramp(30.0, "");
+    let out = simulate(&text, 2.0, 20, 1e-7);
+    let (s, c) = 30f64.to_radians().sin_cos();
+    let expected = G * (s - 0.3 * c);
+    // Both outputs are well beyond 0.15 m/s (reached before 0.1 s).
+    let (a, b) = (&out[10], &out[20]);
+    let rate = (a.velocities[0].0.z - b.velocities[0].0.z) / (b.time - a.time);
+    assert!(
+        (rate - expected).abs() < 1e-4 * expected,
+        "{rate} vs {expected}"
+    );
+    assert!((b.accelerations[0].0.z + expected).abs() < 1e-4 * expected);
+    // The friction at the end, as the reports give it (J axes: along +z, against the slip).
+    let (_, _, f) = load(&text);
+    f.accept_state(&b.state, &b.velocities, &b.reactions);
+    let v = f.friction_values(&b.state, &b.velocities);
+    let normal = 2.0 * G * c;
+    assert!((v[0].normal - normal).abs() < 1e-6 * normal, "{:?}", v[0]);
+    assert!(
+        (v[0].force.z - 0.3 * normal).abs() < 1e-6 * normal,
+        "{:?}",
+        v[0]
+    );
+    assert!(!v[0].sticking);
+}
+
+/// EFFECT = STICTION keeps only the stiction regime: a block that breaks away slides without
+/// friction, at g sin θ.
+#[test]
+fn stiction_only_friction_lets_a_sliding_block_go_free() {
+    let out = simulate(&ramp(30.0, ", EFFECT = STICTION"), 1.0, 10, 1e-7);
+    let (a, b) = (&out[5], &out[10]);
+    let rate = (a.velocities[0].0.z - b.velocities[0].0.z) / (b.time - a.time);
+    let expected = G * 0.5;
+    assert!((rate - expected).abs() < 1e-4 * expected, "{rate}");
+}
+
+/// A 2 kg disc (I_zz = 0.5 kg m²) spinning at 10 rad/s on a horizontal revolute joint with a
+/// 5 cm pin: the radial reaction m g and μd = 0.15 give a constant friction torque
+/// `μd·Rp·m g`, so ω falls by `μd·Rp·m g/I` = 0.29420 rad/s² (surface speed 0.5 m/s, far above
+/// the transition velocity).
+#[test]
+fn a_spinning_disc_decelerates_at_the_pin_friction_rate() {
+    let text = format!(
+        "disc on a pin\nUNITS/, FORCE = NEWTON, MASS = KILOGRAM, LENGTH = METER, TIME = SECOND\n\
+PART/1, GROUND\nMARKER/11, PART = 1\n\
+PART/2, MASS = 2, CM = 20, IP = 0.3, 0.3, 0.5, WZ = 10\nMARKER/20, PART = 2\nMARKER/21, PART = 2\n\
+JOINT/1, REVOLUTE, I = 21, J = 11\n\
+FRICTION/1, JOINT = 1, MU_STATIC = 0.2, MU_DYNAMIC = 0.15, PIN_RADIUS = 0.05\n\
+ACCGRAV/, JGRAV = {}\nEND\n",
+        -G
+    );
+    let out = simulate(&text, 2.0, 20, 1e-7);
+    let alpha = 0.15 * 0.05 * 2.0 * G / 0.5;
+    for o in out.iter().skip(1) {
+        let w = o.velocities[0].1.z;
+        let expected = 10.0 - alpha * o.time;
+        assert!(
+            (w - expected).abs() < 1e-5,
+            "t {}: {w} vs {expected}",
+            o.time
+        );
+    }
+}
+
+/// The FAST high-speed-shaft brake: a revolute joint with `INPUTS = PRELOAD`,
+/// `FRICTION_TORQUE_PRELOAD = Tp = 2`, μs = μd = 1 holds any torque below `μ·Tp` (turning by
+/// less than Δmax/Rp = 0.01 rad) and slips above it at `(T − μd·Tp)/I`.
+fn brake(torque: f64) -> String {
+    format!(
+        "brake\nUNITS/, FORCE = NEWTON, MASS = KILOGRAM, LENGTH = METER, TIME = SECOND\n\
+PART/1, GROUND\nMARKER/11, PART = 1\n\
+PART/2, MASS = 2, CM = 20, IP = 0.3, 0.3, 0.5\nMARKER/20, PART = 2\nMARKER/21, PART = 2\n\
+JOINT/1, REVOLUTE, I = 21, J = 11\n\
+FRICTION/1, JOINT = 1, MU_STATIC = 1, MU_DYNAMIC = 1, INPUTS = PRELOAD, \
+FRICTION_TORQUE_PRELOAD = 2\n\
+SFORCE/1, ROTATIONAL, I = 21, J = 11, FUNCTION = {torque}\nEND\n"
+    )
+}
+
+#[test]
+fn a_preload_brake_holds_below_its_torque() {
+    let out = simulate(&brake(1.5), 2.0, 20, 1e-6);
+    let turned = out
+        .iter()
+        .map(|o| {
+            let r = o.state.poses[0].r;
+            r.col(0).y.atan2(r.col(0).x).abs()
+        })
+        .fold(0.0, f64::max);
+    // Held by the stiction spring at 0.01·1.5/2 = 7.5 mrad.
+    assert!(turned < 0.01, "turned {turned} rad");
+    let last = out.last().unwrap();
+    assert!(
+        last.velocities[0].1.z.abs() < 1e-4,
+        "{:?}",
+        last.velocities[0]
+    );
+}
+
+#[test]
+fn a_preload_brake_slips_above_its_torque() {
+    let out = simulate(&brake(3.0), 2.0, 20, 1e-7);
+    let (a, b) = (&out[10], &out[20]);
+    let rate = (b.velocities[0].1.z - a.velocities[0].1.z) / (b.time - a.time);
+    let expected = (3.0 - 2.0) / 0.5;
+    assert!(
+        (rate - expected).abs() < 1e-4 * expected,
+        "{rate} vs {expected}"
+    );
+}
+
+/// Static equilibrium of the block on the 20° ramp: held by friction, with the stiction
+/// deformation `Δmax·tan θ/μs` and a friction force `m g sin θ` up the ramp.
+#[test]
+fn a_block_on_a_ramp_is_held_in_static_equilibrium() {
+    let text = ramp(20.0, "");
+    let (m, d, f) = load(&text);
+    let a = Assembled::new(&m, &d, &f, &Tolerances::default());
+    let z0 = a.state().poses[0].p.z;
+    let r = linkage_solve::stages::statics::run(&a, &[0.0]);
+    let eq = r.steps[0].1.as_ref().unwrap_or_else(|e| panic!("{e}"));
+    assert!(eq.converged, "{:?}", eq.worst);
+    let held = 0.01 * 20f64.to_radians().tan() / 0.5;
+    let dz = z0 - eq.state.poses[0].p.z;
+    assert!((dz - held).abs() < 1e-9, "{dz} vs {held}");
+    let rest = vec![Default::default(); 1];
+    let v = f.friction_values(&eq.state, &rest);
+    let along = 2.0 * G * 20f64.to_radians().sin();
+    assert!((v[0].force.z - along).abs() < 1e-6 * along, "{:?}", v[0]);
+    assert!(v[0].sticking);
+}
+
+/// `INACTIVE_DURING = STATIC`: the same block has no static equilibrium (nothing holds it
+/// along the ramp), while the friction still acts in the dynamic run.
+#[test]
+fn friction_inactive_in_statics_holds_nothing_there() {
+    let text = ramp(20.0, ", INACTIVE_DURING = STATIC");
+    let (m, d, f) = load(&text);
+    let a = Assembled::new(&m, &d, &f, &Tolerances::default());
+    let r = linkage_solve::stages::statics::run(&a, &[0.0]);
+    let held = r.steps[0].1.as_ref().is_ok_and(|e| e.converged);
+    assert!(!held, "a block on a frictionless ramp found an equilibrium");
+    let out = simulate(&text, 1.0, 10, 1e-6);
+    let dz = out[0].state.poses[0].p.z - out[10].state.poses[0].p.z;
+    assert!(dz.abs() < 0.01, "{dz}");
+}
