@@ -8,6 +8,7 @@
 //! space (duplicates are summed by the consumer).
 
 use crate::constraints::rows::Velocities;
+use crate::physics::friction::FrictionValue;
 use crate::physics::reactions::Reaction;
 use crate::state::State;
 
@@ -80,6 +81,12 @@ pub trait AppliedForces {
 
     /// A static analysis starts (`true`) or ends: elements inactive in statics switch off.
     fn set_static(&self, _on: bool) {}
+
+    /// The friction of every FRICTION at `(s, v)` with the current state, in model order,
+    /// for the reports (none without frictions).
+    fn friction_values(&self, _s: &State, _v: &Velocities) -> Vec<FrictionValue> {
+        Vec::new()
+    }
 }
 
 /// No applied forces (models without force elements).

@@ -486,11 +486,6 @@ impl ForceSet {
         &self.frictions
     }
 
-    /// The friction force and torque of every FRICTION at `(s, v)`, for the reports.
-    pub fn friction_values(&self, s: &State, v: &Velocities) -> Vec<FrictionValue> {
-        self.frictions.values(s, v)
-    }
-
     /// The data elements expressions read.
     pub fn data(&self) -> &DataElements {
         &self.data
@@ -585,6 +580,10 @@ impl AppliedForces for ForceSet {
 
     fn set_static(&self, on: bool) {
         self.frictions.set_static(on);
+    }
+
+    fn friction_values(&self, s: &State, v: &Velocities) -> Vec<FrictionValue> {
+        self.frictions.values(s, v)
     }
 
     fn add_forces(&self, s: &State, v: &Velocities, out: &mut [f64]) -> Result<(), ForceError> {
