@@ -309,3 +309,92 @@ fn corpus_datasets_with_friction_run() {
         run_ok(&a, file);
     }
 }
+
+/// A 2 kg body whose centre of mass is at the joint, on a `joint` along ground z (gravity −y
+/// gives the radial reaction m g), started with `start` (PART velocity arguments).
+fn spinner(joint: &str, friction: &str, inertia: &str, start: &str) -> String {
+    format!(
+        "spinner\nUNITS/, FORCE = NEWTON, MASS = KILOGRAM, LENGTH = METER, TIME = SECOND\n\
+PART/1, GROUND\nMARKER/11, PART = 1\n\
+PART/2, MASS = 2, CM = 20, IP = {inertia}, {start}\nMARKER/20, PART = 2\n\
+MARKER/21, PART = 2{}\n\
+JOINT/1, {joint}, I = 21, J = 11\n\
+FRICTION/1, JOINT = 1, MU_STATIC = 0.2, MU_DYNAMIC = 0.15{friction}\n\
+ACCGRAV/, JGRAV = {}\nEND\n",
+        // A universal joint's I axis is perpendicular to J's (x against z).
+        if joint == "UNIVERSAL" {
+            ", REULER = 90D, 90D, 0D"
+        } else {
+            ""
+        },
+        -G
+    )
+}
+
+/// Spherical: the friction torque `μd·Rb·m g` against the spin, ω falling at
+/// `μd·Rb·m g/I` = 0.58840 rad/s² (Rb = 0.1 m, I = 0.5 kg m²).
+#[test]
+fn a_ball_joint_spins_down_at_the_ball_friction_rate() {
+    let text = spinner(
+        "SPHERICAL",
+        ", BALL_RADIUS = 0.1",
+        "0.5, 0.5, 0.5",
+        "WZ = 10",
+    );
+    let out = simulate(&text, 2.0, 10, 1e-7);
+    let alpha = 0.15 * 0.1 * 2.0 * G / 0.5;
+    for o in out.iter().skip(1) {
+        let w = o.velocities[0].1;
+        assert!(
+            (w.z - (10.0 - alpha * o.time)).abs() < 1e-5,
+            "t {}: {w}",
+            o.time
+        );
+        assert!(w.x.abs() + w.y.abs() < 1e-8, "{w}");
+    }
+}
+
+/// Universal (hooke): spinning about J's axis, the pin friction of a revolute joint,
+/// `μd·Rp·m g/I` = 0.29420 rad/s² (Rp = 0.05 m).
+#[test]
+fn a_universal_joint_spins_down_at_the_pin_friction_rate() {
+    let text = spinner(
+        "UNIVERSAL",
+        ", PIN_RADIUS = 0.05",
+        "0.3, 0.3, 0.5",
+        "WZ = 10",
+    );
+    let out = simulate(&text, 2.0, 10, 1e-7);
+    let alpha = 0.15 * 0.05 * 2.0 * G / 0.5;
+    for o in out.iter().skip(1) {
+        let w = o.velocities[0].1.z;
+        assert!(
+            (w - (10.0 - alpha * o.time)).abs() < 1e-5,
+            "t {}: {w}",
+            o.time
+        );
+    }
+}
+
+/// Cylindrical: sliding at 3 m/s and turning at 40 rad/s on a pin of Rp = 0.1 m, the
+/// surface slips at (3, 4) m/s; the friction `μd·m g` acts against that slip. With I = m Rp²
+/// both parts slow in proportion, so the slip keeps its direction: v falls at
+/// `μd g·3/5` = 0.88260 m/s², ω at `μd g·(4/5)/Rp` = 11.768 rad/s².
+#[test]
+fn a_cylindrical_joint_slows_sliding_and_turning_along_the_surface_slip() {
+    let text = spinner(
+        "CYLINDRICAL",
+        ", PIN_RADIUS = 0.1, INPUTS = REACTION_FORCE",
+        "0.02, 0.02, 0.02",
+        "VZ = 3, WZ = 40",
+    );
+    let out = simulate(&text, 1.0, 10, 1e-7);
+    let decel = 0.15 * G;
+    for o in out.iter().skip(1) {
+        let (v, w) = (o.velocities[0].0.z, o.velocities[0].1.z);
+        let ve = 3.0 - decel * 0.6 * o.time;
+        let we = 40.0 - decel * 0.8 / 0.1 * o.time;
+        assert!((v - ve).abs() < 1e-5, "t {}: v {v} vs {ve}", o.time);
+        assert!((w - we).abs() < 1e-4, "t {}: w {w} vs {we}", o.time);
+    }
+}

@@ -13,9 +13,12 @@
 //!
 //! `v_rel = v_Pi − v_Pj − ω_j × (P_i − P_j)` and `ω_rel = ω_i − ω_j` (as BUSHING measures
 //! them); `φ` is the rotation of I relative to J since the *anchor* `A` (the relative
-//! orientation `R_jᵀR_i` where the deformation is zero): `φ = vee(skew(R_jᵀR_i·Aᵀ))`, exact
-//! to first order, which is all it needs: between steps `|R·φ| ≤ Δmax`, and while sliding
-//! the deformation is saturated (the sign is right up to half a turn in one step). `a` is the
+//! orientation `R_jᵀR_i` where the deformation is zero): `φ = vee(skew(R_jᵀR_i·Aᵀ))` for
+//! spherical and universal joints — its direction is the rotation axis, its size `sin|φ|`,
+//! which is all it needs: between steps `|R·φ| ≤ Δmax`, and while sliding the deformation is
+//! saturated (right up to half a turn in one step) — and for revolute and cylindrical joints
+//! `φ_z` the angle about z_j (atan2, to ±π), so that the axial and circumferential slip of a
+//! cylindrical joint keep their proportion over a long step. `a` is the
 //! anchor's travel. The friction `g = μ(s, v)·N` ([`regime`]) with the normal load `N`
 //! ([`load`]).
 //!
@@ -168,10 +171,23 @@ impl FrictionLaw {
             let e = |r: usize, c: usize| -> R {
                 (0..3).fold(R::cst(0.0), |acc, k| acc.add(&rel[r][k].scale(a.col(k)[c])))
             };
+            let about_z = e(1, 0).sub(&e(0, 1));
+            let cos_z = e(0, 0).add(&e(1, 1));
+            let turning = matches!(
+                self.friction.kind,
+                FrictionJoint::Revolute | FrictionJoint::Cylindrical
+            );
+            let z = if turning && (about_z.value() != 0.0 || cos_z.value() != 0.0) {
+                // The angle about z_j itself (to ±π): exact, so that a cylindrical joint's
+                // slip keeps its direction however far it turns in a step.
+                R::atan2(&about_z, &cos_z)
+            } else {
+                about_z.scale(0.5)
+            };
             [
                 e(2, 1).sub(&e(1, 2)).scale(0.5),
                 e(0, 2).sub(&e(2, 0)).scale(0.5),
-                e(1, 0).sub(&e(0, 1)).scale(0.5),
+                z,
             ]
         } else {
             [R::cst(0.0), R::cst(0.0), R::cst(0.0)]
