@@ -587,6 +587,30 @@ const SENSOR_ARGS: &[ArgDef] = &[
     arg("ANGULAR", Flag),
 ];
 
+/// FRICTION on a joint (ADM-ELEMENTS §4); `INACTIVE` is the documented spelling of
+/// `INACTIVE_DURING`, which SolidWorks exports write.
+const FRICTION_ARGS: &[ArgDef] = &[
+    arg("JOINT", Numbers),
+    arg("MU_STATIC", Numbers),
+    arg("MU_DYNAMIC", Numbers),
+    arg("STICTION_TRANSITION_VELOCITY", Numbers),
+    arg("TRANSITION_VELOCITY_COEFFICIENT", Numbers),
+    arg("MAX_STICTION_DEFORMATION", Numbers),
+    arg("FRICTION_FORCE_PRELOAD", Numbers),
+    arg("FRICTION_TORQUE_PRELOAD", Numbers),
+    arg("PIN_RADIUS", Numbers),
+    arg("BALL_RADIUS", Numbers),
+    arg("FRICTION_ARM", Numbers),
+    arg("BENDING_REACTION_ARM", Numbers),
+    arg("REACTION_ARM", Numbers),
+    arg("INITIAL_OVERLAP", Numbers),
+    arg("OVERLAP_DELTA", Words),
+    arg("EFFECT", Words),
+    arg("INACTIVE_DURING", Words),
+    alias("INACTIVE", "INACTIVE_DURING", Words),
+    arg("INPUTS", Words),
+];
+
 /// REQUEST (ADM-REFERENCE §2.12): complete in datasets (typed), partial as a command.
 const REQUEST_ARGS: &[ArgDef] = &[
     arg("DISPLACEMENT", Flag),
@@ -784,7 +808,7 @@ pub(crate) static DATASET_STATEMENTS: &[StatementDef] = &[
     stmt("FEMDATA", Required, NO_ARGS, false),
     stmt("FIELD", Required, FIELD_ARGS, true),
     stmt("FLEX_BODY", Required, NO_ARGS, false),
-    stmt("FRICTION", Required, NO_ARGS, false),
+    stmt("FRICTION", Required, FRICTION_ARGS, true),
     stmt("GCON", Required, GCON_ARGS, true),
     stmt("GEAR", Required, GEAR_ARGS, true),
     stmt("GFORCE", Required, GFORCE_ARGS, true),

@@ -37,6 +37,8 @@ pub struct IdRef {
     pub span: Span,
 }
 
+pub use crate::typing::friction::{Friction, FrictionEffect, FrictionInputs, OverlapDelta};
+
 /// What every element has: id, display name, and where its statement starts.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Header {
@@ -72,6 +74,8 @@ pub struct Dataset {
     pub markers: Vec<Marker>,
     /// SENSOR statements (ADM-ELEMENTS §5).
     pub sensors: Vec<Sensor>,
+    /// FRICTION statements (ADM-ELEMENTS §4).
+    pub frictions: Vec<Friction>,
     pub joints: Vec<Joint>,
     pub jprims: Vec<Jprim>,
     pub motions: Vec<Motion>,
@@ -111,6 +115,7 @@ impl Dataset {
             point_masses: Vec::new(),
             markers: Vec::new(),
             sensors: Vec::new(),
+            frictions: Vec::new(),
             joints: Vec::new(),
             jprims: Vec::new(),
             motions: Vec::new(),

@@ -5,7 +5,7 @@
 //!   (ADM-REFERENCE §2.1–2.9), the force elements SFORCE, SPRINGDAMPER, BUSHING, FIELD, BEAM,
 //!   VFORCE, VTORQUE, GFORCE and the data elements VARIABLE, ARRAY, SPLINE (§2.10–2.11, see
 //!   [`forces`]), POINT_MASS (as a [`Part`] without inertia, [`point_mass`]), SENSOR
-//!   ([`sensor`]) and the output
+//!   ([`sensor`]), FRICTION ([`friction`]) and the output
 //!   statement REQUEST (§2.12); every other statement stays in
 //!   generic form only.
 //! - Checks what one statement can tell: value counts (`QP` needs 3 numbers), ids being
@@ -159,6 +159,7 @@ impl Typer {
                 | "PART"
                 | "POINT_MASS"
                 | "SENSOR"
+                | "FRICTION"
                 | "MARKER"
                 | "JOINT"
                 | "JPRIM"
@@ -208,6 +209,11 @@ impl Typer {
             "SENSOR" => {
                 if let Some(sensor) = self.sensor(st, index) {
                     self.ds.sensors.push(sensor);
+                }
+            }
+            "FRICTION" => {
+                if let Some(f) = self.friction(st, index) {
+                    self.ds.frictions.push(f);
                 }
             }
             "POINT_MASS" => {
@@ -1054,6 +1060,7 @@ impl Typer {
 pub mod fe_part;
 pub mod contact;
 mod forces;
+pub(crate) mod friction;
 pub mod graphics;
 mod point_mass;
 mod sensor;

@@ -30,6 +30,10 @@ pub fn ic(loaded: &Loaded) -> Result<IcRun, Diagnostics> {
     );
     let ic = &assembled.ic;
     let mut report = linkage_report::ic::to_json(&loaded.model, ic, &loaded.warnings);
+    if let Some(v) = &ic.velocity {
+        let values = forces.friction_values(&ic.assembly.state, &v.velocities);
+        report.frictions = linkage_report::friction::frictions_json(&loaded.model, &values);
+    }
     (report.left_out, report.runs_without) = coverage_json(loaded, Analysis::Ic);
     // An assembly that did not converge has its own error; an inconsistent redundancy is named
     // here, as the one line of the verdict.

@@ -189,6 +189,10 @@ pub fn simulate(loaded: &Loaded, args: SimulateArgs) -> Result<SimulateJson, Err
         },
     );
     let mut report = linkage_report::simulate::summary(&assembled, &result, &loaded.warnings);
+    if let Some(last) = result.simulation.as_ref().and_then(|s| s.outputs.last()) {
+        let values = forces.friction_values(&last.state, &last.velocities);
+        report.frictions = linkage_report::friction::frictions_json(&loaded.model, &values);
+    }
     (report.left_out, report.runs_without) = coverage_json(loaded, Analysis::Simulate);
     if let Some(c) = csv.as_mut() {
         report.errors.append(&mut c.errors);

@@ -131,6 +131,14 @@ pub fn statics(
     let assembled = assemble();
     let result = linkage_solve::stages::statics::run(&assembled, &times);
     let mut report = linkage_report::statics::to_json(&assembled, &result, &loaded.warnings);
+    if let [(_, Ok(eq))] = result.steps.as_slice() {
+        // The friction as the equilibrium had it (those inactive in statics off).
+        let rest = assembled.rest();
+        applied.set_static(true);
+        let values = applied.friction_values(&eq.state, &rest);
+        applied.set_static(false);
+        report.frictions = linkage_report::friction::frictions_json(&loaded.model, &values);
+    }
     (report.left_out, report.runs_without) = coverage_json(loaded, analysis);
     judge_stability(&mut report, args.allow_unstable);
     let ok = result.converged() && report.errors.is_empty();

@@ -477,7 +477,7 @@ fn simulate_writes_the_documented_csv_columns() {
 }
 
 /// Corpus datasets carrying EQUILIBRIUM settings: those whose elements linkage models reach
-/// equilibrium. Datasets refused as input (CONTACT, FRICTION, DIFF, …) are skipped with a
+/// equilibrium. Datasets refused as input (CONTACT, DIFF, …) are skipped with a
 /// notice. Two SOLIDWORKS-exported 3-RPR robots are known not to converge within their
 /// settings: Fkinev1's equilibrium lies so far from its input configuration that TLIMIT (20 mm
 /// per iteration by default) alone needs more than 20 of its 25 iterations (proved below from

@@ -16,6 +16,7 @@ pub mod fe_parts;
 pub mod contacts;
 pub mod forces;
 pub mod frames;
+pub mod friction;
 pub mod functions;
 pub mod graphics;
 pub mod inertia;

@@ -165,6 +165,8 @@ pub struct Model {
     pub splines: Vec<crate::forces::Spline>,
     /// SENSOR elements (evaluated by dynamic runs; `SENVAL(id)`).
     pub sensors: Vec<crate::sensors::Sensor>,
+    /// FRICTION elements on joints ([`crate::friction`]).
+    pub frictions: Vec<crate::friction::Friction>,
     /// `IC/` settings (Adams defaults where not given).
     pub ic: crate::settings::IcSettings,
     /// `EQUILIBRIUM/` settings.

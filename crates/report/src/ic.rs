@@ -63,6 +63,9 @@ pub struct IcJson {
     pub acceleration_error: Option<f64>,
     pub parts: Vec<PartStateJson>,
     pub reactions: Vec<ReactionJson>,
+    /// Joint friction at the reported state (only when the model has FRICTION elements).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub frictions: Vec<crate::friction::FrictionJson>,
     pub warnings: Vec<String>,
     pub errors: Vec<String>,
 }
@@ -176,6 +179,7 @@ pub fn to_json(model: &Model, ic: &InitialConditions, warnings: &[Diagnostic]) -
         reactions: acc
             .map(|a| reactions_json(model, &a.reactions))
             .unwrap_or_default(),
+        frictions: Vec::new(),
         warnings,
         errors,
     }
@@ -289,6 +293,7 @@ pub fn to_text(j: &IcJson) -> String {
         let _ = writeln!(s, "Reactions on the I markers (ground axes):");
         reaction_table(&mut s, &j.reactions);
     }
+    crate::friction::friction_table(&mut s, &j.frictions);
     for w in &j.warnings {
         let _ = writeln!(s, "{w}");
     }

@@ -5,6 +5,7 @@
 
 pub mod coverage;
 pub mod explain;
+pub mod friction;
 pub mod ic;
 pub mod linear;
 /// Numbers as every report prints them (defined beside the dataset reader, so that the

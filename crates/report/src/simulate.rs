@@ -248,6 +248,9 @@ pub struct SimulateJson {
     pub removed_equations: Vec<EquationRef>,
     /// Every part at the last output.
     pub final_state: Vec<PartStateJson>,
+    /// Joint friction at the last output (only when the model has FRICTION elements).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub frictions: Vec<crate::friction::FrictionJson>,
     /// The SENSORs that fired, in time order.
     pub sensors: Vec<crate::sensors::SensorEventJson>,
     /// `HALT` or `RETURN` when a sensor ended the run (at `end_time`, the run complete).
@@ -414,6 +417,7 @@ pub fn summary(a: &Assembled, run: &DynamicRun, warnings: &[Diagnostic]) -> Simu
         start,
         removed_equations,
         final_state,
+        frictions: Vec::new(),
         sensors,
         ended_by_sensor,
         notes: integrator.notes.iter().map(ToString::to_string).collect(),
@@ -556,6 +560,7 @@ pub fn to_text(j: &SimulateJson) -> String {
             );
         }
     }
+    crate::friction::friction_table(&mut s, &j.frictions);
     for n in &j.notes {
         let _ = writeln!(s, "note: {n}");
     }

@@ -62,6 +62,9 @@ pub struct StaticJson {
     pub kinematic: bool,
     pub parts: Vec<PartPoseJson>,
     pub reactions: Vec<ReactionJson>,
+    /// Joint friction at the reported state (only when the model has FRICTION elements).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub frictions: Vec<crate::friction::FrictionJson>,
     pub steps: Vec<StepJson>,
     /// When found by damped dynamics: what stopped the settling.
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -283,6 +286,7 @@ pub fn to_json(a: &Assembled, run: &StaticRun, warnings: &[Diagnostic]) -> Stati
         kinematic,
         parts: first.map(|s| s.parts.clone()).unwrap_or_default(),
         reactions: first.map(|s| s.reactions.clone()).unwrap_or_default(),
+        frictions: Vec::new(),
         steps: if steps.len() > 1 { steps } else { Vec::new() },
         settling: None,
         warnings,
@@ -430,6 +434,7 @@ pub fn to_text(j: &StaticJson) -> String {
             let _ = writeln!(s, "Reactions on the I markers (ground axes):");
             reaction_table(&mut s, &j.reactions);
         }
+        crate::friction::friction_table(&mut s, &j.frictions);
     } else {
         let _ = writeln!(
             s,

@@ -104,7 +104,7 @@ pub enum Use {
 }
 
 /// Statement kinds every analysis computes with.
-pub const MODELLED: [&str; 28] = [
+pub const MODELLED: [&str; 29] = [
     "UNITS",
     "ACCGRAV",
     "PART",
@@ -125,6 +125,7 @@ pub const MODELLED: [&str; 28] = [
     "VTORQUE",
     "GFORCE",
     "CONTACT",
+    "FRICTION",
     "VARIABLE",
     "ARRAY",
     "SPLINE",
@@ -184,7 +185,6 @@ fn not_modelled(keyword: &str) -> Option<(Reason, &'static str, &'static [Analys
         "FLEX_BODY" => refused(
             "a modal flexible body is not modelled; verify's DOF count leaves it out",
         ),
-        "FRICTION" => refused("joint friction is not modelled"),
         "NFORCE" => refused("multi-point force elements are not modelled"),
         "MFORCE" => refused("modal forces are not modelled"),
         "GSE" | "LSE" | "TFSISO" | "DIFF" => {

@@ -15,6 +15,7 @@ mod couplings;
 mod data;
 pub mod fe_parts;
 mod forces;
+mod friction;
 mod joints;
 mod lookup;
 mod markers;
@@ -87,6 +88,7 @@ pub fn build_model(ds: &Dataset) -> Result<Built, Diagnostics> {
     forces.extend(contacts::contacts(ds, &graphics, &markers, &mut cx));
     let data = data::data_elements(ds, &mut cx);
     let sensors = sensors::sensors(ds, &mut cx);
+    let frictions = friction::frictions(ds, &constraints, &parts, &markers, &mut cx);
     point_masses::check_translational_use(&parts, &markers, &constraints, &forces, &mut cx);
     point_masses::hold_rotations(&parts, &mut markers, &mut constraints);
     if !cx.errors.is_empty() {
@@ -108,6 +110,7 @@ pub fn build_model(ds: &Dataset) -> Result<Built, Diagnostics> {
         arrays: data.arrays,
         splines: data.splines,
         sensors,
+        frictions,
         characteristic_length: 1.0,
         ic,
         equilibrium,

@@ -8,6 +8,8 @@
 //! space (duplicates are summed by the consumer).
 
 use crate::constraints::rows::Velocities;
+use crate::physics::friction::FrictionValue;
+use crate::physics::reactions::Reaction;
 use crate::state::State;
 
 /// A force element that cannot be evaluated at a state: a domain error in its expression, an
@@ -59,6 +61,32 @@ pub trait AppliedForces {
         dq: &mut Vec<(usize, usize, f64)>,
         dv: Option<&mut Vec<(usize, usize, f64)>>,
     ) -> Result<(), ForceError>;
+
+    /// Whether some element carries a state of its own from one accepted state to the next
+    /// (joint friction: its stiction anchor and normal load, [`crate::physics::friction`]).
+    /// The analyses call the three methods below only then.
+    fn has_state(&self) -> bool {
+        false
+    }
+
+    /// Starts the elements' state at `s` (the IC: stiction anchors at the assembled pose).
+    fn start_state(&self, _s: &State) {}
+
+    /// Updates the elements' state after an accepted state `(s, v)` whose constraint
+    /// reactions are `reactions`; returns the largest change of a load the state holds
+    /// (model force units), which a static analysis iterates to zero.
+    fn accept_state(&self, _s: &State, _v: &Velocities, _reactions: &[Reaction]) -> f64 {
+        0.0
+    }
+
+    /// A static analysis starts (`true`) or ends: elements inactive in statics switch off.
+    fn set_static(&self, _on: bool) {}
+
+    /// The friction of every FRICTION at `(s, v)` with the current state, in model order,
+    /// for the reports (none without frictions).
+    fn friction_values(&self, _s: &State, _v: &Velocities) -> Vec<FrictionValue> {
+        Vec::new()
+    }
 }
 
 /// No applied forces (models without force elements).

@@ -9,6 +9,7 @@
 //! | VFORCE, VTORQUE, GFORCE | [`vector`] | expression components along RM's axes, at I |
 //! | FE_PART elements, FE_LOAD | [`fe_beam`] | corotational beam between node bodies; Rayleigh damping; lumped loads |
 //! | CONTACT | [`contact`] | IMPACT or POISSON normal force and Coulomb friction per incident |
+//! | FRICTION | [`crate::physics::friction`] | stick-slip friction on a joint, with a state |
 //!
 //! Conventions shared by all elements:
 //! - Every element produces at most two *loads*: a force (at a point) and a torque on a body.
@@ -45,7 +46,9 @@ pub mod vector;
 
 use crate::constraints::rows::{BodyFrame, Velocities};
 use crate::physics::applied::{AppliedForces, ForceError, LawError};
+use crate::physics::friction::{FrictionSet, FrictionValue};
 use crate::physics::measures::{MarkerFrames, StateEnv};
+use crate::physics::reactions::Reaction;
 use crate::state::State;
 pub use crate::tolerances::COINCIDENT_POINTS;
 use algebra::{Kinematics, Real, V3};
@@ -139,6 +142,8 @@ pub struct ForceSet {
     frames: MarkerFrames,
     data: DataElements,
     elements: Vec<Element>,
+    /// FRICTION on joints, with their state (not among `elements`: their loads need it).
+    frictions: FrictionSet,
     mode: i32,
     tiny_length: f64,
     warnings: Vec<Diagnostic>,
@@ -523,6 +528,7 @@ impl ForceSet {
             frames: MarkerFrames::new(model),
             data,
             elements,
+            frictions: FrictionSet::new(model),
             mode: 0,
             tiny_length: COINCIDENT_POINTS * model.characteristic_length,
             warnings,
@@ -561,6 +567,11 @@ impl ForceSet {
     /// The elements, in model order.
     pub fn elements(&self) -> &[Element] {
         &self.elements
+    }
+
+    /// The frictions and their state.
+    pub fn frictions(&self) -> &FrictionSet {
+        &self.frictions
     }
 
     /// The data elements expressions read.
@@ -621,22 +632,48 @@ impl ForceSet {
         let env = self.env(s, v);
         let cx = self.context(s, v, &env);
         let kin = cx.kin;
+        let mut apply = |load: Load<R>| {
+            let Body::Part(k) = load.body else {
+                return;
+            };
+            let arm = load.point.sub(&kin.cm::<R>(load.body));
+            let moment = arm.cross(&load.force).add(&load.torque);
+            let V3 { x, y, z } = load.force;
+            sink(k, [x, y, z, moment.x, moment.y, moment.z]);
+        };
         for e in 0..self.elements.len() {
             for load in self.element_loads::<R>(e, &cx)?.into_iter().flatten() {
-                let Body::Part(k) = load.body else {
-                    continue;
-                };
-                let arm = load.point.sub(&kin.cm::<R>(load.body));
-                let moment = arm.cross(&load.force).add(&load.torque);
-                let V3 { x, y, z } = load.force;
-                sink(k, [x, y, z, moment.x, moment.y, moment.z]);
+                apply(load);
             }
         }
+        self.frictions.each_load::<R>(&cx, |loads| {
+            loads.into_iter().flatten().for_each(&mut apply)
+        });
         Ok(())
     }
 }
 
 impl AppliedForces for ForceSet {
+    fn has_state(&self) -> bool {
+        !self.frictions.is_empty()
+    }
+
+    fn start_state(&self, s: &State) {
+        self.frictions.start(s);
+    }
+
+    fn accept_state(&self, s: &State, v: &Velocities, reactions: &[Reaction]) -> f64 {
+        self.frictions.accept(s, v, reactions)
+    }
+
+    fn set_static(&self, on: bool) {
+        self.frictions.set_static(on);
+    }
+
+    fn friction_values(&self, s: &State, v: &Velocities) -> Vec<FrictionValue> {
+        self.frictions.values(s, v)
+    }
+
     fn add_forces(&self, s: &State, v: &Velocities, out: &mut [f64]) -> Result<(), ForceError> {
         self.generalised::<f64>(s, v, |k, q| {
             for (c, x) in q.iter().enumerate() {

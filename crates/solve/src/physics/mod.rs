@@ -1,8 +1,9 @@
-//! Forces and measures: applied force elements, expression measures, element reactions and
+//! Forces and measures: applied force elements, joint friction, expression measures, element reactions and
 //! REQUEST outputs.
 
 pub mod applied;
 pub mod forces;
+pub mod friction;
 pub mod mass;
 pub mod measures;
 pub mod reactions;

@@ -22,6 +22,9 @@
 //! output's reaction on its I marker (or minus it, with the torque moved, when its I marker is
 //! on B); for a force element (SFORCE, SPRINGDAMPER, BUSHING, FIELD, BEAM, VFORCE, VTORQUE,
 //! GFORCE) its load on A. Torques are taken about I's origin. A and B the same part: zero.
+//! Joint FRICTION is left out (decided; the reference does not say whether Adams' joint force
+//! includes it): a joint's FORCE is its constraint reaction, and the reports give each
+//! friction on its own.
 //!
 //! The outputs carry no reactions of COUPLER and GEAR elements, and a GCON's only on its I
 //! marker's part (none when that is ground, as for a distance constraint from a ground

@@ -204,16 +204,33 @@ pub fn initial_conditions_at(
     let (velocity, acceleration) = if asm.converged {
         let rows = admitted_rows(&analysis);
         let vel = velocity_ic(model, sys, &rows, &hard, drivers, &asm.state);
-        let acc = acceleration_ic(
-            model,
-            sys,
-            &rows,
-            drivers,
-            forces,
-            &asm.state,
-            &vel.velocities,
-        )
-        .map_err(|e| match e {
+        let solve = || {
+            acceleration_ic(
+                model,
+                sys,
+                &rows,
+                drivers,
+                forces,
+                &asm.state,
+                &vel.velocities,
+            )
+        };
+        // Elements with a state (joint friction): anchored at the assembled pose; their
+        // normal loads from the reactions of a first solve, then solved again with them.
+        let acc = if forces.has_state() {
+            forces.start_state(&asm.state);
+            let first = solve();
+            match &first {
+                Ok(a) => {
+                    forces.accept_state(&asm.state, &vel.velocities, &a.reactions);
+                    solve()
+                }
+                Err(_) => first,
+            }
+        } else {
+            solve()
+        };
+        let acc = acc.map_err(|e| match e {
             AccelerationError::Singular { free } if free.is_empty() => {
                 AccelerationError::Singular {
                     free: analysis

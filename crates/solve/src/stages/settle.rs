@@ -131,6 +131,8 @@ pub fn settle_until(
     };
     let mut stop = None;
     let mut last: Option<(State, f64)> = None;
+    // Frictions inactive in statics (INACTIVE_DURING = STATIC) are off while settling too.
+    a.forces.set_static(true);
     let sim = simulate_with(
         &problem,
         a.state(),
@@ -172,6 +174,7 @@ pub fn settle_until(
             }
         },
     );
+    a.forces.set_static(false);
     if let Some(f) = sim.failure {
         stop = Some(SettleStop::Failed(format!(
             "at settling time {}: {}",

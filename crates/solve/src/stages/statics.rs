@@ -29,8 +29,9 @@ use crate::physics::reactions::{element_reactions, Reaction};
 use crate::pipeline::Assembled;
 use crate::state::State;
 use crate::tolerances::{
-    STABILITY_EIGENVALUE, STABILITY_RANK, STATIC_CONSTRAINT_FLOOR, STATIC_CUT_PROJECTION,
-    STATIC_REPORTED_IMBALANCE, STATIC_ROUNDING_IMBALANCE,
+    FRICTION_LOAD_PASSES, FRICTION_LOAD_SETTLED, STABILITY_EIGENVALUE, STABILITY_RANK,
+    STATIC_CONSTRAINT_FLOOR, STATIC_CUT_PROJECTION, STATIC_REPORTED_IMBALANCE,
+    STATIC_ROUNDING_IMBALANCE,
 };
 use glam::DVec3;
 use linkage_model::settings::refresh_at;
@@ -211,7 +212,54 @@ const RUNAWAY_WINDOW: usize = 3;
 /// Memory: the buffers and both sparse matrices are sized before the first iteration
 /// (the Newton workspace of `statics/newton.rs`); an iteration without a cut step allocates nothing itself (force
 /// elements and expressions may, see [`crate::stages::dynamics::Integrator`]).
+///
+/// Force elements with a state (joint friction, [`crate::physics::friction`]): the
+/// equilibrium is solved with their state fixed (the stiction anchors where the analysis
+/// starts, the normal loads from the last reactions), their state then takes the new
+/// reactions, and the equilibrium is solved again from the last one until no normal load
+/// changes by more than [`FRICTION_LOAD_SETTLED`] of the largest (at most
+/// [`FRICTION_LOAD_PASSES`] solves). Elements inactive in statics are off throughout.
 pub fn equilibrium(
+    model: &Model,
+    sys: &System,
+    rows: &[usize],
+    drivers: &dyn Drivers,
+    forces: &dyn AppliedForces,
+    start: &State,
+    settings: &EquilibriumSettings,
+) -> Result<Equilibrium, StaticsError> {
+    if !forces.has_state() {
+        return equilibrium_once(model, sys, rows, drivers, forces, start, settings);
+    }
+    forces.set_static(true);
+    let rest = vec![(DVec3::ZERO, DVec3::ZERO); model.parts.len()];
+    let mut from = start.clone();
+    let mut passes = 0;
+    let result = loop {
+        passes += 1;
+        let e = equilibrium_once(model, sys, rows, drivers, forces, &from, settings);
+        let Ok(eq) = &e else { break e };
+        if !eq.converged || passes >= FRICTION_LOAD_PASSES {
+            break e;
+        }
+        let change = forces.accept_state(&eq.state, &rest, &eq.reactions);
+        let scale = eq
+            .reactions
+            .iter()
+            .map(|r| r.force.length())
+            .fold(settings.imbalance, f64::max);
+        if change <= FRICTION_LOAD_SETTLED * scale {
+            break e;
+        }
+        from = eq.state.clone();
+    };
+    forces.set_static(false);
+    result
+}
+
+/// [`equilibrium`] with the state of the force elements held.
+#[allow(clippy::too_many_arguments)]
+fn equilibrium_once(
     model: &Model,
     sys: &System,
     rows: &[usize],

@@ -199,6 +199,18 @@ pub fn simulate_with(
                 sim.steps += 1;
                 let (err, order) = integ.accept(err, tol);
                 let now = integ.time();
+                // Force elements with a state (joint friction) take the accepted step.
+                if p.forces.has_state() {
+                    match integ.output() {
+                        Ok(o) => {
+                            p.forces.accept_state(&o.state, &o.velocities, &o.reactions);
+                        }
+                        Err(e) => {
+                            sim.failure = Some(Failure::new(now, e));
+                            return sim;
+                        }
+                    }
+                }
                 if progress(now) == AfterOutput::Stop {
                     sim.failure = Some(Failure::new(now, IntegrationError::Stopped));
                     return sim;
