@@ -7,6 +7,9 @@
 use crate::diagnostic::{Diagnostic, Span};
 use crate::statement::{ExprText, Statement};
 use std::sync::Arc;
+pub use crate::typing::controls::{
+    ControlStatements, Diff, Gse, Lse, Matrix, MatrixData, MatrixOrder, PlantList, Tfsiso,
+};
 
 /// The integrator names of INTEGRATOR (statement and command), of which one is in force.
 pub const INTEGRATOR_METHODS: [&str; 8] = [
@@ -91,6 +94,8 @@ pub struct Dataset {
     pub splines: Vec<Spline>,
     /// REQUEST statements (output definitions; ADM-REFERENCE §2.12).
     pub requests: Vec<Request>,
+    /// DIFF, LSE, TFSISO, GSE, MATRIX, PINPUT and POUTPUT (ADM-ELEMENTS §6–§12).
+    pub controls: ControlStatements,
     /// Non-fatal findings (unknown statements, unknown arguments, …).
     pub warnings: Vec<Diagnostic>,
 }
@@ -129,6 +134,7 @@ impl Dataset {
             arrays: Vec::new(),
             splines: Vec::new(),
             requests: Vec::new(),
+            controls: ControlStatements::default(),
             warnings: Vec::new(),
         }
     }

@@ -178,6 +178,13 @@ impl Typer {
                 | "ARRAY"
                 | "SPLINE"
                 | "REQUEST"
+                | "DIFF"
+                | "LSE"
+                | "TFSISO"
+                | "GSE"
+                | "MATRIX"
+                | "PINPUT"
+                | "POUTPUT"
         );
         if !typed {
             return;
@@ -253,7 +260,11 @@ impl Typer {
                     self.ds.requests.push(r);
                 }
             }
-            _ => self.force_or_data(st, index),
+            _ => {
+                if !self.control(st, index) {
+                    self.force_or_data(st, index)
+                }
+            }
         }
     }
 
@@ -1055,6 +1066,7 @@ mod forces;
 pub mod graphics;
 mod point_mass;
 mod sensor;
+pub(crate) mod controls;
 
 #[cfg(test)]
 mod tests;

@@ -12,6 +12,7 @@
 
 pub mod bodies;
 pub mod build;
+pub mod controls;
 pub mod forces;
 pub mod frames;
 pub mod functions;

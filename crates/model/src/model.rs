@@ -162,6 +162,8 @@ pub struct Model {
     pub splines: Vec<crate::forces::Spline>,
     /// SENSOR elements (evaluated by dynamic runs; `SENVAL(id)`).
     pub sensors: Vec<crate::sensors::Sensor>,
+    /// DIFF, LSE, TFSISO states, MATRIX data and PINPUT/POUTPUT lists.
+    pub controls: crate::controls::Controls,
     /// `IC/` settings (Adams defaults where not given).
     pub ic: crate::settings::IcSettings,
     /// `EQUILIBRIUM/` settings.

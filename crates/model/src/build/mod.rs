@@ -8,6 +8,7 @@
 //! statement.
 
 mod context;
+mod controls;
 mod couplings;
 mod data;
 mod forces;
@@ -66,6 +67,7 @@ pub fn build_model(ds: &Dataset) -> Result<Built, Diagnostics> {
     let forces = force_elements(ds, &table, &mut cx);
     let data = data::data_elements(ds, &mut cx);
     let sensors = sensors::sensors(ds, &mut cx);
+    let controls = controls::controls(ds, &data.variables, &data.arrays, &mut cx);
     point_masses::check_translational_use(&parts, &markers, &constraints, &forces, &mut cx);
     let mut markers = markers;
     point_masses::hold_rotations(&parts, &mut markers, &mut constraints);
@@ -88,6 +90,7 @@ pub fn build_model(ds: &Dataset) -> Result<Built, Diagnostics> {
         arrays: data.arrays,
         splines: data.splines,
         sensors,
+        controls,
         characteristic_length: 1.0,
         ic,
         equilibrium,
