@@ -6,10 +6,10 @@
 
 use crate::diagnostic::{Diagnostic, Span};
 use crate::statement::{ExprText, Statement};
-use std::sync::Arc;
 pub use crate::typing::controls::{
     ControlStatements, Diff, Gse, Lse, Matrix, MatrixData, MatrixOrder, PlantList, Tfsiso,
 };
+use std::sync::Arc;
 
 /// The integrator names of INTEGRATOR (statement and command), of which one is in force.
 pub const INTEGRATOR_METHODS: [&str; 8] = [

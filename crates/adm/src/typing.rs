@@ -1062,11 +1062,11 @@ impl Typer {
     }
 }
 
+pub(crate) mod controls;
 mod forces;
 pub mod graphics;
 mod point_mass;
 mod sensor;
-pub(crate) mod controls;
 
 #[cfg(test)]
 mod tests;

@@ -74,7 +74,11 @@ impl Linear {
     /// `ẋ₁ = −α₀ x_k + (β₀ − α₀ q) u`, `ẋᵢ = xᵢ₋₁ − αᵢ₋₁ x_k + (βᵢ₋₁ − αᵢ₋₁ q) u`,
     /// `y = x_k + q u`, so that `C (sI − A)⁻¹ B + D = H(s)`. `None` when the denominator's
     /// last coefficient is 0 or the numerator has more coefficients than the denominator.
-    pub fn transfer_function(numerator: &[f64], denominator: &[f64], input: usize) -> Option<Linear> {
+    pub fn transfer_function(
+        numerator: &[f64],
+        denominator: &[f64],
+        input: usize,
+    ) -> Option<Linear> {
         let k = denominator.len().checked_sub(1)?;
         let ak = *denominator.last()?;
         if ak == 0.0 || numerator.len() > denominator.len() {

@@ -193,8 +193,16 @@ impl Typer {
         let x = self.required_id(st, "X", "ARRAY");
         let a = self.required_id(st, "A", "MATRIX");
         let optional = |t: &mut Typer, key: &str| t.id_ref(st, key);
-        let (u, b, y) = (optional(self, "U"), optional(self, "B"), optional(self, "Y"));
-        let (c, d, ic) = (optional(self, "C"), optional(self, "D"), optional(self, "IC"));
+        let (u, b, y) = (
+            optional(self, "U"),
+            optional(self, "B"),
+            optional(self, "Y"),
+        );
+        let (c, d, ic) = (
+            optional(self, "C"),
+            optional(self, "D"),
+            optional(self, "IC"),
+        );
         Some(Lse {
             header: header(st, index),
             x: x?,
@@ -269,11 +277,7 @@ impl Typer {
             };
             return Some(Matrix {
                 header: head,
-                data: MatrixData::File {
-                    name,
-                    span,
-                    matrix,
-                },
+                data: MatrixData::File { name, span, matrix },
             });
         }
         let (Some(rows), Some(columns)) = (self.whole(st, "ROWS"), self.whole(st, "COLUMNS"))
@@ -375,8 +379,11 @@ mod tests {
     use std::sync::Arc;
 
     fn read(body: &str) -> Result<crate::Dataset, String> {
-        parse_dataset(Arc::from("m.adm"), &format!("t\nPART/1, GROUND\n{body}\nEND\n"))
-            .map_err(|e| e.to_string())
+        parse_dataset(
+            Arc::from("m.adm"),
+            &format!("t\nPART/1, GROUND\n{body}\nEND\n"),
+        )
+        .map_err(|e| e.to_string())
     }
 
     #[test]
@@ -416,8 +423,10 @@ mod tests {
                 entries: vec![(1, 2, 5.0), (3, 3, 6.0)]
             }
         );
-        assert!(matches!(&c.matrices[2].data, MatrixData::File { name, matrix: Some(m), .. }
-            if name == "m.mat" && m == "VALK"));
+        assert!(
+            matches!(&c.matrices[2].data, MatrixData::File { name, matrix: Some(m), .. }
+            if name == "m.mat" && m == "VALK")
+        );
         assert_eq!(c.pinputs[0].variables.len(), 2);
         assert_eq!(c.poutputs[0].variables[0].id, 6);
     }

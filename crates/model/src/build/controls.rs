@@ -203,12 +203,16 @@ pub fn read_adamsmat(text: &str, wanted: Option<&str>) -> Result<DenseMatrix, St
         .ok_or("the matrix file's second line is not the number of matrices")?;
     let mut names = Vec::new();
     while names.len() < count {
-        let line = lines.next().ok_or("the matrix file ends in its list of names")?;
+        let line = lines
+            .next()
+            .ok_or("the matrix file ends in its list of names")?;
         names.extend(line.split_whitespace().map(str::to_string));
     }
     for _ in 0..count {
         let header = loop {
-            let l = lines.next().ok_or("the matrix file ends before a matrix header")?;
+            let l = lines
+                .next()
+                .ok_or("the matrix file ends before a matrix header")?;
             if !l.trim().is_empty() {
                 break l;
             }
@@ -267,7 +271,11 @@ pub fn read_adamsmat(text: &str, wanted: Option<&str>) -> Result<DenseMatrix, St
 
 /// The field width of a Fortran format `( nFw.d )` (also E, D, G), if it is one.
 fn field_width(format: &str) -> Option<usize> {
-    let inner = format.trim().trim_start_matches('(').trim_end_matches(')').trim();
+    let inner = format
+        .trim()
+        .trim_start_matches('(')
+        .trim_end_matches(')')
+        .trim();
     let p = inner.find(|c: char| matches!(c.to_ascii_uppercase(), 'F' | 'E' | 'D' | 'G'))?;
     let rest = &inner[p + 1..];
     let w = rest.split('.').next()?.trim();
@@ -302,7 +310,10 @@ fn read_values<'a>(
                 }
             }
             None => {
-                for s in line.split([' ', ',', '\t']).filter(|s| !s.trim().is_empty()) {
+                for s in line
+                    .split([' ', ',', '\t'])
+                    .filter(|s| !s.trim().is_empty())
+                {
                     if out.len() < n {
                         out.push(parse(s)?);
                     }
@@ -419,7 +430,10 @@ impl StateBuilder<'_> {
         let n = match (a, &x.values) {
             (Some(a), _) => a.rows,
             (None, _) => {
-                cx.error(l.a.span, format!("{name}: MATRIX {} does not exist", l.a.id));
+                cx.error(
+                    l.a.span,
+                    format!("{name}: MATRIX {} does not exist", l.a.id),
+                );
                 return None;
             }
         };
@@ -444,11 +458,28 @@ impl StateBuilder<'_> {
             }
             None => 0,
         };
-        let need = |key: &str, m: Option<IdRef>, dims: (usize, usize), needed: bool, b: &Self, cx: &mut Ctx| {
+        let need = |key: &str,
+                    m: Option<IdRef>,
+                    dims: (usize, usize),
+                    needed: bool,
+                    b: &Self,
+                    cx: &mut Ctx| {
             match m {
                 Some(r) => {
                     if !needed {
-                        cx.error(r.span, format!("{name}: {key} needs {}", if key == "B" { "U" } else if key == "C" { "Y" } else { "U and Y" }));
+                        cx.error(
+                            r.span,
+                            format!(
+                                "{name}: {key} needs {}",
+                                if key == "B" {
+                                    "U"
+                                } else if key == "C" {
+                                    "Y"
+                                } else {
+                                    "U and Y"
+                                }
+                            ),
+                        );
                         return None;
                     }
                     b.matrix(&name, key, r, dims, cx)
@@ -550,15 +581,23 @@ mod tests {
         assert!(read_adamsmat(text, Some("NONE"))
             .unwrap_err()
             .contains("no matrix named NONE"));
-        assert!(read_adamsmat("MATRIXx\n", None).unwrap_err().contains("not ADAMSMAT"));
+        assert!(read_adamsmat("MATRIXx\n", None)
+            .unwrap_err()
+            .contains("not ADAMSMAT"));
     }
 
     #[test]
     fn a_first_order_lag_is_realised_with_its_pole_and_gain() {
         // 2/(0.5 s + 1): ẋ = −2x + 4u, y = x.
         let l = Linear::transfer_function(&[2.0], &[1.0, 0.5], 0).expect("proper");
-        assert_eq!((l.a.values.clone(), l.b.values.clone()), (vec![-2.0], vec![4.0]));
-        assert_eq!((l.c.values.clone(), l.d.values.clone()), (vec![1.0], vec![0.0]));
+        assert_eq!(
+            (l.a.values.clone(), l.b.values.clone()),
+            (vec![-2.0], vec![4.0])
+        );
+        assert_eq!(
+            (l.c.values.clone(), l.d.values.clone()),
+            (vec![1.0], vec![0.0])
+        );
         // (s + 3)/(s + 1): feed-through 1, ẋ = −x + (3 − 1)u, y = x + u.
         let l = Linear::transfer_function(&[3.0, 1.0], &[1.0, 1.0], 0).expect("proper");
         assert_eq!((l.b.values[0], l.d.values[0]), (2.0, 1.0));

@@ -1,0 +1,178 @@
+//! Control and system elements against closed forms: DIFF (explicit and IMPLICIT), TFSISO,
+//! LSE, a controller state coupled to the mechanics, in dynamics (BDF and HHT), statics
+//! (STATIC_HOLD) and linearization; VARVAL in a MOTION.
+
+use linkage_model::settings::IntegratorMethod;
+use linkage_solve::constraints::drivers::ExpressionDrivers;
+use linkage_solve::physics::forces::ForceSet;
+use linkage_solve::pipeline::Assembled;
+use linkage_solve::stages::dynamics::{run, IntegratorSettings, Output, Start};
+use linkage_solve::tolerances::Tolerances;
+use std::f64::consts::PI;
+use std::sync::Arc;
+
+fn model_of(body: &str) -> linkage_model::Model {
+    let text = format!("controls\nUNITS/FORCE = NEWTON, MASS = KILOGRAM, LENGTH = METER, TIME = SECOND\n{body}\nEND\n");
+    let ds = linkage_adm::parse_dataset(Arc::from("controls.adm"), &text)
+        .unwrap_or_else(|e| panic!("{e}"));
+    linkage_model::build_model(&ds)
+        .unwrap_or_else(|e| panic!("{e}"))
+        .model
+}
+
+/// A free body that nothing acts on: the mechanics the control states run beside.
+const FREE_BODY: &str =
+    "PART/1, GROUND\nPART/2, MASS = 1, IP = 1, 1, 1, CM = 3\nMARKER/3, PART = 2\n";
+
+/// The outputs of a dynamic run of `m` at `steps + 1` times over `[0, end]`.
+fn simulate(
+    m: &linkage_model::Model,
+    end: f64,
+    steps: usize,
+    method: IntegratorMethod,
+) -> Vec<Output> {
+    let d = ExpressionDrivers::new(m).unwrap_or_else(|e| panic!("{e}"));
+    let f = ForceSet::new(m).unwrap_or_else(|e| panic!("{e}"));
+    let times: Vec<f64> = (0..=steps).map(|k| end * k as f64 / steps as f64).collect();
+    let settings = IntegratorSettings {
+        error: 1e-7,
+        method,
+        ..Default::default()
+    };
+    let a = Assembled::new(m, &d, &f, &Tolerances::default());
+    let r = run(&a, &times, &settings, Start::InitialConditions, |_| {});
+    assert!(r.error.is_none(), "{:?}", r.error);
+    let sim = r.simulation.expect("simulated");
+    assert!(sim.failure.is_none(), "{:?}", sim.failure);
+    assert!(!sim.kinematic);
+    assert_eq!(sim.outputs.len(), steps + 1);
+    sim.outputs
+}
+
+const METHODS: [IntegratorMethod; 2] = [IntegratorMethod::Bdf, IntegratorMethod::Hht];
+
+fn worst(outputs: &[Output], f: impl Fn(&Output) -> (f64, f64)) -> f64 {
+    outputs
+        .iter()
+        .map(|o| {
+            let (got, want) = f(o);
+            (got - want).abs()
+        })
+        .fold(0.0, f64::max)
+}
+
+#[test]
+fn diff_decays_exponentially_explicit_and_implicit() {
+    // y' = −y/τ, y(0) = 2, τ = 0.5: y = 2 e^{−t/τ}; the IMPLICIT twin 0 = ẏ + y/τ; and an
+    // algebraic IMPLICIT DIFF 0 = z − 3y, which follows as z = 3y.
+    let m = model_of(&format!(
+        "{FREE_BODY}DIFF/1, IC = 2, FUNCTION = -DIF(1)/0.5\n\
+         DIFF/2, IC = 2, IMPLICIT, FUNCTION = DIF1(2) + DIF(2)/0.5\n\
+         DIFF/3, IC = 6, IMPLICIT, FUNCTION = DIF(3) - 3*DIF(1)"
+    ));
+    assert_eq!(m.controls.count, 3);
+    for method in METHODS {
+        let out = simulate(&m, 2.0, 20, method);
+        let exact = |t: f64| 2.0 * (-t / 0.5).exp();
+        for k in 0..2 {
+            let e = worst(&out, |o| (o.state.controls.x[k], exact(o.time)));
+            assert!(e < 2e-4, "{method:?} DIFF/{}: error {e:e}", k + 1);
+        }
+        let e = worst(&out, |o| (o.state.controls.xdot[0], -exact(o.time) / 0.5));
+        assert!(e < 1e-3, "{method:?} DIF1: error {e:e}");
+        let e = worst(&out, |o| {
+            (o.state.controls.x[2], 3.0 * o.state.controls.x[0])
+        });
+        assert!(e < 1e-6, "{method:?} algebraic DIFF: error {e:e}");
+    }
+}
+
+#[test]
+fn tfsiso_lags_follow_their_step_responses() {
+    // Unit step into 1/(τs + 1), τ = 0.25: y = 1 − e^{−t/τ}; and into ω²/(s² + 2ζωs + ω²),
+    // ω = 2π, ζ = 0.5: y = 1 − e^{−ζωt} sin(ω_d t + φ)/√(1 − ζ²), ω_d = ω√(1 − ζ²), cos φ = ζ.
+    let w = 2.0 * PI;
+    let m = model_of(&format!(
+        "{FREE_BODY}VARIABLE/1, FUNCTION = 1\nARRAY/5, U, VARIABLES = 1\n\
+         ARRAY/6, X\nARRAY/7, Y\nARRAY/8, X\nARRAY/9, Y\n\
+         TFSISO/1, NUMERATOR = 1, DENOMINATOR = 1, 0.25, U = 5, X = 6, Y = 7\n\
+         TFSISO/2, NUMERATOR = {}, DENOMINATOR = {}, {}, 1, U = 5, X = 8, Y = 9\n\
+         VARIABLE/11, FUNCTION = ARYVAL(7, 1)\nVARIABLE/12, FUNCTION = ARYVAL(9, 1)",
+        w * w,
+        w * w,
+        2.0 * 0.5 * w
+    ));
+    let forces = ForceSet::new(&m).unwrap_or_else(|e| panic!("{e}"));
+    let zeta: f64 = 0.5;
+    let wd = w * (1.0 - zeta * zeta).sqrt();
+    let second = |t: f64| {
+        1.0 - (-zeta * w * t).exp() * (wd * t + zeta.acos()).sin() / (1.0 - zeta * zeta).sqrt()
+    };
+    for method in METHODS {
+        let out = simulate(&m, 2.0, 40, method);
+        let y = |o: &Output, id| {
+            forces
+                .variable(id, &o.state, &o.velocities)
+                .unwrap_or_else(|e| panic!("{e}"))
+        };
+        let e = worst(&out, |o| (y(o, 11), 1.0 - (-o.time / 0.25).exp()));
+        assert!(e < 2e-4, "{method:?} first-order lag: error {e:e}");
+        let e = worst(&out, |o| (y(o, 12), second(o.time)));
+        assert!(e < 1e-3, "{method:?} second-order lag: error {e:e}");
+    }
+}
+
+#[test]
+fn lse_oscillates_at_the_frequency_of_its_a_matrix() {
+    // ẋ = A x, A = [0 1; −k/m 0] (k/m = 16): x₁ = cos 4t from x(0) = (1, 0).
+    let m = model_of(&format!(
+        "{FREE_BODY}ARRAY/1, X, SIZE = 2\nARRAY/2, IC, SIZE = 2, NUMBERS = 1, 0\n\
+         MATRIX/3, FULL = RORDER, ROWS = 2, COLUMNS = 2, VALUES = 0, 1, -16, 0\n\
+         LSE/1, X = 1, A = 3, IC = 2"
+    ));
+    for method in METHODS {
+        let out = simulate(&m, 3.0, 60, method);
+        let e = worst(&out, |o| (o.state.controls.x[0], (4.0 * o.time).cos()));
+        assert!(e < 2e-3, "{method:?}: error {e:e}");
+        let e = worst(&out, |o| {
+            (o.state.controls.x[1], -4.0 * (4.0 * o.time).sin())
+        });
+        assert!(e < 8e-3, "{method:?}: error {e:e}");
+    }
+}
+
+/// A unit mass on a translational joint along z, driven by a PID law through a DIFF that
+/// integrates its position: `m z̈ = −Kp z − Kd ż − Ki I`, `İ = z`.
+fn pid_plant(kp: f64, kd: f64, ki: f64, z0: f64) -> linkage_model::Model {
+    model_of(&format!(
+        "PART/1, GROUND\nMARKER/5, PART = 1\n\
+         PART/2, MASS = 1, IP = 1, 1, 1, CM = 3, QG = 0, 0, {z0}\n\
+         MARKER/3, PART = 2\nMARKER/4, PART = 2\n\
+         JOINT/1, TRANSLATIONAL, I = 4, J = 5\n\
+         DIFF/1, IC = 0, FUNCTION = DZ(3, 5, 5)\n\
+         SFORCE/1, TRANSLATIONAL, ACTIONONLY, I = 3, J = 5, \
+         FUNCTION = -{kp}*DZ(3, 5, 5) - {kd}*VZ(3, 5, 5, 5) - {ki}*DIF(1)"
+    ))
+}
+
+#[test]
+fn a_pid_controller_state_closes_the_loop_with_the_mechanics() {
+    // Kp = Kd = 3, Ki = 1: (s + 1)³, so from z(0) = 1 at rest z = (1 + t − t²) e^{−t}.
+    let m = pid_plant(3.0, 3.0, 1.0, 1.0);
+    for method in METHODS {
+        let out = simulate(&m, 4.0, 40, method);
+        let e = worst(&out, |o| {
+            let t = o.time;
+            (o.state.poses[0].p.z, (1.0 + t - t * t) * (-t).exp())
+        });
+        assert!(e < 1e-3, "{method:?}: error {e:e}");
+        let e = worst(&out, |o| (o.state.controls.x[0], integral(o.time)));
+        assert!(e < 1e-3, "{method:?}: integral state error {e:e}");
+    }
+}
+
+/// The controller's state `I = ∫₀ᵗ z = ∫₀ᵗ (1 + s − s²) e^{−s} ds = (t² + t) e^{−t}` (the
+/// antiderivative's derivative is `(2t + 1 − t² − t) e^{−t}`, and it is 0 at t = 0).
+fn integral(t: f64) -> f64 {
+    (t * t + t) * (-t).exp()
+}
