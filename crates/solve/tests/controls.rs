@@ -211,3 +211,49 @@ fn a_motion_follows_the_variable_it_reads() {
         "{e}"
     );
 }
+
+/// A unit mass on a translational joint along z with a spring `−k z` and a force `−DIF(1)`
+/// from a state whose law is `law`.
+fn spring_with_state(k: f64, law: &str) -> linkage_model::Model {
+    model_of(&format!(
+        "PART/1, GROUND\nMARKER/5, PART = 1\n\
+         PART/2, MASS = 1, IP = 1, 1, 1, CM = 3\nMARKER/3, PART = 2\n\
+         JOINT/1, TRANSLATIONAL, I = 3, J = 5\n{law}\n\
+         SFORCE/1, TRANSLATIONAL, ACTIONONLY, I = 3, J = 5, \
+         FUNCTION = -{k}*DZ(3, 5, 5) - DIF(1)"
+    ))
+}
+
+/// The static equilibrium of `m` at time 0: the CM height and the control states.
+fn equilibrium(m: &linkage_model::Model) -> (f64, Vec<f64>) {
+    let d = ExpressionDrivers::new(m).unwrap_or_else(|e| panic!("{e}"));
+    let f = ForceSet::new(m).unwrap_or_else(|e| panic!("{e}"));
+    let a = Assembled::new(m, &d, &f, &Tolerances::default());
+    let r = linkage_solve::stages::statics::run(&a, &[0.0]);
+    let eq = r.steps[0].1.as_ref().unwrap_or_else(|e| panic!("{e}"));
+    assert!(eq.converged, "{:?}", eq.worst);
+    (eq.state.poses[0].p.z, eq.state.controls.x.clone())
+}
+
+#[test]
+fn statics_solve_free_states_at_rest_and_keep_held_ones() {
+    // ẏ = 1 − y: at rest y = 1, so k z = −1 (k = 10: z = −0.1); held at its IC 2: z = −0.2.
+    let (z, x) = equilibrium(&spring_with_state(
+        10.0,
+        "DIFF/1, IC = 2, FUNCTION = 1 - DIF(1)",
+    ));
+    assert!(
+        (z + 0.1).abs() < 1e-9 && (x[0] - 1.0).abs() < 1e-9,
+        "{z} {x:?}"
+    );
+    let held = "DIFF/1, IC = 2, STATIC_HOLD, FUNCTION = 1 - DIF(1)";
+    let (z, x) = equilibrium(&spring_with_state(10.0, held));
+    assert!((z + 0.2).abs() < 1e-9 && x[0] == 2.0, "{z} {x:?}");
+    // An integrator İ = z − 0.05 holds the mass at z = 0.05 against the spring: I = −k·0.05.
+    let pi = "DIFF/1, IC = 0, FUNCTION = DZ(3, 5, 5) - 0.05";
+    let (z, x) = equilibrium(&spring_with_state(10.0, pi));
+    assert!(
+        (z - 0.05).abs() < 1e-9 && (x[0] + 0.5).abs() < 1e-8,
+        "{z} {x:?}"
+    );
+}
