@@ -257,3 +257,51 @@ fn statics_solve_free_states_at_rest_and_keep_held_ones() {
         "{z} {x:?}"
     );
 }
+
+/// The eigenvalues (radians per time unit, conjugates included) of `m` linearized at its
+/// initial conditions.
+fn eigenvalues(m: &linkage_model::Model) -> Vec<(f64, f64)> {
+    use linkage_solve::stages::linearize::{run as linear, EigenMethod, LinearOptions};
+    let d = ExpressionDrivers::new(m).unwrap_or_else(|e| panic!("{e}"));
+    let f = ForceSet::new(m).unwrap_or_else(|e| panic!("{e}"));
+    let a = Assembled::new(m, &d, &f, &Tolerances::default());
+    let opts = LinearOptions {
+        damping: true,
+        vectors: false,
+        method: EigenMethod::Auto,
+    };
+    let lin = linear(&a, false, opts)
+        .result
+        .unwrap_or_else(|e| panic!("{e}"));
+    let mut out = Vec::new();
+    for mode in &lin.modes {
+        out.push((mode.real, mode.imag));
+        if mode.imag != 0.0 {
+            out.push((mode.real, -mode.imag));
+        }
+    }
+    out.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.total_cmp(&b.1)));
+    out
+}
+
+#[test]
+fn linear_eigenvalues_include_the_control_states() {
+    // The LSE oscillator beside a free body: ±4i (and the free body's 12 zeros).
+    let m = model_of(&format!(
+        "{FREE_BODY}ARRAY/1, X, SIZE = 2\nARRAY/2, IC, SIZE = 2, NUMBERS = 1, 0\n\
+         MATRIX/3, FULL = RORDER, ROWS = 2, COLUMNS = 2, VALUES = 0, 1, -16, 0\n\
+         LSE/1, X = 1, A = 3, IC = 2"
+    ));
+    let ev = eigenvalues(&m);
+    let nonzero: Vec<_> = ev.iter().filter(|(re, im)| re.hypot(*im) > 1e-6).collect();
+    assert_eq!(nonzero.len(), 2, "{ev:?}");
+    for (re, im) in nonzero {
+        assert!(re.abs() < 1e-9 && (im.abs() - 4.0).abs() < 1e-9, "{ev:?}");
+    }
+    // The PID loop with Kp = 11, Kd = 6, Ki = 6: m s³ + Kd s² + Kp s + Ki = (s+1)(s+2)(s+3).
+    let ev = eigenvalues(&pid_plant(11.0, 6.0, 6.0, 0.0));
+    assert_eq!(ev.len(), 3, "{ev:?}");
+    for ((re, im), want) in ev.iter().zip([-3.0, -2.0, -1.0]) {
+        assert!((re - want).abs() < 1e-8 && im.abs() < 1e-8, "{ev:?}");
+    }
+}
