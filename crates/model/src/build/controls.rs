@@ -30,12 +30,13 @@ pub(crate) fn controls(
         .map(|(k, v)| (v.origin.id, k))
         .collect();
     let array_index: HashMap<u64, &Array> = arrays.iter().map(|a| (a.origin.id, a)).collect();
-    let matrices = matrices(ds, cx);
+    let (matrices, unreadable) = matrices(ds, cx);
     let matrix_index: HashMap<u64, &DenseMatrix> =
         matrices.iter().map(|m| (m.origin.id, &m.matrix)).collect();
     let mut b = StateBuilder {
         arrays: &array_index,
         matrices: &matrix_index,
+        unreadable: &unreadable,
         owners: HashMap::new(),
         states: Vec::new(),
         count: 0,
@@ -116,8 +117,11 @@ pub(crate) fn controls(
     }
 }
 
-/// Every MATRIX, its values read (FULL in either order, SPARSE, or a FILE).
-fn matrices(ds: &Dataset, cx: &mut Ctx) -> Vec<Matrix> {
+/// Every MATRIX, its values read (FULL in either order, SPARSE, or a FILE), and the MATRIX
+/// ids whose file is missing or cannot be read, with why (an error where a state element
+/// uses one; `coverage` names a missing file whoever uses it).
+fn matrices(ds: &Dataset, cx: &mut Ctx) -> (Vec<Matrix>, HashMap<u64, String>) {
+    let mut unreadable = HashMap::new();
     let mut out = Vec::new();
     let mut seen = HashSet::new();
     for m in &ds.controls.matrices {
@@ -150,7 +154,8 @@ fn matrices(ds: &Dataset, cx: &mut Ctx) -> Vec<Matrix> {
                 match read {
                     Ok(d) => d,
                     Err(e) => {
-                        cx.error(*span, format!("{}: {e}", m.header.name));
+                        let _ = span;
+                        unreadable.insert(m.header.id, format!("{}: {e}", m.header.name));
                         continue;
                     }
                 }
@@ -161,7 +166,7 @@ fn matrices(ds: &Dataset, cx: &mut Ctx) -> Vec<Matrix> {
             matrix,
         });
     }
-    out
+    (out, unreadable)
 }
 
 /// A full matrix from values in row (RORDER) or column (CORDER) order.
@@ -328,6 +333,8 @@ fn read_values<'a>(
 struct StateBuilder<'a> {
     arrays: &'a HashMap<u64, &'a Array>,
     matrices: &'a HashMap<u64, &'a DenseMatrix>,
+    /// MATRIX ids whose file could not be read, with why.
+    unreadable: &'a HashMap<u64, String>,
     /// X and Y arrays already owned, by array id: the owner's name.
     owners: HashMap<u64, String>,
     states: Vec<StateElement>,
@@ -392,7 +399,7 @@ impl StateBuilder<'_> {
         cx: &mut Ctx,
     ) -> Option<DenseMatrix> {
         let Some(m) = self.matrices.get(&r.id) else {
-            cx.error(r.span, format!("{name}: MATRIX {} does not exist", r.id));
+            self.missing_matrix(name, r, cx);
             return None;
         };
         if (m.rows, m.columns) != (rows, columns) {
@@ -406,6 +413,15 @@ impl StateBuilder<'_> {
             return None;
         }
         Some((*m).clone())
+    }
+
+    /// The error of a MATRIX reference that has no values: it does not exist, or its file
+    /// cannot be read (named).
+    fn missing_matrix(&self, name: &str, r: IdRef, cx: &mut Ctx) {
+        match self.unreadable.get(&r.id) {
+            Some(why) => cx.error(r.span, format!("{name}: {why}")),
+            None => cx.error(r.span, format!("{name}: MATRIX {} does not exist", r.id)),
+        }
     }
 
     /// The VARIABLEs of a U array.
@@ -430,10 +446,7 @@ impl StateBuilder<'_> {
         let n = match (a, &x.values) {
             (Some(a), _) => a.rows,
             (None, _) => {
-                cx.error(
-                    l.a.span,
-                    format!("{name}: MATRIX {} does not exist", l.a.id),
-                );
+                self.missing_matrix(&name, l.a, cx);
                 return None;
             }
         };
