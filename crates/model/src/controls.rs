@@ -68,8 +68,9 @@ pub struct Linear {
 }
 
 impl Linear {
-    /// The observable canonical realisation of `H(s) = (b₀ + b₁s + … + b_m s^m)/(a₀ + a₁s + …
-    /// + a_k s^k)` (ascending powers, m ≤ k, a_k ≠ 0), ADM-ELEMENTS §9: with `αᵢ = aᵢ/a_k`,
+    /// The observable canonical realisation of
+    /// `H(s) = (b₀ + b₁s + … + b_m s^m)/(a₀ + a₁s + … + a_k s^k)`
+    /// (ascending powers, m ≤ k, a_k ≠ 0), ADM-ELEMENTS §9: with `αᵢ = aᵢ/a_k`,
     /// `βᵢ = bᵢ/a_k`, `q = β_k` (the feed-through, 0 when m < k):
     /// `ẋ₁ = −α₀ x_k + (β₀ − α₀ q) u`, `ẋᵢ = xᵢ₋₁ − αᵢ₋₁ x_k + (βᵢ₋₁ − αᵢ₋₁ q) u`,
     /// `y = x_k + q u`, so that `C (sI − A)⁻¹ B + D = H(s)`. `None` when the denominator's
@@ -90,12 +91,12 @@ impl Linear {
         let mut a = DenseMatrix::zeros(k, k);
         let mut b = DenseMatrix::zeros(k, 1);
         let mut c = DenseMatrix::zeros(1, k);
-        for i in 0..k {
+        for (i, alpha_i) in alpha.iter().enumerate().take(k) {
             if i > 0 {
                 a.set(i, i - 1, 1.0);
             }
-            a.set(i, k - 1, -alpha[i]);
-            b.set(i, 0, beta(i) - alpha[i] * q);
+            a.set(i, k - 1, -alpha_i);
+            b.set(i, 0, beta(i) - alpha_i * q);
         }
         if k > 0 {
             c.set(0, k - 1, 1.0);

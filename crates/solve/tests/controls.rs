@@ -305,3 +305,92 @@ fn linear_eigenvalues_include_the_control_states() {
         assert!((re - want).abs() < 1e-8 && im.abs() < 1e-8, "{ev:?}");
     }
 }
+
+#[test]
+fn plant_matrices_carry_the_control_states() {
+    // A lag 1/(0.25 s + 1) from the plant input VARIABLE/1 to the output VARIABLE/2 =
+    // ARYVAL(Y, 1), beside a free body (6 coordinates, 12 states): the 13th state has
+    // A = −4, B = 4, C = 1, and D = 0. PINVAL and POUVAL read the lists.
+    use linkage_solve::stages::linearize::{assemble, state_matrix, OperatingPoint};
+    use linkage_solve::stages::plant::plant;
+    let m = model_of(&format!(
+        "{FREE_BODY}VARIABLE/1, FUNCTION = 0\nARRAY/5, U, VARIABLES = 1\n\
+         ARRAY/6, X\nARRAY/7, Y\n\
+         TFSISO/1, NUMERATOR = 1, DENOMINATOR = 1, 0.25, U = 5, X = 6, Y = 7\n\
+         VARIABLE/2, FUNCTION = ARYVAL(7, 1)\nPINPUT/1, VARIABLES = 1\nPOUTPUT/1, VARIABLES = 2\n\
+         VARIABLE/3, FUNCTION = PINVAL(1, 1) + 2*POUVAL(1, 1)"
+    ));
+    let d = ExpressionDrivers::new(&m).unwrap_or_else(|e| panic!("{e}"));
+    let f = ForceSet::new(&m).unwrap_or_else(|e| panic!("{e}"));
+    let a = Assembled::new(&m, &d, &f, &Tolerances::default());
+    let mut s = a.state().clone();
+    let v = a.velocities();
+    let at = OperatingPoint {
+        state: &s,
+        velocities: &v,
+        multipliers: &[],
+    };
+    let eq = assemble(&m, &a.system, &a.kept, &f, at, true).unwrap_or_else(|e| panic!("{e}"));
+    let sm = state_matrix(&eq).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!((sm.coordinates, sm.controls), (6, 1));
+    let pl = plant(&m, &f, at, &sm, &[1], &[2]).unwrap_or_else(|e| panic!("{e}"));
+    let n = 13;
+    assert!(
+        (sm.a[12 * n + 12] + 4.0).abs() < 1e-12,
+        "{:?}",
+        &sm.a[12 * n..]
+    );
+    assert!((pl.b[12] - 4.0).abs() < 1e-6, "{:?}", pl.b);
+    assert!(pl.b[..12].iter().all(|x| *x == 0.0), "{:?}", pl.b);
+    assert!((pl.c[12] - 1.0).abs() < 1e-6 && pl.c[..12].iter().all(|x| x.abs() < 1e-12));
+    assert!(pl.d[0].abs() < 1e-12, "{:?}", pl.d);
+    s.controls.x[0] = 0.5;
+    let y = f.variable(3, &s, &v).unwrap_or_else(|e| panic!("{e}"));
+    assert!((y - 1.0).abs() < 1e-15, "{y}");
+}
+
+#[test]
+fn a_matrix_file_is_read_relative_to_the_dataset_and_a_missing_one_is_named() {
+    // The LSE oscillator's A from an ADAMSMAT file beside the dataset (CORDER, Fortran
+    // fields without separators): [0 1; −16 0].
+    let dir = std::env::temp_dir().join(format!("linkage-matrix-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap_or_else(|e| panic!("{e}"));
+    let mat = "ADAMSMAT oscillator\n1\nAOSC\nAOSC FULL CORDER 2 2 4 ( 4F7.2 )\n   0.00 -16.00   1.00   0.00\n";
+    std::fs::write(dir.join("a.mat"), mat).unwrap_or_else(|e| panic!("{e}"));
+    let text = format!(
+        "m\n{FREE_BODY}ARRAY/1, X, SIZE = 2\nARRAY/2, IC, SIZE = 2, NUMBERS = 1, 0\n\
+         MATRIX/3, FILE = a.mat, NAME = AOSC\nLSE/1, X = 1, A = 3, IC = 2\nEND\n"
+    );
+    let path = dir.join("m.adm");
+    std::fs::write(&path, &text).unwrap_or_else(|e| panic!("{e}"));
+    let ds = linkage_adm::read_dataset(&path).unwrap_or_else(|e| panic!("{e}"));
+    let m = linkage_model::build_model(&ds)
+        .unwrap_or_else(|e| panic!("{e}"))
+        .model;
+    assert_eq!(
+        m.controls.matrices[0].matrix.values,
+        vec![0.0, 1.0, -16.0, 0.0]
+    );
+    let out = simulate(&m, 1.0, 10, IntegratorMethod::Bdf);
+    let e = worst(&out, |o| (o.state.controls.x[0], (4.0 * o.time).cos()));
+    assert!(e < 2e-3, "error {e:e}");
+    // Without the file: a finding naming it, and the LSE that uses it is refused.
+    std::fs::remove_file(dir.join("a.mat")).unwrap_or_else(|e| panic!("{e}"));
+    let ds = linkage_adm::read_dataset(&path).unwrap_or_else(|e| panic!("{e}"));
+    let found = linkage_solve::coverage::findings(&ds);
+    assert!(
+        found
+            .iter()
+            .any(|f| f.element == "MATRIX/3" && f.detail.contains("'a.mat'")),
+        "{found:?}"
+    );
+    let e = linkage_model::build_model(&ds)
+        .err()
+        .map(|d| d.to_string())
+        .unwrap_or_default();
+    assert!(
+        e.contains("LSE_1: MATRIX_3: the file 'a.mat' cannot be read"),
+        "{e}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}

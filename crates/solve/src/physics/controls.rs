@@ -148,6 +148,10 @@ pub fn read_state(
     }
 }
 
+/// Parses and checks an expression argument of an element (`None`, its diagnostic recorded
+/// by the caller, when it cannot be used).
+pub type ParseArgument<'p> = dyn FnMut(&Located<Function>, &Origin, &str) -> Option<Expr> + 'p;
+
 /// The law of one state element, ready to evaluate.
 #[derive(Clone, Debug)]
 enum Law {
@@ -182,10 +186,7 @@ pub struct ControlSet {
 impl ControlSet {
     /// The state equations of `model`; `parse` parses and checks an expression argument
     /// (`None`, with its diagnostic recorded by the caller, when it cannot be used).
-    pub fn new(
-        model: &Model,
-        parse: &mut dyn FnMut(&Located<Function>, &Origin, &str) -> Option<Expr>,
-    ) -> ControlSet {
+    pub fn new(model: &Model, parse: &mut ParseArgument) -> ControlSet {
         let controls = &model.controls;
         let mut elements = Vec::with_capacity(controls.states.len());
         for e in &controls.states {
