@@ -549,11 +549,50 @@ const SPLINE_ARGS: &[ArgDef] = &[
 
 const DIFF_ARGS: &[ArgDef] = &[
     arg("FUNCTION", Expr),
-    arg("IC", Any),
+    arg("IC", Numbers),
     arg("IMPLICIT", Flag),
     arg("STATIC_HOLD", Flag),
     arg("ROUTINE", Text),
 ];
+
+/// LSE (ADM-ELEMENTS §7).
+const LSE_ARGS: &[ArgDef] = &[
+    arg("X", Numbers),
+    arg("A", Numbers),
+    arg("U", Numbers),
+    arg("B", Numbers),
+    arg("Y", Numbers),
+    arg("C", Numbers),
+    arg("D", Numbers),
+    arg("IC", Numbers),
+    arg("STATIC_HOLD", Flag),
+];
+
+/// TFSISO (ADM-ELEMENTS §9).
+const TFSISO_ARGS: &[ArgDef] = &[
+    arg("NUMERATOR", Numbers),
+    arg("DENOMINATOR", Numbers),
+    arg("U", Numbers),
+    arg("X", Numbers),
+    arg("Y", Numbers),
+    arg("STATIC_HOLD", Flag),
+];
+
+/// MATRIX (ADM-ELEMENTS §11).
+const MATRIX_ARGS: &[ArgDef] = &[
+    arg("FULL", Words),
+    arg("SPARSE", Flag),
+    arg("ROWS", Numbers),
+    arg("COLUMNS", Numbers),
+    arg("I", Numbers),
+    arg("J", Numbers),
+    arg("VALUES", Numbers),
+    arg("FILE", Text),
+    arg("NAME", Words),
+];
+
+/// PINPUT and POUTPUT (ADM-ELEMENTS §12).
+const PLANT_ARGS: &[ArgDef] = &[arg("VARIABLES", Numbers)];
 
 /// Statements whose only special argument is an expression-valued FUNCTION (+ ROUTINE).
 const FUNCTION_ARGS: &[ArgDef] = &[arg("FUNCTION", Expr), arg("ROUTINE", Text)];
@@ -798,7 +837,7 @@ pub(crate) static DATASET_STATEMENTS: &[StatementDef] = &[
     stmt("CURVE", Required, FUNCTION_ARGS, false),
     stmt("CVCV", Required, NO_ARGS, false),
     stmt("DEBUG", Absent, NO_ARGS, false),
-    stmt("DIFF", Required, DIFF_ARGS, false),
+    stmt("DIFF", Required, DIFF_ARGS, true),
     stmt("END", Absent, NO_ARGS, false),
     stmt("ENVIRONMENT", Absent, NO_ARGS, false),
     stmt("EQUILIBRIUM", Absent, EQUILIBRIUM_ARGS, false),
@@ -820,11 +859,11 @@ pub(crate) static DATASET_STATEMENTS: &[StatementDef] = &[
     stmt("JPRIM", Required, JPRIM_ARGS, true),
     stmt("KINEMATICS", Absent, IC_ARGS, false),
     stmt("LIST", Absent, NO_ARGS, false),
-    stmt("LSE", Required, NO_ARGS, false),
+    stmt("LSE", Required, LSE_ARGS, true),
     stmt("LSOLVER", Absent, NO_ARGS, false),
     stmt("MARKER", Required, MARKER_ARGS, true),
     stmt("MATERIAL", Required, MATERIAL_ARGS, true),
-    stmt("MATRIX", Required, FILE_DATA_ARGS, false),
+    stmt("MATRIX", Required, MATRIX_ARGS, true),
     stmt("MFORCE", Required, FUNCTION_ARGS, false),
     stmt("MOTION", Required, MOTION_ARGS, true),
     stmt("MREQUEST", Required, FUNCTION_ARGS, false),
@@ -832,9 +871,9 @@ pub(crate) static DATASET_STATEMENTS: &[StatementDef] = &[
     stmt("NOLIST", Absent, NO_ARGS, false),
     stmt("OUTPUT", Absent, OUTPUT_ARGS, false),
     stmt("PART", Required, PART_ARGS, true),
-    stmt("PINPUT", Required, NO_ARGS, false),
+    stmt("PINPUT", Required, PLANT_ARGS, true),
     stmt("POINT_MASS", Required, POINT_MASS_ARGS, true),
-    stmt("POUTPUT", Required, NO_ARGS, false),
+    stmt("POUTPUT", Required, PLANT_ARGS, true),
     stmt("PREFERENCES", Absent, NO_ARGS, false),
     stmt("PTCV", Required, NO_ARGS, false),
     stmt("REQUEST", Required, REQUEST_ARGS, true),
@@ -846,7 +885,7 @@ pub(crate) static DATASET_STATEMENTS: &[StatementDef] = &[
     stmt("SPRINGDAMPER", Required, SPRINGDAMPER_ARGS, true),
     stmt("STRING", Required, STRING_ARGS, false),
     stmt("SURFACE", Required, FILE_DATA_ARGS, false),
-    stmt("TFSISO", Required, NO_ARGS, false),
+    stmt("TFSISO", Required, TFSISO_ARGS, true),
     stmt("TITLE", Absent, NO_ARGS, false),
     stmt("UCON", Required, FUNCTION_ARGS, false),
     stmt("UNITS", Absent, UNITS_ARGS, true),

@@ -6,6 +6,9 @@
 
 use crate::diagnostic::{Diagnostic, Span};
 use crate::statement::{ExprText, Statement};
+pub use crate::typing::controls::{
+    ControlStatements, Diff, Gse, Lse, Matrix, MatrixData, MatrixOrder, PlantList, Tfsiso,
+};
 use std::sync::Arc;
 
 /// The integrator names of INTEGRATOR (statement and command), of which one is in force.
@@ -95,6 +98,8 @@ pub struct Dataset {
     pub splines: Vec<Spline>,
     /// REQUEST statements (output definitions; ADM-REFERENCE §2.12).
     pub requests: Vec<Request>,
+    /// DIFF, LSE, TFSISO, GSE, MATRIX, PINPUT and POUTPUT (ADM-ELEMENTS §6–§12).
+    pub controls: ControlStatements,
     /// Non-fatal findings (unknown statements, unknown arguments, …).
     pub warnings: Vec<Diagnostic>,
 }
@@ -134,6 +139,7 @@ impl Dataset {
             arrays: Vec::new(),
             splines: Vec::new(),
             requests: Vec::new(),
+            controls: ControlStatements::default(),
             warnings: Vec::new(),
         }
     }

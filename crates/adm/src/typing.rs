@@ -179,6 +179,13 @@ impl Typer {
                 | "ARRAY"
                 | "SPLINE"
                 | "REQUEST"
+                | "DIFF"
+                | "LSE"
+                | "TFSISO"
+                | "GSE"
+                | "MATRIX"
+                | "PINPUT"
+                | "POUTPUT"
         );
         if !typed {
             return;
@@ -259,7 +266,11 @@ impl Typer {
                     self.ds.requests.push(r);
                 }
             }
-            _ => self.force_or_data(st, index),
+            _ => {
+                if !self.control(st, index) {
+                    self.force_or_data(st, index)
+                }
+            }
         }
     }
 
@@ -1059,6 +1070,7 @@ impl Typer {
 
 pub mod fe_part;
 pub mod contact;
+pub(crate) mod controls;
 mod forces;
 pub(crate) mod friction;
 pub mod graphics;

@@ -265,6 +265,10 @@ named_enum! {
         Dif1 => "DIF1",
         /// `ARYVAL(id, n)`: n-th (1-based) value of ARRAY/id.
         Aryval => "ARYVAL",
+        /// `PINVAL(id, n)`: value of the n-th (1-based) VARIABLE of PINPUT/id.
+        Pinval => "PINVAL",
+        /// `POUVAL(id, n)`: value of the n-th (1-based) VARIABLE of POUTPUT/id.
+        Pouval => "POUVAL",
     }
 }
 
@@ -416,7 +420,7 @@ impl Function {
             },
             Function::Measure(m) => (1, m.marker_roles().len()),
             Function::ElementForce(_) => (3, 4),
-            Function::State(StateKind::Aryval) => (2, 2),
+            Function::State(StateKind::Aryval | StateKind::Pinval | StateKind::Pouval) => (2, 2),
             Function::State(_) => (1, 1),
             Function::Orient => (3, 4),
         }

@@ -50,6 +50,20 @@ pub enum StateRef {
         /// 1-based position in the array.
         index: u32,
     },
+    /// `PINVAL(id, index)`: the VARIABLE at position `index` (1-based) of PINPUT/id.
+    Pinval {
+        /// The PINPUT id.
+        id: u32,
+        /// 1-based position in the list.
+        index: u32,
+    },
+    /// `POUVAL(id, index)`: the VARIABLE at position `index` (1-based) of POUTPUT/id.
+    Pouval {
+        /// The POUTPUT id.
+        id: u32,
+        /// 1-based position in the list.
+        index: u32,
+    },
 }
 
 /// What an expression can observe. The solver implements this; the expression crate knows
@@ -162,6 +176,8 @@ pub trait Env {
             StateRef::Dif(_) => "DIF",
             StateRef::Dif1(_) => "DIF1",
             StateRef::Aryval { .. } => "ARYVAL",
+            StateRef::Pinval { .. } => "PINVAL",
+            StateRef::Pouval { .. } => "POUVAL",
         };
         Err(EvalError::unavailable(format!(
             "{name} is not available in this context"

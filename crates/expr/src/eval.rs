@@ -311,14 +311,18 @@ impl<E: Env + ?Sized> Evaluator<'_, E> {
             StateKind::Varval => StateRef::Varval(id),
             StateKind::Dif => StateRef::Dif(id),
             StateKind::Dif1 => StateRef::Dif1(id),
-            StateKind::Aryval => {
+            StateKind::Aryval | StateKind::Pinval | StateKind::Pouval => {
                 let index = self.optional_integer_arg(name, 1, "index", args)?;
                 if index == 0 {
-                    return Err(EvalError::invalid_argument(
-                        "ARYVAL: the index (argument 2) is 1-based and must be at least 1",
-                    ));
+                    return Err(EvalError::invalid_argument(format!(
+                        "{name}: the index (argument 2) is 1-based and must be at least 1"
+                    )));
                 }
-                StateRef::Aryval { id, index }
+                match kind {
+                    StateKind::Aryval => StateRef::Aryval { id, index },
+                    StateKind::Pinval => StateRef::Pinval { id, index },
+                    _ => StateRef::Pouval { id, index },
+                }
             }
         };
         let d = self.env.state(s, N::GRADIENT)?;

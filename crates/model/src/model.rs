@@ -167,6 +167,8 @@ pub struct Model {
     pub sensors: Vec<crate::sensors::Sensor>,
     /// FRICTION elements on joints ([`crate::friction`]).
     pub frictions: Vec<crate::friction::Friction>,
+    /// DIFF, LSE, TFSISO states, MATRIX data and PINPUT/POUTPUT lists.
+    pub controls: crate::controls::Controls,
     /// `IC/` settings (Adams defaults where not given).
     pub ic: crate::settings::IcSettings,
     /// `EQUILIBRIUM/` settings.

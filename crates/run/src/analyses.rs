@@ -491,6 +491,7 @@ pub fn state_matrices(
     let pl = plant::plant(&model, forces, op, &sm, &io.inputs, &io.outputs)
         .map_err(|e| place.failed(e.to_string()))?;
     let f = sm.coordinates;
+    let states = 2 * f + sm.controls;
     let rows = |values: &[f64], cols: usize| -> String {
         if cols == 0 {
             return String::new();
@@ -508,9 +509,9 @@ pub fn state_matrices(
     };
     let name = file.to_string_lossy();
     let files = [
-        ("a", rows(&sm.a, 2 * f)),
+        ("a", rows(&sm.a, states)),
         ("b", rows(&pl.b, pl.inputs)),
-        ("c", rows(&pl.c, 2 * f)),
+        ("c", rows(&pl.c, states)),
         ("d", rows(&pl.d, pl.inputs)),
         ("st", rows(&sm.basis, f)),
     ];
@@ -522,11 +523,11 @@ pub fn state_matrices(
         })?;
     }
     sinks.msg.write(&format!(
-        " State matrices at time {}: {} states ({f} independent coordinates and their rates), \
-         {} input(s), {} output(s); A, B, C, D in {name}a, {name}b, {name}c, {name}d, the \
-         coordinate basis in {name}st.",
+        " State matrices at time {}: {states} states ({f} independent coordinates and their \
+         rates, {} control states), {} input(s), {} output(s); A, B, C, D in {name}a, {name}b, \
+         {name}c, {name}d, the coordinate basis in {name}st.",
         session.time(),
-        2 * f,
+        sm.controls,
         pl.inputs,
         pl.outputs
     ))

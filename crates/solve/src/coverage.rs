@@ -4,10 +4,11 @@
 //! Every statement kind the dataset language knows is in one of four classes
 //! ([`statement_use`]):
 //! - [`Use::Modelled`]: computed by every analysis that needs it (parts, markers,
-//!   constraints, the force elements linkage writes laws for, data elements, UNITS, ACCGRAV);
+//!   constraints, the force elements linkage writes laws for, data elements, the control
+//!   states of DIFF, LSE and TFSISO with their MATRIX data, UNITS, ACCGRAV);
 //! - [`Use::Settings`]: read by the analyses it is for (EQUILIBRIUM by statics, IC by the
-//!   assembly, INTEGRATOR by dynamics, PINPUT/POUTPUT by LINEAR/STATEMAT in command files), as
-//!   in Adams;
+//!   assembly, INTEGRATOR by dynamics, PINPUT/POUTPUT by LINEAR/STATEMAT in command files and
+//!   by PINVAL/POUVAL), as in Adams;
 //! - [`Use::Bookkeeping`]: no effect on any result (TITLE, END, GRAPHICS, RESULTS, OUTPUT,
 //!   solver diagnostics options, STRING texts for user subroutines);
 //! - [`Use::Named`]: linkage does not model it; every such statement is a [`Finding`].
@@ -104,7 +105,7 @@ pub enum Use {
 }
 
 /// Statement kinds every analysis computes with.
-pub const MODELLED: [&str; 29] = [
+pub const MODELLED: [&str; 33] = [
     "UNITS",
     "ACCGRAV",
     "PART",
@@ -134,6 +135,10 @@ pub const MODELLED: [&str; 29] = [
     "SECTION",
     "MATERIAL",
     "FE_LOAD",
+    "DIFF",
+    "LSE",
+    "TFSISO",
+    "MATRIX",
 ];
 
 /// Statement kinds that hold settings or outputs of some analyses, read by those.
@@ -187,9 +192,10 @@ fn not_modelled(keyword: &str) -> Option<(Reason, &'static str, &'static [Analys
         ),
         "NFORCE" => refused("multi-point force elements are not modelled"),
         "MFORCE" => refused("modal forces are not modelled"),
-        "GSE" | "LSE" | "TFSISO" | "DIFF" => {
-            refused("state equations (GSE, LSE, TFSISO, DIFF) are not modelled")
-        }
+        "GSE" => refused(
+            "a GSE's equations are USER subroutines (GSE_DERIV, GSE_OUTPUT, GSE_UPDATE), which \
+             linkage cannot run; DIFF, LSE and TFSISO are the state equations it models",
+        ),
         "PTCV" | "CVCV" => refused(
             "curve constraints (PTCV, CVCV) are not modelled; verify's DOF count leaves them out",
         ),
@@ -202,7 +208,6 @@ fn not_modelled(keyword: &str) -> Option<(Reason, &'static str, &'static [Analys
             QUASI_STATIC,
         )),
         "CURVE" => unused("curve data, read only by PTCV, CVCV and CURVE(), which linkage does not model"),
-        "MATRIX" => unused("matrix data, read only by LSE, GSE, CURVE, NFORCE and FLEX_BODY, which linkage does not model"),
         "SURFACE" => unused("surface data is not read (CONTACT geometries are GRAPHICS)"),
         "FEMDATA" => unused("finite-element output requests are not written"),
         "MREQUEST" => unused("multiple requests are not written (REQUEST is)"),
@@ -347,7 +352,7 @@ pub fn findings(ds: &Dataset) -> Vec<Finding> {
             .filter(|(f, _)| !file_exists(&ds.file, f))
             .collect();
         if use_ == Use::Named {
-            let (reason, why, refused) = match not_modelled(&st.keyword) {
+            let (mut reason, why, refused) = match not_modelled(&st.keyword) {
                 Some(n) => n,
                 None if !st.known => (
                     Reason::NotUsed,
@@ -377,6 +382,9 @@ pub fn findings(ds: &Dataset) -> Vec<Finding> {
             }
             if let Some((key, _)) = &user {
                 detail.push_str(&format!("; its {key} calls a USER subroutine"));
+                if st.keyword == "GSE" {
+                    reason = Reason::UserSubroutine;
+                }
             }
             for (f, _) in &missing {
                 detail.push_str(&format!("; its file '{f}' does not exist"));
@@ -408,6 +416,18 @@ pub fn findings(ds: &Dataset) -> Vec<Finding> {
         }
         for (f, span) in named_files(st) {
             let exists = !missing.iter().any(|(m, _)| *m == f);
+            if st.keyword == "MATRIX" {
+                // linkage reads MATRIX files (ADAMSMAT); a missing one is named, and an LSE
+                // that uses the matrix is refused when the model is built.
+                if !exists {
+                    let detail = format!(
+                        "the file '{f}' it names does not exist (an LSE that uses the matrix is \
+                         refused)"
+                    );
+                    out.push(finding(span, Reason::ExternalFileMissing, detail, &[]));
+                }
+                continue;
+            }
             let (reason, detail) = if exists {
                 (
                     Reason::NotModelled,
@@ -502,11 +522,34 @@ mod tests {
     }
 
     #[test]
+    fn control_elements_are_modelled_and_a_user_gse_is_named_as_such() {
+        let ds = dataset(
+            "PART/1, GROUND\nDIFF/1, FUNCTION = -DIF(1)\n\
+             MATRIX/2, FULL = RORDER, ROWS = 1, COLUMNS = 1, VALUES = -1\n\
+             ARRAY/3, X\nLSE/4, X = 3, A = 2\n\
+             GSE/5, NO = 1, FUNCTION = USER(1)",
+        );
+        let f = findings(&ds);
+        assert_eq!(f.len(), 1, "{f:?}");
+        assert_eq!(
+            (f[0].element.as_str(), f[0].reason),
+            ("GSE/5", Reason::UserSubroutine)
+        );
+        assert!(f[0].refuses(Analysis::Simulate) && f[0].refuses(Analysis::Linear));
+    }
+
+    #[test]
     fn a_missing_file_is_named() {
         let ds = dataset("MATRIX/1, FILE = surely_not_here.mtx\nSPLINE/2, FILE = nor_here.csv");
         let f = findings(&ds);
         assert_eq!(f.len(), 2);
-        assert!(f[0].detail.contains("does not exist"), "{:?}", f[0]);
+        assert!(
+            f[0].detail
+                .contains("'surely_not_here.mtx' it names does not exist"),
+            "{:?}",
+            f[0]
+        );
+        assert_eq!(f[0].reason, Reason::ExternalFileMissing);
         assert_eq!(f[1].reason, Reason::ExternalFileMissing);
     }
 }

@@ -153,7 +153,13 @@ impl<'m> Assembled<'m> {
         time: f64,
     ) -> Assembled<'m> {
         let system = System::new(model);
-        let ic = initial_conditions_at(model, &system, drivers, forces, tol, time);
+        let mut ic = initial_conditions_at(model, &system, drivers, forces, tol, time);
+        // The control states' rates consistent with their equations at the initial
+        // conditions (a law that cannot be evaluated is reported by the analysis that needs
+        // it).
+        let v = ic.velocity.as_ref().map(|v| v.velocities.clone());
+        let v = v.unwrap_or_else(|| vec![(DVec3::ZERO, DVec3::ZERO); model.parts.len()]);
+        let _ = crate::physics::controls::consistent_rates(forces, &mut ic.assembly.state, &v);
         let (kept, removed) = ic.kept_and_removed_rows();
         let anchored = drivers.anchored(&system, &kept, &ic.assembly.state);
         let failure = NotAssembled::judge(model, &ic);

@@ -10,11 +10,34 @@ pub struct Pose {
     pub r: DMat3,
 }
 
-/// Positions of every moving part, and the time.
+/// Positions of every moving part, the control states and the time.
 #[derive(Clone, Debug, PartialEq)]
 pub struct State {
     pub poses: Vec<Pose>,
     pub time: f64,
+    /// The first-order states of DIFF, LSE and TFSISO elements and their rates
+    /// (`linkage_model::controls`; empty without them).
+    pub controls: ControlValues,
+}
+
+/// Values `x` of the control states and their rates `ẋ` (the layout of
+/// [`linkage_model::controls::Controls`]).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct ControlValues {
+    pub x: Vec<f64>,
+    pub xdot: Vec<f64>,
+}
+
+impl ControlValues {
+    /// Number of control states.
+    pub fn len(&self) -> usize {
+        self.x.len()
+    }
+
+    /// Whether there are none.
+    pub fn is_empty(&self) -> bool {
+        self.x.is_empty()
+    }
 }
 
 impl State {
@@ -30,6 +53,10 @@ impl State {
                 })
                 .collect(),
             time: 0.0,
+            controls: {
+                let (x, xdot) = model.controls.initial();
+                ControlValues { x, xdot }
+            },
         }
     }
 

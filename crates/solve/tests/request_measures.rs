@@ -103,6 +103,7 @@ fn output(m: &Model) -> Output {
         state: State {
             poses: vec![part2, part3],
             time: 0.0,
+            controls: Default::default(),
         },
         velocities: vec![(DVec3::ZERO, DVec3::ZERO); 2],
         accelerations: vec![(DVec3::ZERO, DVec3::ZERO); 2],

@@ -96,6 +96,8 @@ impl Env for MockEnv {
             StateRef::Dif(id) => Ok(self.smooth(id, 2, 3, 2.0)),
             StateRef::Dif1(id) => Ok(self.smooth(id, 3, 4, 3.0)),
             StateRef::Aryval { id, index } => Ok(self.smooth(id, index, 5, 4.0)),
+            StateRef::Pinval { id, index } => Ok(self.smooth(id, index, 6, 5.0)),
+            StateRef::Pouval { id, index } => Ok(self.smooth(id, index, 7, 6.0)),
         }
     }
     fn spline(&self, id: u32) -> Option<&SplineData> {

@@ -11,6 +11,7 @@
 
 mod contacts;
 mod context;
+mod controls;
 mod couplings;
 mod data;
 pub mod fe_parts;
@@ -89,6 +90,7 @@ pub fn build_model(ds: &Dataset) -> Result<Built, Diagnostics> {
     let data = data::data_elements(ds, &mut cx);
     let sensors = sensors::sensors(ds, &mut cx);
     let frictions = friction::frictions(ds, &constraints, &parts, &markers, &mut cx);
+    let controls = controls::controls(ds, &data.variables, &data.arrays, &mut cx);
     point_masses::check_translational_use(&parts, &markers, &constraints, &forces, &mut cx);
     point_masses::hold_rotations(&parts, &mut markers, &mut constraints);
     if !cx.errors.is_empty() {
@@ -111,6 +113,7 @@ pub fn build_model(ds: &Dataset) -> Result<Built, Diagnostics> {
         splines: data.splines,
         sensors,
         frictions,
+        controls,
         characteristic_length: 1.0,
         ic,
         equilibrium,

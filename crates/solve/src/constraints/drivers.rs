@@ -229,7 +229,17 @@ impl ExpressionDrivers {
                     ));
                     functions.push(None);
                 }
-                Ok(e) => functions.push(Some((e, *level, *icdisp))),
+                Ok(e) => match super::motion_data::inline_data(model, &e) {
+                    Ok(e) => functions.push(Some((e, *level, *icdisp))),
+                    Err(why) => {
+                        errors.push(Diagnostic::error(
+                            model.file.clone(),
+                            Some(f.span),
+                            format!("{}: FUNCTION: {why}", c.origin.name),
+                        ));
+                        functions.push(None);
+                    }
+                },
                 Err(pe) => {
                     errors.push(Diagnostic::error(
                         model.file.clone(),

@@ -4,6 +4,7 @@
 pub mod drivers;
 pub mod graph;
 pub mod hessian;
+pub mod motion_data;
 pub mod rank;
 pub mod rows;
 pub mod system;

@@ -87,6 +87,49 @@ pub trait AppliedForces {
     fn friction_values(&self, _s: &State, _v: &Velocities) -> Vec<FrictionValue> {
         Vec::new()
     }
+
+    /// Number of control states (DIFF, LSE, TFSISO) whose equations this set evaluates
+    /// ([`crate::physics::controls`]); 0 by default.
+    fn control_count(&self) -> usize {
+        0
+    }
+
+    /// The control states' residuals `r(q, v, x, ẋ, t)` at `s` (states in `s.controls`),
+    /// `v` into `out` (length [`Self::control_count`]).
+    fn control_residuals(
+        &self,
+        s: &State,
+        v: &Velocities,
+        out: &mut [f64],
+    ) -> Result<(), ForceError> {
+        let _ = (s, v, out);
+        Ok(())
+    }
+
+    /// `∂r/∂(q, v, x, ẋ)` as `(state, variable, value)` triplets, variables numbered as in
+    /// [`crate::physics::controls`] (`6n` positions, `6n` velocities, `nx` states, `nx`
+    /// rates).
+    fn control_jacobian(
+        &self,
+        s: &State,
+        v: &Velocities,
+        out: &mut Vec<(usize, usize, f64)>,
+    ) -> Result<(), ForceError> {
+        let _ = (s, v, out);
+        Ok(())
+    }
+
+    /// `∂Q/∂x` and `∂Q/∂ẋ` as `(row of Q, column, value)` triplets, column `i` for state i
+    /// and `nx + i` for its rate.
+    fn add_control_force_jacobian(
+        &self,
+        s: &State,
+        v: &Velocities,
+        out: &mut Vec<(usize, usize, f64)>,
+    ) -> Result<(), ForceError> {
+        let _ = (s, v, out);
+        Ok(())
+    }
 }
 
 /// No applied forces (models without force elements).

@@ -47,6 +47,7 @@ pub mod vector;
 use crate::constraints::rows::{BodyFrame, Velocities};
 use crate::physics::applied::{AppliedForces, ForceError, LawError};
 use crate::physics::friction::{FrictionSet, FrictionValue};
+use crate::physics::controls::ControlSet;
 use crate::physics::measures::{MarkerFrames, StateEnv};
 use crate::physics::reactions::Reaction;
 use crate::state::State;
@@ -144,6 +145,8 @@ pub struct ForceSet {
     elements: Vec<Element>,
     /// FRICTION on joints, with their state (not among `elements`: their loads need it).
     frictions: FrictionSet,
+    /// The state equations of the DIFF, LSE and TFSISO elements.
+    controls: ControlSet,
     mode: i32,
     tiny_length: f64,
     warnings: Vec<Diagnostic>,
@@ -172,6 +175,9 @@ enum DataRef {
     Variable(u32),
     Array(u32),
     Spline(u32),
+    Diff(u32),
+    Pinput(u32),
+    Poutput(u32),
 }
 
 fn literal_id(e: Option<&Expr>) -> Option<u32> {
@@ -192,6 +198,15 @@ fn data_refs(e: &Expr) -> Vec<DataRef> {
             let r = match func {
                 linkage_expr::Function::State(StateKind::Varval) => {
                     literal_id(args.first()).map(DataRef::Variable)
+                }
+                linkage_expr::Function::State(StateKind::Dif | StateKind::Dif1) => {
+                    literal_id(args.first()).map(DataRef::Diff)
+                }
+                linkage_expr::Function::State(StateKind::Pinval) => {
+                    literal_id(args.first()).map(DataRef::Pinput)
+                }
+                linkage_expr::Function::State(StateKind::Pouval) => {
+                    literal_id(args.first()).map(DataRef::Poutput)
                 }
                 linkage_expr::Function::State(StateKind::Aryval) => {
                     literal_id(args.first()).map(DataRef::Array)
@@ -255,16 +270,35 @@ fn reachable(data: &DataElements, e: &Expr) -> Result<Vec<u32>, RefProblem> {
                         "ARYVAL({id}, …): ARRAY/{id} does not exist"
                     )))
                 }
-                Some(ArrayData::States) => {
+                Some(ArrayData::Unowned) => {
                     return Err(RefProblem::Message(format!(
-                        "ARRAY/{id} holds states of an LSE/GSE/TFSISO, which linkage does not model"
+                        "ARRAY/{id} is an X or Y array that no LSE or TFSISO uses (a GSE's \
+                         arrays are filled by USER subroutines, which linkage cannot run)"
                     )))
                 }
                 Some(ArrayData::Variables(v)) => {
                     todo.extend(v.iter().map(|&id| DataRef::Variable(id)))
                 }
-                Some(ArrayData::Numbers(_)) => {}
+                Some(ArrayData::Outputs(map)) => {
+                    todo.extend(map.inputs.iter().map(|&id| DataRef::Variable(id)))
+                }
+                Some(ArrayData::Numbers(_) | ArrayData::States { .. }) => {}
             },
+            DataRef::Diff(id) => {
+                if !data.diffs.contains_key(&id) {
+                    return Err(RefProblem::Message(format!("DIFF/{id} does not exist")));
+                }
+            }
+            DataRef::Pinput(id) | DataRef::Poutput(id) => {
+                let (kind, list) = match r {
+                    DataRef::Pinput(_) => ("PINPUT", data.pinputs.get(&id)),
+                    _ => ("POUTPUT", data.poutputs.get(&id)),
+                };
+                match list {
+                    None => return Err(RefProblem::Message(format!("{kind}/{id} does not exist"))),
+                    Some(v) => todo.extend(v.iter().map(|&id| DataRef::Variable(id))),
+                }
+            }
             DataRef::Spline(id) => {
                 if let Some(why) = data.unsupported_splines.get(&id) {
                     return Err(RefProblem::Message(why.clone()));
@@ -505,6 +539,35 @@ impl ForceSet {
             }
         }
         b.fe_elements(&mut elements);
+        let controls = ControlSet::new(model, &mut |f, origin, what| b.expr(f, origin, what));
+        // The inputs of linear state elements are used too.
+        for e in &model.controls.states {
+            if let linkage_model::controls::StateLaw::Linear(l) = &e.law {
+                for &k in &l.inputs {
+                    let Ok(id) = u32::try_from(model.variables[k].origin.id) else {
+                        continue;
+                    };
+                    match reachable(
+                        &data,
+                        &Expr::Call {
+                            func: linkage_expr::Function::State(StateKind::Varval),
+                            args: vec![Expr::Number(f64::from(id))],
+                        },
+                    ) {
+                        Ok(vars) => b.used.extend(vars),
+                        Err(RefProblem::Message(why)) => b.errors.push(Diagnostic::error(
+                            model.file.clone(),
+                            Some(e.origin.span),
+                            format!("{}: input: {why}", label(&e.origin)),
+                        )),
+                        Err(RefProblem::Located(d)) => {
+                            let message = format!("{} (used by {})", d.message, label(&e.origin));
+                            b.errors.push(Diagnostic { message, ..d });
+                        }
+                    }
+                }
+            }
+        }
         errors.append(&mut b.errors);
         if !errors.is_empty() {
             errors.sort_by_key(|d| d.span);
@@ -529,6 +592,7 @@ impl ForceSet {
             data,
             elements,
             frictions: FrictionSet::new(model),
+            controls,
             mode: 0,
             tiny_length: COINCIDENT_POINTS * model.characteristic_length,
             warnings,
@@ -699,8 +763,53 @@ impl AppliedForces for ForceSet {
                     let col = var as usize;
                     if col < n6 {
                         dq.push((row, col, d));
-                    } else if let Some(dv) = dv.as_deref_mut() {
-                        dv.push((row, col - n6, d));
+                    } else if col < 2 * n6 {
+                        if let Some(dv) = dv.as_deref_mut() {
+                            dv.push((row, col - n6, d));
+                        }
+                    }
+                }
+            }
+        })
+    }
+
+    fn control_count(&self) -> usize {
+        self.controls.count()
+    }
+
+    fn control_residuals(
+        &self,
+        s: &State,
+        v: &Velocities,
+        out: &mut [f64],
+    ) -> Result<(), ForceError> {
+        self.controls.residuals(&self.env(s, v), out)
+    }
+
+    fn control_jacobian(
+        &self,
+        s: &State,
+        v: &Velocities,
+        out: &mut Vec<(usize, usize, f64)>,
+    ) -> Result<(), ForceError> {
+        self.controls.jacobian(&self.env(s, v), out)
+    }
+
+    fn add_control_force_jacobian(
+        &self,
+        s: &State,
+        v: &Velocities,
+        out: &mut Vec<(usize, usize, f64)>,
+    ) -> Result<(), ForceError> {
+        if self.controls.count() == 0 {
+            return Ok(());
+        }
+        let n12 = 12 * self.nparts;
+        self.generalised::<Dual>(s, v, |k, q| {
+            for (c, x) in q.iter().enumerate() {
+                for &(var, d) in x.gradient() {
+                    if let Some(col) = (var as usize).checked_sub(n12) {
+                        out.push((6 * k + c, col, d));
                     }
                 }
             }

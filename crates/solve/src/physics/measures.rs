@@ -17,7 +17,7 @@ use crate::constraints::rows::{
     Velocities,
 };
 use crate::physics::forces::algebra::{Kinematics, Real, V3};
-use crate::physics::forces::data::{ArrayData, DataElements};
+use crate::physics::forces::data::DataElements;
 use crate::state::State;
 use glam::{DMat3, DVec3};
 use linkage_expr::{
@@ -328,13 +328,15 @@ impl VariableMemo {
 ///   - `WX/WY/WZ(i,j,k) = e_k·(ω_i − ω_j)`, `WM(i,j) = |ω_i − ω_j|`.
 /// - `TIME` is the state's time, `MODE` the given mode.
 /// - `VARVAL(id)` evaluates VARIABLE/id's expression in this environment (a cycle of VARVAL
-///   references is an error); `ARYVAL(id, n)` reads ARRAY/id; `AKISPL`/`CUBSPL` read the 1-D
-///   SPLINEs.
-/// - Accelerations (ACCX …, WDTX …), generic force measures (FX … TM), element forces
-///   (JOINT(…), SFORCE(…), …) and DIFF states are unavailable (an error naming them).
+///   references is an error); `ARYVAL(id, n)` reads ARRAY/id; `DIF`, `DIF1`, `PINVAL`,
+///   `POUVAL` and the X and Y arrays read the control states
+///   ([`crate::physics::controls::read_state`]); `AKISPL`/`CUBSPL` read the 1-D SPLINEs.
+/// - Accelerations (ACCX …, WDTX …), generic force measures (FX … TM) and element forces
+///   (JOINT(…), SFORCE(…), …) are unavailable (an error naming them).
 ///
-/// Gradient variables: `6k + c` for part k's tangent position coordinate c and
-/// `6n + 6k + c` for its velocity coordinate c (v, then ω), n = number of parts.
+/// Gradient variables: `6k + c` for part k's tangent position coordinate c,
+/// `6n + 6k + c` for its velocity coordinate c (v, then ω), n = number of parts, then the
+/// control states and their rates ([`crate::physics::controls::state_variable`]).
 pub struct StateEnv<'a> {
     pub frames: &'a MarkerFrames,
     pub state: &'a State,
@@ -491,36 +493,9 @@ impl<'a> StateEnv<'a> {
         Ok(d)
     }
 
-    /// `ARYVAL(id, index)`, index 1-based.
-    fn aryval(&self, id: u32, index: u32, gradient: bool) -> Result<Dual, EvalError> {
-        let Some(array) = self.data.arrays.get(&id) else {
-            return Err(EvalError::unknown_reference(format!(
-                "ARRAY/{id} does not exist"
-            )));
-        };
-        let out_of_range = |len: usize| {
-            EvalError::invalid_argument(format!(
-                "ARYVAL({id}, {index}): ARRAY/{id} has {len} values"
-            ))
-        };
-        let Some(k) = (index as usize).checked_sub(1) else {
-            return Err(EvalError::invalid_argument(format!(
-                "ARYVAL({id}, 0): the index is 1-based"
-            )));
-        };
-        match array {
-            ArrayData::Numbers(v) => v
-                .get(k)
-                .map(|x| Dual::constant(*x))
-                .ok_or_else(|| out_of_range(v.len())),
-            ArrayData::Variables(v) => match v.get(k) {
-                Some(var) => self.varval(*var, gradient),
-                None => Err(out_of_range(v.len())),
-            },
-            ArrayData::States => Err(EvalError::unavailable(format!(
-                "ARRAY/{id} holds states of an LSE/GSE/TFSISO, which linkage does not model"
-            ))),
-        }
+    /// `VARVAL(id)` in this environment (what control laws read as inputs).
+    pub fn varval_of(&self, id: u32, gradient: bool) -> Result<Dual, EvalError> {
+        self.varval(id, gradient)
     }
 }
 
@@ -575,13 +550,9 @@ impl Env for StateEnv<'_> {
     }
 
     fn state(&self, state: StateRef, gradient: bool) -> Result<Dual, EvalError> {
-        match state {
-            StateRef::Varval(id) => self.varval(id, gradient),
-            StateRef::Aryval { id, index } => self.aryval(id, index, gradient),
-            StateRef::Dif(id) | StateRef::Dif1(id) => Err(EvalError::unavailable(format!(
-                "DIF/DIF1({id}): DIFF states are not modelled by linkage"
-            ))),
-        }
+        crate::physics::controls::read_state(self.data, self.state, state, gradient, &|id, g| {
+            self.varval(id, g)
+        })
     }
 
     fn spline(&self, id: u32) -> Option<&SplineData> {

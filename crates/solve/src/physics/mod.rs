@@ -2,6 +2,7 @@
 //! REQUEST outputs.
 
 pub mod applied;
+pub mod controls;
 pub mod forces;
 pub mod friction;
 pub mod mass;

@@ -44,7 +44,7 @@
 use crate::constraints::rows::{BodyFrame, RowGradient};
 use crate::constraints::system::System;
 use crate::physics::applied::AppliedForces;
-use crate::physics::forces::data::{ArrayData, DataElements};
+use crate::physics::forces::data::DataElements;
 use crate::physics::forces::ForceSet;
 use crate::physics::mass::{ground_inertia, gyroscopic};
 use crate::physics::measures::{MarkerFrames, StateEnv};
@@ -827,39 +827,13 @@ impl Env for OutputEnv<'_> {
     }
 
     fn state(&self, state: StateRef, _gradient: bool) -> Result<Dual, EvalError> {
-        match state {
-            StateRef::Varval(id) => self.varval(id).map(Dual::constant),
-            StateRef::Aryval { id, index } => {
-                let array = self.set.data.arrays.get(&id).ok_or_else(|| {
-                    EvalError::unknown_reference(format!("ARRAY/{id} does not exist"))
-                })?;
-                let out_of_range = |len: usize| {
-                    EvalError::invalid_argument(format!(
-                        "ARYVAL({id}, {index}): ARRAY/{id} has {len} values"
-                    ))
-                };
-                let k = (index as usize).checked_sub(1).ok_or_else(|| {
-                    EvalError::invalid_argument(format!("ARYVAL({id}, 0): the index is 1-based"))
-                })?;
-                match array {
-                    ArrayData::Numbers(v) => v
-                        .get(k)
-                        .map(|x| Dual::constant(*x))
-                        .ok_or_else(|| out_of_range(v.len())),
-                    ArrayData::Variables(v) => match v.get(k) {
-                        Some(var) => self.varval(*var).map(Dual::constant),
-                        None => Err(out_of_range(v.len())),
-                    },
-                    ArrayData::States => Err(EvalError::unavailable(format!(
-                        "ARRAY/{id} holds states of an LSE/GSE/TFSISO, which linkage does not \
-                         model"
-                    ))),
-                }
-            }
-            StateRef::Dif(id) | StateRef::Dif1(id) => Err(EvalError::unavailable(format!(
-                "DIF/DIF1({id}): DIFF states are not modelled by linkage"
-            ))),
-        }
+        crate::physics::controls::read_state(
+            &self.set.data,
+            &self.output.state,
+            state,
+            false,
+            &|id, _| self.varval(id).map(Dual::constant),
+        )
     }
 
     fn spline(&self, id: u32) -> Option<&SplineData> {

@@ -25,6 +25,12 @@
 //! [`DENSE_MAX_COORDINATES`] coordinates, and otherwise computes the [`DEFAULT_MODES`] lowest
 //! modes by shift-invert. Massless parts get a small mass and inertia sized from the model
 //! ([`crate::physics::mass::MasslessSubstitute`]), as Adams does.
+//!
+//! Control states (DIFF, LSE, TFSISO; [`ControlEquations`]) join the first-order form as
+//! states after `[z; ż]`: their equations `r(q, v, x, ẋ) = 0` give
+//! `δẋ = F_q δq + F_v δv + F_x δx` with `F_• = −(∂r/∂ẋ)⁻¹ ∂r/∂•`, and they act on the
+//! mechanics through `G = UCF·(∂Q/∂x + ∂Q/∂ẋ F_x)` (with `∂Q/∂ẋ F_q`, `∂Q/∂ẋ F_v` in K and C).
+//! A model with control states is solved densely whatever the method asked.
 
 use crate::constraints::hessian::HessianBlocks;
 use crate::constraints::rows::{RowGradient, Velocities};
@@ -157,6 +163,92 @@ pub enum LinearizeError {
     /// The dense eigen decomposition failed (the solver's message).
     #[error("the eigen solution failed: {0}")]
     DenseEigen(String),
+    /// `∂r/∂ẋ` of the control states cannot be inverted (an IMPLICIT DIFF that is an
+    /// algebraic equation has no rate of its own).
+    #[error(
+        "the control states' equations do not determine their rates (∂r/∂ẋ is singular: an \
+         IMPLICIT DIFF without DIF1 of its own state is an algebraic equation, which \
+         linearization does not reduce)"
+    )]
+    SingularStateRates,
+}
+
+/// The control states' part of the linear equations (module docs), dense and row-major, in
+/// the scaled coordinates of [`LinearEquations`].
+#[derive(Clone, Debug, PartialEq)]
+pub struct ControlEquations {
+    /// Number of control states nx.
+    pub count: usize,
+    /// `∂r/∂q̂`, `∂r/∂v̂` (nx × 6n), `∂r/∂x`, `∂r/∂ẋ` (nx × nx).
+    pub rq: Vec<f64>,
+    pub rv: Vec<f64>,
+    pub rx: Vec<f64>,
+    pub rxd: Vec<f64>,
+    /// `UCF·s_i·∂Q_i/∂x` and `UCF·s_i·∂Q_i/∂ẋ` (6n × nx).
+    pub qx: Vec<f64>,
+    pub qxd: Vec<f64>,
+}
+
+impl ControlEquations {
+    /// The control states' equations of `forces` at `(s, v)`: Jacobians in the scaled
+    /// coordinates (`scale` of each of the 6n coordinates).
+    fn of(
+        forces: &dyn AppliedForces,
+        s: &State,
+        v: &Velocities,
+        ucf: f64,
+        scale: impl Fn(usize) -> f64,
+    ) -> Result<Option<ControlEquations>, ForceError> {
+        let nx = forces.control_count();
+        if nx == 0 {
+            return Ok(None);
+        }
+        let n6 = 6 * s.poses.len();
+        let mut c = ControlEquations {
+            count: nx,
+            rq: vec![0.0; nx * n6],
+            rv: vec![0.0; nx * n6],
+            rx: vec![0.0; nx * nx],
+            rxd: vec![0.0; nx * nx],
+            qx: vec![0.0; n6 * nx],
+            qxd: vec![0.0; n6 * nx],
+        };
+        let mut t = Vec::new();
+        forces.control_jacobian(s, v, &mut t)?;
+        for &(i, var, d) in &t {
+            match var {
+                j if j < n6 => c.rq[i * n6 + j] += d * scale(j),
+                j if j < 2 * n6 => c.rv[i * n6 + j - n6] += d * scale(j - n6),
+                j if j < 2 * n6 + nx => c.rx[i * nx + j - 2 * n6] += d,
+                j => c.rxd[i * nx + j - 2 * n6 - nx] += d,
+            }
+        }
+        t.clear();
+        forces.add_control_force_jacobian(s, v, &mut t)?;
+        for &(row, col, d) in &t {
+            let x = ucf * scale(row) * d;
+            if col < nx {
+                c.qx[row * nx + col] += x;
+            } else {
+                c.qxd[row * nx + col - nx] += x;
+            }
+        }
+        Ok(Some(c))
+    }
+
+    /// `(F_q, F_v, F_x)` (dense) and `−(∂r/∂ẋ)⁻¹`.
+    fn rates(&self, n6: usize) -> Result<[Mat<f64>; 4], LinearizeError> {
+        let nx = self.count;
+        let rxd = Mat::<f64>::from_fn(nx, nx, |i, j| self.rxd[i * nx + j]);
+        let inv = -rxd.partial_piv_lu().inverse();
+        if (0..nx).any(|i| (0..nx).any(|j| !inv[(i, j)].is_finite())) {
+            return Err(LinearizeError::SingularStateRates);
+        }
+        let rq = Mat::<f64>::from_fn(nx, n6, |i, j| self.rq[i * n6 + j]);
+        let rv = Mat::<f64>::from_fn(nx, n6, |i, j| self.rv[i * n6 + j]);
+        let rx = Mat::<f64>::from_fn(nx, nx, |i, j| self.rx[i * nx + j]);
+        Ok([&inv * &rq, &inv * &rv, &inv * &rx, inv])
+    }
 }
 
 /// The operating point of a linearization: positions, velocities, and the constraint
@@ -193,6 +285,8 @@ pub struct LinearEquations {
     pub characteristic_length: f64,
     /// Parts given a small artificial mass.
     pub massless_parts: usize,
+    /// The control states' equations (`None` without control states).
+    pub controls: Option<ControlEquations>,
 }
 
 impl LinearEquations {
@@ -302,6 +396,7 @@ pub fn assemble(
         sys.gradient(r, s, &mut g);
         jacobian_entries(&mut jac, k, &g, scale, Zeros::Keep);
     }
+    let controls = ControlEquations::of(forces, s, v, ucf, sc)?;
     Ok(LinearEquations {
         coordinates: 6 * model.parts.len(),
         mass: m,
@@ -311,6 +406,7 @@ pub fn assemble(
         constraints: rows.len(),
         characteristic_length: l,
         massless_parts,
+        controls,
     })
 }
 
@@ -328,6 +424,7 @@ pub fn linearize(
     let dof = eq.coordinates.saturating_sub(eq.constraints);
     match opts.method {
         EigenMethod::Dense => solve_dense(&eq, opts.vectors),
+        _ if eq.controls.is_some() => solve_dense(&eq, opts.vectors),
         EigenMethod::Auto if dof <= DENSE_MAX_DOF && eq.coordinates <= DENSE_MAX_COORDINATES => {
             solve_dense(&eq, opts.vectors)
         }
@@ -406,50 +503,92 @@ fn expected_zeros(free: usize, pc: &Mat<f64>) -> usize {
     (2 * free).saturating_sub(damped)
 }
 
-/// `(A, K_r, C_r)` of [`first_order`].
-type FirstOrder = (Mat<f64>, Mat<f64>, Mat<f64>);
+/// `(A, K_r, C_r, F_x)` of [`first_order`] (`F_x` empty without control states).
+type FirstOrder = (Mat<f64>, Mat<f64>, Mat<f64>, Mat<f64>);
 
-/// The first-order form `ẋ = A x` of `M q̈ + C q̇ + K q = 0` reduced to the null space `nb`
-/// of J (`q = N z`, `x = [z; ż]`): `A = [0, I; −M_r⁻¹K_r, −M_r⁻¹C_r]` with `M_r = NᵀMN`, …;
-/// also returns `K_r` and `C_r`.
+/// The first-order form `ẋ = A x` of `M q̈ + C q̇ + K q = G x_c` reduced to the null space `nb`
+/// of J (`q = N z`, states `[z; ż; x_c]`):
+/// `A = [0, I, 0; −M_r⁻¹K_r, −M_r⁻¹C_r, M_r⁻¹NᵀG; F_q N, F_v N, F_x]` with `M_r = NᵀMN`, …
+/// (module docs for the control states' blocks); also returns `K_r`, `C_r` and `F_x`.
 fn first_order(
     m: &Mat<f64>,
     kmat: &Mat<f64>,
     cmat: &Mat<f64>,
     nb: &Mat<f64>,
+    controls: Option<&ControlEquations>,
 ) -> Result<FirstOrder, LinearizeError> {
     let f = nb.ncols();
+    let n6 = nb.nrows();
+    let nx = controls.map_or(0, |c| c.count);
+    let mut kmat = kmat.clone();
+    let mut cmat = cmat.clone();
+    let mut g = Mat::<f64>::zeros(n6, nx);
+    let mut rates = None;
+    if let Some(c) = controls {
+        let [fq, fv, fx, _] = c.rates(n6)?;
+        let qx = Mat::<f64>::from_fn(n6, nx, |i, j| c.qx[i * nx + j]);
+        let qxd = Mat::<f64>::from_fn(n6, nx, |i, j| c.qxd[i * nx + j]);
+        // M q̈ = F̂ − C q̇ − K q: the forces' dependence on the rates through F_q, F_v.
+        kmat -= &qxd * &fq;
+        cmat -= &qxd * &fv;
+        g = &qx + &qxd * &fx;
+        rates = Some((&fq * nb, &fv * nb, fx));
+    }
     let mr = nb.transpose() * m * nb;
-    let kr = nb.transpose() * kmat * nb;
-    let cr = nb.transpose() * cmat * nb;
+    let kr = nb.transpose() * &kmat * nb;
+    let cr = nb.transpose() * &cmat * nb;
     let lu = mr.partial_piv_lu();
     let minv = lu.inverse();
     let mk = &minv * &kr;
     let mc = &minv * &cr;
-    let mut a = Mat::<f64>::zeros(2 * f, 2 * f);
+    let mg = &minv * nb.transpose() * &g;
+    let dim = 2 * f + nx;
+    let mut a = Mat::<f64>::zeros(dim, dim);
     for i in 0..f {
         a[(i, f + i)] = 1.0;
         for j in 0..f {
             a[(f + i, j)] = -mk[(i, j)];
             a[(f + i, f + j)] = -mc[(i, j)];
         }
+        for j in 0..nx {
+            a[(f + i, 2 * f + j)] = mg[(i, j)];
+        }
     }
-    if (0..2 * f).any(|i| (0..2 * f).any(|j| !a[(i, j)].is_finite())) {
+    let mut fx_out = Mat::<f64>::zeros(nx, nx);
+    if let Some((fqn, fvn, fx)) = rates {
+        for i in 0..nx {
+            for j in 0..f {
+                a[(2 * f + i, j)] = fqn[(i, j)];
+                a[(2 * f + i, f + j)] = fvn[(i, j)];
+            }
+            for j in 0..nx {
+                a[(2 * f + i, 2 * f + j)] = fx[(i, j)];
+            }
+        }
+        fx_out = fx;
+    }
+    if (0..dim).any(|i| (0..dim).any(|j| !a[(i, j)].is_finite())) {
         return Err(LinearizeError::SingularReducedMass);
     }
-    Ok((a, kr, cr))
+    Ok((a, kr, cr, fx_out))
 }
 
-/// The state matrix of a linearization: `ẋ = A x` with the states `x = [z; ż]`, where the
-/// `f` independent coordinates `z` move the parts by `q = N z` (N: an orthonormal basis of
+/// The state matrix of a linearization: `ẋ = A x` with the states `x = [z; ż; x_c]`, where
+/// the `f` independent coordinates `z` move the parts by `q = N z` (N: an orthonormal basis of
 /// the null space of the constraint Jacobian at the operating point; `q` the 6 coordinates
-/// per part of [`LinearEquations`], translations in characteristic lengths L).
+/// per part of [`LinearEquations`], translations in characteristic lengths L), and `x_c` are
+/// the control states (DIFF, LSE, TFSISO, in the model's order).
 #[derive(Clone, Debug, PartialEq)]
 pub struct StateMatrix {
-    /// `2f × 2f`, row-major.
+    /// `(2f + nx) × (2f + nx)`, row-major.
     pub a: Vec<f64>,
     /// `f`.
     pub coordinates: usize,
+    /// `nx`, the control states.
+    pub controls: usize,
+    /// `−(∂r/∂ẋ)⁻¹` (nx × nx, row-major): the control rates a change `δr` of their equations'
+    /// residuals gives.
+    pub rate_map: Vec<f64>,
     /// `N` (`6·parts × f`, row-major), with translation rows in model length units (times L).
     pub basis: Vec<f64>,
     /// `M_r⁻¹ Nᵀ` (`f × 6·parts`, row-major): the accelerations `z̈` a generalised force
@@ -488,16 +627,28 @@ pub fn state_matrix(eq: &LinearEquations) -> Result<StateMatrix, LinearizeError>
         nb,
     } = DenseEquations::of(eq);
     let f = nb.ncols();
-    let (a, _, _) = first_order(&m, &kmat, &cmat, &nb)?;
+    let (a, _, _, _) = first_order(&m, &kmat, &cmat, &nb, eq.controls.as_ref())?;
+    let states = a.nrows();
     let mr = nb.transpose() * &m * &nb;
     let map = mr.partial_piv_lu().inverse() * nb.transpose();
+    let (controls, rate_map) = match &eq.controls {
+        Some(c) => {
+            let [_, _, _, inv] = c.rates(dim)?;
+            let nx = c.count;
+            let flat = (0..nx * nx).map(|k| inv[(k / nx, k % nx)]).collect();
+            (nx, flat)
+        }
+        None => (0, Vec::new()),
+    };
     Ok(StateMatrix {
+        controls,
+        rate_map,
         force_map: (0..f)
             .flat_map(|i| (0..dim).map(move |j| (i, j)))
             .map(|(i, j)| map[(i, j)])
             .collect(),
-        a: (0..2 * f)
-            .flat_map(|i| (0..2 * f).map(move |j| (i, j)))
+        a: (0..states)
+            .flat_map(|i| (0..states).map(move |j| (i, j)))
             .map(|(i, j)| a[(i, j)])
             .collect(),
         coordinates: f,
@@ -518,7 +669,7 @@ fn solve_dense(eq: &LinearEquations, vectors: bool) -> Result<Linearization, Lin
         nb,
     } = DenseEquations::of(eq);
     let f = nb.ncols();
-    if f == 0 {
+    if f == 0 && eq.controls.is_none() {
         return Ok(Linearization {
             dof: 0,
             modes: Vec::new(),
@@ -529,13 +680,14 @@ fn solve_dense(eq: &LinearEquations, vectors: bool) -> Result<Linearization, Lin
             solution: Solution::Dense,
         });
     }
-    let (a, kr, cr) = first_order(&m, &kmat, &cmat, &nb)?;
+    let (a, kr, cr, fx) = first_order(&m, &kmat, &cmat, &nb, eq.controls.as_ref())?;
+    let states = a.nrows();
     let eig = a
         .eigen()
         .map_err(|e| LinearizeError::DenseEigen(format!("{e:?}")))?;
     let vals = eig.S();
     let vecs = eig.U();
-    let lmax = (0..2 * f)
+    let lmax = (0..states)
         .map(|i| cplx_abs(vals[i].re, vals[i].im))
         .fold(0.0, f64::max);
     let norm_max = |x: &Mat<f64>| {
@@ -546,7 +698,7 @@ fn solve_dense(eq: &LinearEquations, vectors: bool) -> Result<Linearization, Lin
     };
     let (kn, cn, mn) = (norm_max(&kmat), norm_max(&cmat), norm_max(&m));
     let zero_tol = ZERO_EIGENVALUE * frequency_scale(kn, cn, mn);
-    let zero_eigenvalues = (0..2 * f)
+    let zero_eigenvalues = (0..states)
         .filter(|&i| cplx_abs(vals[i].re, vals[i].im) <= zero_tol)
         .count();
     // Free motions without stiffness: the null space of the symmetric part of K_r.
@@ -568,8 +720,19 @@ fn solve_dense(eq: &LinearEquations, vectors: bool) -> Result<Linearization, Lin
         }
         Err(_) => zero_eigenvalues,
     };
+    // Control states without a restoring law of their own (integrators) add theirs.
+    let expected_zero_eigenvalues = expected_zero_eigenvalues
+        + match fx.nrows() {
+            0 => 0,
+            _ => fx.eigen().map_or(0, |e| {
+                let v = e.S();
+                (0..fx.nrows())
+                    .filter(|&i| cplx_abs(v[i].re, v[i].im) <= zero_tol)
+                    .count()
+            }),
+        };
     let mut modes = Vec::new();
-    for i in 0..2 * f {
+    for i in 0..states {
         let (re, im) = (vals[i].re, vals[i].im);
         if im < -REAL_PAIR * lmax.max(1.0) {
             continue;
@@ -594,7 +757,7 @@ fn solve_dense(eq: &LinearEquations, vectors: bool) -> Result<Linearization, Lin
     Ok(Linearization {
         dof: f,
         modes,
-        computed_eigenvalues: 2 * f,
+        computed_eigenvalues: states,
         zero_eigenvalues,
         expected_zero_eigenvalues,
         massless_parts: eq.massless_parts,

@@ -6,8 +6,9 @@
 //!   replaced by the number), so that every force reading it (through `VARVAL`) follows.
 //!   `B = [0; M_r⁻¹ Nᵀ F̂_u]`, where `F̂_u` is the change of the generalised forces per unit of
 //!   `u_k` (in the scaled coordinates of the linear equations, times the UCF).
-//! - An output `y_k` is the value of a VARIABLE at the state: `C = [∂y/∂z, ∂y/∂ż]`, the state
-//!   moved along each column of N; `D = ∂y/∂u`.
+//! - An output `y_k` is the value of a VARIABLE at the state: `C = [∂y/∂z, ∂y/∂ż, ∂y/∂x_c]`,
+//!   the state moved along each column of N (and each control state); `D = ∂y/∂u`.
+//! - Control states follow an input through their equations: rows `−(∂r/∂ẋ)⁻¹ ∂r/∂u` of B.
 //!
 //! Derivatives are central differences with steps [`PLANT_STEP`] (relative to the size of the
 //! input, and per unit of z or ż): exact for the linear laws plant models use, accurate to the
@@ -29,9 +30,9 @@ use linkage_model::Model;
 pub struct Plant {
     pub inputs: usize,
     pub outputs: usize,
-    /// `2f × inputs`.
+    /// `(2f + nx) × inputs`.
     pub b: Vec<f64>,
-    /// `outputs × 2f`.
+    /// `outputs × (2f + nx)`.
     pub c: Vec<f64>,
     /// `outputs × inputs`.
     pub d: Vec<f64>,
@@ -78,7 +79,9 @@ pub fn plant(
     let scale = CoordinateScale::lengths(model.characteristic_length);
     let ucf = model.ucf();
     let (m, p) = (inputs.len(), outputs.len());
-    let mut b = vec![0.0; 2 * f * m];
+    let nx = sm.controls;
+    let states = 2 * f + nx;
+    let mut b = vec![0.0; states * m];
     let mut d = vec![0.0; p * m];
     for (k, &id) in inputs.iter().enumerate() {
         let u0 = value(forces, id, s, v)?;
@@ -95,11 +98,21 @@ pub fn plant(
             let row = &sm.force_map[j * n6..(j + 1) * n6];
             b[(f + j) * m + k] = row.iter().zip(&fhat).map(|(a, x)| a * x).sum();
         }
+        if nx > 0 {
+            let (mut rp, mut rm) = (vec![0.0; nx], vec![0.0; nx]);
+            plus.control_residuals(s, v, &mut rp)?;
+            minus.control_residuals(s, v, &mut rm)?;
+            for i in 0..nx {
+                b[(2 * f + i) * m + k] = (0..nx)
+                    .map(|j| sm.rate_map[i * nx + j] * (rp[j] - rm[j]) / (2.0 * du))
+                    .sum();
+            }
+        }
         for (o, &out) in outputs.iter().enumerate() {
             d[o * m + k] = (value(&plus, out, s, v)? - value(&minus, out, s, v)?) / (2.0 * du);
         }
     }
-    let mut c = vec![0.0; p * 2 * f];
+    let mut c = vec![0.0; p * states];
     let column = |j: usize, k: usize| -> (DVec3, DVec3) {
         let at = |r: usize| sm.basis[r * f + j];
         (
@@ -136,8 +149,20 @@ pub fn plant(
                 (value(forces, out, &sp, v)? - value(forces, out, &sm_, v)?) / (2.0 * PLANT_STEP);
             let dzdot =
                 (value(forces, out, s, &vp)? - value(forces, out, s, &vm)?) / (2.0 * PLANT_STEP);
-            c[o * 2 * f + j] = dz;
-            c[o * 2 * f + f + j] = dzdot;
+            c[o * states + j] = dz;
+            c[o * states + f + j] = dzdot;
+        }
+    }
+    for i in 0..nx {
+        let moved = |sign: f64| {
+            let mut st = s.clone();
+            st.controls.x[i] += sign * PLANT_STEP;
+            st
+        };
+        let (sp, sm_) = (moved(1.0), moved(-1.0));
+        for (o, &out) in outputs.iter().enumerate() {
+            c[o * states + 2 * f + i] =
+                (value(forces, out, &sp, v)? - value(forces, out, &sm_, v)?) / (2.0 * PLANT_STEP);
         }
     }
     Ok(Plant {

@@ -280,6 +280,9 @@ fn equilibrium_once(
     let kinematic = m >= 6 * n;
     let mut w = Workspace::new(&p);
     let mut s = start.clone();
+    // Control states are at rest in an equilibrium.
+    s.controls.xdot.fill(0.0);
+    let nx = p.controls();
     let mut lambda = vec![0.0; m];
     w.initial_multipliers(&p, &s, &mut lambda)?;
     let mut iterations = 0;
@@ -312,6 +315,13 @@ fn equilibrium_once(
                 RowUnit::Length | RowUnit::Mixed => v.abs() <= phi_length,
                 _ => v.abs() <= phi_angle,
             });
+        // The control states' equations to the EQUILIBRIUM ERROR (relative above 1).
+        let states_ok = w
+            .state_residual
+            .iter()
+            .zip(&s.controls.x)
+            .all(|(r, x)| r.abs() <= settings.error * x.abs().max(1.0));
+        let phi_ok = phi_ok && states_ok;
         last_imbalance = imbalance;
         if imbalance_history.len() < imbalance_history.capacity() {
             imbalance_history.push(imbalance);
@@ -403,6 +413,11 @@ fn equilibrium_once(
         }
         for (k, l) in lambda.iter_mut().enumerate() {
             *l += w.rhs[6 * n + k] * scale;
+        }
+        for i in 0..nx {
+            if !p.held(i) {
+                s.controls.x[i] += w.rhs[6 * n + m + i] * scale;
+            }
         }
         if scale < 1.0 || cut {
             // A step cut by TLIMIT/ALIMIT leaves the second-order constraint error of a large

@@ -384,6 +384,7 @@ mod tests {
                 r: DMat3::from_rotation_z(0.4),
             }],
             time: 0.0,
+            controls: Default::default(),
         };
         let v = [(DVec3::new(0.1, 0.2, 0.3), DVec3::new(0.5, -0.4, 0.2))];
         let kin = Kinematics {

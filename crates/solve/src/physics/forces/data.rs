@@ -4,14 +4,17 @@
 //! `VARVAL(id)` evaluates the VARIABLE's expression in the same environment (see
 //! [`crate::physics::measures::StateEnv`]); `ARYVAL(id, n)` is value n (1-based) of an ARRAY: a number
 //! of its `NUMBERS`, or `VARVAL` of the n-th of its `VARIABLES`; `AKISPL`/`CUBSPL` read the
-//! 1-D SPLINEs. VARIABLEs that call `USER(…)` or do not parse, X/Y arrays (states of
-//! LSE/GSE/TFSISO) and 2-D or file splines are kept as "unusable": referencing them from a
+//! 1-D SPLINEs. The X array of an LSE or TFSISO reads its states, the Y array its outputs
+//! `C x + D u`; `DIF`/`DIF1` read a DIFF's state and rate; `PINVAL`/`POUVAL` the VARIABLEs of
+//! a PINPUT/POUTPUT list. VARIABLEs that call `USER(…)` or do not parse, X/Y arrays that no
+//! element owns and 2-D or file splines are kept as "unusable": referencing them from a
 //! force is an error that names them, while unused ones do not matter (models often carry
 //! output VARIABLEs with measures linkage does not know).
 
 use super::parse_function;
 use linkage_adm::Diagnostic;
 use linkage_expr::{EvalError, EvalErrorKind, Expr, SplineData};
+use linkage_model::controls::StateLaw;
 use linkage_model::forces::{ArrayValues, SplineValues};
 use linkage_model::Model;
 use std::collections::HashMap;
@@ -38,8 +41,25 @@ pub enum ArrayData {
     Numbers(Vec<f64>),
     /// VARIABLE ids.
     Variables(Vec<u32>),
-    /// X/Y arrays of LSE/GSE/TFSISO elements (not modelled).
-    States,
+    /// The X array of an LSE or TFSISO: control states `x[offset..offset + size]`.
+    States {
+        offset: usize,
+        size: usize,
+    },
+    /// The Y array of an LSE or TFSISO: its outputs `y = C x + D u`.
+    Outputs(Box<OutputMap>),
+    /// An X or Y array that no state element uses.
+    Unowned,
+}
+
+/// The outputs `y = C x[offset..] + D u` of a linear state element, `u` the values of the
+/// VARIABLEs `inputs`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct OutputMap {
+    pub offset: usize,
+    pub c: linkage_model::controls::DenseMatrix,
+    pub d: linkage_model::controls::DenseMatrix,
+    pub inputs: Vec<u32>,
 }
 
 /// The data elements of a model, by dataset id.
@@ -50,6 +70,11 @@ pub struct DataElements {
     pub splines: HashMap<u32, SplineData>,
     /// SPLINEs that exist but cannot be interpolated, with the reason.
     pub unsupported_splines: HashMap<u32, String>,
+    /// DIFF id → its state's index in the control states.
+    pub diffs: HashMap<u32, usize>,
+    /// PINPUT and POUTPUT ids → their VARIABLE ids in order.
+    pub pinputs: HashMap<u32, Vec<u32>>,
+    pub poutputs: HashMap<u32, Vec<u32>>,
 }
 
 /// Dataset ids above `u32::MAX` cannot be named in an expression.
@@ -121,9 +146,46 @@ impl DataElements {
                         .filter_map(|&k| id32(model.variables[k].origin.id))
                         .collect(),
                 ),
-                ArrayValues::States => ArrayData::States,
+                ArrayValues::States => ArrayData::Unowned,
             };
             data.arrays.insert(id, values);
+        }
+        let variable_id = |k: &usize| id32(model.variables[*k].origin.id);
+        for e in &model.controls.states {
+            let Some(id) = id32(e.origin.id) else {
+                continue;
+            };
+            if e.origin.statement == "DIFF" {
+                data.diffs.insert(id, e.offset);
+            }
+            if let Some(x) = e.x_array.and_then(id32) {
+                data.arrays.insert(
+                    x,
+                    ArrayData::States {
+                        offset: e.offset,
+                        size: e.size,
+                    },
+                );
+            }
+            if let (Some(y), StateLaw::Linear(l)) = (e.y_array.and_then(id32), &e.law) {
+                let map = OutputMap {
+                    offset: e.offset,
+                    c: l.c.clone(),
+                    d: l.d.clone(),
+                    inputs: l.inputs.iter().filter_map(variable_id).collect(),
+                };
+                data.arrays.insert(y, ArrayData::Outputs(Box::new(map)));
+            }
+        }
+        for (lists, out) in [
+            (&model.controls.pinputs, &mut data.pinputs),
+            (&model.controls.poutputs, &mut data.poutputs),
+        ] {
+            for l in lists {
+                if let Some(id) = id32(l.origin.id) {
+                    out.insert(id, l.variables.iter().filter_map(variable_id).collect());
+                }
+            }
         }
         for s in &model.splines {
             let Some(id) = id32(s.origin.id) else {

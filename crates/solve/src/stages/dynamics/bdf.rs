@@ -34,6 +34,12 @@
 //! sizes; `‖·‖/2`… `/(k+1)Σ1/j` at constant steps). The same estimate at orders k−1 and k+1
 //! chooses the order after k+1 steps at the same order: the one that allows the longest next
 //! step, up to KMAX. The run starts at order 1 with a Taylor predictor.
+//!
+//! Control states (DIFF, LSE, TFSISO) are first-order coordinates of the same formula:
+//! `x_{n+1} = x̃ + ẋ_{n+1}/c₀`, their rates solved by the corrector with the mechanics; they
+//! join the error test weighed by `1/max(1, |x|)` (absolute below 1, relative above), and
+//! start from rates consistent with their equations
+//! ([`crate::physics::controls::consistent_rates`]).
 
 use super::corrector::{correct, reciprocal_length_weight, Scheme, Step, Workspace};
 use super::error::IntegrationError;
@@ -58,6 +64,9 @@ struct Point {
     time: f64,
     poses: Vec<Pose>,
     v: Vec<f64>,
+    /// Control states and their rates.
+    x: Vec<f64>,
+    xd: Vec<f64>,
 }
 
 /// `J_l(θ)⁻¹`, the inverse of the left Jacobian of SO(3):
@@ -125,6 +134,8 @@ pub struct Bdf<'p, 'a> {
     /// `ṽ` and `x̃`/`θ̃` (6 per part) of the trial step.
     v_tilde: Vec<f64>,
     q_tilde: Vec<f64>,
+    /// `x̃` of the control states (nx).
+    x_tilde: Vec<f64>,
     /// The trial's orientations in the chart (n).
     theta: Vec<DVec3>,
     /// Error estimates of the trial at orders k−1, k, k+1 (infinite: not available).
@@ -152,6 +163,9 @@ impl<'p, 'a> Bdf<'p, 'a> {
         }
         let n = p.n();
         let v0 = padded(p, v0);
+        let mut start = start.clone();
+        crate::physics::controls::consistent_rates(p.forces, &mut start, &v0)?;
+        let start = &start;
         let mut work = Workspace::new(p, start, &v0, |h| scheme(h, false).matrix)?;
         let first = work.output.solve(p, start, &flat(&v0), &work.matrix)?;
         let mut cur = Step {
@@ -166,6 +180,8 @@ impl<'p, 'a> Bdf<'p, 'a> {
             time: start.time,
             poses: start.poses.clone(),
             v: cur.v.clone(),
+            x: start.controls.x.clone(),
+            xd: start.controls.xdot.clone(),
         };
         let mut past = vec![point; KEPT];
         past[0].time = start.time;
@@ -187,6 +203,7 @@ impl<'p, 'a> Bdf<'p, 'a> {
                 chart_fresh: false,
                 v_tilde: vec![0.0; 6 * n],
                 q_tilde: vec![0.0; 6 * n],
+                x_tilde: vec![0.0; p.controls()],
                 theta: vec![DVec3::ZERO; n],
                 estimates: [f64::INFINITY; 3],
                 trial_order: 1,
@@ -286,6 +303,14 @@ impl<'p, 'a> Bdf<'p, 'a> {
                 self.q_tilde[i] = q;
             }
         }
+        for i in 0..self.x_tilde.len() {
+            let x_n = self.cur.s.controls.x[i];
+            let mut x = x_n;
+            for j in 2..=k {
+                x += -c[j] / c[0] * (self.past[j - 1].x[i] - x_n);
+            }
+            self.x_tilde[i] = x;
+        }
         // Predictor: the velocities and orientations extrapolated by the polynomial through
         // the last k+1 points (a Taylor expansion at the first step); accelerations that give
         // those velocities; multipliers extrapolated linearly.
@@ -314,6 +339,13 @@ impl<'p, 'a> Bdf<'p, 'a> {
             }
             self.theta[part] = theta;
         }
+        for (i, xd) in self.trial.s.controls.xdot.iter_mut().enumerate() {
+            *xd = if degree == 0 {
+                self.cur.s.controls.xdot[i]
+            } else {
+                (0..=degree).map(|j| w[j] * self.past[j].xd[i]).sum()
+            };
+        }
         let r = self
             .prev_h
             .filter(|hp| *hp > 0.0)
@@ -336,11 +368,12 @@ impl<'p, 'a> Bdf<'p, 'a> {
             work,
             v_tilde,
             q_tilde,
+            x_tilde,
             theta,
             ..
         } = self;
         let from: &Step = cur;
-        let (v_tilde, q_tilde): (&[f64], &[f64]) = (v_tilde, q_tilde);
+        let (v_tilde, q_tilde, x_tilde): (&[f64], &[f64], &[f64]) = (v_tilde, q_tilde, x_tilde);
         correct(
             p,
             settings,
@@ -350,7 +383,18 @@ impl<'p, 'a> Bdf<'p, 'a> {
             h,
             tolerance,
             scheme(hb, stabilised),
-            |t| place(t, from, t1, hb, v_tilde, q_tilde, theta),
+            |t| {
+                place(t, from, t1, hb, v_tilde, q_tilde, theta);
+                for ((x, xt), xd) in
+                    t.s.controls
+                        .x
+                        .iter_mut()
+                        .zip(x_tilde)
+                        .zip(&t.s.controls.xdot)
+                {
+                    *x = xt + hb * xd;
+                }
+            },
         )?;
         if stabilised {
             // The projection moved the orientations: their chart coordinates again.
@@ -389,6 +433,11 @@ impl<'p, 'a> Bdf<'p, 'a> {
                 let pred = h * self.cur.v[i] + 0.5 * h * h * self.cur.a[i];
                 err = err.max((y - pred).abs() * reciprocal_length_weight(i, length));
             }
+        }
+        let c = &self.cur.s.controls;
+        for (i, x1) in self.trial.s.controls.x.iter().enumerate() {
+            let y = x1 - c.x[i];
+            err = err.max((y - h * c.xdot[i]).abs() / c.x[i].abs().max(1.0));
         }
         err
     }
@@ -437,6 +486,11 @@ impl<'p, 'a> Bdf<'p, 'a> {
                 }
             }
         }
+        for (i, x1) in self.trial.s.controls.x.iter().enumerate() {
+            let base = self.past[0].x[i];
+            let pred: f64 = (0..=order).map(|j| w[j] * (self.past[j].x[i] - base)).sum();
+            err = err.max((x1 - base - pred).abs() / base.abs().max(1.0));
+        }
         err * scale
     }
 
@@ -453,6 +507,8 @@ impl<'p, 'a> Bdf<'p, 'a> {
         newest.time = self.cur.s.time;
         newest.poses.copy_from_slice(&self.cur.s.poses);
         newest.v.copy_from_slice(&self.cur.v);
+        newest.x.copy_from_slice(&self.cur.s.controls.x);
+        newest.xd.copy_from_slice(&self.cur.s.controls.xdot);
         self.len = (self.len + 1).min(KEPT);
         self.chart_fresh = false;
         self.steps_at_order += 1;

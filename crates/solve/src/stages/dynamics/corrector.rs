@@ -75,7 +75,8 @@ impl Step {
 pub(super) struct Workspace {
     /// Drive values of the rows at the step's time (m).
     pub drives: Vec<f64>,
-    /// Residual `[r₁; r₂]`, then the Newton correction (6n + m).
+    /// Residual `[r₁; r₂; r₃]`, then the Newton correction (6n + m + nx: r₃ the control
+    /// states' equations).
     pub rhs: Vec<f64>,
     /// Velocities as (CM, angular) pairs for the force elements (n).
     pub twists: Vec<(DVec3, DVec3)>,
@@ -112,7 +113,7 @@ impl Workspace {
         let matrix = IterationMatrix::with_pattern(p, start, v0, coefficients)?;
         Ok(Workspace {
             drives: vec![0.0; m],
-            rhs: vec![0.0; 6 * n + m],
+            rhs: vec![0.0; 6 * n + m + p.controls()],
             twists: v0.to_vec(),
             q: vec![0.0; 6 * n],
             grads: vec![RowGradient::default(); m],
@@ -153,6 +154,10 @@ pub(super) struct Scheme {
 /// r₁ = M_{n+1+α} a + (1+α)(Jᵀλ − Q)_{n+1} − α(Jᵀλ − Q)_n = 0,    r₂ = Φ(q_{n+1}) / position = 0
 /// ```
 ///
+/// and the control states' equations `r₃ = r(q, v, x, ẋ, t_{n+1}) = 0`
+/// ([`crate::physics::controls`]) for their rates ẋ, with the states placed by the scheme
+/// from them (`∂x/∂ẋ` = `velocity`: the BDF formula, or HHT's `x = x_n + h((1−γ)ẋ_n + γẋ)`)
+///
 /// (`M_{n+1+α} = (1+α) M_{n+1} − α M_n`: the inertia about ground axes turns with the part, and
 /// the accelerations of HHT belong to the shifted time; with `M_{n+1}` alone 3-D rotation would
 /// be only first order). Modified Newton: the matrix is kept across iterations and steps, and
@@ -184,6 +189,8 @@ pub(super) fn correct(
         ..
     } = scheme;
     let n6 = 6 * p.n();
+    let m = p.rows.len();
+    let nx = p.controls();
     let ucf = p.model.ucf();
     let length = p.model.characteristic_length;
     p.drives_into(cur.s.time + h, &mut w.drives)?;
@@ -229,6 +236,11 @@ pub(super) fn correct(
             *r = raw / position;
             phi_ok &= raw.abs() <= constraint_limit(p, row, length);
         }
+        if nx > 0 {
+            let fs = p.force_state(&trial.s, &mut w.force_state);
+            p.forces
+                .control_residuals(fs, &w.twists, &mut w.rhs[n6 + m..])?;
+        }
         let kept_failed = it > 0 && !fresh && (rate > MATRIX_REFRESH_RATE || it >= 3);
         if kept_failed {
             w.backoff = (2 * w.backoff).clamp(1, MATRIX_REUSE_BACKOFF);
@@ -271,9 +283,18 @@ pub(super) fn correct(
             trial.a[i] += w.rhs[i];
             da = da.max(w.rhs[i].abs() * reciprocal_length_weight(i, length));
         }
-        for (l, d) in trial.lambda.iter_mut().zip(&w.rhs[n6..]) {
+        for (l, d) in trial.lambda.iter_mut().zip(&w.rhs[n6..n6 + m]) {
             *l += d / ucf;
         }
+        // The control rates; their states move by `velocity` times as much, weighed
+        // absolutely below 1 and relatively above.
+        let mut dx = 0.0f64;
+        let c = &mut trial.s.controls;
+        for ((xd, x), d) in c.xdot.iter_mut().zip(&c.x).zip(&w.rhs[n6 + m..]) {
+            *xd += d;
+            dx = dx.max(velocity * d.abs() / x.abs().max(1.0));
+        }
+        let states_ok = dx <= (CORRECTOR_ERROR_FRACTION * tolerance).max(CORRECTOR_ROUNDING);
         // Converged when the constraints hold and the correction is negligible relative to
         // the accelerations, or its effect on positions is at rounding level. Coordinates far
         // from the origin (a 1000-loop chain reaches x = 1000 m) resolve positions to ε·|x|
@@ -292,6 +313,7 @@ pub(super) fn correct(
         // steps over 5 s), and it stays below what the local error estimate can see.
         let negligible = position.max(velocity * h) * da <= CORRECTOR_ERROR_FRACTION * tolerance;
         if phi_ok
+            && states_ok
             && (da <= CORRECTOR_RELATIVE * amax.max(CORRECTOR_ACCELERATION_MIN)
                 || moved <= CORRECTOR_ROUNDING
                 || stagnant

@@ -14,7 +14,10 @@ use linkage_model::settings::IntegratorSettings;
 
 /// Positions and velocities of the step of size `h` from `from` with accelerations
 /// `step.a`:
-/// `q = q_n ⊕ (h v_n + h²/2 ((1−2β) a_n + 2β a))`, `v = v_n + h((1−γ) a_n + γ a)`.
+/// `q = q_n ⊕ (h v_n + h²/2 ((1−2β) a_n + 2β a))`, `v = v_n + h((1−γ) a_n + γ a)`, and the
+/// control states `x = x_n + h((1−γ) ẋ_n + γ ẋ)` (HHT has no rule of its own for first-order
+/// states: the velocity's keeps the numerical damping of α, and is the trapezoidal rule at
+/// α = 0).
 fn place(step: &mut Step, from: &Step, h: f64, hht: Hht) {
     let Hht { beta, gamma, .. } = hht;
     step.s.poses.copy_from_slice(&from.s.poses);
@@ -37,6 +40,11 @@ fn place(step: &mut Step, from: &Step, h: f64, hht: Hht) {
         .zip(&step.a)
     {
         *v = v0 + h * ((1.0 - gamma) * a0 + gamma * a);
+    }
+    // Control states by the same rule as the velocities (trapezoidal at α = 0).
+    let (c, c0) = (&mut step.s.controls, &from.s.controls);
+    for (((x, x0), xd0), xd) in c.x.iter_mut().zip(&c0.x).zip(&c0.xdot).zip(&c.xdot) {
+        *x = x0 + h * ((1.0 - gamma) * xd0 + gamma * xd);
     }
 }
 
@@ -87,6 +95,9 @@ impl<'p, 'a> Integrator<'p, 'a> {
             });
         }
         let v0 = padded(p, v0);
+        let mut start = start.clone();
+        crate::physics::controls::consistent_rates(p.forces, &mut start, &v0)?;
+        let start = &start;
         let hht = Hht::new(settings.alpha);
         let mut work = Workspace::new(p, start, &v0, |h| hht.matrix_coefficients(h))?;
         let first = work.output.solve(p, start, &flat(&v0), &work.matrix)?;
@@ -198,6 +209,7 @@ impl<'p, 'a> Integrator<'p, 'a> {
         {
             *x = now + r * (now - before);
         }
+        trial.s.controls.xdot.copy_from_slice(&cur.s.controls.xdot);
         let scheme = Scheme {
             position: hht.beta * h * h,
             velocity: hht.gamma * h,
@@ -223,6 +235,21 @@ impl<'p, 'a> Integrator<'p, 'a> {
                     * reciprocal_length_weight(i, length)
             })
             .fold(0.0, f64::max);
-        Ok(err)
+        // Control states advance by the γ rule `x = x_n + h((1−γ)ẋ_n + γẋ)`: its local error
+        // is `h²|γ − ½| ẍ + h³/12 x⃛`, bounded here by `h(|γ − ½| + 1/12)|ẋ_{n+1} − ẋ_n|`
+        // (weighed by 1/max(1, |x|)).
+        let c = &cur.s.controls;
+        let err_x = trial
+            .s
+            .controls
+            .xdot
+            .iter()
+            .zip(&c.xdot)
+            .zip(&c.x)
+            .map(|((a, b), x)| {
+                h * ((hht.gamma - 0.5).abs() + 1.0 / 12.0) * (a - b).abs() / x.abs().max(1.0)
+            })
+            .fold(0.0, f64::max);
+        Ok(err.max(err_x))
     }
 }

@@ -83,6 +83,9 @@ pub(super) struct IterationMatrix {
     /// Force Jacobians `∂Q/∂q`, `∂Q/∂v` as triplets.
     dq: Vec<(usize, usize, f64)>,
     dv: Vec<(usize, usize, f64)>,
+    /// The control states' Jacobian `∂r/∂(q, v, x, ẋ)` and `∂Q/∂(x, ẋ)` as triplets.
+    dr: Vec<(usize, usize, f64)>,
+    dqx: Vec<(usize, usize, f64)>,
     /// The state force elements see when time is frozen.
     force_state: State,
 }
@@ -91,12 +94,14 @@ impl IterationMatrix {
     /// An unassembled matrix for `p` (diagonal pattern); `like` sizes the frozen-time state.
     pub(super) fn new(p: &Problem, like: &State) -> Result<IterationMatrix, IntegrationError> {
         Ok(IterationMatrix {
-            lu: diagonal(6 * p.n() + p.rows.len())?,
+            lu: diagonal(6 * p.n() + p.rows.len() + p.controls())?,
             h: None,
             pattern: 0,
             hessian: HessianBlocks::default(),
             dq: Vec::new(),
             dv: Vec::new(),
+            dr: Vec::new(),
+            dqx: Vec::new(),
             force_state: like.clone(),
         })
     }
@@ -110,6 +115,10 @@ impl IterationMatrix {
     /// ```
     ///
     /// with `K_T = −UCF·∂Q/∂q + UCF·Σλ ∂²Φ/∂q²` (geometric stiffness of the kept rows' terms),
+    /// bordered by the control states' rows and columns (unknowns ẋ after the multipliers):
+    /// `∂r/∂q·p + ∂r/∂v·d` in the acceleration columns, `∂r/∂x·d + ∂r/∂ẋ` in the rate
+    /// columns (p = stiffness/multiplier = ∂q/∂a, d = damping/multiplier = ∂v/∂a = ∂x/∂ẋ),
+    /// and `−multiplier·UCF·(∂Q/∂x·d + ∂Q/∂ẋ)` in the equations of motion,
     /// `C_T = −UCF·∂Q/∂v` (+ the extra damping), at the iterate `at`. A row's second
     /// derivatives claim their places in the pattern even while its multiplier is zero.
     /// Cost: the force Jacobians and the rows' Hessians, O(rows + parts) for a chain.
@@ -131,8 +140,37 @@ impl IterationMatrix {
             &mut self.dq,
             Some(&mut self.dv),
         )?;
+        let nx = p.controls();
+        self.dr.clear();
+        self.dqx.clear();
+        if nx > 0 {
+            let fs = p.force_state(s, &mut self.force_state);
+            p.forces.control_jacobian(fs, at.v, &mut self.dr)?;
+            p.forces
+                .add_control_force_jacobian(fs, at.v, &mut self.dqx)?;
+        }
+        let base = 6 * n + p.rows.len();
+        let (to_q, to_v) = (kq / c.multiplier, kv / c.multiplier);
+        let (dr, dqx) = (&self.dr, &self.dqx);
         let (dq, dv, hessian) = (&self.dq, &self.dv, &mut self.hessian);
         let grew = assemble_growing(&mut self.lu, MatrixRole::Newton, |a| {
+            for &(i, var, d) in dr {
+                let row = base + i;
+                match var {
+                    v if v < 6 * n => a.add(row, v, d * to_q),
+                    v if v < 12 * n => a.add(row, v - 6 * n, d * to_v),
+                    v if v < 12 * n + nx => a.add(row, base + v - 12 * n, d * to_v),
+                    v => a.add(row, base + v - 12 * n - nx, d),
+                }
+            }
+            for &(row, col, d) in dqx {
+                let (col, f) = if col < nx {
+                    (base + col, to_v)
+                } else {
+                    (base + col - nx, 1.0)
+                };
+                a.add(row, col, -ucf * c.multiplier * d * f);
+            }
             add_mass(p, s, a, |_| 0.0);
             for &(i, j, x) in dq {
                 a.add(i, j, -ucf * x * kq);

@@ -107,7 +107,6 @@ impl ConsistentSolve {
     ) -> Result<Consistent, IntegrationError> {
         let n = p.n();
         let m = p.rows.len();
-        let dim = 6 * n + m;
         let ucf = p.model.ucf();
         let length = p.model.characteristic_length;
         // The constraint expressions see the analysis time (frozen when settling).
@@ -127,10 +126,16 @@ impl ConsistentSolve {
             self.pattern = pattern_of.pattern;
         }
         let lu = &mut self.lu;
+        // The pattern of an iteration matrix with control states has their rows too: the
+        // identity there leaves them out of these solves.
+        let dim = lu.dim();
         assemble_growing(lu, MatrixRole::Consistent, |a| {
             add_mass(p, s, a, reg);
             for (k, g) in grads.iter().enumerate() {
                 kkt::add_constraint_row_blocks(a, 6 * n, k, g, 1.0);
+            }
+            for i in 6 * n + m..dim {
+                a.add(i, i, 1.0);
             }
         })?;
         lu.factor()
@@ -186,7 +191,7 @@ impl ConsistentSolve {
             .map_err(|_| IntegrationError::Singular(SingularSolve::Acceleration))?;
         let accelerations = unflat(&rhs[..6 * n]);
         // Multipliers in force units (M a + Jᵀμ = UCF·Q → λ = μ/UCF).
-        let lambda: Vec<f64> = rhs[6 * n..].iter().map(|x| x / ucf).collect();
+        let lambda: Vec<f64> = rhs[6 * n..6 * n + m].iter().map(|x| x / ucf).collect();
         let rg: Vec<(usize, &RowGradient)> = p.rows.iter().copied().zip(grads.iter()).collect();
         let reactions = element_reactions(p.model, p.sys, &rg, &lambda, s);
         Ok(Consistent {

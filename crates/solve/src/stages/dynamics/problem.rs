@@ -38,6 +38,12 @@ impl Problem<'_> {
         self.model.parts.len()
     }
 
+    /// Number of control states (DIFF, LSE, TFSISO), appended to the unknowns after the
+    /// multipliers.
+    pub(crate) fn controls(&self) -> usize {
+        self.forces.control_count()
+    }
+
     /// The time motions, forces and constraints see at run time `t`.
     pub(crate) fn time(&self, t: f64) -> f64 {
         self.frozen_time.unwrap_or(t)
@@ -68,6 +74,7 @@ impl Problem<'_> {
             None => s,
             Some(t) => {
                 buf.poses.clone_from(&s.poses);
+                buf.controls.clone_from(&s.controls);
                 buf.time = t;
                 buf
             }

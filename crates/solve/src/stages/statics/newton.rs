@@ -4,8 +4,9 @@
 //! Two sparse matrices, each a [`TripletLu`] refactorised in place:
 //!
 //! ```text
-//! Newton matrix        [K_T + STABILITY·M   Jᵀ]      K_T = −∂Q/∂q + Σ_r λ_r ∂²Φ_r/∂q²
-//!                      [J                   0 ]
+//! Newton matrix        [K_T + STABILITY·M   Jᵀ   −∂Q/∂x]      K_T = −∂Q/∂q + Σ_r λ_r ∂²Φ_r/∂q²
+//!                      [J                   0    0     ]
+//!                      [∂r/∂q               0    ∂r/∂x ]      (rows of free control states)
 //! constraint KKT       [W   Jᵀ]                     W diagonal (per-coordinate weights)
 //!                      [J   0 ]
 //! ```
@@ -14,6 +15,10 @@
 //! repeat (the usual case), the column ordering and symbolic analysis are reused and a refresh
 //! is a numeric refactorisation, giving the same bits as a fresh factorisation. The KKT matrix
 //! serves the least-change projection onto the constraints and the least-squares multipliers.
+//!
+//! Control states (DIFF, LSE, TFSISO) join the Newton unknowns after the multipliers: a free
+//! state solves its equation with zero rate, `r(q, 0, x, ẋ = 0, t) = 0` (explicit: `f = 0`),
+//! a STATIC_HOLD state keeps its value (an identity row). The KKT matrix leaves them out.
 
 use super::StaticsError;
 use crate::constraints::hessian::HessianBlocks;
@@ -46,9 +51,19 @@ impl Problem<'_> {
         self.model.parts.len()
     }
 
-    /// Order of the Newton and KKT matrices, `6n + m`.
+    /// Order of the KKT matrix, `6n + m`.
     pub fn dim(&self) -> usize {
         6 * self.parts() + self.used.len()
+    }
+
+    /// Number of control states (after the multipliers in the Newton matrix).
+    pub fn controls(&self) -> usize {
+        self.forces.control_count()
+    }
+
+    /// Whether control state `i` is held (STATIC_HOLD).
+    pub fn held(&self, i: usize) -> bool {
+        self.model.controls.held(i)
     }
 }
 
@@ -62,7 +77,9 @@ pub(super) struct Workspace {
     pub force: Vec<f64>,
     /// Constraint residuals `Φ` (m).
     pub phi: Vec<f64>,
-    /// Right-hand side `[F; −Φ]`, then the Newton correction `[δ; δλ]` (6n + m).
+    /// Residuals of the control states' equations (0 for held ones) (nx).
+    pub state_residual: Vec<f64>,
+    /// Right-hand side `[F; −Φ; −r]`, then the Newton correction `[δ; δλ; δx]` (6n + m + nx).
     pub rhs: Vec<f64>,
     /// Each part's correction `(δx, δθ)` (n) and whether it runs away (n).
     pub steps: Vec<(DVec3, DVec3)>,
@@ -74,6 +91,9 @@ pub(super) struct Workspace {
     hessian: HessianBlocks,
     /// Force Jacobian `∂Q/∂q` as triplets.
     dq: Vec<(usize, usize, f64)>,
+    /// The control states' `∂r/∂(q, v, x, ẋ)` and the forces' `∂Q/∂(x, ẋ)` as triplets.
+    dr: Vec<(usize, usize, f64)>,
+    dqx: Vec<(usize, usize, f64)>,
     /// Gradient scratch of the KKT assembly.
     gradient: RowGradient,
     /// The Newton matrix and whether it has been factorised.
@@ -88,20 +108,24 @@ impl Workspace {
     /// Buffers for `p`.
     pub fn new(p: &Problem) -> Workspace {
         let (n, m, dim) = (p.parts(), p.used.len(), p.dim());
+        let nx = p.controls();
         Workspace {
             rest: vec![(DVec3::ZERO, DVec3::ZERO); n],
             grads: vec![RowGradient::default(); m],
             force: vec![0.0; 6 * n],
             phi: vec![0.0; m],
-            rhs: vec![0.0; dim],
+            state_residual: vec![0.0; nx],
+            rhs: vec![0.0; dim + nx],
             steps: vec![(DVec3::ZERO, DVec3::ZERO); n],
             runaway: vec![false; n],
             approximate: vec![false; m],
             load: vec![0.0; 6 * n],
             hessian: HessianBlocks::default(),
             dq: Vec::new(),
+            dr: Vec::new(),
+            dqx: Vec::new(),
             gradient: RowGradient::default(),
-            newton: TripletLu::new(dim),
+            newton: TripletLu::new(dim + nx),
             newton_factored: false,
             kkt: TripletLu::new(dim),
             kkt_rhs: vec![0.0; dim],
@@ -126,6 +150,15 @@ impl Workspace {
         for (phi, (r, d)) in self.phi.iter_mut().zip(&p.used) {
             *phi = p.sys.residual(*r, s, *d);
         }
+        if !self.state_residual.is_empty() {
+            p.forces
+                .control_residuals(s, &self.rest, &mut self.state_residual)?;
+            for (i, r) in self.state_residual.iter_mut().enumerate() {
+                if p.held(i) {
+                    *r = 0.0;
+                }
+            }
+        }
         Ok(load)
     }
 
@@ -144,6 +177,13 @@ impl Workspace {
     ) -> Result<(), StaticsError> {
         self.dq.clear();
         p.forces.add_jacobians(s, &self.rest, &mut self.dq, None)?;
+        self.dr.clear();
+        self.dqx.clear();
+        if p.controls() > 0 {
+            p.forces.control_jacobian(s, &self.rest, &mut self.dr)?;
+            p.forces
+                .add_control_force_jacobian(s, &self.rest, &mut self.dqx)?;
+        }
         let mut second = SecondDerivatives {
             hessian: &mut self.hessian,
             approximate: &mut self.approximate,
@@ -158,16 +198,21 @@ impl Workspace {
             &mut second,
             &mut self.newton.entries,
         );
+        fill_control_blocks(p, &self.dr, &self.dqx, &mut self.newton.entries);
         self.newton.factor().map_err(StaticsError::Factor)?;
         self.newton_factored = true;
         Ok(())
     }
 
-    /// The Newton correction: `rhs = [F; −Φ]` solved with the last Newton matrix.
+    /// The Newton correction: `rhs = [F; −Φ; −r]` solved with the last Newton matrix.
     pub fn newton_correction(&mut self) -> Result<(), StaticsError> {
         let n6 = self.force.len();
+        let m = self.phi.len();
         self.rhs[..n6].copy_from_slice(&self.force);
-        for (x, v) in self.rhs[n6..].iter_mut().zip(&self.phi) {
+        for (x, v) in self.rhs[n6..n6 + m].iter_mut().zip(&self.phi) {
+            *x = -v;
+        }
+        for (x, v) in self.rhs[n6 + m..].iter_mut().zip(&self.state_residual) {
             *x = -v;
         }
         self.newton
@@ -316,6 +361,43 @@ fn fill_newton(
     }
     for (k, g) in grads.iter().enumerate() {
         push_constraint_row(out, 6 * n, &UNIT_BLOCKS, k, g);
+    }
+}
+
+/// The control states' rows and columns of the Newton matrix (module docs): `∂r/∂q` and
+/// `∂r/∂x` in a free state's row (rates are zero in statics: their columns are left out), an
+/// identity row for a held state, `−∂Q/∂x` in the equations of motion.
+fn fill_control_blocks(
+    p: &Problem,
+    dr: &[(usize, usize, f64)],
+    dqx: &[(usize, usize, f64)],
+    out: &mut Vec<(usize, usize, f64)>,
+) {
+    let (n, nx) = (p.parts(), p.controls());
+    let base = 6 * n + p.used.len();
+    for &(i, var, d) in dr {
+        if p.held(i) || d == 0.0 {
+            continue;
+        }
+        if var < 6 * n {
+            out.push((base + i, var, d));
+        } else if (12 * n..12 * n + nx).contains(&var) {
+            out.push((base + i, base + var - 12 * n, d));
+        }
+    }
+    for i in 0..nx {
+        if p.held(i) {
+            out.push((base + i, base + i, 1.0));
+        } else {
+            // Claims the diagonal (a state whose equation does not hold it is singular,
+            // which the factorisation reports).
+            out.push((base + i, base + i, 0.0));
+        }
+    }
+    for &(row, col, d) in dqx {
+        if col < nx && d != 0.0 {
+            out.push((row, base + col, -d));
+        }
     }
 }
 
