@@ -105,15 +105,16 @@ pub struct VerifyJson {
     /// The analyses that refuse this model (`ic`, `static`, `static --end`, `linear`,
     /// `simulate`).
     pub later_refused_by: Vec<&'static str>,
-    /// Moving parts (point masses not included).
+    /// Moving parts (point masses and FE nodes not included).
     pub moving_parts: usize,
     /// POINT_MASS elements (3 degrees of freedom each).
     pub point_masses: usize,
     /// FE_PARTs, each counted as Adams' equivalent linear flexible body.
     pub fe_parts: Vec<FePartJson>,
     pub constraint_counts: Vec<CountJson>,
-    /// The equations of the constraint elements (the point masses' held rotations not
-    /// included): Gruebler = 6·parts + 3·point masses − equations.
+    /// The equations of the constraint elements (the point masses' and cable nodes' held
+    /// rotations not included): Gruebler = 6·parts + 3·point masses + Σ FE parts'
+    /// `gruebler_dof` − equations.
     pub constraint_equations: usize,
     pub gruebler: i64,
     pub rank: usize,

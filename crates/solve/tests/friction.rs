@@ -300,6 +300,7 @@ fn corpus_datasets_with_friction_run() {
     for file in [
         "baqumau__Mechatronics-baqumau__Robotics__Manipulator_Robots__ABB_IRB-140_Robot__Dynamics_and_Control-ADAMS_and_MATLAB__IRB140_Plant_1.adm",
         "baqumau__Mechatronics-baqumau__Robotics__Mobile_Robots__baqubot_Rover-DWR__Dynamics_and_Control-ADAMS_and_MATLAB__Bot_3.adm",
+        "baqumau__Mechatronics-baqumau__Robotics__Mobile_Robots__3WD_OMR_Formations__Dynamics_and_Control-ADAMS_and_MATLAB__twoRobotsPlant_1_v2020.adm",
     ] {
         let m = corpus_model(&dir, file, &["CONTACT"]);
         let d = ExpressionDrivers::new(&m).unwrap();
