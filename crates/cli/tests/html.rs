@@ -468,7 +468,13 @@ fn corpus_graphics_are_all_drawn() {
         "--html",
         page.to_str().unwrap(),
     ]);
-    assert!(!format!("{out}{err}").contains("GRAPHICS"), "{out}{err}");
+    // (The CONTACTs on its Parasolid files name their GRAPHICS; nothing else does.)
+    let all = format!("{out}{err}");
+    assert!(
+        !all.lines()
+            .any(|l| l.contains("GRAPHICS") && !l.contains("CONTACT")),
+        "{all}"
+    );
     let html = read(&page);
     assert_self_contained(&html);
     // Each EXTERNAL is its marker's triad (its x axis in red), the box a solid of 12
