@@ -386,6 +386,10 @@ impl Function {
         if name == "ORIENT" {
             return Some(Function::Orient);
         }
+        if name == "POUTVAL" {
+            // Another spelling of POUVAL (Adams' name) in some documents.
+            return Some(Function::State(StateKind::Pouval));
+        }
         StateKind::from_name(name).map(Function::State)
     }
 

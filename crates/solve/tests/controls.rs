@@ -310,7 +310,7 @@ fn linear_eigenvalues_include_the_control_states() {
 fn plant_matrices_carry_the_control_states() {
     // A lag 1/(0.25 s + 1) from the plant input VARIABLE/1 to the output VARIABLE/2 =
     // ARYVAL(Y, 1), beside a free body (6 coordinates, 12 states): the 13th state has
-    // A = −4, B = 4, C = 1, and D = 0. PINVAL and POUVAL read the lists.
+    // A = −4, B = 4, C = 1, and D = 0. PINVAL and POUVAL (also spelt POUTVAL) read the lists.
     use linkage_solve::stages::linearize::{assemble, state_matrix, OperatingPoint};
     use linkage_solve::stages::plant::plant;
     let m = model_of(&format!(
@@ -318,7 +318,7 @@ fn plant_matrices_carry_the_control_states() {
          ARRAY/6, X\nARRAY/7, Y\n\
          TFSISO/1, NUMERATOR = 1, DENOMINATOR = 1, 0.25, U = 5, X = 6, Y = 7\n\
          VARIABLE/2, FUNCTION = ARYVAL(7, 1)\nPINPUT/1, VARIABLES = 1\nPOUTPUT/1, VARIABLES = 2\n\
-         VARIABLE/3, FUNCTION = PINVAL(1, 1) + 2*POUVAL(1, 1)"
+         VARIABLE/3, FUNCTION = PINVAL(1, 1) + POUVAL(1, 1) + POUTVAL(1, 1)"
     ));
     let d = ExpressionDrivers::new(&m).unwrap_or_else(|e| panic!("{e}"));
     let f = ForceSet::new(&m).unwrap_or_else(|e| panic!("{e}"));

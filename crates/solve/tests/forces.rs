@@ -558,11 +558,7 @@ fn varval_cycle_is_an_evaluation_error_naming_the_cycle() {
 
 #[test]
 fn accelerations_and_element_forces_are_unavailable() {
-    for (expr, name) in [
-        ("ACCX(21)", "ACCX"),
-        ("JOINT(1, 0, 2, 0)", "JOINT"),
-        ("DIF(1)", "DIF"),
-    ] {
+    for (expr, name) in [("ACCX(21)", "ACCX"), ("JOINT(1, 0, 2, 0)", "JOINT")] {
         let m = model(&format!("SFORCE/1, I = 21, J = 31, FUNCTION = {expr}"));
         let f = force_set(&m);
         let mut out = vec![0.0; 12];
@@ -642,10 +638,18 @@ fn user_subroutines_are_refused_naming_element_and_line() {
 
 #[test]
 fn references_to_missing_or_unusable_data_are_errors() {
+    // A DIFF that does not exist is named when the forces are built.
+    let e = force_errors("SFORCE/1, I = 21, J = 31, FUNCTION = DIF(1)");
+    assert!(e[0].2.contains("DIFF/1 does not exist"), "{e:?}");
     let e = force_errors("SFORCE/1, I = 21, J = 31, FUNCTION = VARVAL(9)\nARRAY/2, X, SIZE = 2\nSFORCE/2, I = 21, J = 31, FUNCTION = ARYVAL(2, 1)\nSPLINE/4, X = 0, 1, Y = 0, 1, 2, Y = 1, 3, 4\nSFORCE/3, I = 21, J = 31, FUNCTION = CUBSPL(TIME, 0, 4)\nSFORCE/4, I = 21, J = 31, FUNCTION = AKISPL(TIME, 0, 8)");
     assert_eq!(e.len(), 4, "{e:?}");
     assert!(e[0].2.contains("VARIABLE/9 does not exist"), "{}", e[0].2);
-    assert!(e[1].2.contains("ARRAY/2 holds states"), "{}", e[1].2);
+    assert!(
+        e[1].2
+            .contains("ARRAY/2 is an X or Y array that no LSE or TFSISO uses"),
+        "{}",
+        e[1].2
+    );
     assert!(e[2].2.contains("2-D spline"), "{}", e[2].2);
     assert!(e[3].2.contains("SPLINE/8 does not exist"), "{}", e[3].2);
 }
