@@ -40,8 +40,8 @@ pub use commands::{
 pub use diagnostic::{Diagnostic, Diagnostics, Severity, Span};
 pub use statement::{Argument, ExprText, Statement, Value};
 pub use typed::*;
-pub use typing::fe_part;
 pub use typing::contact;
+pub use typing::fe_part;
 pub use typing::graphics;
 
 use std::path::Path;

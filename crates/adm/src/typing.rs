@@ -1068,9 +1068,9 @@ impl Typer {
     }
 }
 
-pub mod fe_part;
 pub mod contact;
 pub(crate) mod controls;
+pub mod fe_part;
 mod forces;
 pub(crate) mod friction;
 pub mod graphics;

@@ -12,9 +12,9 @@
 
 pub mod bodies;
 pub mod build;
-pub mod fe_parts;
 pub mod contacts;
 pub mod controls;
+pub mod fe_parts;
 pub mod forces;
 pub mod frames;
 pub mod friction;

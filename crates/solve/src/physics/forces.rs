@@ -46,8 +46,8 @@ pub mod vector;
 
 use crate::constraints::rows::{BodyFrame, Velocities};
 use crate::physics::applied::{AppliedForces, ForceError, LawError};
-use crate::physics::friction::{FrictionSet, FrictionValue};
 use crate::physics::controls::ControlSet;
+use crate::physics::friction::{FrictionSet, FrictionValue};
 use crate::physics::measures::{MarkerFrames, StateEnv};
 use crate::physics::reactions::Reaction;
 use crate::state::State;
