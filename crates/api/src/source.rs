@@ -236,9 +236,7 @@ impl Source {
         };
         let findings = coverage::findings(&dataset);
         dataset.text = String::new();
-        dataset
-            .statements
-            .retain(linkage_model::reads_raw);
+        dataset.statements.retain(linkage_model::reads_raw);
         dataset.statements.shrink_to_fit();
         let mut loaded = build_found(dataset, left_out, analysis, findings)?;
         loaded.dataset = Dataset::empty(loaded.dataset.file.clone());
