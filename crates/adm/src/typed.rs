@@ -6,7 +6,9 @@
 
 use crate::diagnostic::{Diagnostic, Span};
 use crate::statement::{ExprText, Statement};
-pub use crate::typing::controls::{
+mod controls;
+mod friction;
+pub use controls::{
     ControlStatements, Diff, Gse, Lse, Matrix, MatrixData, MatrixOrder, PlantList, Tfsiso,
 };
 use std::sync::Arc;
@@ -40,7 +42,7 @@ pub struct IdRef {
     pub span: Span,
 }
 
-pub use crate::typing::friction::{Friction, FrictionEffect, FrictionInputs, OverlapDelta};
+pub use friction::{Friction, FrictionEffect, FrictionInputs, OverlapDelta};
 
 /// What every element has: id, display name, and where its statement starts.
 #[derive(Clone, Debug, PartialEq)]

@@ -5,7 +5,7 @@
 
 use crate::num::{scale_of, sci_in};
 use linkage_model::Model;
-use linkage_solve::physics::friction::FrictionValue;
+use linkage_solve::physics::forces::friction::FrictionValue;
 use serde::Serialize;
 use std::fmt::Write;
 

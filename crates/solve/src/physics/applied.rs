@@ -8,7 +8,7 @@
 //! space (duplicates are summed by the consumer).
 
 use crate::constraints::rows::Velocities;
-use crate::physics::friction::FrictionValue;
+use crate::physics::forces::friction::FrictionValue;
 use crate::physics::reactions::Reaction;
 use crate::state::State;
 
@@ -63,7 +63,7 @@ pub trait AppliedForces {
     ) -> Result<(), ForceError>;
 
     /// Whether some element carries a state of its own from one accepted state to the next
-    /// (joint friction: its stiction anchor and normal load, [`crate::physics::friction`]).
+    /// (joint friction: its stiction anchor and normal load, [`crate::physics::forces::friction`]).
     /// The analyses call the three methods below only then.
     fn has_state(&self) -> bool {
         false

@@ -9,7 +9,7 @@
 //! | VFORCE, VTORQUE, GFORCE | [`vector`] | expression components along RM's axes, at I |
 //! | FE_PART elements, FE_LOAD | [`fe_beam`] | corotational beam between node bodies; Rayleigh damping; lumped loads |
 //! | CONTACT | [`contact`] | IMPACT or POISSON normal force and Coulomb friction per incident |
-//! | FRICTION | [`crate::physics::friction`] | stick-slip friction on a joint, with a state |
+//! | FRICTION | [`crate::physics::forces::friction`] | stick-slip friction on a joint, with a state |
 //!
 //! Conventions shared by all elements:
 //! - Every element produces at most two *loads*: a force (at a point) and a torque on a body.
@@ -40,6 +40,7 @@ pub mod beam;
 pub mod contact;
 pub mod data;
 pub mod fe_beam;
+pub mod friction;
 pub mod scalar;
 pub mod six_dof;
 pub mod vector;
@@ -47,7 +48,7 @@ pub mod vector;
 use crate::constraints::rows::{BodyFrame, Velocities};
 use crate::physics::applied::{AppliedForces, ForceError, LawError};
 use crate::physics::controls::ControlSet;
-use crate::physics::friction::{FrictionSet, FrictionValue};
+use crate::physics::forces::friction::{FrictionSet, FrictionValue};
 use crate::physics::measures::{MarkerFrames, StateEnv};
 use crate::physics::reactions::Reaction;
 use crate::state::State;

@@ -330,13 +330,13 @@ impl VariableMemo {
 /// - `VARVAL(id)` evaluates VARIABLE/id's expression in this environment (a cycle of VARVAL
 ///   references is an error); `ARYVAL(id, n)` reads ARRAY/id; `DIF`, `DIF1`, `PINVAL`,
 ///   `POUVAL` and the X and Y arrays read the control states
-///   ([`crate::physics::controls::read_state`]); `AKISPL`/`CUBSPL` read the 1-D SPLINEs.
+///   ([`crate::physics::control_states::read_state`]); `AKISPL`/`CUBSPL` read the 1-D SPLINEs.
 /// - Accelerations (ACCX …, WDTX …), generic force measures (FX … TM) and element forces
 ///   (JOINT(…), SFORCE(…), …) are unavailable (an error naming them).
 ///
 /// Gradient variables: `6k + c` for part k's tangent position coordinate c,
 /// `6n + 6k + c` for its velocity coordinate c (v, then ω), n = number of parts, then the
-/// control states and their rates ([`crate::physics::controls::state_variable`]).
+/// control states and their rates ([`crate::physics::control_states::state_variable`]).
 pub struct StateEnv<'a> {
     pub frames: &'a MarkerFrames,
     pub state: &'a State,
@@ -550,9 +550,13 @@ impl Env for StateEnv<'_> {
     }
 
     fn state(&self, state: StateRef, gradient: bool) -> Result<Dual, EvalError> {
-        crate::physics::controls::read_state(self.data, self.state, state, gradient, &|id, g| {
-            self.varval(id, g)
-        })
+        crate::physics::control_states::read_state(
+            self.data,
+            self.state,
+            state,
+            gradient,
+            &|id, g| self.varval(id, g),
+        )
     }
 
     fn spline(&self, id: u32) -> Option<&SplineData> {

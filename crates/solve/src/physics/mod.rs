@@ -2,9 +2,9 @@
 //! REQUEST outputs.
 
 pub mod applied;
+pub mod control_states;
 pub mod controls;
 pub mod forces;
-pub mod friction;
 pub mod mass;
 pub mod measures;
 pub mod reactions;

@@ -827,7 +827,7 @@ impl Env for OutputEnv<'_> {
     }
 
     fn state(&self, state: StateRef, _gradient: bool) -> Result<Dual, EvalError> {
-        crate::physics::controls::read_state(
+        crate::physics::control_states::read_state(
             &self.set.data,
             &self.output.state,
             state,

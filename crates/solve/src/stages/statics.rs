@@ -213,7 +213,7 @@ const RUNAWAY_WINDOW: usize = 3;
 /// (the Newton workspace of `statics/newton.rs`); an iteration without a cut step allocates nothing itself (force
 /// elements and expressions may, see [`crate::stages::dynamics::Integrator`]).
 ///
-/// Force elements with a state (joint friction, [`crate::physics::friction`]): the
+/// Force elements with a state (joint friction, [`crate::physics::forces::friction`]): the
 /// equilibrium is solved with their state fixed (the stiction anchors where the analysis
 /// starts, the normal loads from the last reactions), their state then takes the new
 /// reactions, and the equilibrium is solved again from the last one until no normal load

@@ -48,8 +48,8 @@ mod set;
 
 pub use set::FrictionSet;
 
-use super::forces::algebra::{Kinematics, Real, V3};
-use super::forces::{Context, Load, Loads};
+use super::algebra::{Kinematics, Real, V3};
+use super::{Context, Load, Loads};
 use crate::constraints::rows::{BodyFrame, Velocities};
 use crate::physics::reactions::Reaction;
 use crate::state::State;
