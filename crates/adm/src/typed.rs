@@ -209,12 +209,22 @@ pub enum MarkerCarrier {
     FePart(IdRef),
 }
 
+/// Where a marker on an FE_PART is tied: a node label, or a place `S` along the beam.
+#[derive(Clone, Debug, PartialEq)]
+pub enum FeMarkerNode {
+    Label(Located<u64>),
+    S(Located<f64>),
+}
+
 /// `MARKER/id, …` (ADM-REFERENCE §2.4). `carrier` is the explicit `PART=` (etc.) or the most
 /// recently read PART/POINT_MASS/FLEX_BODY statement; `None` when there is neither.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Marker {
     pub header: Header,
     pub carrier: Option<MarkerCarrier>,
+    /// On an FE_PART: the node it is tied to (NODE_LABEL, or S along the beam); `None`
+    /// elsewhere, or when neither is given.
+    pub fe_node: Option<FeMarkerNode>,
     pub qp: Option<Located<[f64; 3]>>,
     pub reuler: Option<Located<[f64; 3]>>,
     pub zp: Option<Located<[f64; 3]>>,

@@ -704,9 +704,14 @@ impl Typer {
             Some((arg, make)) => Some(make(self.id_ref(st, &arg.key)?)),
             None => self.carrier,
         };
+        let fe_node = match carrier {
+            Some(MarkerCarrier::FePart(_)) => self.marker_node(st),
+            _ => None,
+        };
         Some(Marker {
             header: header(st, index),
             carrier,
+            fe_node,
             qp: self.vec3(st, "QP"),
             reuler: self.vec3(st, "REULER"),
             zp: self.vec3(st, "ZP"),

@@ -222,8 +222,8 @@ impl Source {
     }
 
     /// [`Source::into_loaded`] for a caller that needs only the model (verify without a
-    /// change to save): the text and the raw statements the model builder does not read
-    /// ([`linkage_model::reads_raw`]) are freed before the model is built,
+    /// change to save): the text and the raw statements the model builder reads only in
+    /// their typed form ([`linkage_model::TYPED_ONLY`]) are freed before the model is built,
     /// and the returned [`Loaded::dataset`] is empty but for its file name.
     pub fn into_model(
         self,
@@ -236,7 +236,9 @@ impl Source {
         };
         let findings = coverage::findings(&dataset);
         dataset.text = String::new();
-        dataset.statements.retain(linkage_model::reads_raw);
+        dataset
+            .statements
+            .retain(|s| !linkage_model::TYPED_ONLY.contains(&s.keyword.as_str()));
         dataset.statements.shrink_to_fit();
         let mut loaded = build_found(dataset, left_out, analysis, findings)?;
         loaded.dataset = Dataset::empty(loaded.dataset.file.clone());

@@ -27,5 +27,5 @@ pub mod sensors;
 pub mod settings;
 pub mod units;
 
-pub use build::{build_model, reads_raw, TYPED_ONLY};
+pub use build::{build_model, TYPED_ONLY};
 pub use model::*;

@@ -6,6 +6,8 @@
 //! The corpus is read by relative path; without it the test fails when `CI` is set and skips
 //! with a notice elsewhere.
 
+mod common;
+use common::corpus;
 use linkage_model::settings::IntegratorMethod;
 use linkage_solve::constraints::drivers::ExpressionDrivers;
 use linkage_solve::coverage::{findings, Reason};
@@ -13,22 +15,7 @@ use linkage_solve::physics::forces::ForceSet;
 use linkage_solve::pipeline::Assembled;
 use linkage_solve::stages::dynamics::{run, IntegratorSettings, Start};
 use linkage_solve::tolerances::Tolerances;
-use std::path::{Path, PathBuf};
-
-fn corpus() -> Option<PathBuf> {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/corpus");
-    if dir.is_dir() {
-        return Some(dir);
-    }
-    assert!(
-        std::env::var_os("CI").is_none(),
-        "the corpus folder {} is missing",
-        dir.display()
-    );
-    eprintln!("notice: {} is missing; corpus test skipped", dir.display());
-    None
-}
-
+use std::path::PathBuf;
 const CONTROL_KEYWORDS: [&str; 6] = ["DIFF", "LSE", "TFSISO", "MATRIX", "PINPUT", "POUTPUT"];
 
 #[test]

@@ -6,24 +6,11 @@
 //! The corpus is read by relative path; without it the test fails when `CI` is set and skips
 //! with a notice elsewhere.
 
+mod common;
+use common::corpus;
 use linkage_adm::Value;
 use linkage_solve::coverage::{findings, statement_use, Reason, Use};
-use std::path::{Path, PathBuf};
-
-fn corpus() -> Option<PathBuf> {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/corpus");
-    if dir.is_dir() {
-        return Some(dir);
-    }
-    assert!(
-        std::env::var_os("CI").is_none(),
-        "the corpus folder {} is missing",
-        dir.display()
-    );
-    eprintln!("notice: {} is missing; corpus test skipped", dir.display());
-    None
-}
-
+use std::path::PathBuf;
 #[test]
 fn every_statement_of_every_corpus_dataset_is_modelled_or_named() {
     let Some(dir) = corpus() else { return };

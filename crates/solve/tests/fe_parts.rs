@@ -9,6 +9,8 @@
 //! Beam: steel, L = 1 m, 10 mm square section: E = 2.1e11 Pa, ρ = 7800 kg/m³,
 //! A = 1e-4 m², I = b⁴/12, J = 0.1406·b⁴ (Roark's square-section torsion constant).
 
+mod common;
+use common::corpus;
 use glam::DVec3;
 use linkage_model::fe_parts::ChapterCount;
 use linkage_model::Model;
@@ -22,7 +24,7 @@ use linkage_solve::stages::statics::Equilibrium;
 use linkage_solve::stages::verify::verify;
 use linkage_solve::tolerances::Tolerances;
 use std::f64::consts::{PI, TAU};
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::sync::Arc;
 
 const E: f64 = 2.1e11;
@@ -332,18 +334,7 @@ fn suddenly_loaded_cantilever_swings_about_its_static_deflection() {
 }
 
 fn corpus_file() -> Option<PathBuf> {
-    let f = Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../../../shared/corpus/bthornton191__adams_vscode__test__files__test.adm");
-    if f.is_file() {
-        return Some(f);
-    }
-    assert!(
-        std::env::var_os("CI").is_none(),
-        "the corpus dataset {} is missing",
-        f.display()
-    );
-    eprintln!("notice: {} is missing; corpus test skipped", f.display());
-    None
+    Some(corpus()?.join("bthornton191__adams_vscode__test__files__test.adm"))
 }
 
 /// The corpus dataset plus `extra` before END (its CONTACTs, which the model builder leaves

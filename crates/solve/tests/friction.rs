@@ -2,6 +2,8 @@
 //! spun down by the friction of its pin, the preload brake of the FAST models, a block held
 //! on a ramp in static equilibrium.
 
+mod common;
+use common::corpus;
 use linkage_model::Model;
 use linkage_solve::constraints::drivers::ExpressionDrivers;
 use linkage_solve::physics::applied::AppliedForces;
@@ -230,21 +232,6 @@ fn friction_inactive_in_statics_holds_nothing_there() {
     let out = simulate(&text, 1.0, 10, 1e-6);
     let dz = out[0].state.poses[0].p.z - out[10].state.poses[0].p.z;
     assert!(dz.abs() < 0.01, "{dz}");
-}
-
-/// The corpus folder, or `None` (with a notice) when it is missing and `CI` is not set.
-fn corpus() -> Option<std::path::PathBuf> {
-    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/corpus");
-    if dir.is_dir() {
-        return Some(dir);
-    }
-    assert!(
-        std::env::var_os("CI").is_none(),
-        "the corpus folder {} is missing",
-        dir.display()
-    );
-    eprintln!("notice: {} is missing; corpus test skipped", dir.display());
-    None
 }
 
 /// A corpus dataset without the statements `leave_out` names (`--deactivate`), its findings

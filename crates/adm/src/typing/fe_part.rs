@@ -20,7 +20,7 @@
 use super::Typer;
 use crate::diagnostic::{Diagnostic, Span};
 use crate::statement::{Statement, Value};
-use crate::typed::{Dataset, Function, Header, IdRef, Located};
+use crate::typed::{Dataset, FeMarkerNode, Function, Header, IdRef, Located, MarkerCarrier};
 
 /// The kind of an FE_PART.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -119,13 +119,6 @@ pub struct FeLoadStatement {
     pub user: Option<Located<Function>>,
 }
 
-/// Where a marker on an FE_PART is tied: a node label, or a place `S` along the beam.
-#[derive(Clone, Debug, PartialEq)]
-pub enum FeMarkerNode {
-    Label(Located<u64>),
-    S(Located<f64>),
-}
-
 /// The FE statements of a dataset.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct FeData {
@@ -165,13 +158,16 @@ pub fn type_fe_data(ds: &Dataset) -> (FeData, Vec<Diagnostic>) {
             "MATERIAL" => out.materials.extend(t.material(st, index)),
             "FE_NODE" => out.nodes.extend(t.fe_node(st, index)),
             "FE_LOAD" => out.loads.extend(t.fe_load(st, index)),
-            "MARKER" if st.arg("FE_PART").is_some() => {
-                let node = t.marker_node(st);
-                out.marker_nodes.push((st.id.unwrap_or(0), node));
-            }
             _ => {}
         }
     }
+    // Markers on FE parts are typed with the other markers (their NODE_LABEL or S too).
+    out.marker_nodes = ds
+        .markers
+        .iter()
+        .filter(|m| matches!(m.carrier, Some(MarkerCarrier::FePart(_))))
+        .map(|m| (m.header.id, m.fe_node.clone()))
+        .collect();
     (out, t.diagnostics)
 }
 
@@ -470,7 +466,8 @@ impl Typer {
         })
     }
 
-    fn marker_node(&mut self, st: &Statement) -> Option<FeMarkerNode> {
+    /// NODE_LABEL or S of a marker on an FE_PART (`None`: neither, or an error reported).
+    pub(super) fn marker_node(&mut self, st: &Statement) -> Option<FeMarkerNode> {
         if st.arg("NODE_LABEL").is_some() {
             let id = self.id_ref(st, "NODE_LABEL")?;
             return Some(FeMarkerNode::Label(Located {

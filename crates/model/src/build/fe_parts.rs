@@ -18,7 +18,8 @@ use crate::fe_parts::{
 };
 use crate::frames::euler313_to_matrix;
 use glam::{DMat3, DVec3};
-use linkage_adm::fe_part::{type_fe_data, FeData, FeMarkerNode, FePartStatement, FeSections};
+use linkage_adm::fe_part::{type_fe_data, FeData, FePartStatement, FeSections};
+use linkage_adm::FeMarkerNode;
 use linkage_adm::{Dataset, MarkerCarrier, Severity};
 
 /// Builds every FE part: appends its node bodies to `parts`, re-places the markers on its

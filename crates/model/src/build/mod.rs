@@ -39,21 +39,11 @@ use lookup::MarkerTable;
 pub const INERTIA_RELATIVE_TOLERANCE: f64 = 1e-9;
 
 /// Statement kinds the builder reads only in their typed form ([`Dataset::parts`],
-/// [`Dataset::markers`], …), never as raw statements ([`Dataset::statements`]) — but for the
-/// exceptions [`reads_raw`] names. They are the bulk of a large model, so dropping them
+/// [`Dataset::markers`], …), never as raw statements ([`Dataset::statements`]). They are the bulk of a large model, so dropping them
 /// before building means a large model is never held as text, raw statements and model at
 /// once. (Elements typed on demand from their raw statements — settings, GRAPHICS, contacts,
 /// finite-element parts, control elements — must not be listed here.)
 pub const TYPED_ONLY: [&str; 5] = ["PART", "MARKER", "JOINT", "JPRIM", "MOTION"];
-
-/// Whether the builder reads the raw statement `st`: every statement but those of the
-/// [`TYPED_ONLY`] kinds, except a MARKER on an FE_PART, whose NODE_LABEL or S the
-/// finite-element builder reads from the raw statement. A dataset cut down to the statements
-/// for which this is true builds the same model.
-pub fn reads_raw(st: &linkage_adm::Statement) -> bool {
-    !TYPED_ONLY.contains(&st.keyword.as_str())
-        || (st.keyword == "MARKER" && st.arg("FE_PART").is_some())
-}
 
 /// The model and the non-fatal findings made while building it (dataset warnings included).
 pub struct Built {
