@@ -22,6 +22,12 @@ pub enum InputError {
     TooLarge,
 }
 
+/// `bytes` as text: as they are when they are UTF-8 (no copy), else with each invalid
+/// sequence replaced by U+FFFD.
+pub fn text_of(bytes: Vec<u8>) -> String {
+    String::from_utf8(bytes).unwrap_or_else(|e| String::from_utf8_lossy(e.as_bytes()).into_owned())
+}
+
 /// The bytes of the regular file at `path` (symbolic links followed), at most
 /// [`MAX_INPUT_BYTES`].
 pub fn read_input(path: &Path) -> Result<Vec<u8>, InputError> {

@@ -117,14 +117,19 @@ pub(crate) fn lookup<'t, T>(
     if word.is_empty() {
         return Lookup::NotFound;
     }
-    let upper = word.to_ascii_uppercase();
-    if let Some(item) = items.iter().find(|it| spelling(it) == upper) {
+    // Spellings are upper-case ASCII: compare without allocating an upper-case copy.
+    if let Some(item) = items
+        .iter()
+        .find(|it| spelling(it).eq_ignore_ascii_case(word))
+    {
         return Lookup::Found(item);
     }
-    let candidates: Vec<&T> = items
-        .iter()
-        .filter(|it| spelling(it).starts_with(upper.as_str()))
-        .collect();
+    let starts = |s: &str| {
+        s.as_bytes()
+            .get(..word.len())
+            .is_some_and(|head| head.eq_ignore_ascii_case(word.as_bytes()))
+    };
+    let candidates: Vec<&T> = items.iter().filter(|it| starts(spelling(it))).collect();
     let mut names: Vec<&'static str> = candidates.iter().map(|it| canonical(it)).collect();
     names.sort_unstable();
     names.dedup();

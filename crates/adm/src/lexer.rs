@@ -58,18 +58,21 @@ pub(crate) enum LexItem {
 
 /// Splits text into lines without their line endings (`\n`, `\r\n`, lone `\r`).
 pub(crate) fn split_lines(text: &str) -> Vec<&str> {
-    let mut lines = Vec::new();
-    let mut rest = text;
-    while !rest.is_empty() {
-        match rest.find(['\n', '\r']) {
+    let bytes = text.as_bytes();
+    // Most lines are short: one line per 40 bytes is a fair first guess.
+    let mut lines = Vec::with_capacity(bytes.len() / 40 + 1);
+    let mut start = 0;
+    while start < bytes.len() {
+        match memchr::memchr2(b'\n', b'\r', &bytes[start..]) {
             Some(k) => {
-                lines.push(&rest[..k]);
-                let skip = if rest[k..].starts_with("\r\n") { 2 } else { 1 };
-                rest = &rest[k + skip..];
+                let end = start + k;
+                lines.push(&text[start..end]);
+                let crlf = bytes[end] == b'\r' && bytes.get(end + 1) == Some(&b'\n');
+                start = end + if crlf { 2 } else { 1 };
             }
             None => {
-                lines.push(rest);
-                rest = "";
+                lines.push(&text[start..]);
+                start = bytes.len();
             }
         }
     }
@@ -88,13 +91,16 @@ struct LineScan<'a> {
 }
 
 fn scan_line(line: &str) -> LineScan<'_> {
+    let bytes = line.as_bytes();
     let mut in_quote: Option<usize> = None;
     let mut semicolons = Vec::new();
-    for (k, c) in line.char_indices() {
-        match (c, in_quote) {
-            ('"', None) => in_quote = Some(k),
-            ('"', Some(_)) => in_quote = None,
-            ('!', None) => {
+    // The characters looked for are ASCII, and no byte of a multi-byte UTF-8 character is
+    // ASCII: searching bytes finds them at character boundaries.
+    for k in memchr::memchr3_iter(b'"', b'!', b';', bytes) {
+        match (bytes[k], in_quote) {
+            (b'"', None) => in_quote = Some(k),
+            (b'"', Some(_)) => in_quote = None,
+            (b'!', None) => {
                 return LineScan {
                     code: &line[..k],
                     comment: Some(&line[k + 1..]),
@@ -102,7 +108,7 @@ fn scan_line(line: &str) -> LineScan<'_> {
                     open_quote: None,
                 }
             }
-            (';', None) => semicolons.push(k),
+            (b';', None) => semicolons.push(k),
             _ => {}
         }
     }
@@ -129,7 +135,13 @@ pub(crate) fn view_name_in(comment: &str) -> Option<String> {
 
 /// 1-based column of byte offset `byte` in `line` (columns count characters).
 fn col_of(line: &str, byte: usize) -> u32 {
-    let chars = line.get(..byte).map_or(0, |s| s.chars().count());
+    let chars = line.get(..byte).map_or(0, |s| {
+        if s.is_ascii() {
+            s.len()
+        } else {
+            s.chars().count()
+        }
+    });
     u32::try_from(chars)
         .unwrap_or(u32::MAX - 1)
         .saturating_add(1)
@@ -152,6 +164,9 @@ pub(crate) struct Lexer<'a> {
     /// View name waiting for the next statement.
     view_name: Option<String>,
     stop_word: &'static str,
+    /// The character buffer of a statement the caller is done with ([`Self::recycle`]), reused
+    /// for the next statement.
+    spare: Vec<SrcChar>,
 }
 
 /// One piece of a physical line that belongs to a statement.
@@ -178,13 +193,15 @@ impl<'a> Lexer<'a> {
             resume: None,
             view_name: None,
             stop_word,
+            spare: Vec::new(),
         }
     }
 
     /// The next statement (or stray error), `None` at the end of the text.
     pub(crate) fn next_item(&mut self) -> Option<LexItem> {
         if let Some((line, start)) = self.resume.take() {
-            return Some(LexItem::Statement(self.statement_from(line, start)));
+            let scan = scan_line(self.lines.get(line).copied().unwrap_or(""));
+            return Some(LexItem::Statement(self.statement_from(line, start, &scan)));
         }
         while let Some(text) = self.lines.get(self.next).copied() {
             let index = self.next;
@@ -205,20 +222,23 @@ impl<'a> Lexer<'a> {
                     "continuation line (starting with ',') has no statement to continue",
                 )));
             }
-            return Some(LexItem::Statement(self.statement_from(index, 0)));
+            return Some(LexItem::Statement(self.statement_from(index, 0, &scan)));
         }
         None
     }
 
     /// Builds the statement that starts at byte `start` of line `index`, with its continuations.
-    fn statement_from(&mut self, index: usize, start: usize) -> RawStatement {
+    /// `scan` is [`scan_line`] of that line.
+    fn statement_from(&mut self, index: usize, start: usize, scan: &LineScan) -> RawStatement {
+        let mut chars = std::mem::take(&mut self.spare);
+        chars.clear();
         let mut raw = RawStatement {
-            chars: Vec::new(),
+            chars,
             lines: (line_number(index), line_number(index)),
             view_name: self.view_name.take(),
             errors: Vec::new(),
         };
-        let (piece, mut continues) = self.piece(index, start, &mut raw.errors);
+        let (piece, mut continues) = self.piece(index, start, scan, &mut raw.errors);
         self.push_piece(&mut raw, &piece, false);
         if piece.closed || self.starts_with_stop_word(&raw) {
             return raw;
@@ -240,7 +260,7 @@ impl<'a> Lexer<'a> {
             let index = self.next;
             self.next += 1;
             pending_view = None;
-            let (piece, more) = self.piece(index, 0, &mut raw.errors);
+            let (piece, more) = self.piece(index, 0, &scan, &mut raw.errors);
             raw.lines.1 = line_number(index);
             self.push_piece(&mut raw, &piece, true);
             if piece.closed {
@@ -256,9 +276,15 @@ impl<'a> Lexer<'a> {
 
     /// The part of line `index` from byte `start` up to a `;` or the comment; whether the next
     /// line continues it (trailing `,` or `&`). Schedules the text after a `;` as a new statement.
-    fn piece(&mut self, index: usize, start: usize, errors: &mut Vec<Diagnostic>) -> (Piece, bool) {
+    /// `scan` is [`scan_line`] of line `index`.
+    fn piece(
+        &mut self,
+        index: usize,
+        start: usize,
+        scan: &LineScan,
+        errors: &mut Vec<Diagnostic>,
+    ) -> (Piece, bool) {
         let text = self.lines.get(index).copied().unwrap_or("");
-        let scan = scan_line(text);
         if let Some(q) = scan.open_quote.filter(|q| *q >= start) {
             let span = Span::new(line_number(index), col_of(text, q));
             errors.push(Diagnostic::error(
@@ -315,16 +341,16 @@ impl<'a> Lexer<'a> {
         // One character per byte at most: one reservation per piece instead of the doublings.
         raw.chars.reserve(piece.end.saturating_sub(piece.start));
         let mut col = col_of(text, piece.start);
-        let mut first_nonblank = true;
-        for c in text.get(piece.start..piece.end).unwrap_or("").chars() {
-            let mark = if continuation && first_nonblank && c == ',' {
+        let code = text.get(piece.start..piece.end).unwrap_or("");
+        // The first non-blank character of a continuation line, when it is a comma.
+        let lead = code.len() - code.trim_start().len();
+        let comma_at = (continuation && code[lead..].starts_with(',')).then_some(lead);
+        for (k, c) in code.char_indices() {
+            let mark = if comma_at == Some(k) {
                 Mark::ContinuationComma
             } else {
                 Mark::Plain
             };
-            if !c.is_whitespace() {
-                first_nonblank = false;
-            }
             raw.chars.push(SrcChar {
                 ch: c,
                 span: Span::new(line, col),
@@ -332,6 +358,11 @@ impl<'a> Lexer<'a> {
             });
             col = col.saturating_add(1);
         }
+    }
+
+    /// Takes back a statement's characters so that the next statement reuses their buffer.
+    pub(crate) fn recycle(&mut self, raw: RawStatement) {
+        self.spare = raw.chars;
     }
 
     fn starts_with_stop_word(&self, raw: &RawStatement) -> bool {

@@ -52,7 +52,7 @@ pub fn read_dataset(path: &Path) -> Result<Dataset, Diagnostics> {
     let file: Arc<str> = Arc::from(path.display().to_string());
     match crate::input::read_input(path) {
         Ok(bytes) => {
-            let text = String::from_utf8_lossy(&bytes).into_owned();
+            let text = crate::input::text_of(bytes);
             parse_dataset(file, &text)
         }
         Err(e) => Err(Diagnostics(vec![Diagnostic::error(

@@ -69,6 +69,7 @@ pub(crate) fn parse(file: Arc<str>, text: &str, first_line: usize, lang: Languag
             LexItem::Error(d) => parsed.diagnostics.push(d),
             LexItem::Statement(raw) => {
                 let (statement, diagnostics) = parse_statement(&file, &raw, lang);
+                lexer.recycle(raw);
                 parsed.diagnostics.extend(diagnostics);
                 if let Some(st) = statement {
                     if st.known && st.keyword == lang.stop_word() {
@@ -96,6 +97,7 @@ fn parse_statement(
         lang,
         def: None,
         warnings: Vec::new(),
+        scratch: String::new(),
     };
     p.skip_ws();
     let span = p.span_here();
@@ -118,6 +120,7 @@ fn parse_statement(
         }
         Lookup::NotFound => (word.to_ascii_uppercase(), false),
     };
+    p.recycle(word);
     let mut st = Statement {
         keyword,
         known,
@@ -157,6 +160,9 @@ struct StatementParser<'a> {
     lang: Language,
     def: Option<&'static StatementDef>,
     warnings: Vec<Diagnostic>,
+    /// Buffer lent out by [`Self::token`] and [`Self::ident`] and given back with
+    /// [`Self::recycle`]: one allocation per statement instead of one per token.
+    scratch: String,
 }
 
 impl StatementParser<'_> {
@@ -211,6 +217,13 @@ impl StatementParser<'_> {
 
     /// Reads `[A-Za-z_][A-Za-z0-9_]*` starting at `k`; returns it and the index after it.
     fn ident_at(&self, k: usize) -> Option<(String, usize)> {
+        let end = self.ident_end(k)?;
+        let word = self.chars.get(k..end)?.iter().map(|c| c.ch).collect();
+        Some((word, end))
+    }
+
+    /// The end of the identifier that starts at `k` (see [`Self::ident_at`]).
+    fn ident_end(&self, k: usize) -> Option<usize> {
         let first = self.chars.get(k).filter(|c| c.mark == Mark::Plain)?;
         if !(first.ch.is_ascii_alphabetic() || first.ch == '_') {
             return None;
@@ -223,19 +236,29 @@ impl StatementParser<'_> {
         {
             end += 1;
         }
-        let word = self.chars.get(k..end)?.iter().map(|c| c.ch).collect();
-        Some((word, end))
+        Some(end)
     }
 
+    /// The identifier here, in the scratch buffer (give it back with [`Self::recycle`]).
     fn ident(&mut self) -> Option<String> {
-        let (word, end) = self.ident_at(self.pos)?;
+        let end = self.ident_end(self.pos)?;
+        let mut word = std::mem::take(&mut self.scratch);
+        word.clear();
+        word.extend(self.chars.get(self.pos..end)?.iter().map(|c| c.ch));
         self.pos = end;
         Some(word)
     }
 
-    /// Reads the maximal run of plain, non-delimiter characters.
+    /// Gives the buffer of [`Self::token`] or [`Self::ident`] back for the next one.
+    fn recycle(&mut self, buffer: String) {
+        self.scratch = buffer;
+    }
+
+    /// Reads the maximal run of plain, non-delimiter characters (in the scratch buffer: give it
+    /// back with [`Self::recycle`]).
     fn token(&mut self) -> String {
-        let mut s = String::new();
+        let mut s = std::mem::take(&mut self.scratch);
+        s.clear();
         while let Some(c) = self
             .peek()
             .filter(|c| c.mark == Mark::Plain && !is_delimiter(c.ch))
@@ -307,14 +330,16 @@ impl StatementParser<'_> {
                 format!("invalid id '{token}' of {keyword}: expected a positive integer"),
             ));
         }
-        match token.parse::<u64>() {
+        let id = match token.parse::<u64>() {
             Ok(0) => Err(self.error(
                 span,
                 format!("id of {keyword} must be positive, found '{token}'"),
             )),
             Ok(id) => Ok(id),
             Err(_) => Err(self.error(span, format!("id '{token}' of {keyword} is too large"))),
-        }
+        };
+        self.recycle(token);
+        id
     }
 
     fn arguments(
@@ -346,7 +371,9 @@ impl StatementParser<'_> {
             let found = self.describe_here();
             return Err(self.error(span, format!("expected an argument keyword, found {found}")));
         };
-        let (key, kind) = self.resolve_arg(&word, span)?;
+        let resolved = self.resolve_arg(&word, span);
+        self.recycle(word);
+        let (key, kind) = resolved?;
         self.skip_ws();
         let has_value = self
             .peek()

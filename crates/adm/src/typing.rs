@@ -24,7 +24,6 @@ use crate::keywords::{self, Lookup};
 use crate::parse::Parsed;
 use crate::statement::{Argument, Statement, Value};
 use crate::typed::*;
-use std::collections::HashSet;
 use std::sync::Arc;
 
 /// Types the parsed statements of a dataset. `text` is the whole file (its line 1 is the title).
@@ -336,11 +335,16 @@ impl Typer {
     }
 
     fn warn_repeated_arguments(&mut self, st: &Statement) {
-        let mut seen = HashSet::new();
-        for a in &st.args {
+        // Statements have a handful of arguments: a scan of the earlier ones is cheaper than a
+        // set per statement (a dataset has hundreds of thousands of statements).
+        for (k, a) in st.args.iter().enumerate() {
             // A 2-D SPLINE has one `Y =` per curve.
             let repeatable = st.keyword == "SPLINE" && a.key == "Y";
-            if !seen.insert(a.key.as_str()) && !repeatable {
+            let repeated = st
+                .args
+                .get(..k)
+                .is_some_and(|b| b.iter().any(|b| b.key == a.key));
+            if repeated && !repeatable {
                 let msg = format!(
                     "'{}' given more than once in {}; the first one is used",
                     a.key,

@@ -87,29 +87,27 @@ pub const POINT_MASS_STATEMENT: &str = "POINT_MASS";
 impl Constraint {
     /// Human description in Adams View style: `Revolute Joint`, `Inline Primitive`,
     /// `Rotational Motion`, `Coupler`, `Gear`, `General Constraint`.
-    pub fn description(&self) -> String {
+    pub fn description(&self) -> &'static str {
         if self.origin.statement == POINT_MASS_STATEMENT {
-            return "Point Mass Rotation Hold".into();
+            return "Point Mass Rotation Hold";
         }
         if self.origin.statement == crate::fe_parts::FE_PART_STATEMENT {
-            return "Cable Node Rotation Hold".into();
+            return "Cable Node Rotation Hold";
         }
         match &self.kind {
-            ConstraintKind::Joint { kind, .. } => format!("{} Joint", title_case(kind.keyword())),
-            ConstraintKind::Jprim { kind, .. } => {
-                format!("{} Primitive", title_case(kind.keyword()))
-            }
+            ConstraintKind::Joint { kind, .. } => joint_description(*kind),
+            ConstraintKind::Jprim { kind, .. } => jprim_description(*kind),
             ConstraintKind::Motion { coordinate, .. } => match coordinate {
-                MotionCoordinate::RotationZ => "Rotational Motion".into(),
-                MotionCoordinate::TranslationZ => "Translational Motion".into(),
+                MotionCoordinate::RotationZ => "Rotational Motion",
+                MotionCoordinate::TranslationZ => "Translational Motion",
                 MotionCoordinate::Marker(MotionAxis::X | MotionAxis::Y | MotionAxis::Z) => {
-                    "Translational Motion".into()
+                    "Translational Motion"
                 }
-                MotionCoordinate::Marker(_) => "Rotational Motion".into(),
+                MotionCoordinate::Marker(_) => "Rotational Motion",
             },
-            ConstraintKind::Coupler { .. } => "Coupler".into(),
-            ConstraintKind::Gear { .. } => "Gear".into(),
-            ConstraintKind::Gcon { .. } => "General Constraint".into(),
+            ConstraintKind::Coupler { .. } => "Coupler",
+            ConstraintKind::Gear { .. } => "Gear",
+            ConstraintKind::Gcon { .. } => "General Constraint",
         }
     }
 
@@ -124,17 +122,34 @@ impl Constraint {
     }
 }
 
-fn title_case(s: &str) -> String {
-    s.split('_')
-        .map(|w| {
-            let mut c = w.chars();
-            match c.next() {
-                Some(f) => f.to_uppercase().collect::<String>() + &c.as_str().to_lowercase(),
-                None => String::new(),
-            }
-        })
-        .collect::<Vec<_>>()
-        .join(" ")
+/// `Revolute Joint`: the joint type's keyword in title case (a table: verify names every
+/// redundant row of a large model with it).
+fn joint_description(kind: JointType) -> &'static str {
+    match kind {
+        JointType::Convel => "Convel Joint",
+        JointType::Cylindrical => "Cylindrical Joint",
+        JointType::Fixed => "Fixed Joint",
+        JointType::Hooke => "Hooke Joint",
+        JointType::Planar => "Planar Joint",
+        JointType::Rackpin => "Rackpin Joint",
+        JointType::Revolute => "Revolute Joint",
+        JointType::Screw => "Screw Joint",
+        JointType::Spherical => "Spherical Joint",
+        JointType::Translational => "Translational Joint",
+        JointType::Universal => "Universal Joint",
+    }
+}
+
+/// `Parallel Axes Primitive`: the primitive's keyword in title case.
+fn jprim_description(kind: JprimType) -> &'static str {
+    match kind {
+        JprimType::Atpoint => "Atpoint Primitive",
+        JprimType::Inline => "Inline Primitive",
+        JprimType::Inplane => "Inplane Primitive",
+        JprimType::Orientation => "Orientation Primitive",
+        JprimType::ParallelAxes => "Parallel Axes Primitive",
+        JprimType::Perpendicular => "Perpendicular Primitive",
+    }
 }
 
 /// The mechanical model.

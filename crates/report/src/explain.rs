@@ -111,7 +111,7 @@ fn reaction(model: &Model, r: &ElementReactions, d: &[Direction]) -> ReactionJso
     let c = &model.constraints[r.element];
     ReactionJson {
         name: c.origin.name.clone(),
-        kind: c.description(),
+        kind: c.description().to_string(),
         directions: directions(d),
     }
 }

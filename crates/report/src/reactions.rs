@@ -27,7 +27,7 @@ pub fn reactions_json(model: &Model, reactions: &[Reaction]) -> Vec<ReactionJson
             ReactionJson {
                 name: c.origin.name.clone(),
                 element: c.origin.element(),
-                kind: c.description(),
+                kind: c.description().to_string(),
                 force: a3(r.force),
                 torque: a3(r.torque),
             }

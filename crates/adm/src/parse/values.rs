@@ -263,7 +263,6 @@ impl StatementParser<'_> {
         let Some(c) = self.peek().filter(|c| c.mark == Mark::Plain) else {
             return Ok(None);
         };
-        let strict = kind != ArgKind::Any;
         let span = c.span;
         if c.ch == '"' {
             self.pos += 1;
@@ -283,26 +282,36 @@ impl StatementParser<'_> {
             return Ok(None);
         }
         let token = self.token();
+        let value = self.token_value(&token, kind, span);
+        self.recycle(token);
+        value.map(Some)
+    }
+
+    /// The value of a number or word `token` read at `span` (see [`Self::item`]).
+    fn token_value(&mut self, token: &str, kind: ArgKind, span: Span) -> Result<Value, ListError> {
+        let strict = kind != ArgKind::Any;
+        let numeric =
+            token.starts_with(|c: char| c.is_ascii_digit() || matches!(c, '+' | '-' | '.'));
         let word_like = !token.is_empty() && token.chars().all(is_word_char);
         if numeric {
-            if let Some((value, degrees)) = parse_number(&token) {
+            if let Some((value, degrees)) = parse_number(token) {
                 let degrees = degrees || self.detached_degree_suffix(span);
                 let value = if degrees && !token.ends_with(['d', 'D']) {
                     value.to_radians()
                 } else {
                     value
                 };
-                return Ok(Some(Value::Number {
+                return Ok(Value::Number {
                     value,
                     degrees,
                     span,
-                }));
+                });
             }
             if strict || !word_like {
                 let msg = format!("invalid number '{token}'");
                 return Err(if strict {
                     let mut d = self.error(span, msg);
-                    if fortran_double_exponent(&token) {
+                    if fortran_double_exponent(token) {
                         d = d.with_hint(
                             "'D' is the degree suffix in Adams; write exponents with 'E' (1.0E0)",
                         );
@@ -322,10 +331,10 @@ impl StatementParser<'_> {
             let msg = format!("expected a number, found '{token}'");
             return Err(ListError::Fatal(self.error(span, msg)));
         }
-        Ok(Some(Value::Word {
+        Ok(Value::Word {
             text: token.to_ascii_uppercase(),
             span,
-        }))
+        })
     }
 
     /// `20 D`: a degree suffix separated from its number by blanks (seen in hand-written files).

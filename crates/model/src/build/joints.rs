@@ -15,7 +15,7 @@ pub(crate) fn joints(
     cx: &mut Ctx,
     constraints: &mut Vec<Constraint>,
 ) -> HashMap<u64, usize> {
-    let mut joint_index: HashMap<u64, usize> = HashMap::new();
+    let mut joint_index: HashMap<u64, usize> = HashMap::with_capacity(ds.joints.len());
     for jt in &ds.joints {
         // A joint refused below leaves its id free (no duplicate error for a later one).
         if joint_index.contains_key(&jt.header.id) {

@@ -39,7 +39,7 @@ pub(crate) fn markers<'d>(
     cx: &mut Ctx,
 ) -> MarkerStatements<'d> {
     let mut out = MarkerStatements {
-        index: HashMap::new(),
+        index: HashMap::with_capacity(ds.markers.len()),
         placed: Vec::with_capacity(ds.markers.len()),
         statements: Vec::with_capacity(ds.markers.len()),
     };

@@ -36,7 +36,7 @@ impl PartStatements<'_> {
 /// GROUND part, a ZG that coincides with QG.
 pub(crate) fn parts<'d>(ds: &'d Dataset, cx: &mut Ctx) -> PartStatements<'d> {
     let mut ground: Option<&linkage_adm::Part> = None;
-    let mut index: HashMap<u64, Body> = HashMap::new();
+    let mut index: HashMap<u64, Body> = HashMap::with_capacity(ds.parts.len());
     let mut moving = Vec::new();
     for p in &ds.parts {
         if index.contains_key(&p.header.id) {

@@ -416,7 +416,7 @@ fn analyse(
         let d = c.description();
         match counts.iter_mut().find(|(k, _)| *k == d) {
             Some((_, n)) => *n += 1,
-            None => counts.push((d, 1)),
+            None => counts.push((d.to_string(), 1)),
         }
     }
     // FE parts: the Gruebler count takes the equivalent linear flexible body (Adams'

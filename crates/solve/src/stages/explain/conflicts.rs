@@ -122,7 +122,7 @@ pub fn driver_conflicts(
                 let c = &model.constraints[row.element];
                 (
                     c.origin.name.clone(),
-                    c.description(),
+                    c.description().to_string(),
                     row.unit,
                     row.tier == Tier::Motion,
                 )

@@ -156,7 +156,8 @@ impl Change {
     /// 90° so that its z lies along its former y axis)")`.
     pub fn describe(&self, model: &Model) -> (String, String) {
         let con = &model.constraints[self.element];
-        let from = ElementType::of(&con.kind).map_or_else(|| con.description(), |t| t.name());
+        let from =
+            ElementType::of(&con.kind).map_or_else(|| con.description().to_string(), |t| t.name());
         let mut to: Vec<String> = self.into.iter().map(|n| n.kind.name()).collect();
         to.dedup();
         let mut notes: Vec<String> = Vec::new();
@@ -914,7 +915,7 @@ fn check(
     let after = determinacy(&sys, state, length, &an.null);
     let named = |m: &Model, r: &ElementReactions, dirs: Vec<Direction>| NamedReactions {
         name: m.constraints[r.element].origin.name.clone(),
-        kind: m.constraints[r.element].description(),
+        kind: m.constraints[r.element].description().to_string(),
         directions: dirs,
     };
     let indeterminate_after: Vec<NamedReactions> = after
