@@ -64,11 +64,12 @@ pub(crate) fn parse(file: Arc<str>, text: &str, first_line: usize, lang: Languag
         stop_line: None,
         diagnostics: Vec::new(),
     };
+    let mut scratch = Scratch::default();
     while let Some(item) = lexer.next_item() {
         match item {
             LexItem::Error(d) => parsed.diagnostics.push(d),
             LexItem::Statement(raw) => {
-                let (statement, diagnostics) = parse_statement(&file, &raw, lang);
+                let (statement, diagnostics) = parse_statement(&file, &raw, lang, &mut scratch);
                 lexer.recycle(raw);
                 parsed.diagnostics.extend(diagnostics);
                 if let Some(st) = statement {
@@ -89,7 +90,9 @@ fn parse_statement(
     file: &Arc<str>,
     raw: &RawStatement,
     lang: Language,
+    scratch: &mut Scratch,
 ) -> (Option<Statement>, Vec<Diagnostic>) {
+    scratch.args.clear();
     let mut p = StatementParser {
         file,
         chars: &raw.chars,
@@ -97,7 +100,7 @@ fn parse_statement(
         lang,
         def: None,
         warnings: Vec::new(),
-        scratch: String::new(),
+        scratch,
     };
     p.skip_ws();
     let span = p.span_here();
@@ -135,7 +138,8 @@ fn parse_statement(
         return (Some(st), Vec::new());
     }
     let body = p.body(&mut st);
-    st.args = values::exact(std::mem::take(&mut st.args));
+    // Built in the lent buffer, kept in an allocation of exactly their number.
+    st.args = p.scratch.args.drain(..).collect();
     if !known {
         let msg = format!("unknown statement '{}' ignored", st.keyword);
         return (
@@ -152,6 +156,18 @@ fn parse_statement(
     (ok.then_some(st), diagnostics)
 }
 
+/// Buffers the statements of a text share, so that reading one allocates only what it keeps.
+#[derive(Default)]
+struct Scratch {
+    /// Lent out by [`StatementParser::token`] and [`StatementParser::ident`], given back with
+    /// [`StatementParser::recycle`].
+    text: String,
+    /// The arguments of the statement being read.
+    args: Vec<Argument>,
+    /// The values of the list being read.
+    values: Vec<Value>,
+}
+
 /// Cursor over the characters of one logical statement.
 struct StatementParser<'a> {
     file: &'a Arc<str>,
@@ -160,9 +176,8 @@ struct StatementParser<'a> {
     lang: Language,
     def: Option<&'static StatementDef>,
     warnings: Vec<Diagnostic>,
-    /// Buffer lent out by [`Self::token`] and [`Self::ident`] and given back with
-    /// [`Self::recycle`]: one allocation per statement instead of one per token.
-    scratch: String,
+    /// Buffers shared with the other statements of the text.
+    scratch: &'a mut Scratch,
 }
 
 impl StatementParser<'_> {
@@ -242,7 +257,7 @@ impl StatementParser<'_> {
     /// The identifier here, in the scratch buffer (give it back with [`Self::recycle`]).
     fn ident(&mut self) -> Option<String> {
         let end = self.ident_end(self.pos)?;
-        let mut word = std::mem::take(&mut self.scratch);
+        let mut word = std::mem::take(&mut self.scratch.text);
         word.clear();
         word.extend(self.chars.get(self.pos..end)?.iter().map(|c| c.ch));
         self.pos = end;
@@ -251,21 +266,22 @@ impl StatementParser<'_> {
 
     /// Gives the buffer of [`Self::token`] or [`Self::ident`] back for the next one.
     fn recycle(&mut self, buffer: String) {
-        self.scratch = buffer;
+        self.scratch.text = buffer;
     }
 
     /// Reads the maximal run of plain, non-delimiter characters (in the scratch buffer: give it
     /// back with [`Self::recycle`]).
     fn token(&mut self) -> String {
-        let mut s = std::mem::take(&mut self.scratch);
+        let mut s = std::mem::take(&mut self.scratch.text);
         s.clear();
-        while let Some(c) = self
-            .peek()
-            .filter(|c| c.mark == Mark::Plain && !is_delimiter(c.ch))
-        {
-            s.push(c.ch);
-            self.pos += 1;
-        }
+        let start = self.pos;
+        let rest = self.chars.get(start..).unwrap_or(&[]);
+        let len = rest
+            .iter()
+            .position(|c| c.mark != Mark::Plain || is_delimiter(c.ch))
+            .unwrap_or(rest.len());
+        s.extend(rest.iter().take(len).map(|c| c.ch));
+        self.pos = start + len;
         s
     }
 
@@ -309,7 +325,7 @@ impl StatementParser<'_> {
                 need_separator = true;
             }
         }
-        self.arguments(st, need_separator)
+        self.arguments(need_separator)
     }
 
     /// The id after the slash: a positive integer, leading zeros allowed.
@@ -342,11 +358,8 @@ impl StatementParser<'_> {
         id
     }
 
-    fn arguments(
-        &mut self,
-        st: &mut Statement,
-        mut need_separator: bool,
-    ) -> Result<(), Diagnostic> {
+    /// The arguments, into the lent buffer (`scratch.args`).
+    fn arguments(&mut self, mut need_separator: bool) -> Result<(), Diagnostic> {
         loop {
             self.skip_ws();
             let Some(c) = self.peek() else { return Ok(()) };
@@ -359,7 +372,7 @@ impl StatementParser<'_> {
                 return Err(self.error(c.span, format!("expected ',' before '{}'", c.ch)));
             }
             let (argument, separated) = self.argument()?;
-            st.args.push(argument);
+            self.scratch.args.push(argument);
             need_separator = !separated;
         }
     }

@@ -404,6 +404,14 @@ impl Typer {
     }
 
     fn real(&mut self, st: &Statement, key: &str) -> Option<Located<f64>> {
+        let arg = st.arg(key)?;
+        if let [Value::Number { value, .. }] = arg.values.as_slice() {
+            return Some(Located {
+                value: *value,
+                span: arg.span,
+            });
+        }
+        // Anything else is an error: [`Self::reals`] says which.
         let r = self.reals(st, key, &[1])?;
         Some(Located {
             value: r.value.first().copied().unwrap_or(0.0),
@@ -412,6 +420,16 @@ impl Typer {
     }
 
     fn vec3(&mut self, st: &Statement, key: &str) -> Option<Located<[f64; 3]>> {
+        let arg = st.arg(key)?;
+        if let [Value::Number { value: a, .. }, Value::Number { value: b, .. }, Value::Number { value: c, .. }] =
+            arg.values.as_slice()
+        {
+            return Some(Located {
+                value: [*a, *b, *c],
+                span: arg.span,
+            });
+        }
+        // Anything else is an error: [`Self::reals`] says which.
         let r = self.reals(st, key, &[3])?;
         match r.value.as_slice() {
             [a, b, c] => Some(Located {
@@ -446,6 +464,9 @@ impl Typer {
     }
 
     fn id_ref(&mut self, st: &Statement, key: &str) -> Option<IdRef> {
+        if let Some([value]) = st.arg(key).map(|a| a.values.as_slice()) {
+            return self.as_id(st, key, value);
+        }
         let ids = self.id_list(st, key, &[1])?;
         ids.first().copied()
     }
@@ -572,10 +593,16 @@ impl Typer {
         kinds: &[(&str, T)],
         what: &str,
     ) -> Result<Option<T>, ()> {
-        match Self::pick(st, kinds).as_slice() {
-            [] => Ok(None),
-            [(_, t)] => Ok(Some(*t)),
-            [(first, _), (second, _), ..] => {
+        let mut found = st.args.iter().filter_map(|a| {
+            kinds
+                .iter()
+                .find(|(k, _)| *k == a.key)
+                .map(|(_, t)| (a, *t))
+        });
+        match (found.next(), found.next()) {
+            (None, _) => Ok(None),
+            (Some((_, t)), None) => Ok(Some(t)),
+            (Some((first, _)), Some((second, _))) => {
                 let msg = format!(
                     "{} has more than one {what} ('{}' and '{}')",
                     label(st),
@@ -704,7 +731,13 @@ impl Typer {
         ];
         self.one_of(st, &kinds, "carrier (PART, POINT_MASS, FLEX_BODY, FE_PART)")
             .ok()?;
-        let carrier = match Self::pick(st, &kinds).first() {
+        let first = st.args.iter().find_map(|a| {
+            kinds
+                .iter()
+                .find(|(k, _)| *k == a.key)
+                .map(|(_, t)| (a, *t))
+        });
+        let carrier = match first {
             Some((arg, make)) => Some(make(self.id_ref(st, &arg.key)?)),
             None => self.carrier,
         };
@@ -741,7 +774,7 @@ impl Typer {
             Translational,
             Universal,
         ];
-        let kinds: Vec<(&str, JointType)> = all.iter().map(|t| (t.keyword(), *t)).collect();
+        let kinds = all.map(|t| (t.keyword(), t));
         let kind = self.one_of(st, &kinds, "joint type");
         let i = self.required_id(st, "I", "marker");
         let j = self.required_id(st, "J", "marker");

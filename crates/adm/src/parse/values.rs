@@ -15,19 +15,6 @@ use crate::keywords::{self, ArgKind, Lookup};
 use crate::lexer::Mark;
 use crate::statement::{ExprText, Value};
 
-/// `v` moved into an allocation of exactly its length. The statements of a dataset are kept
-/// with it (a large model has hundreds of thousands of argument and value lists): no spare
-/// capacity. Moving (rather than `shrink_to_fit`, which splits the block in place) leaves a
-/// whole block free for the next list of the same size, so the heap does not fragment.
-pub(super) fn exact<T>(mut v: Vec<T>) -> Vec<T> {
-    if v.len() == v.capacity() {
-        return v;
-    }
-    let mut out = Vec::with_capacity(v.len());
-    out.append(&mut v);
-    out
-}
-
 /// How [`StatementParser::expr`] collects text.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(super) enum ExprMode {
@@ -191,8 +178,9 @@ impl StatementParser<'_> {
                 ListError::NotPlain
             }
         };
-        // Most lists are a triple (QP, REULER, IP).
-        let mut values = Vec::with_capacity(3);
+        // Read into the lent buffer; kept in an allocation of exactly their number.
+        let mut values = std::mem::take(&mut self.scratch.values);
+        values.clear();
         let mut after_colon = false;
         loop {
             self.skip_ws();
@@ -236,7 +224,9 @@ impl StatementParser<'_> {
                 }
             }
         }
-        Ok(exact(values))
+        let out = values.drain(..).collect();
+        self.scratch.values = values;
+        Ok(out)
     }
 
     /// At a comma in a list: when the next item is another value (a number or a string) rather
