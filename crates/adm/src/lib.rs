@@ -38,7 +38,7 @@ pub use commands::{
     Command, CommandFile, TypedCommandFile,
 };
 pub use diagnostic::{Diagnostic, Diagnostics, Severity, Span};
-pub use statement::{Argument, ExprText, Statement, Value};
+pub use statement::{keyword_id, Argument, ExprText, Statement, Value};
 pub use typed::*;
 pub use typing::contact;
 pub use typing::fe_part;

@@ -5,6 +5,45 @@
 
 use crate::diagnostic::Span;
 
+/// `JOINT_7` (`separator` `_`) or `JOINT/7` (`/`): a statement keyword and an id, written
+/// without the formatting machinery (a large model names hundreds of thousands of elements).
+pub fn keyword_id(keyword: &str, separator: char, id: u64) -> String {
+    let mut digits = [0u8; 20];
+    let mut k = digits.len();
+    let mut n = id;
+    loop {
+        k -= 1;
+        digits[k] = b'0' + (n % 10) as u8;
+        n /= 10;
+        if n == 0 {
+            break;
+        }
+    }
+    let mut s = String::with_capacity(keyword.len() + 1 + digits.len() - k);
+    s.push_str(keyword);
+    s.push(separator);
+    // ASCII digits only.
+    s.extend(digits[k..].iter().map(|&d| char::from(d)));
+    s
+}
+
+#[cfg(test)]
+mod keyword_id_tests {
+    #[test]
+    fn writes_the_id_in_decimal() {
+        assert_eq!(super::keyword_id("JOINT", '_', 7), "JOINT_7");
+        assert_eq!(super::keyword_id("PART", '/', 0), "PART/0");
+        assert_eq!(
+            super::keyword_id("M", '_', u64::MAX),
+            format!("M_{}", u64::MAX)
+        );
+        assert_eq!(
+            super::keyword_id("MARKER", '/', 1_000_200),
+            "MARKER/1000200"
+        );
+    }
+}
+
 /// One logical statement (all its continuation lines joined).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Statement {

@@ -97,7 +97,7 @@ fn label(st: &Statement) -> String {
 
 fn header(st: &Statement, index: usize) -> Header {
     let name = st.view_name.clone().unwrap_or_else(|| match st.id {
-        Some(id) => format!("{}_{id}", st.keyword),
+        Some(id) => crate::statement::keyword_id(&st.keyword, '_', id),
         None => st.keyword.clone(),
     });
     Header {

@@ -6,6 +6,7 @@ use linkage_model::Model;
 use linkage_solve::constraints::system::RowUnit;
 use linkage_solve::stages::verify::Verification;
 use serde::Serialize;
+use std::borrow::Cow;
 use std::fmt::Write;
 use std::sync::Arc;
 
@@ -526,33 +527,46 @@ pub fn body_text(j: &VerifyJson) -> String {
                 "This constraint:"
             );
             for (r, l) in j.redundant.iter().zip(&left) {
-                let status = match (r.consistent, r.residual) {
-                    (Some(true), _) => "consistent".to_string(),
+                let status: Cow<str> = match (r.consistent, r.residual) {
+                    (Some(true), _) => "consistent".into(),
                     (Some(false), Some(x)) => format!(
                         "INCONSISTENT (residual {})",
                         fmt_residual(x, r.residual_unit)
-                    ),
-                    (Some(false), None) => "INCONSISTENT".to_string(),
+                    )
+                    .into(),
+                    (Some(false), None) => "INCONSISTENT".into(),
                     (None, Some(x)) => format!(
                         "consistency unknown (residual {})",
                         fmt_residual(x, r.residual_unit)
-                    ),
-                    (None, None) => "consistency unknown".to_string(),
+                    )
+                    .into(),
+                    (None, None) => "consistency unknown".into(),
                 };
                 let tie = if r.near_tie {
                     ", near-tie rank decision"
                 } else {
                     ""
                 };
-                let _ = writeln!(s, "   {l:<w$}{:<36} {status}{tie}", r.equation.equation);
+                // Pushed piece by piece: a large model has tens of thousands of these lines.
+                s.push_str("   ");
+                push_padded(&mut s, l, w);
+                push_padded(&mut s, r.equation.equation, 36);
+                s.push(' ');
+                s.push_str(&status);
+                s.push_str(tie);
+                s.push('\n');
                 if !r.depends_on.is_empty() {
-                    let _ = write!(s, "   {:<w$}  = ", "");
+                    push_padded(&mut s, "", w + 3);
+                    s.push_str("  = ");
                     for (k, d) in r.depends_on.iter().take(6).enumerate() {
                         if k > 0 {
                             s.push_str(", ");
                         }
                         push_coefficient(&mut s, d.coefficient);
-                        let _ = write!(s, " {} {}", d.equation.name, d.equation.short);
+                        s.push(' ');
+                        s.push_str(&d.equation.name);
+                        s.push(' ');
+                        s.push_str(d.equation.short);
                     }
                     if r.depends_on.len() > 6 {
                         let _ = write!(s, " … ({} more)", r.depends_on.len() - 6);
@@ -675,6 +689,13 @@ pub fn body_text(j: &VerifyJson) -> String {
 /// Appends `x` signed with four decimals (`+7071.4214`, `-0.6124`), as `{:+.4}` writes it.
 /// Coefficients of a redundancy are many (six per redundant row), so the common case is
 /// printed from the integer `round(x·10⁴)` rather than through the exact float formatter.
+/// Appends `text` left-aligned in `width` characters (as `{:<width$}`).
+fn push_padded(s: &mut String, text: &str, width: usize) {
+    s.push_str(text);
+    let n = text.chars().count();
+    s.extend(std::iter::repeat_n(' ', width.saturating_sub(n)));
+}
+
 fn push_coefficient(s: &mut String, x: f64) {
     use std::fmt::Write as _;
     let scaled = (x * 1e4).round();

@@ -109,12 +109,54 @@ pub(crate) fn parse_number(token: &str) -> Option<(f64, bool)> {
     if k != bytes.len() {
         return None;
     }
-    let value: f64 = body.parse().ok().filter(|v: &f64| v.is_finite())?;
+    let value: f64 = match exact_decimal(bytes) {
+        Some(v) => v,
+        None => body.parse().ok().filter(|v: &f64| v.is_finite())?,
+    };
     Some(if degrees {
         (value.to_radians(), true)
     } else {
         (value, false)
     })
+}
+
+/// The value of `[+-]digits[.digits]` with at most 15 digits and no exponent, computed
+/// directly: the digits form an integer below 2^53 and 10^f (f ≤ 15) is exact, so one
+/// division gives the correctly rounded value, the same as `str::parse` (Clinger's fast path).
+/// `None` for anything else.
+fn exact_decimal(bytes: &[u8]) -> Option<f64> {
+    const POWERS: [f64; 16] = [
+        1e0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9, 1e10, 1e11, 1e12, 1e13, 1e14, 1e15,
+    ];
+    let (negative, digits) = match bytes.split_first() {
+        Some((b'-', rest)) => (true, rest),
+        Some((b'+', rest)) => (false, rest),
+        _ => (false, bytes),
+    };
+    let mut mantissa: u64 = 0;
+    let mut count = 0usize;
+    let mut fraction: Option<usize> = None;
+    for &b in digits {
+        match b {
+            b'0'..=b'9' => {
+                mantissa = mantissa * 10 + u64::from(b - b'0');
+                count += 1;
+                if let Some(f) = fraction.as_mut() {
+                    *f += 1;
+                }
+            }
+            b'.' if fraction.is_none() => fraction = Some(0),
+            _ => return None,
+        }
+        if count > 15 {
+            return None;
+        }
+    }
+    if count == 0 {
+        return None;
+    }
+    let value = mantissa as f64 / POWERS[fraction.unwrap_or(0)];
+    Some(if negative { -value } else { value })
 }
 
 impl StatementParser<'_> {
@@ -483,4 +525,50 @@ fn build_expr(chars: &[(char, Span)]) -> ExprText {
         previous = Some(*span);
     }
     ExprText { text, origins }
+}
+
+#[cfg(test)]
+mod exact_decimal_tests {
+    use super::{exact_decimal, parse_number};
+
+    /// The fast path gives the bits `str::parse` gives, and declines what it cannot do exactly.
+    #[test]
+    fn agrees_with_the_standard_parser() {
+        for text in [
+            "0",
+            "-0",
+            "+7",
+            "1.5",
+            "-0.25",
+            "123456789012345",
+            "0.1",
+            "0.3",
+            "2.675",
+            ".5",
+            "5.",
+            "-12345.6789",
+            "999999999999999",
+            "0.00000000000001",
+            "3.14159265358979",
+        ] {
+            let fast = exact_decimal(text.as_bytes()).expect(text);
+            let std: f64 = text.parse().expect(text);
+            assert_eq!(fast.to_bits(), std.to_bits(), "{text}");
+            assert_eq!(
+                parse_number(text).map(|(v, _)| v.to_bits()),
+                Some(std.to_bits())
+            );
+        }
+        for text in [
+            "1234567890123456",
+            "0.000000000000001",
+            "1e3",
+            "1.2.3",
+            "",
+            "-",
+            ".",
+        ] {
+            assert_eq!(exact_decimal(text.as_bytes()), None, "{text}");
+        }
+    }
 }
