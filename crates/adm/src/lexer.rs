@@ -345,16 +345,28 @@ impl<'a> Lexer<'a> {
         // The first non-blank character of a continuation line, when it is a comma.
         let lead = code.len() - code.trim_start().len();
         let comma_at = (continuation && code[lead..].starts_with(',')).then_some(lead);
-        for (k, c) in code.char_indices() {
-            let mark = if comma_at == Some(k) {
+        let mark_at = |k: usize| {
+            if comma_at == Some(k) {
                 Mark::ContinuationComma
             } else {
                 Mark::Plain
-            };
+            }
+        };
+        if code.is_ascii() {
+            // One character per byte, columns in step with the bytes.
+            raw.chars
+                .extend(code.bytes().enumerate().map(|(k, b)| SrcChar {
+                    ch: char::from(b),
+                    span: Span::new(line, col.saturating_add(k as u32)),
+                    mark: mark_at(k),
+                }));
+            return;
+        }
+        for (k, c) in code.char_indices() {
             raw.chars.push(SrcChar {
                 ch: c,
                 span: Span::new(line, col),
-                mark,
+                mark: mark_at(k),
             });
             col = col.saturating_add(1);
         }
