@@ -183,6 +183,7 @@ enum DataRef {
     Diff(u32),
     Pinput(u32),
     Poutput(u32),
+    Sensor(u32),
 }
 
 fn literal_id(e: Option<&Expr>) -> Option<u32> {
@@ -215,6 +216,9 @@ fn data_refs(e: &Expr) -> Vec<DataRef> {
                 }
                 linkage_expr::Function::State(StateKind::Aryval) => {
                     literal_id(args.first()).map(DataRef::Array)
+                }
+                linkage_expr::Function::State(StateKind::Senval) => {
+                    literal_id(args.first()).map(DataRef::Sensor)
                 }
                 linkage_expr::Function::Special(Special::Akispl | Special::Cubspl) => {
                     literal_id(args.get(2)).map(DataRef::Spline)
@@ -302,6 +306,11 @@ fn reachable(data: &DataElements, e: &Expr) -> Result<Vec<u32>, RefProblem> {
                 match list {
                     None => return Err(RefProblem::Message(format!("{kind}/{id} does not exist"))),
                     Some(v) => todo.extend(v.iter().map(|&id| DataRef::Variable(id))),
+                }
+            }
+            DataRef::Sensor(id) => {
+                if !data.sensors.contains_key(&id) {
+                    return Err(RefProblem::Message(format!("SENSOR/{id} does not exist")));
                 }
             }
             DataRef::Spline(id) => {
@@ -731,6 +740,10 @@ impl AppliedForces for ForceSet {
 
     fn friction_values(&self, s: &State, v: &Velocities) -> Vec<FrictionValue> {
         self.frictions.values(s, v)
+    }
+
+    fn sensor_values(&self) -> Option<&data::SensorValues> {
+        Some(&self.data.sensor_values)
     }
 
     fn add_forces(&self, s: &State, v: &Velocities, out: &mut [f64]) -> Result<(), ForceError> {
