@@ -344,3 +344,117 @@ fn sensor_dt_sets_the_output_interval_from_the_event_on() {
     }
     assert_eq!(got[9], 3.0);
 }
+
+/// A 1 kg block on a translational joint along x, held by a spring K = 100 N/m of free
+/// length 1 to the origin and pushed by 10·TIME along x (RM = marker 1, whose z is ground x): in equilibrium x(t) = 1 + 0.1·t. And
+/// `sensor`.
+fn pushed_block(tag: &str, sensor: &str) -> PathBuf {
+    let text = format!(
+        "quasi-static block with a sensor\n\
+         UNITS/FORCE = NEWTON, MASS = KILOGRAM, LENGTH = METER, TIME = SECOND\n\
+         PART/1, GROUND\nMARKER/1, PART = 1, REULER = 90D, 90D, 0D\nMARKER/2, PART = 1, FLOATING\n\
+         PART/2, MASS = 1, CM = 20, IP = 1, 1, 1, QG = 1, 0, 0\nMARKER/20, PART = 2\n\
+         MARKER/21, PART = 2, REULER = 90D, 90D, 0D\nJOINT/1, TRANSLATIONAL, I = 21, J = 1\n\
+         SPRINGDAMPER/1, I = 20, J = 1, K = 100, C = 0, LENGTH = 1\n\
+         VFORCE/1, I = 20, JFLOAT = 2, RM = 1, FX = 0\\ FY = 0\\ FZ = 10*TIME\n{sensor}\nEND\n"
+    );
+    let dir = std::env::temp_dir().join(format!("linkage-qs-{}-{tag}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let f = dir.join("block.adm");
+    std::fs::write(&f, text).unwrap();
+    f
+}
+
+#[test]
+fn halt_ends_a_quasi_static_series_at_the_equilibrium_that_reaches_its_value() {
+    // x = 1 + 0.1·t reaches 1.25 at t = 2.5 (between the outputs 2.4 and 2.8), located to
+    // |x − 1.25| ≤ 1e-8, i.e. to 1e-7 s.
+    let f = pushed_block(
+        "halt",
+        "SENSOR/1, VALUE = 1.25, GE, ERROR = 1E-8, HALT, FUNCTION = DX(20, 1)",
+    );
+    let (code, v) = json(&[
+        "static",
+        s(&f),
+        "--end",
+        "4",
+        "--steps",
+        "10",
+        "--format",
+        "json",
+    ]);
+    assert_eq!(code, 0, "{v}");
+    assert_eq!(v["ended_by_sensor"], "SENSOR_1 (HALT)");
+    let e = &v["sensors"][0];
+    assert!((e["time"].as_f64().unwrap() - 2.5).abs() < 1e-7, "{e}");
+    let csv = csv_of(&f);
+    let got = times(&csv);
+    // 0, 0.4, …, 2.4, then the event.
+    assert_eq!(got.len(), 8, "{got:?}");
+    assert!((got[7] - 2.5).abs() < 1e-7, "{got:?}");
+    let (code, out, _) = run(&["static", s(&f), "--end", "4", "--steps", "10"]);
+    assert_eq!(code, 0);
+    assert!(
+        out.contains("The series was ended at time ") && out.contains("by SENSOR_1 (HALT)."),
+        "{out}"
+    );
+    assert!(
+        out.contains("Sensor SENSOR_1 (SENSOR/1) fired at time "),
+        "{out}"
+    );
+}
+
+#[test]
+fn sensor_dt_sets_the_quasi_static_output_interval_from_the_event_on() {
+    // The event at t* = 2.5, then equilibria every 0.5 up to the end: 3, 3.5, 4.
+    let f = pushed_block(
+        "dt",
+        "SENSOR/1, VALUE = 1.25, GE, ERROR = 1E-8, DT = 0.5, FUNCTION = DX(20, 1)",
+    );
+    let (code, v) = json(&[
+        "static",
+        s(&f),
+        "--end",
+        "4",
+        "--steps",
+        "10",
+        "--format",
+        "json",
+    ]);
+    assert_eq!(code, 0, "{v}");
+    let csv = csv_of(&f);
+    let got = times(&csv);
+    assert_eq!(got.len(), 7 + 3, "{got:?}");
+    for (k, t) in got[7..].iter().enumerate() {
+        assert!((t - (3.0 + 0.5 * k as f64)).abs() < 1e-6, "{got:?}");
+    }
+    // The block follows x = 0.1·t at every output.
+    let text = std::fs::read_to_string(&csv).unwrap();
+    let header: Vec<&str> = text.lines().next().unwrap().split(',').collect();
+    let x = header
+        .iter()
+        .position(|h| h.starts_with("PART_2.x "))
+        .unwrap();
+    for l in text.lines().skip(1) {
+        let r: Vec<f64> = l.split(',').map(|x| x.parse().unwrap()).collect();
+        assert!((r[x] - 1.0 - 0.1 * r[0]).abs() < 1e-9, "{l}");
+    }
+}
+
+/// `static --format csv` of the series to 4 in 10 steps, written beside `f`.
+fn csv_of(f: &Path) -> PathBuf {
+    let (code, out, err) = run(&[
+        "static",
+        s(f),
+        "--end",
+        "4",
+        "--steps",
+        "10",
+        "--format",
+        "csv",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let csv = f.with_extension("csv");
+    std::fs::write(&csv, out).unwrap();
+    csv
+}

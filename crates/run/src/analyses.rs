@@ -236,6 +236,8 @@ pub fn statics(
         })?;
         statics::StaticRun {
             steps: vec![(t0, Ok(eq))],
+            sensor_events: Vec::new(),
+            stopped_by_sensor: None,
         }
     } else {
         statics::run(&a, &times)

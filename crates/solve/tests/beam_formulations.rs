@@ -162,7 +162,7 @@ fn loads(m: &Model) -> Vec<f64> {
     let f = ForceSet::new(m).unwrap_or_else(|e| panic!("{e}"));
     let s = State::input(m);
     let mut out = vec![0.0; 12];
-    f.add_forces(&s, &vec![(DVec3::ZERO, DVec3::ZERO); 2], &mut out)
+    f.add_forces(&s, &[(DVec3::ZERO, DVec3::ZERO); 2], &mut out)
         .unwrap_or_else(|e| panic!("{e}"));
     out
 }
@@ -214,7 +214,7 @@ fn tangents(m: &Model) -> (Vec<Vec<f64>>, Vec<Vec<f64>>) {
     let (mut tq, mut tv) = (Vec::new(), Vec::new());
     f.add_jacobians(
         &s,
-        &vec![(DVec3::ZERO, DVec3::ZERO); 2],
+        &[(DVec3::ZERO, DVec3::ZERO); 2],
         &mut tq,
         Some(&mut tv),
     )
