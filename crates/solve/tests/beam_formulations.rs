@@ -212,13 +212,8 @@ fn tangents(m: &Model) -> (Vec<Vec<f64>>, Vec<Vec<f64>>) {
     let f = ForceSet::new(m).unwrap_or_else(|e| panic!("{e}"));
     let s = State::input(m);
     let (mut tq, mut tv) = (Vec::new(), Vec::new());
-    f.add_jacobians(
-        &s,
-        &[(DVec3::ZERO, DVec3::ZERO); 2],
-        &mut tq,
-        Some(&mut tv),
-    )
-    .unwrap_or_else(|e| panic!("{e}"));
+    f.add_jacobians(&s, &[(DVec3::ZERO, DVec3::ZERO); 2], &mut tq, Some(&mut tv))
+        .unwrap_or_else(|e| panic!("{e}"));
     let dense = |t: &[(usize, usize, f64)]| {
         let mut d = vec![vec![0.0; 12]; 12];
         for &(r, c, x) in t {
