@@ -160,7 +160,7 @@ fn record(
 ) -> Result<(), RunError> {
     sinks
         .records
-        .write(a.model, &a.system, &session.built.requests, o)
+        .write(a.model, &a.system, &session.built.requests, a.forces, o)
         .map_err(|why| place.failed(why.to_string()))
 }
 
