@@ -223,6 +223,13 @@ const RUNAWAY_WINDOW: usize = 3;
 /// reactions, and the equilibrium is solved again from the last one until no normal load
 /// changes by more than [`FRICTION_LOAD_SETTLED`] of the largest (at most
 /// [`FRICTION_LOAD_PASSES`] solves). Elements inactive in statics are off throughout.
+///
+/// Why the normal load is not taken from the current Newton iterate: it is a function of
+/// the joint's multipliers (its reaction), so the friction force would depend on λ and the
+/// Newton matrix would need a `∂Q/∂λ` block beside `−∂Q/∂q` — a non-symmetric coupling that
+/// `AppliedForces` (forces of positions and velocities) and the saddle-point assembly of
+/// `statics/newton.rs` do not have; the fixed point converges in two or three solves on the
+/// tested models (ramp, brake, pins), so the loop stays [decided].
 pub fn equilibrium(
     model: &Model,
     sys: &System,
