@@ -3,8 +3,10 @@
 
 use crate::error::Error;
 use crate::source::{applied_forces, coverage_json, Loaded};
+use linkage_report::element_columns;
 use linkage_report::simulate::{CsvHistory, SimulateJson};
 use linkage_solve::coverage::Analysis;
+use linkage_solve::physics::applied::AppliedForces;
 use linkage_solve::physics::requests::RequestSet;
 use linkage_solve::pipeline::Assembled;
 use linkage_solve::stages::dynamics::{
@@ -55,6 +57,10 @@ struct CsvStream<'r> {
     csv: CsvHistory<Box<dyn Write>>,
     path: String,
     requests: Option<&'r RequestSet>,
+    /// The forces, for the FRICTION columns after the requests'.
+    forces: &'r dyn AppliedForces,
+    /// How many of `names` are REQUEST columns (the element columns follow).
+    request_columns: usize,
     /// The request columns (once: they do not change during the run).
     names: Vec<String>,
     request_failures: usize,
@@ -64,7 +70,8 @@ struct CsvStream<'r> {
 impl CsvStream<'_> {
     fn write(&mut self, assembled: &Assembled, o: &Output) -> std::io::Result<()> {
         let names = &self.names;
-        let values = match self.requests {
+        let requests = self.request_columns;
+        let mut values = match self.requests {
             None => Vec::new(),
             Some(r) => match r.evaluate(assembled.model, &assembled.system, o) {
                 Ok(v) => v,
@@ -73,10 +80,16 @@ impl CsvStream<'_> {
                         self.errors.push(e.to_string());
                     }
                     self.request_failures += 1;
-                    vec![f64::NAN; names.len()]
+                    vec![f64::NAN; requests]
                 }
             },
         };
+        let frictions = if assembled.model.frictions.is_empty() {
+            Vec::new()
+        } else {
+            self.forces.friction_values(&o.state, &o.velocities)
+        };
+        element_columns::values(assembled.model, &frictions, &o.state, &mut values);
         self.csv.write(assembled.model, o, names, &values)
     }
 }
@@ -142,11 +155,16 @@ pub fn simulate(loaded: &Loaded, args: SimulateArgs) -> Result<SimulateJson, Err
             let sink = (target.open)()
                 .map_err(|e| Error::Output(format!("cannot write {}: {e}", target.name)))?;
             let requests = requests.as_ref().filter(|r| !r.is_empty());
+            let mut names = requests.map(RequestSet::columns).unwrap_or_default();
+            let request_columns = names.len();
+            names.extend(element_columns::names(&loaded.model));
             Some(CsvStream {
                 csv: CsvHistory::new(sink),
                 path: target.name,
                 requests,
-                names: requests.map(RequestSet::columns).unwrap_or_default(),
+                forces: forces.as_ref(),
+                request_columns,
+                names,
                 request_failures: 0,
                 errors: Vec::new(),
             })

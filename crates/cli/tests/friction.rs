@@ -7,7 +7,7 @@ use common::json;
 
 const G: f64 = 9.80665;
 
-fn ramp() -> std::path::PathBuf {
+fn ramp(tag: &str) -> std::path::PathBuf {
     let (s, c) = 20f64.to_radians().sin_cos();
     let text = format!(
         "block on a ramp\nUNITS/, FORCE = NEWTON, MASS = KILOGRAM, LENGTH = METER, TIME = SECOND\n\
@@ -19,14 +19,14 @@ ACCGRAV/, JGRAV = {}, KGRAV = {}\nEND\n",
         -G * c,
         -G * s
     );
-    let f = std::env::temp_dir().join(format!("linkage-friction-{}.adm", std::process::id()));
+    let f = std::env::temp_dir().join(format!("linkage-friction-{}-{tag}.adm", std::process::id()));
     std::fs::write(&f, text).unwrap();
     f
 }
 
 #[test]
 fn reports_give_the_friction_that_holds_a_block_on_a_ramp() {
-    let f = ramp();
+    let f = ramp("reports");
     let path = f.to_str().unwrap();
     let normal = 2.0 * G * 20f64.to_radians().cos();
     let along = 2.0 * G * 20f64.to_radians().sin();
@@ -52,4 +52,51 @@ fn reports_give_the_friction_that_holds_a_block_on_a_ramp() {
     assert_eq!(code, 0, "{sim}");
     check(&sim, along);
     let _ = std::fs::remove_file(&f);
+}
+
+#[test]
+fn simulate_csv_has_the_friction_columns_named_after_the_element() {
+    // The block held on the ramp: at every output (after the stiction spring has taken the
+    // load, t ≥ 1 s) FRICTION_1.fz = m g sin θ up the ramp, .normal = m g cos θ, with
+    // their units in the header.
+    let f = ramp("csv");
+    let csv = f.with_extension("csv");
+    let (code, sim) = json(&[
+        "simulate",
+        f.to_str().unwrap(),
+        "--end",
+        "3",
+        "--steps",
+        "3",
+        "--format",
+        "json",
+        "--out",
+        csv.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{sim}");
+    let text = std::fs::read_to_string(&csv).unwrap();
+    let header: Vec<&str> = text.lines().next().unwrap().split(',').collect();
+    for c in [
+        "FRICTION_1.fx [N]",
+        "FRICTION_1.tz [N·m]",
+        "FRICTION_1.normal [N]",
+        "FRICTION_1.slip [m/s]",
+    ] {
+        assert!(header.contains(&c), "{c} in {header:?}");
+    }
+    let col = |name: &str| header.iter().position(|h| h.starts_with(name)).unwrap();
+    let (fz, normal) = (col("FRICTION_1.fz "), col("FRICTION_1.normal "));
+    let last: Vec<f64> = text
+        .lines()
+        .last()
+        .unwrap()
+        .split(',')
+        .map(|x| x.parse().unwrap())
+        .collect();
+    let n = 2.0 * G * 20f64.to_radians().cos();
+    let along = 2.0 * G * 20f64.to_radians().sin();
+    assert!((last[normal] - n).abs() < 1e-6 * n, "{}", last[normal]);
+    assert!((last[fz] - along).abs() < 1e-5 * along, "{}", last[fz]);
+    let _ = std::fs::remove_file(&f);
+    let _ = std::fs::remove_file(&csv);
 }

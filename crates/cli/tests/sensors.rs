@@ -179,3 +179,282 @@ fn return_goes_on_with_the_command_file_and_halt_ends_it() {
         );
     }
 }
+
+#[test]
+fn senval_switches_a_force_on_when_its_sensor_fires() {
+    // A 2 kg point mass at rest, no gravity; SENSOR/1 fires at t = 0.5 (TIME ≥ 0.5, to
+    // ERROR = 1e-6) and stores EVALUATE = 4·TIME = 2. VFORCE FX = SENVAL(1) (0 before the
+    // firing) and FY = VARVAL(1) with VARIABLE/1 = −SENVAL(1)/2: from t = 0.5 on the mass
+    // accelerates at (1, −0.5) m/s², so at t = 1.5: x = ½·1·1² = 0.5, y = −0.25.
+    let text = "senval\n\
+         UNITS/FORCE = NEWTON, MASS = KILOGRAM, LENGTH = METER, TIME = SECOND\n\
+         PART/1, GROUND\nMARKER/1, PART = 1\nMARKER/2, PART = 1, FLOATING\n\
+         POINT_MASS/4, MASS = 2, QG = 0, 0, 0\nMARKER/40, POINT_MASS = 4\n\
+         INTEGRATOR/GSTIFF, ERROR = 1E-7\n\
+         SENSOR/1, VALUE = 0.5, GE, ERROR = 1E-6, FUNCTION = TIME\\, EVALUATE = 4*TIME\n\
+         VARIABLE/1, FUNCTION = -SENVAL(1)/2\n\
+         VFORCE/1, I = 40, JFLOAT = 2, RM = 1, FX = SENVAL(1)\\ FY = VARVAL(1)\\ FZ = 0\nEND\n";
+    let dir = std::env::temp_dir().join(format!("linkage-senval-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let f = dir.join("senval.adm");
+    std::fs::write(&f, text).unwrap();
+    let csv = dir.join("senval.csv");
+    let (code, v) = json(&[
+        "simulate",
+        s(&f),
+        "--end",
+        "1.5",
+        "--steps",
+        "6",
+        "--format",
+        "json",
+        "--out",
+        s(&csv),
+    ]);
+    assert_eq!(code, 0, "{v}");
+    let e = &v["sensors"][0];
+    assert!((e["time"].as_f64().unwrap() - 0.5).abs() <= 1e-6, "{e}");
+    assert!((e["stored"].as_f64().unwrap() - 2.0).abs() <= 4e-6, "{e}");
+    let text = std::fs::read_to_string(&csv).unwrap();
+    let mut lines = text.lines();
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let col = |name: &str| header.iter().position(|h| h.starts_with(name)).unwrap();
+    let (x, y) = (col("POINT_MASS_4.x "), col("POINT_MASS_4.y "));
+    let rows: Vec<Vec<f64>> = lines
+        .map(|l| l.split(',').map(|x| x.parse().unwrap()).collect())
+        .collect();
+    assert_eq!(rows.len(), 7, "{rows:?}");
+    for r in &rows {
+        let dt = (r[0] - 0.5).max(0.0);
+        // Event time within 1e-6 and the stored value within 4e-6: 1e-5 on x.
+        assert!(
+            (r[x] - 0.5 * dt * dt).abs() < 1e-5,
+            "t {}: x {}",
+            r[0],
+            r[x]
+        );
+        assert!(
+            (r[y] + 0.25 * dt * dt).abs() < 1e-5,
+            "t {}: y {}",
+            r[0],
+            r[y]
+        );
+    }
+    assert!(
+        (rows[6][x] - 0.5).abs() < 1e-5 && rows[2][x] == 0.0,
+        "{rows:?}"
+    );
+}
+
+/// A crank on a revolute joint at the ground origin, turned by the motion `½·t²` (zero
+/// degrees of freedom: a kinematic run), and `sensor`.
+fn crank(tag: &str, sensor: &str) -> PathBuf {
+    let text = format!(
+        "motion-driven crank with a sensor\n\
+         UNITS/FORCE = NEWTON, MASS = KILOGRAM, LENGTH = METER, TIME = SECOND\n\
+         PART/1, GROUND\nMARKER/1, PART = 1\n\
+         PART/2, MASS = 1, CM = 20, IP = 1, 1, 1, QG = 0.5, 0, 0\nMARKER/20, PART = 2\n\
+         MARKER/21, PART = 2, QP = -0.5, 0, 0\nJOINT/1, REVOLUTE, I = 21, J = 1\n\
+         MOTION/1, JOINT = 1, ROTATION, FUNCTION = 0.5*TIME**2\n{sensor}\nEND\n"
+    );
+    let dir = std::env::temp_dir().join(format!("linkage-crank-{}-{tag}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let f = dir.join("crank.adm");
+    std::fs::write(&f, text).unwrap();
+    f
+}
+
+/// The `time` column of a CSV.
+fn times(csv: &Path) -> Vec<f64> {
+    std::fs::read_to_string(csv)
+        .unwrap()
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').next().unwrap().parse().unwrap())
+        .collect()
+}
+
+#[test]
+fn halt_ends_a_kinematic_run_when_the_crank_reaches_its_angle() {
+    // AZ = ½·t² reaches 1 rad at t = √2; located to |AZ − 1| ≤ 1e-7, i.e. to 1e-7/√2 s.
+    let f = crank(
+        "halt",
+        "SENSOR/1, VALUE = 1, GE, ERROR = 1E-7, HALT, FUNCTION = AZ(21, 1)",
+    );
+    let csv = f.with_extension("csv");
+    let (code, v) = json(&[
+        "simulate",
+        s(&f),
+        "--end",
+        "3",
+        "--steps",
+        "12",
+        "--format",
+        "json",
+        "--out",
+        s(&csv),
+    ]);
+    assert_eq!(code, 0, "{v}");
+    assert_eq!(v["ended_by_sensor"], "SENSOR_1 (HALT)");
+    let t = v["end_time"].as_f64().unwrap();
+    let t_hit = 2f64.sqrt();
+    assert!((t - t_hit).abs() < 1e-7, "{t} vs {t_hit}");
+    let e = &v["sensors"][0];
+    assert!((e["function"].as_f64().unwrap() - 1.0).abs() <= 1e-7, "{e}");
+    // Outputs 0, 0.25, …, 1.25, then the event.
+    let got = times(&csv);
+    assert_eq!(got.len(), 7, "{got:?}");
+    assert_eq!(got[5], 1.25);
+    assert!((got[6] - t).abs() < 1e-11, "{got:?}");
+    let w = v["warnings"].to_string();
+    assert!(!w.contains("not evaluated"), "{w}");
+}
+
+#[test]
+fn sensor_dt_sets_the_output_interval_from_the_event_on() {
+    // The crank reaches 1 rad at t* = √2 ≈ 1.41421; from then on outputs every 0.4 up to
+    // the end: t* + 0.4, t* + 0.8, t* + 1.2 (2.61421), then the end, 3.
+    let f = crank(
+        "dt",
+        "SENSOR/1, VALUE = 1, GE, ERROR = 1E-7, DT = 0.4, FUNCTION = AZ(21, 1)",
+    );
+    let csv = f.with_extension("csv");
+    let (code, v) = json(&[
+        "simulate",
+        s(&f),
+        "--end",
+        "3",
+        "--steps",
+        "12",
+        "--format",
+        "json",
+        "--out",
+        s(&csv),
+    ]);
+    assert_eq!(code, 0, "{v}");
+    assert_eq!(v["end_time"], 3.0);
+    assert_eq!(v["sensors"][0]["actions"], serde_json::json!(["DT"]));
+    let got = times(&csv);
+    let t_star = 2f64.sqrt();
+    assert_eq!(got.len(), 6 + 4, "{got:?}");
+    assert_eq!(&got[..6], &[0.0, 0.25, 0.5, 0.75, 1.0, 1.25]);
+    for (k, t) in got[6..9].iter().enumerate() {
+        let expected = t_star + 0.4 * (k + 1) as f64;
+        assert!((t - expected).abs() < 1e-6, "{got:?}");
+    }
+    assert_eq!(got[9], 3.0);
+}
+
+/// A 1 kg block on a translational joint along x, held by a spring K = 100 N/m of free
+/// length 1 to the origin and pushed by 10·TIME along x (RM = marker 1, whose z is ground x): in equilibrium x(t) = 1 + 0.1·t. And
+/// `sensor`.
+fn pushed_block(tag: &str, sensor: &str) -> PathBuf {
+    let text = format!(
+        "quasi-static block with a sensor\n\
+         UNITS/FORCE = NEWTON, MASS = KILOGRAM, LENGTH = METER, TIME = SECOND\n\
+         PART/1, GROUND\nMARKER/1, PART = 1, REULER = 90D, 90D, 0D\nMARKER/2, PART = 1, FLOATING\n\
+         PART/2, MASS = 1, CM = 20, IP = 1, 1, 1, QG = 1, 0, 0\nMARKER/20, PART = 2\n\
+         MARKER/21, PART = 2, REULER = 90D, 90D, 0D\nJOINT/1, TRANSLATIONAL, I = 21, J = 1\n\
+         SPRINGDAMPER/1, I = 20, J = 1, K = 100, C = 0, LENGTH = 1\n\
+         VFORCE/1, I = 20, JFLOAT = 2, RM = 1, FX = 0\\ FY = 0\\ FZ = 10*TIME\n{sensor}\nEND\n"
+    );
+    let dir = std::env::temp_dir().join(format!("linkage-qs-{}-{tag}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let f = dir.join("block.adm");
+    std::fs::write(&f, text).unwrap();
+    f
+}
+
+#[test]
+fn halt_ends_a_quasi_static_series_at_the_equilibrium_that_reaches_its_value() {
+    // x = 1 + 0.1·t reaches 1.25 at t = 2.5 (between the outputs 2.4 and 2.8), located to
+    // |x − 1.25| ≤ 1e-8, i.e. to 1e-7 s.
+    let f = pushed_block(
+        "halt",
+        "SENSOR/1, VALUE = 1.25, GE, ERROR = 1E-8, HALT, FUNCTION = DX(20, 1)",
+    );
+    let (code, v) = json(&[
+        "static",
+        s(&f),
+        "--end",
+        "4",
+        "--steps",
+        "10",
+        "--format",
+        "json",
+    ]);
+    assert_eq!(code, 0, "{v}");
+    assert_eq!(v["ended_by_sensor"], "SENSOR_1 (HALT)");
+    let e = &v["sensors"][0];
+    assert!((e["time"].as_f64().unwrap() - 2.5).abs() < 1e-7, "{e}");
+    let csv = csv_of(&f);
+    let got = times(&csv);
+    // 0, 0.4, …, 2.4, then the event.
+    assert_eq!(got.len(), 8, "{got:?}");
+    assert!((got[7] - 2.5).abs() < 1e-7, "{got:?}");
+    let (code, out, _) = run(&["static", s(&f), "--end", "4", "--steps", "10"]);
+    assert_eq!(code, 0);
+    assert!(
+        out.contains("The series was ended at time ") && out.contains("by SENSOR_1 (HALT)."),
+        "{out}"
+    );
+    assert!(
+        out.contains("Sensor SENSOR_1 (SENSOR/1) fired at time "),
+        "{out}"
+    );
+}
+
+#[test]
+fn sensor_dt_sets_the_quasi_static_output_interval_from_the_event_on() {
+    // The event at t* = 2.5, then equilibria every 0.5 up to the end: 3, 3.5, 4.
+    let f = pushed_block(
+        "dt",
+        "SENSOR/1, VALUE = 1.25, GE, ERROR = 1E-8, DT = 0.5, FUNCTION = DX(20, 1)",
+    );
+    let (code, v) = json(&[
+        "static",
+        s(&f),
+        "--end",
+        "4",
+        "--steps",
+        "10",
+        "--format",
+        "json",
+    ]);
+    assert_eq!(code, 0, "{v}");
+    let csv = csv_of(&f);
+    let got = times(&csv);
+    assert_eq!(got.len(), 7 + 3, "{got:?}");
+    for (k, t) in got[7..].iter().enumerate() {
+        assert!((t - (3.0 + 0.5 * k as f64)).abs() < 1e-6, "{got:?}");
+    }
+    // The block follows x = 0.1·t at every output.
+    let text = std::fs::read_to_string(&csv).unwrap();
+    let header: Vec<&str> = text.lines().next().unwrap().split(',').collect();
+    let x = header
+        .iter()
+        .position(|h| h.starts_with("PART_2.x "))
+        .unwrap();
+    for l in text.lines().skip(1) {
+        let r: Vec<f64> = l.split(',').map(|x| x.parse().unwrap()).collect();
+        assert!((r[x] - 1.0 - 0.1 * r[0]).abs() < 1e-9, "{l}");
+    }
+}
+
+/// `static --format csv` of the series to 4 in 10 steps, written beside `f`.
+fn csv_of(f: &Path) -> PathBuf {
+    let (code, out, err) = run(&[
+        "static",
+        s(f),
+        "--end",
+        "4",
+        "--steps",
+        "10",
+        "--format",
+        "csv",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let csv = f.with_extension("csv");
+    std::fs::write(&csv, out).unwrap();
+    csv
+}

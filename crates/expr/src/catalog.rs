@@ -269,6 +269,8 @@ named_enum! {
         Pinval => "PINVAL",
         /// `POUVAL(id, n)`: value of the n-th (1-based) VARIABLE of POUTPUT/id.
         Pouval => "POUVAL",
+        /// `SENVAL(id)`: the value SENSOR/id stored when it last fired (0 before).
+        Senval => "SENVAL",
     }
 }
 

@@ -64,6 +64,8 @@ pub enum StateRef {
         /// 1-based position in the list.
         index: u32,
     },
+    /// `SENVAL(id)`: the value SENSOR/id stored when it last fired (0 before it fires).
+    Senval(u32),
 }
 
 /// What an expression can observe. The solver implements this; the expression crate knows
@@ -178,6 +180,7 @@ pub trait Env {
             StateRef::Aryval { .. } => "ARYVAL",
             StateRef::Pinval { .. } => "PINVAL",
             StateRef::Pouval { .. } => "POUVAL",
+            StateRef::Senval(_) => "SENVAL",
         };
         Err(EvalError::unavailable(format!(
             "{name} is not available in this context"

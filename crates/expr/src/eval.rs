@@ -311,6 +311,7 @@ impl<E: Env + ?Sized> Evaluator<'_, E> {
             StateKind::Varval => StateRef::Varval(id),
             StateKind::Dif => StateRef::Dif(id),
             StateKind::Dif1 => StateRef::Dif1(id),
+            StateKind::Senval => StateRef::Senval(id),
             StateKind::Aryval | StateKind::Pinval | StateKind::Pouval => {
                 let index = self.optional_integer_arg(name, 1, "index", args)?;
                 if index == 0 {

@@ -83,7 +83,7 @@
 //! * Element forces ([`ElementForce`]): `JOINT JPRIM MOTION SFORCE SPDP BUSH FIELD BEAM VFORCE
 //!   VTORQUE GFORCE` as `NAME(id, jflag, comp [, rm])` → [`Env::element_force`]; `jflag`
 //!   must be 0/1 and `comp` 1..8 ([`ForceComponent`]).
-//! * States ([`StateKind`]): `VARVAL(id) DIF(id) DIF1(id) ARYVAL(id, n) PINVAL(id, n) POUVAL(id, n)` → [`Env::state`].
+//! * States ([`StateKind`]): `VARVAL(id) DIF(id) DIF1(id) ARYVAL(id, n) PINVAL(id, n) POUVAL(id, n) SENVAL(id)` → [`Env::state`].
 //! * `ORIENT(system, component, i [, j])` ([`Function::Orient`]): Euler angles of the 12
 //!   body-fixed and 12 space-fixed sequences, projection angles, yaw/pitch/roll, Euler and
 //!   Rodrigues parameters, direction cosines ([`orient`] has the table), computed from the

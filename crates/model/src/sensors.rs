@@ -28,6 +28,8 @@ pub struct Sensor {
     pub actions: SensorActions,
     /// STEPSIZE: the integrator's next trial step after the sensor fires.
     pub stepsize: Option<f64>,
+    /// DT: the output interval from the event on.
+    pub dt: Option<f64>,
     /// BISECTION: locate the event by bisection instead of the secant method.
     pub bisection: bool,
     /// EVALUATE: evaluated when the sensor fires; `SENVAL(id)` returns it (FUNCTION's value
@@ -56,6 +58,7 @@ impl Sensor {
             (a.codgen, "CODGEN"),
             (a.yydump, "YYDUMP"),
             (self.stepsize.is_some(), "STEPSIZE"),
+            (self.dt.is_some(), "DT"),
         ]
         .into_iter()
         .filter_map(|(on, name)| on.then_some(name))
@@ -83,6 +86,7 @@ mod tests {
             error: 0.1,
             actions: SensorActions::default(),
             stepsize: None,
+            dt: None,
             bisection: false,
             evaluate: None,
         }

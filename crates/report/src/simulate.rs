@@ -334,13 +334,6 @@ pub fn summary(a: &Assembled, run: &DynamicRun, warnings: &[Diagnostic]) -> Simu
                     f.time, f.message
                 ));
             }
-            if sim.kinematic && !model.sensors.is_empty() {
-                warnings.push(format!(
-                    "the {} SENSOR(s) were not evaluated: a kinematic run (no degrees of \
-                     freedom) does not evaluate sensors",
-                    model.sensors.len()
-                ));
-            }
             if sim.kinematic {
                 warnings.push("The data set is kinematically determinate (0 degrees of freedom): a kinematic analysis was run instead of integration (positions from the constraints at each output time, then velocities, accelerations and reactions).".into());
             }

@@ -66,6 +66,12 @@ pub struct StaticJson {
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub frictions: Vec<crate::friction::FrictionJson>,
     pub steps: Vec<StepJson>,
+    /// The SENSORs that fired during a quasi-static series, in time order.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub sensors: Vec<crate::sensors::SensorEventJson>,
+    /// `SENSOR_1 (HALT)` when a sensor ended the series (complete) at its event.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub ended_by_sensor: Option<String>,
     /// When found by damped dynamics: what stopped the settling.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub settling: Option<SettlingJson>,
@@ -288,6 +294,15 @@ pub fn to_json(a: &Assembled, run: &StaticRun, warnings: &[Diagnostic]) -> Stati
         reactions: first.map(|s| s.reactions.clone()).unwrap_or_default(),
         frictions: Vec::new(),
         steps: if steps.len() > 1 { steps } else { Vec::new() },
+        sensors: crate::sensors::events_json(model, &run.sensor_events),
+        ended_by_sensor: run.stopped_by_sensor.and_then(|stop| {
+            let last = run.sensor_events.last()?;
+            Some(format!(
+                "{} ({})",
+                last.name,
+                crate::sensors::stop_name(stop)
+            ))
+        }),
         settling: None,
         warnings,
         errors,
@@ -366,6 +381,10 @@ pub fn to_text(j: &StaticJson) -> String {
     ));
     let _ = writeln!(s);
     let series: Vec<&StepJson> = j.steps.iter().collect();
+    s.push_str(&crate::sensors::events_text(&j.sensors));
+    if let (Some(by), Some(last)) = (&j.ended_by_sensor, j.steps.last()) {
+        let _ = writeln!(s, "The series was ended at time {} by {by}.", last.time);
+    }
     if let Some(st) = &j.settling {
         let _ = writeln!(s, "{}", settling_line(st));
     }
@@ -490,6 +509,8 @@ pub fn settling_json(
             .and_then(|o| o.equilibrium)
             .map(|e| vec![(0.0, e)])
             .unwrap_or_default(),
+        sensor_events: Vec::new(),
+        stopped_by_sensor: None,
     };
     let mut j = to_json(a, &run, warnings);
     if settling.criterion != "settled" {

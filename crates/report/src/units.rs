@@ -267,7 +267,8 @@ fn column_quantity(name: &str) -> Option<Quantity> {
         "wx" | "wy" | "wz" => Quantity::AngularVelocity,
         "ax" | "ay" | "az" => Quantity::Acceleration,
         "wdx" | "wdy" | "wdz" => Quantity::AngularAcceleration,
-        "fx" | "fy" | "fz" => Quantity::Force,
+        "fx" | "fy" | "fz" | "normal" => Quantity::Force,
+        "slip" => Quantity::Velocity,
         "tx" | "ty" | "tz" => Quantity::Torque,
         _ => return None,
     })

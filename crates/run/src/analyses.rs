@@ -160,7 +160,7 @@ fn record(
 ) -> Result<(), RunError> {
     sinks
         .records
-        .write(a.model, &a.system, &session.built.requests, o)
+        .write(a.model, &a.system, &session.built.requests, a.forces, o)
         .map_err(|why| place.failed(why.to_string()))
 }
 
@@ -236,6 +236,8 @@ pub fn statics(
         })?;
         statics::StaticRun {
             steps: vec![(t0, Ok(eq))],
+            sensor_events: Vec::new(),
+            stopped_by_sensor: None,
         }
     } else {
         statics::run(&a, &times)

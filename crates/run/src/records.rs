@@ -15,8 +15,10 @@ use linkage_adm::reqfile::VALUES_PER_REQUEST;
 use linkage_adm::reqwriter::{Precision, RequestDescription, RequestFileHeader, RequestFileWriter};
 use linkage_adm::Dataset;
 use linkage_model::Model;
+use linkage_report::element_columns;
 use linkage_report::simulate::CsvHistory;
 use linkage_solve::constraints::system::System;
+use linkage_solve::physics::applied::AppliedForces;
 use linkage_solve::physics::requests::RequestSet;
 use linkage_solve::stages::dynamics::Output;
 use std::fs::File;
@@ -149,22 +151,36 @@ impl Records {
         })
     }
 
-    /// Writes one output of a run of `model` (compiled constraints `sys`): a CSV row and a
-    /// request-file block. A request that cannot be evaluated is an error naming it.
+    /// Writes one output of a run of `model` (compiled constraints `sys`, forces `forces`):
+    /// a CSV row (the REQUEST columns, then each FRICTION's and control state's,
+    /// [`linkage_report::element_columns`]) and a request-file block. A request that cannot
+    /// be evaluated is an error naming it.
     pub fn write(
         &mut self,
         model: &Model,
         sys: &System,
         requests: &RequestSet,
+        forces: &dyn AppliedForces,
         o: &Output,
     ) -> Result<(), RecordError> {
         let values = requests.evaluate(model, sys, o)?;
+        let mut columns = values.clone();
+        let frictions = if model.frictions.is_empty() {
+            Vec::new()
+        } else {
+            forces.friction_values(&o.state, &o.velocities)
+        };
+        element_columns::values(model, &frictions, &o.state, &mut columns);
         self.csv
             .write(
                 model,
                 o,
-                self.names.get_or_insert_with(|| requests.columns()),
-                &values,
+                self.names.get_or_insert_with(|| {
+                    let mut names = requests.columns();
+                    names.extend(element_columns::names(model));
+                    names
+                }),
+                &columns,
             )
             .map_err(|e| RecordError::Write {
                 path: self.csv_path.display().to_string(),

@@ -66,8 +66,6 @@ impl Analysis {
 
 /// Analyses that compute forces: every one.
 const FORCE_ANALYSES: &[Analysis] = &Analysis::ALL;
-/// The quasi-static series: over time, but without the sensors a dynamic run evaluates.
-const QUASI_STATIC: &[Analysis] = &[Analysis::QuasiStatic];
 
 /// Why a statement is a finding.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
@@ -105,7 +103,7 @@ pub enum Use {
 }
 
 /// Statement kinds every analysis computes with.
-pub const MODELLED: [&str; 33] = [
+pub const MODELLED: [&str; 34] = [
     "UNITS",
     "ACCGRAV",
     "PART",
@@ -135,6 +133,7 @@ pub const MODELLED: [&str; 33] = [
     "SECTION",
     "MATERIAL",
     "FE_LOAD",
+    "SENSOR",
     "DIFF",
     "LSE",
     "TFSISO",
@@ -200,13 +199,6 @@ fn not_modelled(keyword: &str) -> Option<(Reason, &'static str, &'static [Analys
             "curve constraints (PTCV, CVCV) are not modelled; verify's DOF count leaves them out",
         ),
         "UCON" => refused("user constraints are not modelled"),
-        "SENSOR" => Some((
-            Reason::NotModelled,
-            "sensors are evaluated by dynamic runs (simulate) only: a quasi-static series would \
-             not stop at a HALT or RETURN; analyses at one time (ic, static, linear) do not use \
-             them",
-            QUASI_STATIC,
-        )),
         "CURVE" => unused("curve data, read only by PTCV, CVCV and CURVE(), which linkage does not model"),
         "SURFACE" => unused("surface data is not read (CONTACT geometries are GRAPHICS)"),
         "FEMDATA" => unused("finite-element output requests are not written"),
@@ -366,20 +358,6 @@ pub fn findings(ds: &Dataset) -> Vec<Finding> {
                 ),
             };
             let mut detail = why.to_string();
-            if st.keyword == "SENSOR" {
-                let acts: Vec<&str> = ["HALT", "RETURN"]
-                    .into_iter()
-                    .filter(|k| st.arg(k).is_some())
-                    .collect();
-                if !acts.is_empty() {
-                    detail = format!(
-                        "a {} sensor: sensors are evaluated by dynamic runs (simulate) only, so \
-                         a quasi-static series would not stop at its event; analyses at one \
-                         time (ic, static, linear) do not use them",
-                        acts.join(" and ")
-                    );
-                }
-            }
             if let Some((key, _)) = &user {
                 detail.push_str(&format!("; its {key} calls a USER subroutine"));
                 if st.keyword == "GSE" {
@@ -495,19 +473,16 @@ mod tests {
             got,
             [
                 ("FLEX_BODY/3", Reason::NotModelled, 4),
-                ("SENSOR/4", Reason::NotModelled, 5),
                 ("CURVE/5", Reason::NotUsed, 6),
                 ("SFORCE/7", Reason::UserSubroutine, 7),
             ]
         );
         assert!(f[0].refuses(Analysis::Ic) && f[0].refuses(Analysis::Simulate));
-        // A sensor acts in dynamic runs; a quasi-static series refuses it.
-        assert!(f[1].refuses(Analysis::QuasiStatic) && !f[1].refuses(Analysis::Simulate));
-        assert!(!f[1].refuses(Analysis::Static));
-        assert!(f[2].refused_by.is_empty());
+        // A sensor is modelled by every run over time (simulate, kinematic, quasi-static).
+        assert!(f[1].refused_by.is_empty());
         assert_eq!(refusals(&ds, Analysis::Static).len(), 2);
         assert_eq!(refusals(&ds, Analysis::Simulate).len(), 2);
-        assert_eq!(refusals(&ds, Analysis::QuasiStatic).len(), 3);
+        assert_eq!(refusals(&ds, Analysis::QuasiStatic).len(), 2);
     }
 
     #[test]

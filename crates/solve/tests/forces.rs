@@ -162,6 +162,18 @@ const ELEMENTS: &[(&str, &str)] = &[
         "BEAM/1, I = 21, J = 31, LENGTH = 0.8, IXX = 2E-6, IYY = 1E-6, IZZ = 1.5E-6, AREA = 1E-3, ASY = 1.2, ASZ = 1.1, EMODULUS = 2E8, GMODULUS = 8E7, CRATIO = 0.01",
     ),
     (
+        "beam string",
+        "BEAM/1, I = 21, J = 31, LENGTH = 0.8, IXX = 2E-6, IYY = 1E-6, IZZ = 1.5E-6, AREA = 1E-3, ASY = 1.2, ASZ = 1.1, EMODULUS = 2E6, GMODULUS = 8E5, CRATIO = 1, FORMULATION = STRING",
+    ),
+    (
+        "beam nonlinear",
+        "BEAM/1, I = 21, J = 31, LENGTH = 0.8, IXX = 2E-6, IYY = 1E-6, IZZ = 1.5E-6, AREA = 1E-3, EMODULUS = 2E8, GMODULUS = 8E7, CRATIO = 0.01, FORMULATION = NONLINEAR",
+    ),
+    (
+        "beam nonlinear with cmatrix",
+        "BEAM/1, I = 21, J = 31, LENGTH = 0.8, IXX = 2E-6, IYY = 1E-6, IZZ = 1.5E-6, AREA = 1E-3, EMODULUS = 2E4, GMODULUS = 8E3, FORMULATION = NONLINEAR\n, CMATRIX = 1, 0.2, 0.3, 0.4, 0.5, 0.6, 2, 0.9, 1, 1.1, 1.2, 3, 1.6, 1.7, 1.8, 4, 2.3, 2.4, 5, 3, 6",
+    ),
+    (
         "vforce",
         "VFORCE/1, I = 21, JFLOAT = 32, RM = 1, FX = 10*DX(21,31)\\FY = VY(21,31,1,31)\\FZ = 3*WZ(21,31,31) + 1",
     ),
@@ -652,17 +664,6 @@ fn references_to_missing_or_unusable_data_are_errors() {
     );
     assert!(e[2].2.contains("2-D spline"), "{}", e[2].2);
     assert!(e[3].2.contains("SPLINE/8 does not exist"), "{}", e[3].2);
-}
-
-#[test]
-fn beam_formulations_other_than_linear_are_refused() {
-    let e = force_errors("BEAM/1, I = 21, J = 31, LENGTH = 1, IXX = 1, IYY = 1, IZZ = 1, AREA = 1, EMODULUS = 1, GMODULUS = 1, FORMULATION = STRING");
-    assert_eq!(e[0].0, FIRST_EXTRA_LINE);
-    assert!(
-        e[0].2.contains("FORMULATION = STRING is not supported"),
-        "{}",
-        e[0].2
-    );
 }
 
 #[test]

@@ -98,6 +98,7 @@ impl Env for MockEnv {
             StateRef::Aryval { id, index } => Ok(self.smooth(id, index, 5, 4.0)),
             StateRef::Pinval { id, index } => Ok(self.smooth(id, index, 6, 5.0)),
             StateRef::Pouval { id, index } => Ok(self.smooth(id, index, 7, 6.0)),
+            StateRef::Senval(id) => Ok(self.smooth(id, 1, 8, 7.0)),
         }
     }
     fn spline(&self, id: u32) -> Option<&SplineData> {

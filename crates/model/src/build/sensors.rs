@@ -36,6 +36,7 @@ pub(crate) fn sensors(ds: &Dataset, cx: &mut Ctx) -> Vec<Sensor> {
             error: s.error.as_ref().map_or(DEFAULT_SENSOR_ERROR, |e| e.value),
             actions: s.actions,
             stepsize: s.stepsize.as_ref().map(|v| v.value),
+            dt: s.dt.as_ref().map(|v| v.value),
             bisection: s.bisection,
             evaluate,
         });

@@ -82,6 +82,12 @@ pub trait AppliedForces {
     /// A static analysis starts (`true`) or ends: elements inactive in statics switch off.
     fn set_static(&self, _on: bool) {}
 
+    /// The values the sensors stored, which `SENVAL` reads in these forces (none for a set
+    /// without expressions). A run writes them when a sensor fires.
+    fn sensor_values(&self) -> Option<&crate::physics::forces::data::SensorValues> {
+        None
+    }
+
     /// The friction of every FRICTION at `(s, v)` with the current state, in model order,
     /// for the reports (none without frictions).
     fn friction_values(&self, _s: &State, _v: &Velocities) -> Vec<FrictionValue> {

@@ -1,5 +1,5 @@
 //! What expressions read of control states (`DIF`, `DIF1`, `ARYVAL` of X and Y arrays,
-//! `PINVAL`, `POUVAL`), kept apart from the state equations ([`crate::physics::controls`]) so
+//! `PINVAL`, `POUVAL`) and of the sensors (`SENVAL`), kept apart from the state equations ([`crate::physics::controls`]) so
 //! that the measures the expressions evaluate through need not depend on those.
 //!
 //! Numbering of the gradient variables: see [`crate::physics::controls`] (part k's position
@@ -50,6 +50,12 @@ pub fn read_state(
 ) -> Result<Dual, EvalError> {
     match state {
         StateRef::Varval(id) => varval(id, gradient),
+        StateRef::Senval(id) => {
+            let k = *data.sensors.get(&id).ok_or_else(|| {
+                EvalError::unknown_reference(format!("SENSOR/{id} does not exist"))
+            })?;
+            Ok(Dual::constant(data.sensor_values.get(k)))
+        }
         StateRef::Dif(id) | StateRef::Dif1(id) => {
             let i = *data
                 .diffs

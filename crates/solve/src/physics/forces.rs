@@ -5,9 +5,10 @@
 //! | element | module | law |
 //! |---|---|---|
 //! | SFORCE, SPRINGDAMPER | [`scalar`] | scalar along the line J→I (repelling > 0) or torque about z_j |
-//! | BUSHING, FIELD, BEAM | [`six_dof`] (+ [`beam`]) | `F = −K·(q − q₀) − C·q̇ + F₀` in J's axes, at I |
+//! | BUSHING, FIELD | [`six_dof`] | `F = −K·(q − q₀) − C·q̇ + F₀` in J's axes, at I |
+//! | BEAM | [`beam`] | LINEAR as [`six_dof`]; STRING adds the axial force's geometric stiffness; NONLINEAR is [`corotational`] |
 //! | VFORCE, VTORQUE, GFORCE | [`vector`] | expression components along RM's axes, at I |
-//! | FE_PART elements, FE_LOAD | [`fe_beam`] | corotational beam between node bodies; Rayleigh damping; lumped loads |
+//! | FE_PART elements, FE_LOAD | [`fe_beam`] (+ [`corotational`]) | corotational beam between node bodies; Rayleigh damping; lumped loads |
 //! | CONTACT | [`contact`] | IMPACT or POISSON normal force and Coulomb friction per incident |
 //! | FRICTION | [`crate::physics::forces::friction`] | stick-slip friction on a joint, with a state |
 //!
@@ -33,11 +34,12 @@
 //! the dataset: a syntax error at the line and column inside the expression; a `USER(…)`
 //! subroutine (which linkage cannot run) naming the element and its line; a reference from a
 //! force expression to a VARIABLE, ARRAY or SPLINE that does not exist or cannot be
-//! evaluated; a BEAM formulation other than LINEAR.
+//! evaluated.
 
 pub mod algebra;
 pub mod beam;
 pub mod contact;
+pub mod corotational;
 pub mod data;
 pub mod fe_beam;
 pub mod friction;
@@ -108,6 +110,7 @@ pub struct Context<'a> {
 pub enum Law {
     Scalar(Box<scalar::ScalarLaw>),
     SixDof(Box<six_dof::SixDofLaw>),
+    Beam(Box<beam::BeamLaw>),
     Vector(Box<vector::VectorLaw>),
     FeBeam(Box<fe_beam::BeamElementLaw>),
     FeDamping(Box<fe_beam::NodeDampingLaw>),
@@ -120,6 +123,7 @@ impl Law {
         match self {
             Law::Scalar(l) => l.loads(cx),
             Law::SixDof(l) => l.loads(cx),
+            Law::Beam(l) => l.loads(cx),
             Law::Vector(l) => l.loads(cx),
             Law::FeBeam(l) => l.loads(cx),
             Law::FeDamping(l) => l.loads(cx),
@@ -179,6 +183,7 @@ enum DataRef {
     Diff(u32),
     Pinput(u32),
     Poutput(u32),
+    Sensor(u32),
 }
 
 fn literal_id(e: Option<&Expr>) -> Option<u32> {
@@ -211,6 +216,9 @@ fn data_refs(e: &Expr) -> Vec<DataRef> {
                 }
                 linkage_expr::Function::State(StateKind::Aryval) => {
                     literal_id(args.first()).map(DataRef::Array)
+                }
+                linkage_expr::Function::State(StateKind::Senval) => {
+                    literal_id(args.first()).map(DataRef::Sensor)
                 }
                 linkage_expr::Function::Special(Special::Akispl | Special::Cubspl) => {
                     literal_id(args.get(2)).map(DataRef::Spline)
@@ -298,6 +306,11 @@ fn reachable(data: &DataElements, e: &Expr) -> Result<Vec<u32>, RefProblem> {
                 match list {
                     None => return Err(RefProblem::Message(format!("{kind}/{id} does not exist"))),
                     Some(v) => todo.extend(v.iter().map(|&id| DataRef::Variable(id))),
+                }
+            }
+            DataRef::Sensor(id) => {
+                if !data.sensors.contains_key(&id) {
+                    return Err(RefProblem::Message(format!("SENSOR/{id} does not exist")));
                 }
             }
             DataRef::Spline(id) => {
@@ -411,17 +424,7 @@ impl Builder<'_> {
                     f,
                 )))
             }
-            ForceKind::Beam(b) => match beam::law(frame(b.i), frame(b.j), b) {
-                Ok(l) => Law::SixDof(Box::new(l)),
-                Err(why) => {
-                    self.errors.push(Diagnostic::error(
-                        model.file.clone(),
-                        Some(b.formulation_span.unwrap_or(origin.span)),
-                        format!("{}: {why}", label(origin)),
-                    ));
-                    return None;
-                }
-            },
+            ForceKind::Beam(b) => Law::Beam(Box::new(beam::law(frame(b.i), frame(b.j), b))),
             ForceKind::Vector(v) => {
                 if let Some(u) = &v.user {
                     self.errors
@@ -737,6 +740,10 @@ impl AppliedForces for ForceSet {
 
     fn friction_values(&self, s: &State, v: &Velocities) -> Vec<FrictionValue> {
         self.frictions.values(s, v)
+    }
+
+    fn sensor_values(&self) -> Option<&data::SensorValues> {
+        Some(&self.data.sensor_values)
     }
 
     fn add_forces(&self, s: &State, v: &Velocities, out: &mut [f64]) -> Result<(), ForceError> {

@@ -22,7 +22,8 @@ use crate::constraints::system::RowUnit;
 use crate::linalg::kkt::{jacobian_entries, CoordinateScale, Zeros};
 use crate::linalg::linear::SparseLu;
 use crate::stages::dynamics::{
-    flat, redundant_violation, Failure, IntegrationError, OutputSolver, Problem, Simulation,
+    flat, redundant_violation, Failure, IntegrationError, Output, OutputSolver, Problem,
+    SensorWatch, Simulation,
 };
 use crate::stages::verify::{report_residual, report_unit_suffix};
 use crate::state::State;
@@ -39,6 +40,14 @@ pub const MAX_ITERATIONS: usize = 25;
 
 /// Runs the kinematic analysis at `times` from the assembled `start` with velocities `v0`
 /// (used only as the first velocity guess).
+///
+/// SENSORs are evaluated at every output, as a dynamic run evaluates them after every step
+/// (the watch and its event location are [`crate::stages::dynamics::SensorWatch`]'s): an
+/// event between two outputs is located to the sensor's ERROR by solving the positions at
+/// trial times. At the event, HALT and RETURN end the run (its last output the event),
+/// PRINT writes an output there, DT sets the output interval from the event on (outputs at
+/// `t* + k·DT` up to the last requested time); RESTART, CODGEN and STEPSIZE have nothing to
+/// act on (there is no integrator) and are reported with the event.
 pub(crate) fn run(
     p: &Problem,
     start: &State,
@@ -54,56 +63,134 @@ pub(crate) fn run(
             return sim;
         }
     };
-    let mut v = flat(v0);
-    let mut previous: Option<(State, Vec<f64>, Vec<f64>)> = None;
-    for &t in times {
-        let mut guess = match &previous {
-            None => start.clone(),
-            Some((s, vel, acc)) => {
-                let dt = t - s.time;
-                let d: Vec<f64> = (0..vel.len())
-                    .map(|i| vel[i] * dt + 0.5 * acc[i] * dt * dt)
-                    .collect();
-                apply(s, &d)
+    let mut sensors = SensorWatch::new(p.model, p.forces);
+    let end = times.last().copied().unwrap_or(start.time);
+    let mut schedule = times.to_vec();
+    let v0 = flat(v0);
+    let mut previous: Option<Output> = None;
+    let mut k = 0;
+    while k < schedule.len() {
+        let t = schedule[k];
+        let output = match point(p, &mut solver, start, &v0, previous.as_ref(), t) {
+            Ok(o) => o,
+            Err(f) => {
+                sim.failure = Some(f);
+                return sim;
             }
         };
-        guess.time = t;
-        let s = match positions(p, guess) {
-            Ok(s) => s,
+        sim.steps += 1;
+        let Some(w) = sensors.as_mut() else {
+            previous = Some(output.clone());
+            sim.outputs.push(output);
+            progress(t);
+            k += 1;
+            continue;
+        };
+        let fired = if previous.is_none() {
+            w.start(p.model, &output).map(|()| None)
+        } else {
+            w.after_point(p.model, output.clone(), &mut |from, t| {
+                point(p, &mut solver, start, &v0, Some(from), t).map_err(|f| f.cause)
+            })
+        };
+        let fired = match fired {
+            Ok(f) => f,
             Err(e) => {
                 sim.failure = Some(Failure::new(t, e));
                 return sim;
             }
         };
-        if let Some(f) = redundant_violation(
-            p,
-            &s,
-            p.model.characteristic_length,
-            crate::tolerances::REDUNDANT_DRIFT,
-        ) {
-            sim.failure = Some(f);
+        let Some(fired) = fired else {
+            previous = Some(output.clone());
+            sim.outputs.push(output);
+            progress(t);
+            k += 1;
+            continue;
+        };
+        sim.sensor_events.extend(fired.events);
+        if fired.stop.is_some() {
+            sim.stopped_by_sensor = fired.stop;
+            sim.outputs.push(fired.output);
             return sim;
         }
-        let output = match solver.output(p, &s, &v) {
-            Ok(o) => o,
-            Err(e) => {
-                sim.failure = Some(Failure::new(t, e));
-                return sim;
+        let at = fired.output.time;
+        if fired.before_step_end && fired.print {
+            sim.outputs.push(fired.output.clone());
+        }
+        match fired.dt {
+            // From the event on, outputs every DT: the output at t (after the event) is
+            // replaced by the new grid.
+            Some(dt) => {
+                if !fired.before_step_end {
+                    sim.outputs.push(output);
+                    k += 1;
+                }
+                schedule.truncate(k);
+                let mut j = 1.0;
+                while at + j * dt <= end + OUTPUT_GRID * dt {
+                    schedule.push((at + j * dt).min(end));
+                    j += 1.0;
+                }
+                if schedule
+                    .last()
+                    .is_some_and(|last| *last < end - OUTPUT_GRID * dt)
+                {
+                    schedule.push(end);
+                }
+                previous = Some(fired.output);
             }
-        };
-        v = flat(&output.velocities);
-        let a = flat(&output.accelerations);
-        // Accelerations reported as NaN (unknown second derivatives) do not extrapolate.
-        let a: Vec<f64> = a
-            .into_iter()
-            .map(|x| if x.is_finite() { x } else { 0.0 })
-            .collect();
-        previous = Some((s, v.clone(), a));
-        sim.outputs.push(output);
-        sim.steps += 1;
-        progress(t);
+            None => {
+                previous = Some(output.clone());
+                sim.outputs.push(output);
+                k += 1;
+            }
+        }
+        progress(at.max(t));
     }
     sim
+}
+
+/// Output times closer than this fraction of DT to the end are the end.
+const OUTPUT_GRID: f64 = 1e-9;
+
+/// The consistent output at time `t`: positions by Newton from a second-order extrapolation
+/// `q + v Δt + a Δt²/2` of `from` (or from `start`), removed rows checked, then
+/// velocities, accelerations and reactions.
+fn point(
+    p: &Problem,
+    solver: &mut OutputSolver,
+    start: &State,
+    v0: &[f64],
+    from: Option<&Output>,
+    t: f64,
+) -> Result<Output, Failure> {
+    let (mut guess, v) = match from {
+        None => (start.clone(), v0.to_vec()),
+        Some(o) => {
+            let dt = t - o.time;
+            let vel = flat(&o.velocities);
+            // Accelerations reported as NaN (unknown second derivatives) do not extrapolate.
+            let acc = flat(&o.accelerations);
+            let d: Vec<f64> = (0..vel.len())
+                .map(|i| {
+                    let a = if acc[i].is_finite() { acc[i] } else { 0.0 };
+                    vel[i] * dt + 0.5 * a * dt * dt
+                })
+                .collect();
+            (apply(&o.state, &d), vel)
+        }
+    };
+    guess.time = t;
+    let s = positions(p, guess).map_err(|e| Failure::new(t, e))?;
+    if let Some(f) = redundant_violation(
+        p,
+        &s,
+        p.model.characteristic_length,
+        crate::tolerances::REDUNDANT_DRIFT,
+    ) {
+        return Err(f);
+    }
+    solver.output(p, &s, &v).map_err(|e| Failure::new(t, e))
 }
 
 /// Whether the residual `v` of a row with unit `unit` is within [`POSITION_TOLERANCE`].

@@ -27,6 +27,7 @@ use crate::linalg::linear::LinearError;
 use crate::physics::applied::{AppliedForces, ForceError};
 use crate::physics::reactions::{element_reactions, Reaction};
 use crate::pipeline::Assembled;
+use crate::stages::dynamics::{IntegrationError, Output, SensorEvent, SensorStop, SensorWatch};
 use crate::state::State;
 use crate::tolerances::{
     FRICTION_LOAD_PASSES, FRICTION_LOAD_SETTLED, STABILITY_EIGENVALUE, STABILITY_RANK,
@@ -178,6 +179,9 @@ pub enum StaticsError {
          (consider STABILITY, or check forces)"
     )]
     Singular,
+    /// A sensor could not be evaluated, or its event not located, in a quasi-static series.
+    #[error("sensor: {0}")]
+    Sensor(String),
 }
 
 /// The rows `rows` with their drive values at `t` (motions' displacements, 0 for the others).
@@ -219,6 +223,13 @@ const RUNAWAY_WINDOW: usize = 3;
 /// reactions, and the equilibrium is solved again from the last one until no normal load
 /// changes by more than [`FRICTION_LOAD_SETTLED`] of the largest (at most
 /// [`FRICTION_LOAD_PASSES`] solves). Elements inactive in statics are off throughout.
+///
+/// Why the normal load is not taken from the current Newton iterate: it is a function of
+/// the joint's multipliers (its reaction), so the friction force would depend on λ and the
+/// Newton matrix would need a `∂Q/∂λ` block beside `−∂Q/∂q` — a non-symmetric coupling that
+/// `AppliedForces` (forces of positions and velocities) and the saddle-point assembly of
+/// `statics/newton.rs` do not have; the fixed point converges in two or three solves on the
+/// tested models (ramp, brake, pins), so the loop stays [decided].
 pub fn equilibrium(
     model: &Model,
     sys: &System,
@@ -599,6 +610,10 @@ pub struct StaticRun {
     /// `(time, equilibrium)` at every output time; stops at the first failure; empty when the
     /// model could not be assembled.
     pub steps: Vec<(f64, Result<Equilibrium, StaticsError>)>,
+    /// The SENSORs that fired during a quasi-static series, in time order.
+    pub sensor_events: Vec<SensorEvent>,
+    /// A sensor's HALT or RETURN ended the series (complete) at the last event.
+    pub stopped_by_sensor: Option<SensorStop>,
 }
 
 impl StaticRun {
@@ -618,41 +633,186 @@ pub fn output_times(end: f64, steps: usize) -> Vec<f64> {
     (0..=steps).map(|k| end * k as f64 / steps as f64).collect()
 }
 
+/// Output times closer than this fraction of a sensor's DT to the end are the end.
+const OUTPUT_GRID: f64 = 1e-9;
+
 /// Static equilibrium of an assembled model at each of `times` (one time for a single
 /// equilibrium), each started from a linear extrapolation of the previous two; nothing when the
 /// model could not be assembled ([`Assembled::failure`] says why).
+///
+/// SENSORs in a quasi-static series (more than one time) are evaluated on every equilibrium
+/// (positions at equilibrium, velocities zero) by the dynamic run's watch
+/// ([`crate::stages::dynamics::SensorWatch`]): an event between two outputs is located to
+/// the sensor's ERROR by solving the equilibrium at trial times (the secant or bisection of
+/// the dynamic run). At the event HALT and RETURN end the series (complete, its last
+/// equilibrium the event's), PRINT adds the event's equilibrium to the outputs, DT sets the
+/// output interval from the event on (`t* + k·DT` up to the last time), and `SENVAL` takes
+/// the stored value from then on; RESTART, CODGEN and STEPSIZE have no integrator to act on.
 pub fn run(a: &Assembled, times: &[f64]) -> StaticRun {
-    let mut steps = Vec::new();
+    let mut out = StaticRun {
+        steps: Vec::new(),
+        sensor_events: Vec::new(),
+        stopped_by_sensor: None,
+    };
     if a.failure().is_some() {
-        return StaticRun { steps };
+        return out;
     }
+    let mut watch = (times.len() > 1)
+        .then(|| SensorWatch::new(a.model, a.forces))
+        .flatten();
+    let end = times.last().copied().unwrap_or(0.0);
+    let mut schedule = times.to_vec();
+    let solve = |start: &State| {
+        equilibrium(
+            a.model,
+            &a.system,
+            &a.kept,
+            &a.drivers,
+            a.forces,
+            start,
+            &a.model.equilibrium,
+        )
+    };
     let mut history: Vec<State> = Vec::new();
-    for &t in times {
+    let mut k = 0;
+    while k < schedule.len() {
+        let t = schedule[k];
         let mut start = match history.as_slice() {
             [] => a.state().clone(),
             [only] => only.clone(),
             [.., a, b] => extrapolate(a, b),
         };
         start.time = t;
-        let result = equilibrium(
-            a.model,
-            &a.system,
-            &a.kept,
-            &a.drivers,
-            a.forces,
-            &start,
-            &a.model.equilibrium,
-        );
-        let ok = result.as_ref().is_ok_and(|e| e.converged);
-        if let Ok(e) = &result {
-            history.push(e.state.clone());
-        }
-        steps.push((t, result));
-        if !ok {
+        let eq = match solve(&start) {
+            Ok(eq) if eq.converged && watch.is_some() => eq,
+            result => {
+                let ok = result.as_ref().is_ok_and(|e| e.converged);
+                if let Ok(e) = &result {
+                    history.push(e.state.clone());
+                }
+                out.steps.push((t, result));
+                if !ok {
+                    break;
+                }
+                k += 1;
+                continue;
+            }
+        };
+        // (Always a watch here.)
+        let Some(w) = watch.as_mut() else { break };
+        let point = at_rest(a.model, &eq);
+        // The equilibria solved while locating an event, and the first failure among them.
+        let mut located: Vec<Equilibrium> = Vec::new();
+        let mut failed: Option<(f64, StaticsError)> = None;
+        let fired = if history.is_empty() {
+            w.start(a.model, &point).map(|()| None)
+        } else {
+            w.after_point(a.model, point, &mut |from, t| {
+                let mut s = from.state.clone();
+                s.time = t;
+                match solve(&s) {
+                    Ok(e) if e.converged => {
+                        let o = at_rest(a.model, &e);
+                        located.push(e);
+                        Ok(o)
+                    }
+                    Ok(e) => {
+                        let why = e.failure(a.model, &a.system).unwrap_or_default();
+                        failed = Some((t, StaticsError::Sensor(why.clone())));
+                        Err(IntegrationError::Sensor {
+                            sensor: "the quasi-static event location".into(),
+                            cause: why,
+                        })
+                    }
+                    Err(err) => {
+                        let why = err.to_string();
+                        failed = Some((t, err));
+                        Err(IntegrationError::Sensor {
+                            sensor: "the quasi-static event location".into(),
+                            cause: why,
+                        })
+                    }
+                }
+            })
+        };
+        let fired = match fired {
+            Ok(f) => f,
+            Err(e) => {
+                let (at, err) = failed.unwrap_or((t, StaticsError::Sensor(e.to_string())));
+                out.steps.push((at, Err(err)));
+                break;
+            }
+        };
+        let Some(fired) = fired else {
+            history.push(eq.state.clone());
+            out.steps.push((t, Ok(eq)));
+            k += 1;
+            continue;
+        };
+        out.sensor_events.extend(fired.events);
+        let at = fired.output.time;
+        let event = if fired.before_step_end {
+            located.into_iter().rev().find(|e| e.state.time == at)
+        } else {
+            None
+        };
+        if fired.stop.is_some() {
+            out.stopped_by_sensor = fired.stop;
+            out.steps.push(match event {
+                Some(e) => (at, Ok(e)),
+                None => (t, Ok(eq)),
+            });
             break;
         }
+        if let Some(e) = event.as_ref().filter(|_| fired.print) {
+            out.steps.push((at, Ok(e.clone())));
+        }
+        match fired.dt {
+            Some(dt) => {
+                let from = match event {
+                    Some(e) => e.state,
+                    None => {
+                        let s = eq.state.clone();
+                        out.steps.push((t, Ok(eq)));
+                        k += 1;
+                        s
+                    }
+                };
+                schedule.truncate(k);
+                let mut j = 1.0;
+                while at + j * dt <= end + OUTPUT_GRID * dt {
+                    schedule.push((at + j * dt).min(end));
+                    j += 1.0;
+                }
+                if schedule
+                    .last()
+                    .is_some_and(|last| *last < end - OUTPUT_GRID * dt)
+                {
+                    schedule.push(end);
+                }
+                history = vec![from];
+            }
+            None => {
+                history.push(eq.state.clone());
+                out.steps.push((t, Ok(eq)));
+                k += 1;
+            }
+        }
     }
-    StaticRun { steps }
+    out
+}
+
+/// An equilibrium as the sensors see it: positions, zero velocities and accelerations, its
+/// reactions.
+fn at_rest(model: &Model, e: &Equilibrium) -> Output {
+    let rest = vec![(DVec3::ZERO, DVec3::ZERO); model.parts.len()];
+    Output {
+        time: e.state.time,
+        state: e.state.clone(),
+        velocities: rest.clone(),
+        accelerations: rest,
+        reactions: e.reactions.clone(),
+    }
 }
 
 /// `b + (b − a)` on the configuration manifold.

@@ -134,43 +134,49 @@ impl SixDofLaw {
         })
     }
 
-    pub fn loads<R: Real>(&self, cx: &Context) -> Result<Loads<R>, LawError> {
-        let Coordinates {
-            deflection: dq,
-            rates,
-            axes: ej,
-            p_i: pi,
-        } = self.coordinates::<R>(cx)?;
-        let generalised: [R; 6] = std::array::from_fn(|r| {
+    /// `−K·(q − q₀) − C·q̇ + F₀`, components along J's axes.
+    pub fn generalised<R: Real>(&self, c: &Coordinates<R>) -> [R; 6] {
+        std::array::from_fn(|r| {
             let mut g = R::cst(self.preload[r]);
-            for c in 0..6 {
-                let (k, damp) = (self.stiffness[r][c], self.damping[r][c]);
-                if k != 0.0 {
-                    g = g.sub(&dq[c].scale(k));
+            for k in 0..6 {
+                let (stiff, damp) = (self.stiffness[r][k], self.damping[r][k]);
+                if stiff != 0.0 {
+                    g = g.sub(&c.deflection[k].scale(stiff));
                 }
                 if damp != 0.0 {
-                    g = g.sub(&rates[c].scale(damp));
+                    g = g.sub(&c.rates[k].scale(damp));
                 }
             }
             g
-        });
-        let [fx, fy, fz, tx, ty, tz] = generalised;
-        let force = V3::combine(&ej, &[fx, fy, fz]);
-        let torque = V3::combine(&ej, &[tx, ty, tz]);
+        })
+    }
+
+    pub fn loads<R: Real>(&self, cx: &Context) -> Result<Loads<R>, LawError> {
+        let c = self.coordinates::<R>(cx)?;
+        let g = self.generalised(&c);
+        Ok(self.apply(c, g))
+    }
+
+    /// The loads of generalised components `g` (along J's axes): on I's body at I's origin,
+    /// the reaction on J's body at the same point.
+    pub fn apply<R: Real>(&self, c: Coordinates<R>, g: [R; 6]) -> Loads<R> {
+        let [fx, fy, fz, tx, ty, tz] = g;
+        let force = V3::combine(&c.axes, &[fx, fy, fz]);
+        let torque = V3::combine(&c.axes, &[tx, ty, tz]);
         let reaction = Load {
             body: self.j.body,
-            point: pi.clone(),
+            point: c.p_i.clone(),
             force: force.neg(),
             torque: torque.neg(),
         };
-        Ok([
+        [
             Some(Load {
                 body: self.i.body,
-                point: pi,
+                point: c.p_i,
                 force,
                 torque,
             }),
             Some(reaction),
-        ])
+        ]
     }
 }

@@ -21,7 +21,8 @@
 //!   integrator from `t*` (order 1, a new factorisation and pivot sequence); STEPSIZE sets the
 //!   next trial step; YYDUMP keeps the state at `t*` in the event record for the report.
 //!   EVALUATE (or FUNCTION when there is none) is evaluated at `t*` and stored as the sensor's
-//!   value, `SENVAL`.
+//!   value, which `SENVAL(id)` returns from then on in forces, VARIABLEs and REQUESTs (the
+//!   [`SensorValues`] the force set shares; a changed value restarts the integrator at `t*`).
 //!
 //! Cost: one consistent-output solve per accepted step when the model has sensors (none
 //! otherwise); an event costs a few short re-integrations from the step's start.
@@ -30,7 +31,8 @@ use super::error::IntegrationError;
 use super::output::Output;
 use super::problem::Problem;
 use super::stepper::Stepper;
-use crate::physics::forces::data::DataElements;
+use crate::physics::applied::AppliedForces;
+use crate::physics::forces::data::{DataElements, SensorValues};
 use crate::physics::measures::{MarkerFrames, StateEnv};
 use crate::tolerances::LOCAL_ERROR_FLOOR;
 use linkage_expr::Expr;
@@ -83,6 +85,8 @@ pub struct Fired {
     pub restart: bool,
     /// STEPSIZE: the next trial step.
     pub step: Option<f64>,
+    /// DT: the output interval from the event on (the smallest of the sensors that fired).
+    pub dt: Option<f64>,
     pub events: Vec<SensorEvent>,
 }
 
@@ -94,8 +98,9 @@ pub struct SensorWatch {
     active: Vec<bool>,
     /// The last accepted point and `g` of every sensor there.
     last: Option<(Output, Vec<f64>)>,
-    /// Per sensor: its stored value (`SENVAL`), 0 before it first fires.
-    pub stored: Vec<f64>,
+    /// Per sensor: its stored value (`SENVAL`), 0 before it first fires; shared with the
+    /// forces, which read it through `SENVAL`.
+    pub stored: SensorValues,
 }
 
 fn function(model: &Model, s: usize) -> Result<&Expr, IntegrationError> {
@@ -111,16 +116,22 @@ fn function(model: &Model, s: usize) -> Result<&Expr, IntegrationError> {
 
 impl SensorWatch {
     /// The watch over `model`'s sensors; `None` when it has none (the run pays nothing).
-    pub fn new(model: &Model) -> Option<SensorWatch> {
+    /// The stored values are those `forces` read (`SENVAL`), so a firing changes the forces
+    /// from then on.
+    pub fn new(model: &Model, forces: &dyn AppliedForces) -> Option<SensorWatch> {
         if model.sensors.is_empty() {
             return None;
         }
+        let mut data = DataElements::new(model).0;
+        if let Some(v) = forces.sensor_values() {
+            data.sensor_values = v.clone();
+        }
         Some(SensorWatch {
             frames: MarkerFrames::new(model),
-            data: DataElements::new(model).0,
+            stored: data.sensor_values.clone(),
+            data,
             active: vec![false; model.sensors.len()],
             last: None,
-            stored: vec![0.0; model.sensors.len()],
         })
     }
 
@@ -168,8 +179,22 @@ impl SensorWatch {
         settings: &IntegratorSettings,
         span: f64,
     ) -> Result<Option<Fired>, IntegrationError> {
-        let model = p.model;
         let o1 = integ.output()?;
+        self.after_point(p.model, o1, &mut |from, t| {
+            integrate_to(p, from, t, settings, span)
+        })
+    }
+
+    /// After the run reached the point `o1` (an accepted step, a kinematic output, a
+    /// quasi-static equilibrium): evaluates the sensors there, locates an event since the
+    /// last point with `reach(from, t)` (the run's own point at time `t`, continued from the
+    /// point `from`: re-stepping, a position solve, an equilibrium), and says what fired.
+    pub fn after_point(
+        &mut self,
+        model: &Model,
+        o1: Output,
+        reach: &mut dyn FnMut(&Output, f64) -> Result<Output, IntegrationError>,
+    ) -> Result<Option<Fired>, IntegrationError> {
         let g1 = self.gaps(model, &o1)?;
         let Some((o0, g0)) = self.last.take() else {
             self.last = Some((o1, g1));
@@ -188,7 +213,7 @@ impl SensorWatch {
             if sensor.holds(g1[s]) && !beyond {
                 firing_at_end.push(s);
             } else if crossed && (sensor.holds(g1[s]) || beyond) {
-                let (t, o, g) = self.locate(p, s, &o0, g0[s], &o1, g1[s], settings, span)?;
+                let (t, o, g) = self.locate(model, s, &o0, g0[s], &o1, g1[s], reach)?;
                 if earliest.as_ref().is_none_or(|(te, _, _)| t < *te) {
                     earliest = Some((t, o, g));
                 }
@@ -215,20 +240,19 @@ impl SensorWatch {
     }
 
     /// The event of sensor `s` between `o0` (g0) and `o1` (g1): the time where `|g| ≤ ERROR`,
-    /// by the Illinois secant method (or bisection), each trial re-integrated from `o0`.
+    /// by the Illinois secant method (or bisection), each trial reached from `o0` by `reach`.
     #[allow(clippy::too_many_arguments)]
     fn locate(
         &self,
-        p: &Problem,
+        model: &Model,
         s: usize,
         o0: &Output,
         g0: f64,
         o1: &Output,
         g1: f64,
-        settings: &IntegratorSettings,
-        span: f64,
+        reach: &mut dyn FnMut(&Output, f64) -> Result<Output, IntegrationError>,
     ) -> Result<(f64, Output, Vec<f64>), IntegrationError> {
-        let sensor = &p.model.sensors[s];
+        let sensor = &model.sensors[s];
         let (mut ta, mut ga) = (o0.time, g0);
         let (mut tb, mut gb) = (o1.time, g1);
         let mut best = (o1.time, o1.clone());
@@ -239,10 +263,10 @@ impl SensorWatch {
             } else {
                 (ta - ga * (tb - ta) / (gb - ga)).clamp(ta, tb)
             };
-            let o = integrate_to(p, o0, t, settings, span)?;
-            let g = self.eval(p.model, s, function(p.model, s)?, &o)? - sensor.value;
+            let o = reach(o0, t)?;
+            let g = self.eval(model, s, function(model, s)?, &o)? - sensor.value;
             if g.abs() <= sensor.error {
-                let all = self.gaps(p.model, &o)?;
+                let all = self.gaps(model, &o)?;
                 return Ok((t, o, all));
             }
             best = (t, o);
@@ -265,12 +289,8 @@ impl SensorWatch {
         }
         // Not within ERROR after the trials (a discontinuous FUNCTION): the end of the
         // bracket where the sensor holds.
-        let o = if tb < best.0 {
-            integrate_to(p, o0, tb, settings, span)?
-        } else {
-            best.1
-        };
-        let all = self.gaps(p.model, &o)?;
+        let o = if tb < best.0 { reach(o0, tb)? } else { best.1 };
+        let all = self.gaps(model, &o)?;
         Ok((o.time, o, all))
     }
 
@@ -296,6 +316,7 @@ impl SensorWatch {
             print: false,
             restart: false,
             step: None,
+            dt: None,
             events: Vec::new(),
         };
         for &s in firing {
@@ -304,7 +325,12 @@ impl SensorWatch {
                 Some(e) => self.eval(model, s, e, &fired.output)?,
                 None => g[s] + sensor.value,
             };
-            self.stored[s] = stored;
+            // A new stored value changes the forces that read SENVAL: the integrator
+            // restarts from the event.
+            if self.stored.get(s) != stored {
+                fired.restart = true;
+            }
+            self.stored.set(s, stored);
             let a = &sensor.actions;
             if a.halt {
                 fired.stop = Some(SensorStop::Halt);
@@ -315,6 +341,9 @@ impl SensorWatch {
             fired.restart |= a.restart || a.codgen;
             if let Some(h) = sensor.stepsize {
                 fired.step = Some(fired.step.map_or(h, |x: f64| x.min(h)));
+            }
+            if let Some(dt) = sensor.dt {
+                fired.dt = Some(fired.dt.map_or(dt, |x: f64| x.min(dt)));
             }
             fired.events.push(SensorEvent {
                 name: sensor.origin.name.clone(),

@@ -107,7 +107,7 @@ pub fn simulate_with(
     };
     let mut next_output = 0;
     // Sensors (not while settling at a frozen time), armed at the start.
-    let mut sensors = SensorWatch::new(p.model).filter(|_| p.frozen_time.is_none());
+    let mut sensors = SensorWatch::new(p.model, p.forces).filter(|_| p.frozen_time.is_none());
     if let Some(Err(e)) = sensors.as_mut().map(|w| w.start(p.model, &first)) {
         sim.failure = Some(Failure::new(start.time, e));
         return sim;
@@ -254,6 +254,16 @@ pub fn simulate_with(
                             }
                             h = fired.step.map_or(h, |x| x.min(hmax));
                             if fired.restart || fired.before_step_end {
+                                // An event at an output time it restarts from: the
+                                // output is written before the restart.
+                                if hit && !fired.before_step_end {
+                                    if !printed
+                                        && on_output(fired.output.clone()) == AfterOutput::Stop
+                                    {
+                                        return sim;
+                                    }
+                                    next_output += 1;
+                                }
                                 match Stepper::new(
                                     p,
                                     &fired.output.state,
