@@ -139,7 +139,7 @@ fn parse_statement(
     }
     let body = p.body(&mut st);
     // Built in the lent buffer, kept in an allocation of exactly their number.
-    st.args = p.scratch.args.drain(..).collect();
+    st.args = values::move_exact(&mut p.scratch.args);
     if !known {
         let msg = format!("unknown statement '{}' ignored", st.keyword);
         return (

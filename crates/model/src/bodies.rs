@@ -36,7 +36,7 @@ pub struct Origin {
 impl Origin {
     /// `JOINT/7`.
     pub fn element(&self) -> String {
-        linkage_adm::keyword_id(&self.statement, '/', self.id)
+        linkage_adm::keyword_id(self.statement, '/', self.id)
     }
 
     /// The label used in messages: `SFORCE_3 (SFORCE/3, line 12)`.

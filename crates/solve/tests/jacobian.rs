@@ -62,7 +62,8 @@ fn every_row_type_matches_finite_differences() {
         ));
     }
     // Every joint type, primitive, motion form, coupler and gear contributed rows.
-    let kinds: std::collections::BTreeSet<String> = labels.iter().map(|(d, _)| d.clone()).collect();
+    let kinds: std::collections::BTreeSet<String> =
+        labels.iter().map(|(d, _)| d.to_string()).collect();
     for want in [
         "Revolute Joint",
         "Translational Joint",

@@ -15,6 +15,16 @@ use crate::keywords::{self, ArgKind, Lookup};
 use crate::lexer::Mark;
 use crate::statement::{ExprText, Value};
 
+/// The elements of `buffer` moved into a new allocation of exactly their number; `buffer` keeps
+/// its capacity for the next statement. The statements of a dataset are kept whole (a large
+/// model has hundreds of thousands of argument and value lists): no spare capacity in them,
+/// and no growth while reading them.
+pub(super) fn move_exact<T>(buffer: &mut Vec<T>) -> Vec<T> {
+    let mut out = Vec::with_capacity(buffer.len());
+    out.append(buffer);
+    out
+}
+
 /// How [`StatementParser::expr`] collects text.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(super) enum ExprMode {
@@ -266,7 +276,7 @@ impl StatementParser<'_> {
                 }
             }
         }
-        let out = values.drain(..).collect();
+        let out = move_exact(&mut values);
         self.scratch.values = values;
         Ok(out)
     }
