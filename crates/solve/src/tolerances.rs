@@ -188,6 +188,11 @@ pub const MATRIX_REFRESH_RATE: f64 = 0.2;
 /// after a matrix kept from an earlier step failed to converge (the run doubles with each
 /// successive failure: 1, 2, 4, …; dynamics corrector).
 pub const MATRIX_REUSE_BACKOFF: usize = 16;
+/// HHT-α with a spectral radius at infinity `(1+α)/(1−α)` above this damps the alternating
+/// mode of its index-3 form by less than 1 % per step: its steps project the velocities onto
+/// the velocity constraints (at α = 0, on IFToMM A01 at ERROR = 1e-8, the step otherwise
+/// shrank without end).
+pub const HHT_UNDAMPED_RADIUS: f64 = 0.99;
 /// The least local error a dynamics step is ever asked for (positions, relative to the
 /// characteristic length): its share of ERROR over a long run can be smaller, but below this
 /// the estimate is rounding (MIN_INTEGRATOR_ERROR of the settings is the same level).

@@ -363,6 +363,34 @@ pub(super) fn correct(
     trial.evaluate(p, w)
 }
 
+/// The velocities of `trial` (placed and evaluated: `w.grads` and `w.twists` are its) moved
+/// onto the velocity constraints `J v = ḟ − ∂Φ/∂t` with the factorised iteration matrix:
+/// `[M + …, Jᵀ; J, 0] [Δv; μ] = [0; −(J v − target)]`, so `J Δv` cancels the violation and
+/// `Δv` is the least change in the matrix's (mass-like) norm; then evaluated again. HHT with
+/// α near 0 needs it (see [`super::integrator`]): its index-3 form leaves the velocity
+/// violation `u` alternating undamped from step to step, fed by the corrector's tolerance.
+pub(super) fn project_velocities(
+    p: &Problem,
+    w: &mut Workspace,
+    trial: &mut Step,
+) -> Result<(), IntegrationError> {
+    let n6 = 6 * p.n();
+    w.rhs.fill(0.0);
+    let constrained = p.force_state(&trial.s, &mut w.force_state);
+    for (k, &row) in p.rows.iter().enumerate() {
+        let target = velocity_target(p, row, constrained)?;
+        w.rhs[n6 + k] = target - w.grads[k].rate(&w.twists);
+    }
+    w.matrix
+        .lu
+        .solve_in_place(&mut w.rhs)
+        .map_err(|_| IntegrationError::Singular(SingularSolve::Newton))?;
+    for (v, d) in trial.v.iter_mut().zip(&w.rhs[..n6]) {
+        *v += d;
+    }
+    trial.evaluate(p, w)
+}
+
 /// The corrector's bound on a row's residual: `CORRECTOR_CONSTRAINT × L` for lengths,
 /// `CORRECTOR_CONSTRAINT` for dot products and angles.
 fn constraint_limit(p: &Problem, row: usize, length: f64) -> f64 {
