@@ -78,6 +78,6 @@ fn main() {
     }
     println!(
         "N={n} ERROR={error:e} {formulation:?}: err {worst:.3e} m, outputs {}, steps {}, rejected {}, iters {}, factorisations {}, cpu {cpu:.3} s, wall {wall:.3} s, failure {:?}",
-        sim.outputs.len(), sim.steps, sim.rejected, sim.newton_iterations, sim.factorisations, sim.failure.map(|f| f.time)
+        sim.outputs.len(), sim.steps, sim.rejected, sim.newton_iterations, sim.factorisations, sim.failure.map(|f| (f.time, f.message))
     );
 }
