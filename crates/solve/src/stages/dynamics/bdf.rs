@@ -24,8 +24,8 @@
 //! instead, then projects the positions onto `Φ = 0` with multipliers of their own
 //! ([`super::corrector`]'s `project`), so the position correction does not leak into the
 //! velocities as its quotient by the step; its error test has the velocities too (times the
-//! step). On IFToMM A02 with N = 40 at ERROR = 1e-6, I3 ends 1.2e-3 m off, SI2 1.1e-4 m, at the
-//! same number of steps.
+//! step). On IFToMM A02 with N = 40 at ERROR = 1e-6, I3 ends 1.17e-3 m off, SI2 5.3e-4 m, at
+//! about the same number of steps.
 //!
 //! Local error (positions; translations over the characteristic length, rotations in
 //! radians): with `y^P` the polynomial through the k+1 last accepted points, extrapolated to
