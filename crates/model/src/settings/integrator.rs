@@ -154,6 +154,21 @@ pub enum IntegratorNote {
     /// Arguments given that linkage does not use.
     #[error("INTEGRATOR arguments without effect in linkage: {}", .arguments.join(", "))]
     WithoutEffect { arguments: Vec<String> },
+    /// Arguments of the other integrator family: ALPHA with a BDF, KMAX with HHT or NEWMARK.
+    #[error("INTEGRATOR {name} does not use {}", .arguments.join(", "))]
+    NotForIntegrator {
+        name: String,
+        arguments: Vec<String>,
+    },
+    /// GSTIFF was named: Adams' GSTIFF keeps the BDF coefficients of a constant step and
+    /// interpolates its history when the step changes; linkage's BDF computes its coefficients
+    /// from the actual step sizes (variable coefficients, as Adams' WSTIFF), for GSTIFF and
+    /// WSTIFF alike.
+    #[error(
+        "INTEGRATOR GSTIFF is run with variable BDF coefficients (as WSTIFF); Adams' GSTIFF \
+         keeps fixed-step coefficients and interpolates its history when the step changes"
+    )]
+    GstiffAsVariableCoefficient,
 }
 
 /// The INTEGRATOR statement resolved: the settings the integrator runs with (Adams' defaults where
@@ -225,8 +240,25 @@ pub fn resolve_integrator(ds: &Dataset) -> ResolvedIntegrator {
             IntegratorMethod::Bdf => {}
         }
     }
+    if stmt.name.as_deref() == Some("GSTIFF") {
+        notes.push(IntegratorNote::GstiffAsVariableCoefficient);
+    }
     if !ignored.is_empty() {
         notes.push(IntegratorNote::WithoutEffect { arguments: ignored });
+    }
+    let other_family: Vec<String> = match method {
+        IntegratorMethod::Bdf => stmt
+            .alpha
+            .map(|_| "ALPHA".to_string())
+            .into_iter()
+            .collect(),
+        IntegratorMethod::Hht => stmt.kmax.map(|_| "KMAX".to_string()).into_iter().collect(),
+    };
+    if !other_family.is_empty() {
+        notes.push(IntegratorNote::NotForIntegrator {
+            name: stmt.name.clone().unwrap_or_else(|| "GSTIFF".into()),
+            arguments: other_family,
+        });
     }
     ResolvedIntegrator {
         settings,
@@ -443,7 +475,12 @@ mod tests {
         let notes: Vec<String> = r.notes.iter().map(ToString::to_string).collect();
         assert_eq!(
             notes,
-            ["INTEGRATOR arguments without effect in linkage: CORRECTOR"]
+            [
+                "INTEGRATOR GSTIFF is run with variable BDF coefficients (as WSTIFF); Adams' \
+                 GSTIFF keeps fixed-step coefficients and interpolates its history when the \
+                 step changes",
+                "INTEGRATOR arguments without effect in linkage: CORRECTOR"
+            ]
         );
         assert!(r.warnings.is_empty());
         let r = resolve_integrator(&ds(

@@ -14,8 +14,8 @@ use crate::physics::mass::{self, SingularInertia};
 use crate::state::State;
 use crate::tolerances::{
     CORRECTOR_ACCELERATION_FLOOR, CORRECTOR_ACCELERATION_MIN, CORRECTOR_CONSTRAINT,
-    CORRECTOR_ERROR_FRACTION, CORRECTOR_NOISE, CORRECTOR_RELATIVE, CORRECTOR_ROUNDING,
-    MATRIX_REFRESH_RATE, MATRIX_REUSE_BACKOFF,
+    CORRECTOR_ERROR_FRACTION, CORRECTOR_LEFT_MIN, CORRECTOR_NOISE, CORRECTOR_RELATIVE,
+    CORRECTOR_ROUNDING, MATRIX_REFRESH_RATE, MATRIX_REUSE_BACKOFF,
 };
 use glam::DVec3;
 use linkage_model::frames::exp_so3;
@@ -310,8 +310,23 @@ pub(super) fn correct(
         // velocities over the step) is a negligible fraction of the local error the step is
         // allowed is accepted. That allowance is the step's share of ERROR, so what is
         // accepted over a run does not grow as the steps shrink (HMAX = 1e-5 takes 500,000
-        // steps over 5 s), and it stays below what the local error estimate can see.
-        let negligible = position.max(velocity * h) * da <= CORRECTOR_ERROR_FRACTION * tolerance;
+        // steps over 5 s), and it stays below what the local error estimate can see. With a
+        // matrix that contracted this correction by ρ against the last one (both with the same
+        // matrix), the error left is about `ρ/(1−ρ)` of it (the corrections still to come,
+        // credited at most down to `CORRECTOR_LEFT_MIN`: ρ from two corrections is rough),
+        // and that is what is compared.
+        let contraction = if !stale && da_prev.is_finite() && da_prev > 0.0 {
+            (da / da_prev).min(0.9)
+        } else {
+            1.0
+        };
+        let remaining = if contraction < 1.0 {
+            (contraction / (1.0 - contraction)).max(CORRECTOR_LEFT_MIN)
+        } else {
+            1.0
+        };
+        let negligible =
+            position.max(velocity * h) * da * remaining <= CORRECTOR_ERROR_FRACTION * tolerance;
         if phi_ok
             && states_ok
             && (da <= CORRECTOR_RELATIVE * amax.max(CORRECTOR_ACCELERATION_MIN)
@@ -344,6 +359,34 @@ pub(super) fn correct(
     place(trial);
     if stabilised {
         project(p, settings, w, trial, position, tolerance)?;
+    }
+    trial.evaluate(p, w)
+}
+
+/// The velocities of `trial` (placed and evaluated: `w.grads` and `w.twists` are its) moved
+/// onto the velocity constraints `J v = ḟ − ∂Φ/∂t` with the factorised iteration matrix:
+/// `[M + …, Jᵀ; J, 0] [Δv; μ] = [0; −(J v − target)]`, so `J Δv` cancels the violation and
+/// `Δv` is the least change in the matrix's (mass-like) norm; then evaluated again. HHT with
+/// α near 0 needs it (see [`super::integrator`]): its index-3 form leaves the velocity
+/// violation `u` alternating undamped from step to step, fed by the corrector's tolerance.
+pub(super) fn project_velocities(
+    p: &Problem,
+    w: &mut Workspace,
+    trial: &mut Step,
+) -> Result<(), IntegrationError> {
+    let n6 = 6 * p.n();
+    w.rhs.fill(0.0);
+    let constrained = p.force_state(&trial.s, &mut w.force_state);
+    for (k, &row) in p.rows.iter().enumerate() {
+        let target = velocity_target(p, row, constrained)?;
+        w.rhs[n6 + k] = target - w.grads[k].rate(&w.twists);
+    }
+    w.matrix
+        .lu
+        .solve_in_place(&mut w.rhs)
+        .map_err(|_| IntegrationError::Singular(SingularSolve::Newton))?;
+    for (v, d) in trial.v.iter_mut().zip(&w.rhs[..n6]) {
+        *v += d;
     }
     trial.evaluate(p, w)
 }

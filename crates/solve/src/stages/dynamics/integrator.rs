@@ -2,7 +2,9 @@
 //! local error estimate) on the part configuration manifold, with every buffer it needs
 //! allocated once (module docs of [`super`]).
 
-use super::corrector::{correct, reciprocal_length_weight, Scheme, Step, Workspace};
+use super::corrector::{
+    correct, project_velocities, reciprocal_length_weight, Scheme, Step, Workspace,
+};
 use super::error::IntegrationError;
 use super::hht::Hht;
 use super::output::Output;
@@ -75,6 +77,8 @@ pub struct Integrator<'p, 'a> {
     prev_a: Vec<f64>,
     prev_lambda: Vec<f64>,
     prev_h: Option<f64>,
+    /// The size of the step before that (`None` before the second step).
+    prev_prev_h: Option<f64>,
     work: Workspace,
 }
 
@@ -118,6 +122,7 @@ impl<'p, 'a> Integrator<'p, 'a> {
                 prev_a: cur.a.clone(),
                 prev_lambda: cur.lambda.clone(),
                 prev_h: None,
+                prev_prev_h: None,
                 cur,
                 trial,
                 work,
@@ -163,6 +168,7 @@ impl<'p, 'a> Integrator<'p, 'a> {
     pub fn accept(&mut self) {
         self.prev_a.copy_from_slice(&self.cur.a);
         self.prev_lambda.copy_from_slice(&self.cur.lambda);
+        self.prev_prev_h = self.prev_h;
         self.prev_h = Some(self.trial.s.time - self.cur.s.time);
         std::mem::swap(&mut self.cur, &mut self.trial);
     }
@@ -188,6 +194,7 @@ impl<'p, 'a> Integrator<'p, 'a> {
             prev_a,
             prev_lambda,
             prev_h,
+            prev_prev_h,
             work: w,
         } = self;
         let p: &Problem = p;
@@ -221,17 +228,33 @@ impl<'p, 'a> Integrator<'p, 'a> {
         correct(p, settings, w, from, trial, h, tolerance, scheme, |t| {
             place(t, from, h, hht)
         })?;
+        if hht.undamped() {
+            project_velocities(p, w, trial)?;
+        }
         // Local error estimate `h³|β − 1/6|·|ȧ|` (scaled: translations over the
         // characteristic length). HHT's accelerations belong to the shifted times
-        // `t + αh` of their steps, so the rate ȧ is the difference of the last two over
-        // the time between them, `(1+α)h − α·h_prev` (the start's are at t₀ itself): a plain
-        // `a_{n+1} − a_n` would keep `α(h_prev − h)·ȧ` however small the step.
-        let shifted = (1.0 + hht.alpha) * h - hht.alpha * prev_h.unwrap_or(0.0);
+        // `t + αh` of their steps (the start's are at t₀ itself), so ȧ is a difference of
+        // accelerations over the time between their shifted times: a plain `a_{n+1} − a_n`
+        // would keep `α(h_prev − h)·ȧ` however small the step. The difference is taken over
+        // two steps, `a_{n+1} − a_{n−1}`, once there are two: the index-3 HHT has a mode
+        // alternating from step to step, `(−1)ⁿ ε`, in the accelerations (the discrete
+        // velocity constraint `u_{n+1} = −ρ∞ u_n`, with ρ∞ = (1+α)/(1−α)), fed by the
+        // corrector's constraint tolerance at every step and growing like its size over h²;
+        // it is no truncation error, and it cancels over two steps. With α = 0 (ρ∞ = 1, the
+        // mode undamped) a one-step difference made the estimate of A01 at ERROR = 1e-8
+        // stay at 7e-9 however small the step, and the step shrank without end.
+        let (older, span) = match (*prev_h, *prev_prev_h) {
+            (Some(hp), hpp) => (
+                &prev_a[..],
+                (1.0 + hht.alpha) * h + hp - hht.alpha * hpp.unwrap_or(0.0),
+            ),
+            (None, _) => (&cur.a[..], h),
+        };
         let err = (0..6 * p.n())
             .map(|i| {
-                h * h * h / shifted
+                h * h * h / span
                     * (hht.beta - 1.0 / 6.0).abs()
-                    * (trial.a[i] - cur.a[i]).abs()
+                    * (trial.a[i] - older[i]).abs()
                     * reciprocal_length_weight(i, length)
             })
             .fold(0.0, f64::max);

@@ -54,3 +54,17 @@ pub(crate) fn redundant_violation(
     }
     None
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The monitor's tolerance follows INTEGRATOR ERROR above verify's tolerance, and is
+    /// verify's below it (a run at ERROR = 1e-3 may drift a removed row by 1e-3 × L).
+    #[test]
+    fn the_redundant_row_tolerance_is_the_integrator_error_or_verify_s() {
+        assert_eq!(redundant_tolerance(1e-3), 1e-3);
+        assert_eq!(redundant_tolerance(1e-4), 1e-4);
+        assert_eq!(redundant_tolerance(1e-12), REDUNDANT_DRIFT);
+    }
+}
