@@ -216,3 +216,122 @@ fn add_block(g: &mut RowGradient, body: linkage_model::Body, c: f64, dx: DVec3, 
         );
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::state::{ControlValues, Pose};
+    use glam::DMat3;
+    use linkage_model::curves::CurveSpec;
+    use linkage_model::{Body, Origin};
+
+    /// A non-planar open cubic through 6 points, carried by part 1 through a tilted frame; the
+    /// point on part 0, off the curve by ~0.1 (the rows are checked off the manifold, where
+    /// the contact parameter's own rates matter).
+    fn setup(axis: usize) -> (CurveGap, State) {
+        let points = vec![
+            DVec3::new(0.0, 0.0, 0.0),
+            DVec3::new(1.0, 0.5, 0.2),
+            DVec3::new(2.0, 0.2, 0.5),
+            DVec3::new(3.0, -0.4, 0.3),
+            DVec3::new(4.0, 0.1, -0.2),
+            DVec3::new(5.0, 0.6, 0.0),
+        ];
+        let spec = CurveSpec {
+            points,
+            order: 4,
+            closed: false,
+            through_points: true,
+        };
+        let origin = Origin {
+            statement: "CURVE",
+            id: 1,
+            name: "CURVE_1".into(),
+            span: Default::default(),
+            statement_index: 0,
+        };
+        let curve = Arc::new(Curve::new(origin, &spec).unwrap());
+        let gap = CurveGap {
+            point: BodyPoint {
+                body: Body::Part(0),
+                p_b: DVec3::new(0.3, -0.2, 0.1),
+            },
+            frame: BodyFrame {
+                body: Body::Part(1),
+                p_b: DVec3::new(0.5, 0.1, -0.3),
+                r_b: DMat3::from_rotation_z(0.4) * DMat3::from_rotation_x(0.2),
+            },
+            curve,
+            axis,
+            alpha: Arc::new(AtomicU64::new(f64::NAN.to_bits())),
+        };
+        let r1 = DMat3::from_rotation_y(0.3) * DMat3::from_rotation_z(-0.2);
+        let p1 = DVec3::new(0.2, -0.1, 0.4);
+        // Place the point near c(0.1), displaced 0.1 off the curve.
+        let (c, _) = {
+            let e = gap.curve.eval(0.1);
+            (e[0], e[1])
+        };
+        let (pm, rm) = (p1 + r1 * gap.frame.p_b, r1 * gap.frame.r_b);
+        let target = pm + rm * (c + DVec3::new(0.03, 0.08, -0.05));
+        let r0 = DMat3::from_rotation_x(0.7);
+        let p0 = target - r0 * gap.point.p_b;
+        let s = State {
+            poses: vec![Pose { p: p0, r: r0 }, Pose { p: p1, r: r1 }],
+            time: 0.0,
+            controls: ControlValues::default(),
+        };
+        (gap, s)
+    }
+
+    #[test]
+    fn gradient_and_rates_match_finite_differences_off_the_curve() {
+        for axis in [0, 1] {
+            let (gap, s) = setup(axis);
+            let mut g = RowGradient::default();
+            gap.gradient(&s, 1.0, &mut g);
+            let h = 1e-6;
+            for k in 0..2 {
+                let block = g.blocks.iter().find(|(b, _)| *b == k).unwrap().1;
+                for c in 0..6 {
+                    let mut e = DVec3::ZERO;
+                    e[c % 3] = 1.0;
+                    let (dx, dth) = if c < 3 { (e, DVec3::ZERO) } else { (DVec3::ZERO, e) };
+                    let (mut sp, mut sm) = (s.clone(), s.clone());
+                    sp.increment(k, dx * h, dth * h);
+                    sm.increment(k, -dx * h, -dth * h);
+                    let fd = (gap.value(&sp) - gap.value(&sm)) / (2.0 * h);
+                    assert!(
+                        (fd - block[c]).abs() < 1e-7,
+                        "axis {axis} part {k} coordinate {c}: {fd} vs {}",
+                        block[c]
+                    );
+                }
+            }
+            // Φ̈ along a constant twist (the CM moving by v t, the body turning by ω t about
+            // it) against the second difference of Φ along it.
+            let v = [
+                (DVec3::new(0.3, -0.2, 0.5), DVec3::new(0.4, 0.1, -0.3)),
+                (DVec3::new(-0.1, 0.2, 0.1), DVec3::new(0.2, -0.5, 0.3)),
+            ];
+            let [q, qd, qdd] = gap.series(&s, &v, None);
+            let along = |t: f64| {
+                let mut st = s.clone();
+                for (k, (vx, w)) in v.iter().enumerate() {
+                    st.increment(k, *vx * t, *w * t);
+                }
+                st
+            };
+            let h = 1e-4;
+            let (qp, qm) = (gap.value(&along(h)), gap.value(&along(-h)));
+            assert!((q - gap.value(&s)).abs() < 1e-15);
+            assert!((qd - (qp - qm) / (2.0 * h)).abs() < 1e-7, "axis {axis} rate");
+            assert!(
+                (qdd - (qp - 2.0 * q + qm) / (h * h)).abs() < 1e-5,
+                "axis {axis}: {qdd} vs {}",
+                (qp - 2.0 * q + qm) / (h * h)
+            );
+            assert!((qd - g.rate(&v)).abs() < 1e-12, "rate = ∇Φ·v");
+        }
+    }
+}
