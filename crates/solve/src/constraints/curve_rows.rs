@@ -46,8 +46,7 @@ use crate::constraints::rows::{RowGradient, Velocities};
 use crate::state::State;
 use glam::DVec3;
 use linkage_model::curves::Curve;
-use std::sync::atomic::{AtomicU64, Ordering};
-use std::sync::Arc;
+use std::sync::{Arc, Mutex};
 
 /// A scalar's `[value, rate, acceleration]`.
 pub type ScalarJet = [f64; 3];
@@ -93,8 +92,27 @@ pub struct CurveGap {
     pub curve: Arc<Curve>,
     /// 0: the in-plane normal component `e_n·d`; 1: the binormal component `e_b·d`.
     pub axis: usize,
-    /// The last contact parameter (the Newton warm start), shared by the PTCV's two rows.
-    pub alpha: Arc<AtomicU64>,
+    /// The last contact (the Newton warm start), shared by the PTCV's two rows.
+    pub contact: Arc<Mutex<LastContact>>,
+}
+
+/// The last point (curve frame) a PTCV's contact was solved for and its parameter: the warm
+/// start of the next solve, and the answer again for the same point, so that every evaluation
+/// at one pose gives the same numbers to the last bit (the fixed-pattern matrices rely on it).
+#[derive(Clone, Copy, Debug)]
+pub struct LastContact {
+    pub rho: DVec3,
+    pub alpha: f64,
+}
+
+impl LastContact {
+    /// No contact yet: the first solve searches the whole curve.
+    pub fn none() -> LastContact {
+        LastContact {
+            rho: DVec3::NAN,
+            alpha: f64::NAN,
+        }
+    }
 }
 
 impl PartialEq for CurveGap {
@@ -128,9 +146,17 @@ impl CurveGap {
     /// The contact parameter for the point `rho` (curve frame), warm-started from the last one
     /// and remembered.
     pub fn contact(&self, rho: DVec3) -> f64 {
-        let last = f64::from_bits(self.alpha.load(Ordering::Relaxed));
-        let a = self.curve.nearest(rho, last.is_finite().then_some(last));
-        self.alpha.store(a.to_bits(), Ordering::Relaxed);
+        let mut last = self
+            .contact
+            .lock()
+            .unwrap_or_else(std::sync::PoisonError::into_inner);
+        if last.rho == rho {
+            return last.alpha;
+        }
+        let a = self
+            .curve
+            .nearest(rho, last.alpha.is_finite().then_some(last.alpha));
+        *last = LastContact { rho, alpha: a };
         a
     }
 
@@ -263,7 +289,7 @@ mod tests {
             },
             curve,
             axis,
-            alpha: Arc::new(AtomicU64::new(f64::NAN.to_bits())),
+            contact: Arc::new(Mutex::new(LastContact::none())),
         };
         let r1 = DMat3::from_rotation_y(0.3) * DMat3::from_rotation_z(-0.2);
         let p1 = DVec3::new(0.2, -0.1, 0.4);

@@ -4,7 +4,7 @@
 //! primitive rows (translational rows first, rotational last), one row per motion, coupler,
 //! gear, rack-and-pinion and screw. Every analysis uses these rows.
 
-use crate::constraints::curve_rows::CurveGap;
+use crate::constraints::curve_rows::{CurveGap, LastContact};
 use crate::constraints::rows::{BodyDir, BodyFrame, EulerSeq, Quantity, RowGradient, Velocities};
 use crate::physics::measures::{add_dual_gradient, MarkerFrames, PathEnv, PositionEnv};
 use crate::state::State;
@@ -14,8 +14,7 @@ use linkage_adm::{CouplerDof, JointType, JprimType, MotionAxis};
 use linkage_expr::{evaluate, evaluate_path_series, evaluate_with_gradient, EvalError, Expr};
 use linkage_model::{Body, ConstraintKind, Model, MotionCoordinate};
 use std::ops::Range;
-use std::sync::atomic::AtomicU64;
-use std::sync::Arc;
+use std::sync::{Arc, Mutex};
 
 /// What a row's residual measures, to report it in length units or degrees.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -316,7 +315,10 @@ impl Builder {
             let (pm, rm) = fm.eval(&self.input);
             rm.transpose() * (pi - pm)
         });
-        let alpha = Arc::new(AtomicU64::new(curve.nearest(start, None).to_bits()));
+        let contact = Arc::new(Mutex::new(LastContact {
+            rho: DVec3::NAN,
+            alpha: curve.nearest(start, None),
+        }));
         for (axis, label, short) in [
             (0, "Translation of I Marker Normal to Curve", "Si.Nc"),
             (1, "Translation of I Marker Along Curve Binormal", "Si.Bc"),
@@ -326,7 +328,7 @@ impl Builder {
                 frame: fm,
                 curve: Arc::clone(curve),
                 axis,
-                alpha: Arc::clone(&alpha),
+                contact: Arc::clone(&contact),
             }));
             self.push(
                 element,
