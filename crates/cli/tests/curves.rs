@@ -135,7 +135,11 @@ fn a_point_on_a_curve_keeps_one_degree_of_freedom() {
     assert_eq!(v["gruebler"], 1);
     assert_eq!(v["dof"], 1);
     assert_eq!(v["redundant"].as_array().map(Vec::len), Some(0));
-    assert_eq!(v["later_refused_by"].as_array().map(Vec::len), Some(0), "{v}");
+    assert_eq!(
+        v["later_refused_by"].as_array().map(Vec::len),
+        Some(0),
+        "{v}"
+    );
 }
 
 #[test]
@@ -219,11 +223,14 @@ fn a_point_on_a_circle_swings_with_the_pendulum_period_and_reaction() {
     }
     assert!(crossings.len() >= 2, "{crossings:?}");
     let period = 2.0 * (crossings[1] - crossings[0]);
-    let exact = 2.0 * PI * (R / G).sqrt()
-        * (1.0 + theta0.powi(2) / 16.0 + 11.0 * theta0.powi(4) / 3072.0);
+    let exact =
+        2.0 * PI * (R / G).sqrt() * (1.0 + theta0.powi(2) / 16.0 + 11.0 * theta0.powi(4) / 3072.0);
     assert!((period / exact - 1.0).abs() < 2e-4, "{period} vs {exact}");
     // The first crossing is a quarter period after the release.
-    assert!((crossings[0] / (exact / 4.0) - 1.0).abs() < 2e-4, "{crossings:?}");
+    assert!(
+        (crossings[0] / (exact / 4.0) - 1.0).abs() < 2e-4,
+        "{crossings:?}"
+    );
     let worst = worst_reaction_error(&s);
     assert!(worst < 2e-4, "reaction off by {worst}");
 }
@@ -247,9 +254,111 @@ fn a_point_looping_a_closed_curve_crosses_its_seam() {
     let energy = |p: &Sample| 0.5 * MASS * p.v2 + MASS * G * p.y;
     let e0 = energy(&s[0]);
     for p in &s {
-        assert!((energy(p) - e0).abs() < 1e-5 * e0.abs(), "energy at {}", p.t);
+        assert!(
+            (energy(p) - e0).abs() < 1e-5 * e0.abs(),
+            "energy at {}",
+            p.t
+        );
         assert!((p.x.hypot(p.y) - R).abs() < 1e-7, "radius at {}", p.t);
     }
     let worst = worst_reaction_error(&s);
     assert!(worst < 5e-4, "reaction off by {worst}");
+}
+
+/// The FRS5 feed-system models (two corpus variants) hold 18 PTCVs on two matrix CURVEs (a
+/// polyline, ORDER = 2, and a cubic through its points): verify counts them (302 equations,
+/// 538 DOF, none refused), and with their CONTACTs (Parasolid files not in the corpus) and
+/// SENSORs left out the initial conditions assemble them onto their curves and report their
+/// reactions: a force at the I marker and no torque (a point constraint).
+#[test]
+fn corpus_models_with_matrix_curves_run_their_ptcvs() {
+    let Some(dir) = common::corpus() else { return };
+    for name in [
+        "bthornton191__adamspy__test__files__real_analysis_with_spikes__FRS5_doe_8_LAUL_analysis.adm",
+        "bthornton191__adamspy__test__files__real_analysis_with_spikes_2__FRS5_doe_1_LAUL_analysis.adm",
+    ] {
+        let f = dir.join(name);
+        let f = f.to_str().unwrap();
+        let (code, v) = json(&["verify", f, "--format", "json"]);
+        assert_eq!(code, 0, "{name}");
+        let counts = v["constraint_counts"].as_array().unwrap();
+        let ptcvs = counts
+            .iter()
+            .find(|c| c["type"] == "Point-Curve Constraint")
+            .map(|c| c["count"].as_u64().unwrap());
+        assert_eq!(ptcvs, Some(18), "{name}");
+        assert_eq!(v["constraint_equations"], 302, "{name}");
+        assert_eq!(v["dof"], 538, "{name}");
+        let refused: Vec<&str> = v["not_run"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .filter_map(|e| e["element"].as_str())
+            .filter(|e| e.starts_with("PTCV") || e.starts_with("CURVE"))
+            .collect();
+        assert!(refused.is_empty(), "{name}: {refused:?}");
+        let (code, ic) = json(&[
+            "ic",
+            f,
+            "--deactivate",
+            "CONTACT,SENSOR",
+            "--format",
+            "json",
+        ]);
+        assert_eq!(code, 0, "{name}: {ic}");
+        assert_eq!(ic["converged"], true, "{name}");
+        let reactions: Vec<&serde_json::Value> = ic["reactions"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .filter(|r| r["type"] == "Point-Curve Constraint")
+            .collect();
+        assert_eq!(reactions.len(), 18, "{name}");
+        for r in reactions {
+            let t: Vec<f64> = r["torque"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .map(|x| x.as_f64().unwrap())
+                .collect();
+            assert_eq!(t, [0.0, 0.0, 0.0], "{name}: {r}");
+        }
+    }
+}
+
+/// The drillsim models keep their PTCVs on a USER curve: every one is named (not modelled:
+/// the curve is a USER subroutine), and refused by the force analyses.
+#[test]
+fn ptcvs_on_a_user_curve_are_named_each() {
+    let Some(dir) = common::corpus() else { return };
+    let f = dir.join("bthornton191__adamspy__test__existing_drillsim__test_analysis_1.adm");
+    let (code, v) = json(&["verify", f.to_str().unwrap(), "--format", "json"]);
+    assert_eq!(code, 0);
+    let named: Vec<&serde_json::Value> = v["not_run"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter(|e| {
+            e["element"]
+                .as_str()
+                .is_some_and(|s| s.starts_with("PTCV/"))
+        })
+        .collect();
+    assert_eq!(named.len(), 96);
+    for e in &named {
+        assert!(
+            e["detail"]
+                .as_str()
+                .unwrap()
+                .contains("CURVE/9001 is a USER subroutine"),
+            "{e}"
+        );
+        assert_eq!(e["refused_by"].as_array().unwrap().len(), 5, "{e}");
+    }
+    // The curve itself is named for its USER call.
+    assert!(v["not_run"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .any(|e| e["element"] == "CURVE/9001" && e["reason"] == "USER subroutine"));
 }

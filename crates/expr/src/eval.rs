@@ -359,7 +359,13 @@ impl<E: Env + ?Sized> Evaluator<'_, E> {
         } else {
             SplineMethod::Cubic
         };
-        Ok(functions::spline_surface(data, method, &x, &z, iord as usize))
+        Ok(functions::spline_surface(
+            data,
+            method,
+            &x,
+            &z,
+            iord as usize,
+        ))
     }
 }
 

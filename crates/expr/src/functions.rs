@@ -527,11 +527,13 @@ mod surface_tests {
     #[test]
     fn surface_data_are_validated() {
         let x = vec![0.0, 1.0, 2.0];
-        let bad_z = SplineData::surface(x.clone(), vec![1.0, 1.0], vec![x.clone(), x.clone()], false);
+        let bad_z =
+            SplineData::surface(x.clone(), vec![1.0, 1.0], vec![x.clone(), x.clone()], false);
         assert!(bad_z.unwrap_err().message.contains("strictly increasing"));
         let one = SplineData::surface(x.clone(), vec![1.0], vec![x.clone()], false);
         assert!(one.unwrap_err().message.contains("at least two curves"));
-        let short = SplineData::surface(x.clone(), vec![0.0, 1.0], vec![x.clone(), vec![1.0]], false);
+        let short =
+            SplineData::surface(x.clone(), vec![0.0, 1.0], vec![x.clone(), vec![1.0]], false);
         assert!(short.unwrap_err().message.contains("z = 1"));
     }
 }

@@ -110,11 +110,10 @@ impl SplineData {
         }
         let mut family = Vec::with_capacity(z.len());
         for (zk, yk) in z.iter().zip(ys) {
-            let curve = SplineData::new(x.clone(), yk, linear_extrapolate).map_err(|e| {
-                SplineError {
+            let curve =
+                SplineData::new(x.clone(), yk, linear_extrapolate).map_err(|e| SplineError {
                     message: format!("the curve at z = {zk}: {}", e.message),
-                }
-            })?;
+                })?;
             family.push((*zk, curve));
         }
         let mut first = family[0].1.clone();
@@ -136,7 +135,11 @@ impl SplineData {
         if m < 2 {
             return None;
         }
-        let k = self.family.partition_point(|(zk, _)| *zk <= z).clamp(1, m - 1) - 1;
+        let k = self
+            .family
+            .partition_point(|(zk, _)| *zk <= z)
+            .clamp(1, m - 1)
+            - 1;
         let (z0, lo) = &self.family[k];
         let (z1, hi) = &self.family[k + 1];
         Some((lo, hi, *z0, *z1))

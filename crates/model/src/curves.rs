@@ -291,7 +291,8 @@ impl Curve {
 fn solve_dense(mut a: Vec<f64>, mut b: Vec<DVec3>) -> Option<Vec<DVec3>> {
     let n = b.len();
     for col in 0..n {
-        let piv = (col..n).max_by(|&i, &j| a[i * n + col].abs().total_cmp(&a[j * n + col].abs()))?;
+        let piv =
+            (col..n).max_by(|&i, &j| a[i * n + col].abs().total_cmp(&a[j * n + col].abs()))?;
         if a[piv * n + col].abs() < 1e-14 {
             return None;
         }
@@ -368,8 +369,8 @@ fn clamped(pts: &[DVec3], k: usize, through: bool) -> Result<(BSpline, f64, f64)
             a[i * n + mu + 1 - k + r] += b[r];
         }
     }
-    let ctrl = solve_dense(a, pts.to_vec())
-        .ok_or("the interpolation through the points is singular")?;
+    let ctrl =
+        solve_dense(a, pts.to_vec()).ok_or("the interpolation through the points is singular")?;
     Ok((BSpline { ctrl, ..probe }, 0.0, 1.0))
 }
 
@@ -403,8 +404,8 @@ fn periodic(pts: &[DVec3], k: usize, through: bool) -> Result<(BSpline, f64, f64
             a[i * m + (mu + 1 - k + r) % m] += b[r];
         }
     }
-    let base = solve_dense(a, pts.to_vec())
-        .ok_or("the interpolation through the points is singular")?;
+    let base =
+        solve_dense(a, pts.to_vec()).ok_or("the interpolation through the points is singular")?;
     Ok((
         BSpline {
             order: k,
@@ -468,8 +469,16 @@ mod tests {
         for s in 0..500 {
             let a = -1.0 + 2.0 * s as f64 / 500.0;
             let e = c.eval(a);
-            assert!((e[0].length() - r).abs() < 3e-5, "radius at {a}: {}", e[0].length());
-            assert!((curvature(&e) * r - 1.0).abs() < 6e-3, "curvature at {a}: {}", curvature(&e) * r);
+            assert!(
+                (e[0].length() - r).abs() < 3e-5,
+                "radius at {a}: {}",
+                e[0].length()
+            );
+            assert!(
+                (curvature(&e) * r - 1.0).abs() < 6e-3,
+                "curvature at {a}: {}",
+                curvature(&e) * r
+            );
             // The tangent is perpendicular to the radius.
             let tr = e[0].normalize().dot(e[1].normalize()).abs();
             assert!(tr < 2e-4, "tangent·radius {tr} at {a}");
@@ -477,7 +486,10 @@ mod tests {
         // Continuous across the seam, derivatives included (C² for a cubic).
         let (lo, hi) = (c.eval(-1.0), c.eval(1.0 - 1e-12));
         for d in 0..3 {
-            assert!((lo[d] - hi[d]).length() < 1e-8 * (1.0 + lo[d].length()), "d{d}");
+            assert!(
+                (lo[d] - hi[d]).length() < 1e-8 * (1.0 + lo[d].length()),
+                "d{d}"
+            );
         }
         // The parameter wraps with period 2.
         assert!((c.eval(0.3)[0] - c.eval(2.3)[0]).length() < 1e-12);

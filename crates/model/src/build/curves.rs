@@ -86,7 +86,10 @@ pub(crate) fn curves(
         let Some(m) = matrices.iter().find(|m| m.origin.id == mref.id) else {
             cx.error(
                 mref.span,
-                format!("{name}: MATRIX/{} does not exist or cannot be read", mref.id),
+                format!(
+                    "{name}: MATRIX/{} does not exist or cannot be read",
+                    mref.id
+                ),
             );
             continue;
         };

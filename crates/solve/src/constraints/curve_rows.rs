@@ -186,7 +186,10 @@ impl CurveGap {
         let th = jet_unit(&tj);
         let a = self.curve.reference_axis;
         let along = dot_series(&th, &[a, DVec3::ZERO, DVec3::ZERO]);
-        let eb = jet_unit(&jet_sub(&[a, DVec3::ZERO, DVec3::ZERO], &jet_scale(along, &th)));
+        let eb = jet_unit(&jet_sub(
+            &[a, DVec3::ZERO, DVec3::ZERO],
+            &jet_scale(along, &th),
+        ));
         let e = if self.axis == 0 {
             jet_cross(&eb, &th)
         } else {
@@ -322,7 +325,11 @@ mod tests {
                 for c in 0..6 {
                     let mut e = DVec3::ZERO;
                     e[c % 3] = 1.0;
-                    let (dx, dth) = if c < 3 { (e, DVec3::ZERO) } else { (DVec3::ZERO, e) };
+                    let (dx, dth) = if c < 3 {
+                        (e, DVec3::ZERO)
+                    } else {
+                        (DVec3::ZERO, e)
+                    };
                     let (mut sp, mut sm) = (s.clone(), s.clone());
                     sp.increment(k, dx * h, dth * h);
                     sm.increment(k, -dx * h, -dth * h);
@@ -351,7 +358,10 @@ mod tests {
             let h = 1e-4;
             let (qp, qm) = (gap.value(&along(h)), gap.value(&along(-h)));
             assert!((q - gap.value(&s)).abs() < 1e-15);
-            assert!((qd - (qp - qm) / (2.0 * h)).abs() < 1e-7, "axis {axis} rate");
+            assert!(
+                (qd - (qp - qm) / (2.0 * h)).abs() < 1e-7,
+                "axis {axis} rate"
+            );
             assert!(
                 (qdd - (qp - 2.0 * q + qm) / (h * h)).abs() < 1e-5,
                 "axis {axis}: {qdd} vs {}",

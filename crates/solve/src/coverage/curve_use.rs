@@ -37,10 +37,7 @@ impl CurveUse {
 
     /// The finding for statement `st`, if it is a CURVE no PTCV reads or a PTCV on a USER
     /// curve: reason, detail, the analyses that refuse it.
-    pub(super) fn problem(
-        &self,
-        st: &Statement,
-    ) -> Option<(Reason, String, &'static [Analysis])> {
+    pub(super) fn problem(&self, st: &Statement) -> Option<(Reason, String, &'static [Analysis])> {
         match st.keyword.as_str() {
             "CURVE" if !st.id.is_some_and(|id| self.read.contains(&id)) => Some((
                 Reason::NotUsed,
