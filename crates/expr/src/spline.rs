@@ -102,7 +102,10 @@ impl SplineData {
                 ys.len()
             ));
         }
-        if let Some(w) = z.windows(2).find(|w| !(w[1] > w[0])) {
+        if let Some(v) = z.iter().find(|v| !v.is_finite()) {
+            return err(format!("spline data contains the non-finite z value {v}"));
+        }
+        if let Some(w) = z.windows(2).find(|w| w[1] <= w[0]) {
             return err(format!(
                 "spline z values must be strictly increasing, but {} is followed by {}",
                 w[0], w[1]
