@@ -157,9 +157,9 @@ impl Curve {
         let need = if spec.closed { 3.max(k - 1) } else { k.max(2) };
         if pts.len() < need {
             return Err(format!(
-                "{} {} point(s): an {} curve of ORDER {k} needs at least {need}",
+                "{} {}point(s): an {} curve of ORDER {k} needs at least {need}",
                 pts.len(),
-                if spec.closed { "distinct" } else { "" },
+                if spec.closed { "distinct " } else { "" },
                 if spec.closed { "closed" } else { "open" }
             ));
         }

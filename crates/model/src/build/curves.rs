@@ -58,7 +58,8 @@ fn id_ref(st: &Statement, key: &str, cx: &mut Ctx, name: &str) -> Option<IdRef> 
     }
 }
 
-/// Every matrix CURVE: the curves and the index of each CURVE id in them.
+/// Every matrix CURVE a PTCV reads (the others are data nothing uses, which the coverage
+/// check names): the curves and the index of each CURVE id in them.
 pub(crate) fn curves(
     ds: &Dataset,
     matrices: &[Matrix],
@@ -66,8 +67,14 @@ pub(crate) fn curves(
 ) -> (Vec<Curve>, HashMap<u64, usize>) {
     let mut out = Vec::new();
     let mut index = HashMap::new();
+    let read: std::collections::HashSet<u64> = ds
+        .statements
+        .iter()
+        .filter(|s| s.keyword == "PTCV")
+        .filter_map(|s| numbers(s, "CURVE")?.0.first().map(|&c| c as u64))
+        .collect();
     for (k, st) in ds.statements.iter().enumerate() {
-        if st.keyword != "CURVE" {
+        if st.keyword != "CURVE" || !st.id.is_some_and(|id| read.contains(&id)) {
             continue;
         }
         let origin = origin_of("CURVE", st, k);
