@@ -602,6 +602,46 @@ const PLANT_ARGS: &[ArgDef] = &[arg("VARIABLES", Numbers)];
 /// Statements whose only special argument is an expression-valued FUNCTION (+ ROUTINE).
 const FUNCTION_ARGS: &[ArgDef] = &[arg("FUNCTION", Expr), arg("ROUTINE", Text)];
 
+/// CURVE (ADM-ELEMENTS §14).
+const CURVE_ARGS: &[ArgDef] = &[
+    arg("MATRIX", Numbers),
+    arg("CURVE_POINTS", Flag),
+    arg("ORDER", Numbers),
+    arg("OPEN", Flag),
+    arg("CLOSED", Flag),
+    arg("MINPAR", Numbers),
+    arg("MAXPAR", Numbers),
+    arg("FUNCTION", Expr),
+    arg("ROUTINE", Text),
+];
+
+/// PTCV (ADM-ELEMENTS §15).
+const PTCV_ARGS: &[ArgDef] = &[
+    arg("I", Numbers),
+    arg("JFLOAT", Numbers),
+    arg("CURVE", Numbers),
+    arg("RM", Numbers),
+    arg("DISP", Numbers),
+    arg("ICM", Numbers),
+    arg("VEL", Numbers),
+];
+
+/// CVCV (ADM-ELEMENTS §16).
+const CVCV_ARGS: &[ArgDef] = &[
+    arg("ICURVE", Numbers),
+    arg("IRM", Numbers),
+    arg("IFLOAT", Numbers),
+    arg("JCURVE", Numbers),
+    arg("JRM", Numbers),
+    arg("JFLOAT", Numbers),
+    arg("IDISP", Numbers),
+    arg("IICM", Numbers),
+    arg("JDISP", Numbers),
+    arg("JICM", Numbers),
+    arg("IVEL", Numbers),
+    arg("JVEL", Numbers),
+];
+
 const GSE_ARGS: &[ArgDef] = &[
     arg("FUNCTION", Expr),
     arg("ROUTINE", Text),
@@ -839,8 +879,8 @@ pub(crate) static DATASET_STATEMENTS: &[StatementDef] = &[
     stmt("BUSHING", Required, BUSHING_ARGS, true),
     stmt("CONTACT", Required, NO_ARGS, false),
     stmt("COUPLER", Required, COUPLER_ARGS, true),
-    stmt("CURVE", Required, FUNCTION_ARGS, false),
-    stmt("CVCV", Required, NO_ARGS, false),
+    stmt("CURVE", Required, CURVE_ARGS, false),
+    stmt("CVCV", Required, CVCV_ARGS, false),
     stmt("DEBUG", Absent, NO_ARGS, false),
     stmt("DIFF", Required, DIFF_ARGS, true),
     stmt("END", Absent, NO_ARGS, false),
@@ -880,7 +920,7 @@ pub(crate) static DATASET_STATEMENTS: &[StatementDef] = &[
     stmt("POINT_MASS", Required, POINT_MASS_ARGS, true),
     stmt("POUTPUT", Required, PLANT_ARGS, true),
     stmt("PREFERENCES", Absent, NO_ARGS, false),
-    stmt("PTCV", Required, NO_ARGS, false),
+    stmt("PTCV", Required, PTCV_ARGS, false),
     stmt("REQUEST", Required, REQUEST_ARGS, true),
     stmt("RESULTS", Absent, RESULTS_ARGS, false),
     stmt("SECTION", Required, SECTION_ARGS, true),

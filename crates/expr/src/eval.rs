@@ -341,9 +341,8 @@ impl<E: Env + ?Sized> Evaluator<'_, E> {
             )));
         };
         let x = self.scalar::<N>(x_arg)?;
-        // The z argument selects a curve of a 2-D spline; only 1-D splines are supported, so
-        // it is evaluated (for errors) and otherwise ignored.
-        let _z = self.scalar::<f64>(z_arg)?;
+        // z interpolates linearly between the curves of a 2-D spline; a 1-D spline ignores it.
+        let z = self.scalar::<N>(z_arg)?;
         let id = self.integer_arg(name, 2, "SPLINE id", id_arg)?;
         let iord = self.optional_integer_arg(name, 3, "derivative order", args)?;
         if iord > 2 {
@@ -361,7 +360,13 @@ impl<E: Env + ?Sized> Evaluator<'_, E> {
         } else {
             SplineMethod::Cubic
         };
-        Ok(functions::spline(data, method, &x, iord as usize))
+        Ok(functions::spline_surface(
+            data,
+            method,
+            &x,
+            &z,
+            iord as usize,
+        ))
     }
 }
 

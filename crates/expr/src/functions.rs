@@ -458,11 +458,82 @@ pub(crate) fn special<N: Num>(f: Special, args: &[N]) -> Result<N, EvalError> {
     }
 }
 
-/// Interpolates `data` at `x`, returning derivative order `iord` (0, 1 or 2) of the spline,
+/// Interpolates `data` at `(x, z)`, returning derivative order `iord` (0, 1 or 2) in x of the
+/// spline, with the chain rule through `x` and `z`: for a 2-D spline the x-derivative of
+/// `(1 − w)·y_k(x) + w·y_{k+1}(x)`, `w = (z − z_k)/(z_{k+1} − z_k)` ([`SplineData::bracket`]);
+/// `z` is not read for a 1-D spline.
+pub(crate) fn spline_surface<N: Num>(
+    data: &SplineData,
+    method: SplineMethod,
+    x: &N,
+    z: &N,
+    iord: usize,
+) -> N {
+    let Some((lo, hi, z0, z1)) = data.bracket(z.val()) else {
+        return spline(data, method, x, iord);
+    };
+    let s0 = spline(lo, method, x, iord);
+    let s1 = spline(hi, method, x, iord);
+    let w = z.add_cst(-z0).scale(1.0 / (z1 - z0));
+    s0.plus(&w.times(&s1.minus(&s0)))
+}
+
+/// Interpolates a 1-D spline `data` at `x`, returning derivative order `iord` (0, 1 or 2),
 /// with the chain rule through `x`.
 pub(crate) fn spline<N: Num>(data: &SplineData, method: SplineMethod, x: &N, iord: usize) -> N {
     let [s0, s1, s2, s3] = data.evaluate(method, x.val());
     let d = [s0, s1, s2, s3, 0.0, 0.0];
     let g = |k: usize| d.get(iord + k).copied().unwrap_or(0.0);
     x.chain(g(0), g(1), g(2))
+}
+
+#[cfg(test)]
+mod surface_tests {
+    use super::*;
+
+    /// Curves at z = 0 (y = x² at x = 0..3) and z = 1 (y = x + 1). Natural cubic of the first
+    /// by hand: h = 1, M1 = M2 = 12/5, so on [1, 2] with u = x − 1:
+    /// s = 1 + 1.8u + 1.2u² (b = m − (2M1 + M2)/6 = 3 − 1.2, c = M1/2, d = (M2 − M1)/6 = 0).
+    /// The second curve is the straight line for either method.
+    fn data() -> SplineData {
+        SplineData::surface(
+            vec![0.0, 1.0, 2.0, 3.0],
+            vec![0.0, 1.0],
+            vec![vec![0.0, 1.0, 4.0, 9.0], vec![1.0, 2.0, 3.0, 4.0]],
+            false,
+        )
+        .unwrap()
+    }
+
+    #[test]
+    fn a_surface_is_cubic_along_x_and_linear_between_curves() {
+        let d = data();
+        let at = |x: f64, z: f64, iord| spline_surface(&d, SplineMethod::Cubic, &x, &z, iord);
+        // x = 1.5: s0 = 1 + 0.9 + 0.3 = 2.2, s1 = 2.5; z = 0.25: 0.75·2.2 + 0.25·2.5.
+        assert!((at(1.5, 0.25, 0) - 2.275).abs() < 1e-12);
+        // First x-derivative: s0' = 1.8 + 2.4u = 3.0, s1' = 1; second: s0'' = 2.4, s1'' = 0.
+        assert!((at(1.5, 0.25, 1) - 2.5).abs() < 1e-12);
+        assert!((at(1.5, 0.25, 2) - 1.8).abs() < 1e-12);
+        // On a curve: that curve; beyond the last z, continued linearly (w = 2).
+        assert!((at(1.5, 0.0, 0) - 2.2).abs() < 1e-12);
+        assert!((at(1.5, 1.0, 0) - 2.5).abs() < 1e-12);
+        assert!((at(1.5, 2.0, 0) - 2.8).abs() < 1e-12);
+        assert!((at(1.5, -1.0, 0) - 1.9).abs() < 1e-12);
+        // Akima on the straight line is the line too: at z = 1 both methods agree.
+        let ak = spline_surface(&d, SplineMethod::Akima, &1.5, &1.0, 0);
+        assert!((ak - 2.5).abs() < 1e-12);
+    }
+
+    #[test]
+    fn surface_data_are_validated() {
+        let x = vec![0.0, 1.0, 2.0];
+        let bad_z =
+            SplineData::surface(x.clone(), vec![1.0, 1.0], vec![x.clone(), x.clone()], false);
+        assert!(bad_z.unwrap_err().message.contains("strictly increasing"));
+        let one = SplineData::surface(x.clone(), vec![1.0], vec![x.clone()], false);
+        assert!(one.unwrap_err().message.contains("at least two curves"));
+        let short =
+            SplineData::surface(x.clone(), vec![0.0, 1.0], vec![x.clone(), vec![1.0]], false);
+        assert!(short.unwrap_err().message.contains("z = 1"));
+    }
 }

@@ -46,6 +46,9 @@ pub struct SplineData {
     akima_slopes: Vec<f64>,
     /// Natural-spline second derivatives at the nodes.
     cubic_m: Vec<f64>,
+    /// A 2-D spline's curves `y_k(x)` with their `z_k` (strictly increasing); empty for a
+    /// 1-D spline. `x`/`y` above are then the first curve's.
+    family: Vec<(f64, SplineData)>,
 }
 
 impl SplineData {
@@ -80,7 +83,69 @@ impl SplineData {
             linear_extrapolate,
             akima_slopes,
             cubic_m,
+            family: Vec::new(),
         })
+    }
+
+    /// A 2-D spline: one curve `y_k(x)` per `z_k` (at least two, z strictly increasing), each
+    /// validated as by [`SplineData::new`]. [`SplineData::evaluate_surface`] interpolates it.
+    pub fn surface(
+        x: Vec<f64>,
+        z: Vec<f64>,
+        ys: Vec<Vec<f64>>,
+        linear_extrapolate: bool,
+    ) -> Result<Self, SplineError> {
+        let err = |message: String| Err(SplineError { message });
+        if z.len() != ys.len() || z.len() < 2 {
+            return err(format!(
+                "a 2-D spline needs at least two curves (one z value each), has {}",
+                ys.len()
+            ));
+        }
+        if let Some(v) = z.iter().find(|v| !v.is_finite()) {
+            return err(format!("spline data contains the non-finite z value {v}"));
+        }
+        if let Some(w) = z.windows(2).find(|w| w[1] <= w[0]) {
+            return err(format!(
+                "spline z values must be strictly increasing, but {} is followed by {}",
+                w[0], w[1]
+            ));
+        }
+        let mut family = Vec::with_capacity(z.len());
+        for (zk, yk) in z.iter().zip(ys) {
+            let curve =
+                SplineData::new(x.clone(), yk, linear_extrapolate).map_err(|e| SplineError {
+                    message: format!("the curve at z = {zk}: {}", e.message),
+                })?;
+            family.push((*zk, curve));
+        }
+        let mut first = family[0].1.clone();
+        first.family = family;
+        Ok(first)
+    }
+
+    /// A 2-D spline's curves with their z values (empty for a 1-D spline).
+    pub fn family(&self) -> &[(f64, SplineData)] {
+        &self.family
+    }
+
+    /// The two curves whose z values bracket `z` (the first or last two beyond the ends) and
+    /// the weight `w = (z − z_k)/(z_{k+1} − z_k)` of the upper one: a 2-D spline is cubic along
+    /// x and linear between curves, `s(x, z) = (1 − w)·y_k(x) + w·y_{k+1}(x)`, continued
+    /// linearly beyond the first and last z. `None` for a 1-D spline.
+    pub fn bracket(&self, z: f64) -> Option<(&SplineData, &SplineData, f64, f64)> {
+        let m = self.family.len();
+        if m < 2 {
+            return None;
+        }
+        let k = self
+            .family
+            .partition_point(|(zk, _)| *zk <= z)
+            .clamp(1, m - 1)
+            - 1;
+        let (z0, lo) = &self.family[k];
+        let (z1, hi) = &self.family[k + 1];
+        Some((lo, hi, *z0, *z1))
     }
 
     /// The x values (strictly increasing).

@@ -14,6 +14,7 @@ pub mod bodies;
 pub mod build;
 pub mod contacts;
 pub mod controls;
+pub mod curves;
 pub mod fe_parts;
 pub mod forces;
 pub mod frames;

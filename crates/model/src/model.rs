@@ -72,6 +72,28 @@ pub enum ConstraintKind {
         /// reports a parse error with its place in the text).
         expr: Option<Result<Arc<linkage_expr::Expr>, linkage_expr::ParseError>>,
     },
+    /// PTCV: the origin of fixed marker `i` kept on curve `curve` (index into
+    /// [`Model::curves`]) carried by marker `rm` (the curve's frame) on another body
+    /// ([`crate::curves`]). Removes 2 degrees of freedom.
+    Ptcv(Box<PointOnCurve>),
+}
+
+/// A PTCV's markers, curve and initial conditions.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PointOnCurve {
+    /// The point (a fixed marker).
+    pub i: usize,
+    /// The marker whose frame the curve's coordinates are in.
+    pub rm: usize,
+    /// The floating marker on RM's body that marks the contact point.
+    pub jfloat: usize,
+    /// Index into [`Model::curves`].
+    pub curve: usize,
+    /// DISP: the initial contact point guess, converted into the RM frame (the curve point
+    /// nearest to it starts the contact).
+    pub disp: Option<DVec3>,
+    /// VEL: the initial sliding speed along the tangent (dα/dt·|c'|).
+    pub vel: Option<f64>,
 }
 
 /// A constraint element and where it came from.
@@ -108,15 +130,17 @@ impl Constraint {
             ConstraintKind::Coupler { .. } => "Coupler",
             ConstraintKind::Gear { .. } => "Gear",
             ConstraintKind::Gcon { .. } => "General Constraint",
+            ConstraintKind::Ptcv(_) => "Point-Curve Constraint",
         }
     }
 
-    /// The two markers of a joint, primitive or motion.
+    /// The two markers of a joint, primitive or motion (a PTCV's I and RM).
     pub fn markers(&self) -> Option<(usize, usize)> {
         match &self.kind {
             ConstraintKind::Joint { i, j, .. }
             | ConstraintKind::Jprim { i, j, .. }
             | ConstraintKind::Motion { i, j, .. } => Some((*i, *j)),
+            ConstraintKind::Ptcv(p) => Some((p.i, p.rm)),
             _ => None,
         }
     }
@@ -165,7 +189,7 @@ pub struct Model {
     /// Moving parts (ground excluded).
     pub parts: Vec<Part>,
     pub markers: Vec<Marker>,
-    /// Joints, primitives, motions, couplers, gears and general constraints, in that order of
+    /// Joints, primitives, motions, couplers, gears, general constraints and PTCVs, in that order of
     /// kinds and in definition order within each kind, then one rotation hold per point mass
     /// (an ORIENTATION primitive to ground whose origin is the POINT_MASS statement).
     pub constraints: Vec<Constraint>,
@@ -201,6 +225,8 @@ pub struct Model {
     /// FE_PARTs: their nodes are parts (after the dataset's parts and point masses), their
     /// elements force elements ([`crate::fe_parts`]).
     pub fe_parts: Vec<crate::fe_parts::FePart>,
+    /// CURVEs given by a MATRIX (read by PTCV; [`crate::curves`]).
+    pub curves: Vec<crate::curves::Curve>,
 }
 
 impl Model {
@@ -272,6 +298,10 @@ impl Model {
             | ConstraintKind::Motion { i, j, .. } => {
                 add(self.markers[*i].body);
                 add(self.markers[*j].body);
+            }
+            ConstraintKind::Ptcv(p) => {
+                add(self.markers[p.i].body);
+                add(self.markers[p.rm].body);
             }
             ConstraintKind::Coupler { terms, .. } => {
                 for (jt, _, _) in terms {

@@ -22,6 +22,7 @@
 //! statements (not Adams keywords) are findings too.
 
 mod contact;
+mod curve_use;
 
 use linkage_adm::{Dataset, Diagnostic, Span, Statement, Value};
 use std::path::Path;
@@ -103,7 +104,7 @@ pub enum Use {
 }
 
 /// Statement kinds every analysis computes with.
-pub const MODELLED: [&str; 34] = [
+pub const MODELLED: [&str; 36] = [
     "UNITS",
     "ACCGRAV",
     "PART",
@@ -115,6 +116,8 @@ pub const MODELLED: [&str; 34] = [
     "COUPLER",
     "GEAR",
     "GCON",
+    "PTCV",
+    "CURVE",
     "SFORCE",
     "SPRINGDAMPER",
     "BUSHING",
@@ -195,11 +198,11 @@ fn not_modelled(keyword: &str) -> Option<(Reason, &'static str, &'static [Analys
             "a GSE's equations are USER subroutines (GSE_DERIV, GSE_OUTPUT, GSE_UPDATE), which \
              linkage cannot run; DIFF, LSE and TFSISO are the state equations it models",
         ),
-        "PTCV" | "CVCV" => refused(
-            "curve constraints (PTCV, CVCV) are not modelled; verify's DOF count leaves them out",
+        "CVCV" => refused(
+            "curve-to-curve constraints (CVCV) are not modelled; verify's DOF count leaves them \
+             out",
         ),
         "UCON" => refused("user constraints are not modelled"),
-        "CURVE" => unused("curve data, read only by PTCV, CVCV and CURVE(), which linkage does not model"),
         "SURFACE" => unused("surface data is not read (CONTACT geometries are GRAPHICS)"),
         "FEMDATA" => unused("finite-element output requests are not written"),
         "MREQUEST" => unused("multiple requests are not written (REQUEST is)"),
@@ -309,6 +312,7 @@ fn file_exists(dataset_file: &str, name: &str) -> bool {
 pub fn findings(ds: &Dataset) -> Vec<Finding> {
     let mut out = Vec::new();
     let contacts = contact::ContactGeometries::new(ds);
+    let curves = curve_use::CurveUse::new(ds);
     for (index, st) in ds.statements.iter().enumerate() {
         let use_ = statement_use(&st.keyword);
         if use_ == Use::Bookkeeping {
@@ -371,6 +375,10 @@ pub fn findings(ds: &Dataset) -> Vec<Finding> {
             continue;
         }
         // Modelled or settings statements: what linkage cannot run or read in them.
+        if let Some((reason, detail, refused)) = curves.problem(st) {
+            out.push(finding(st.span, reason, detail, refused));
+            continue;
+        }
         if let Some(c) = contacts.as_ref().filter(|_| st.keyword == "CONTACT") {
             for (span, reason, detail) in c.problems(ds, index) {
                 out.push(finding(span, reason, detail, FORCE_ANALYSES));

@@ -13,6 +13,7 @@ mod contacts;
 mod context;
 mod controls;
 mod couplings;
+mod curves;
 mod data;
 pub mod fe_parts;
 mod forces;
@@ -90,6 +91,8 @@ pub fn build_model(ds: &Dataset) -> Result<Built, Diagnostics> {
     let sensors = sensors::sensors(ds, &mut cx);
     let frictions = friction::frictions(ds, &constraints, &parts, &markers, &mut cx);
     let controls = controls::controls(ds, &data.variables, &data.arrays, &mut cx);
+    let (curves, curve_index) = curves::curves(ds, &controls.matrices, &mut cx);
+    curves::ptcvs(ds, &table, &curve_index, &mut cx, &mut constraints);
     point_masses::check_translational_use(&parts, &markers, &constraints, &forces, &mut cx);
     point_masses::hold_rotations(&parts, &mut markers, &mut constraints);
     if !cx.errors.is_empty() {
@@ -120,6 +123,7 @@ pub fn build_model(ds: &Dataset) -> Result<Built, Diagnostics> {
         requests: Default::default(),
         graphics,
         fe_parts,
+        curves,
     };
     model.characteristic_length = characteristic_length(&model);
     model.requests = crate::requests::resolve_requests(&model.markers, &model.forces, ds);

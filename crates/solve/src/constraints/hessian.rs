@@ -294,7 +294,8 @@ impl System {
 }
 
 impl Quantity {
-    /// Adds `c · ∂²Q/∂q²` to `h` (Euler angles by polarization of [`Quantity::series`]).
+    /// Adds `c · ∂²Q/∂q²` to `h` (Euler angles and PTCV gaps by polarization of
+    /// [`Quantity::series`]).
     /// Returns true (every quantity has its second derivatives).
     pub fn hessian(&self, s: &State, c: f64, h: &mut HessianBlocks) -> bool {
         match self {
@@ -328,10 +329,13 @@ impl Quantity {
                 add_outer(h, &gc, &gc, -k * sn * cs);
                 true
             }
-            Quantity::Euler(e) => {
-                let (i, j) = (&e.i, &e.j);
-                let mut parts: Vec<usize> =
-                    [i.body, j.body].iter().filter_map(|b| b.part()).collect();
+            Quantity::Euler(_) | Quantity::CurveGap(_) => {
+                let (bi, bj) = match self {
+                    Quantity::Euler(e) => (e.i.body, e.j.body),
+                    Quantity::CurveGap(q) => (q.point.body, q.frame.body),
+                    _ => return true,
+                };
+                let mut parts: Vec<usize> = [bi, bj].iter().filter_map(|b| b.part()).collect();
                 parts.dedup();
                 let Some(nparts) = parts.iter().max().map(|k| k + 1) else {
                     return true;

@@ -106,6 +106,9 @@ pub enum Quantity {
     /// Euler angle `k` (0, 1, 2) of frame `i` relative to frame `j` in sequence `seq`
     /// (`R_jᵀ R_i = Rx(b1)·Ry(b2)·Rz(b3)` for body 1-2-3, …).
     Euler(Box<EulerAngle>),
+    /// A component of a PTCV's gap in the normal plane of its curve
+    /// ([`crate::constraints::curve_rows`]).
+    CurveGap(Box<crate::constraints::curve_rows::CurveGap>),
 }
 
 /// Euler angle `k` (0, 1, 2) of frame `i` relative to frame `j` in sequence `seq`.
@@ -320,6 +323,7 @@ impl Quantity {
                 let (_, rj) = j.eval(s);
                 seq.angles(&(rj.transpose() * ri))[*k]
             }
+            Quantity::CurveGap(q) => q.value(s),
         }
     }
 
@@ -368,6 +372,7 @@ impl Quantity {
                 g.add(i.body, c, DVec3::ZERO, w);
                 g.add(j.body, -c, DVec3::ZERO, w);
             }
+            Quantity::CurveGap(q) => q.gradient(s, c, g),
         }
     }
 
@@ -419,6 +424,7 @@ impl Quantity {
                 let bdd = einv * (w_rel_dot - e_dot * bd);
                 [b[*k], bd[*k], bdd[*k]]
             }
+            Quantity::CurveGap(q) => q.series(s, v, acc),
         }
     }
 

@@ -4,6 +4,7 @@
 //! primitive rows (translational rows first, rotational last), one row per motion, coupler,
 //! gear, rack-and-pinion and screw. Every analysis uses these rows.
 
+use crate::constraints::curve_rows::{CurveGap, LastContact};
 use crate::constraints::rows::{BodyDir, BodyFrame, EulerSeq, Quantity, RowGradient, Velocities};
 use crate::physics::measures::{add_dual_gradient, MarkerFrames, PathEnv, PositionEnv};
 use crate::state::State;
@@ -13,7 +14,7 @@ use linkage_adm::{CouplerDof, JointType, JprimType, MotionAxis};
 use linkage_expr::{evaluate, evaluate_path_series, evaluate_with_gradient, EvalError, Expr};
 use linkage_model::{Body, ConstraintKind, Model, MotionCoordinate};
 use std::ops::Range;
-use std::sync::Arc;
+use std::sync::{Arc, Mutex};
 
 /// What a row's residual measures, to report it in length units or degrees.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -299,6 +300,47 @@ impl Builder {
         (to_body(ri.x_axis), to_body(ri.y_axis))
     }
 
+    /// The two rows of a PTCV ([`crate::constraints::curve_rows`]), their contact started at
+    /// the curve point nearest to DISP, or else to the I marker at the input.
+    fn curve_rows(
+        &mut self,
+        element: usize,
+        p: &linkage_model::PointOnCurve,
+        fi: BodyFrame,
+        fm: BodyFrame,
+        curve: &Arc<linkage_model::curves::Curve>,
+    ) {
+        let start = p.disp.unwrap_or_else(|| {
+            let (pi, _) = fi.eval(&self.input);
+            let (pm, rm) = fm.eval(&self.input);
+            rm.transpose() * (pi - pm)
+        });
+        let contact = Arc::new(Mutex::new(LastContact {
+            rho: DVec3::NAN,
+            alpha: curve.nearest(start, None),
+        }));
+        for (axis, label, short) in [
+            (0, "Translation of I Marker Normal to Curve", "Si.Nc"),
+            (1, "Translation of I Marker Along Curve Binormal", "Si.Bc"),
+        ] {
+            let q = Quantity::CurveGap(Box::new(CurveGap {
+                point: fi.origin(),
+                frame: fm,
+                curve: Arc::clone(curve),
+                axis,
+                contact: Arc::clone(&contact),
+            }));
+            self.push(
+                element,
+                label,
+                short,
+                RowUnit::Length,
+                Tier::Translation,
+                vec![(1.0, q)],
+            );
+        }
+    }
+
     fn offset_at_input(&self, terms: &[(f64, Quantity)]) -> f64 {
         terms.iter().map(|(c, q)| c * q.value(&self.input)).sum()
     }
@@ -372,6 +414,8 @@ impl System {
             rows: Vec::with_capacity(model.constraints.len() * 5),
         };
         let mut element_rows = Vec::with_capacity(model.constraints.len());
+        let curves: Vec<Arc<linkage_model::curves::Curve>> =
+            model.curves.iter().cloned().map(Arc::new).collect();
         for (e, con) in model.constraints.iter().enumerate() {
             let start = b.rows.len();
             match &con.kind {
@@ -534,6 +578,10 @@ impl System {
                     if let Some(r) = b.rows.last_mut() {
                         r.offset = offset;
                     }
+                }
+                ConstraintKind::Ptcv(p) => {
+                    let Some((fi, fm)) = frames[e] else { continue };
+                    b.curve_rows(e, p, fi, fm, &curves[p.curve]);
                 }
                 ConstraintKind::Gcon { expr, .. } => {
                     // Unparseable or USER functions are input errors reported by

@@ -57,6 +57,7 @@ pub fn element_reactions(
                 | ConstraintKind::Jprim { .. }
                 | ConstraintKind::Motion { .. }
                 | ConstraintKind::Gcon { .. }
+                | ConstraintKind::Ptcv(_)
         ) || linkage_model::build::point_masses::is_rotation_hold(con)
         {
             continue;

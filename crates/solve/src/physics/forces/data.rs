@@ -4,10 +4,10 @@
 //! `VARVAL(id)` evaluates the VARIABLE's expression in the same environment (see
 //! [`crate::physics::measures::StateEnv`]); `ARYVAL(id, n)` is value n (1-based) of an ARRAY: a number
 //! of its `NUMBERS`, or `VARVAL` of the n-th of its `VARIABLES`; `AKISPL`/`CUBSPL` read the
-//! 1-D SPLINEs. The X array of an LSE or TFSISO reads its states, the Y array its outputs
+//! 1-D and 2-D SPLINEs. The X array of an LSE or TFSISO reads its states, the Y array its outputs
 //! `C x + D u`; `DIF`/`DIF1` read a DIFF's state and rate; `PINVAL`/`POUVAL` the VARIABLEs of
 //! a PINPUT/POUTPUT list. VARIABLEs that call `USER(…)` or do not parse, X/Y arrays that no
-//! element owns and 2-D or file splines are kept as "unusable": referencing them from a
+//! element owns and file splines are kept as "unusable": referencing them from a
 //! force is an error that names them, while unused ones do not matter (models often carry
 //! output VARIABLEs with measures linkage does not know).
 //!
@@ -250,14 +250,18 @@ impl DataElements {
                         )),
                     }
                 }
-                SplineValues::Surface { .. } => {
-                    data.unsupported_splines.insert(
-                        id,
-                        format!(
-                            "{} is a 2-D spline (several Y curves); linkage interpolates 1-D splines only",
-                            s.origin.element()
-                        ),
-                    );
+                SplineValues::Surface { x, z, y } => {
+                    match SplineData::surface(x.clone(), z.clone(), y.clone(), s.linear_extrapolate)
+                    {
+                        Ok(d) => {
+                            data.splines.insert(id, d);
+                        }
+                        Err(e) => errors.push(Diagnostic::error(
+                            model.file.clone(),
+                            Some(s.origin.span),
+                            format!("{}: {}", s.origin.name, e.message),
+                        )),
+                    }
                 }
                 SplineValues::File(name) => {
                     data.unsupported_splines.insert(

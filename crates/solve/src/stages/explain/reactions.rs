@@ -108,7 +108,7 @@ fn row_kind(sys: &System, r: usize, s: &State) -> RowKind {
                 torque += *c * x_ref.eval(s).cross(y_ref.eval(s));
                 nt += 1;
             }
-            Quantity::Euler(_) => return RowKind::Scalar(row.label),
+            Quantity::Euler(_) | Quantity::CurveGap(_) => return RowKind::Scalar(row.label),
         }
     }
     match (nf, nt) {

@@ -1,0 +1,62 @@
+//! CURVE and PTCV statements linkage cannot use: a CURVE no PTCV reads (data nothing uses;
+//! CVCV and CURVE contact geometry are not modelled), and a PTCV on a curve given by a USER
+//! subroutine (`FUNCTION = USER(…)`), which linkage cannot evaluate. The USER CURVE itself is
+//! named by the USER-call check when a PTCV uses it.
+
+use super::{Analysis, Reason, FORCE_ANALYSES};
+use linkage_adm::{Dataset, Statement, Value};
+use std::collections::HashSet;
+
+/// Which CURVE ids PTCVs read, and which CURVEs are USER subroutines.
+pub(super) struct CurveUse {
+    read: HashSet<u64>,
+    user: HashSet<u64>,
+}
+
+/// The id a statement's argument `key` names (its first number).
+fn id_of(st: &Statement, key: &str) -> Option<u64> {
+    st.arg(key)?.values.iter().find_map(|v| match v {
+        Value::Number { value, .. } if *value >= 0.0 => Some(*value as u64),
+        _ => None,
+    })
+}
+
+impl CurveUse {
+    pub(super) fn new(ds: &Dataset) -> CurveUse {
+        let mut read = HashSet::new();
+        let mut user = HashSet::new();
+        for st in &ds.statements {
+            match st.keyword.as_str() {
+                "PTCV" => read.extend(id_of(st, "CURVE")),
+                "CURVE" if st.arg("FUNCTION").is_some() => user.extend(st.id),
+                _ => {}
+            }
+        }
+        CurveUse { read, user }
+    }
+
+    /// The finding for statement `st`, if it is a CURVE no PTCV reads or a PTCV on a USER
+    /// curve: reason, detail, the analyses that refuse it.
+    pub(super) fn problem(&self, st: &Statement) -> Option<(Reason, String, &'static [Analysis])> {
+        match st.keyword.as_str() {
+            "CURVE" if !st.id.is_some_and(|id| self.read.contains(&id)) => Some((
+                Reason::NotUsed,
+                "curve data no PTCV reads (CVCV and CURVE contact geometry are not modelled)"
+                    .to_string(),
+                &[],
+            )),
+            "PTCV" => {
+                let c = id_of(st, "CURVE").filter(|c| self.user.contains(c))?;
+                Some((
+                    Reason::NotModelled,
+                    format!(
+                        "its CURVE/{c} is a USER subroutine, which linkage cannot evaluate; \
+                         verify's DOF count leaves the PTCV out"
+                    ),
+                    FORCE_ANALYSES,
+                ))
+            }
+            _ => None,
+        }
+    }
+}
