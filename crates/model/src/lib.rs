@@ -15,6 +15,7 @@ pub mod build;
 pub mod contacts;
 pub mod controls;
 pub mod fe_parts;
+pub mod flex_bodies;
 pub mod forces;
 pub mod frames;
 pub mod friction;

@@ -65,6 +65,12 @@ pub enum ConstraintKind {
         joints: [usize; 2],
         cv: usize,
     },
+    /// The six node equations of a FLEX_BODY node ([`crate::flex_bodies`]): node body `node`
+    /// of [`Model::flex_bodies`]`[body]` follows the reference body and the mode bodies.
+    FlexNode {
+        body: usize,
+        node: usize,
+    },
     Gcon {
         i: usize,
         function: Option<Located<Function>>,
@@ -94,6 +100,12 @@ impl Constraint {
         if self.origin.statement == crate::fe_parts::FE_PART_STATEMENT {
             return "Cable Node Rotation Hold".into();
         }
+        if self.origin.statement == crate::flex_bodies::FLEX_BODY_STATEMENT {
+            return match self.kind {
+                ConstraintKind::FlexNode { .. } => "Flex Body Node".into(),
+                _ => "Flex Body Mode Guide".into(),
+            };
+        }
         match &self.kind {
             ConstraintKind::Joint { kind, .. } => format!("{} Joint", title_case(kind.keyword())),
             ConstraintKind::Jprim { kind, .. } => {
@@ -110,6 +122,7 @@ impl Constraint {
             ConstraintKind::Coupler { .. } => "Coupler".into(),
             ConstraintKind::Gear { .. } => "Gear".into(),
             ConstraintKind::Gcon { .. } => "General Constraint".into(),
+            ConstraintKind::FlexNode { .. } => "Flex Body Node".into(),
         }
     }
 
@@ -186,6 +199,10 @@ pub struct Model {
     /// FE_PARTs: their nodes are parts (after the dataset's parts and point masses), their
     /// elements force elements ([`crate::fe_parts`]).
     pub fe_parts: Vec<crate::fe_parts::FePart>,
+    /// FLEX_BODYs: their reference, mode and node bodies are parts (after the FE nodes),
+    /// their node equations constraints, their modal stiffness and damping bushings
+    /// ([`crate::flex_bodies`]).
+    pub flex_bodies: Vec<crate::flex_bodies::FlexBody>,
 }
 
 impl Model {
@@ -234,6 +251,18 @@ impl Model {
         out
     }
 
+    /// The flex body (index into [`Model::flex_bodies`]) part `k` belongs to (its reference,
+    /// a mode body or a node body), if any.
+    pub fn flex_body_of(&self, k: usize) -> Option<usize> {
+        let first = self.flex_bodies.first()?.reference;
+        if k < first {
+            return None;
+        }
+        self.flex_bodies
+            .iter()
+            .position(|b| b.parts().any(|p| p == k))
+    }
+
     /// Display name of a body.
     pub fn body_name(&self, b: Body) -> &str {
         match b {
@@ -278,6 +307,14 @@ impl Model {
             ConstraintKind::Gcon { i, .. } => {
                 add(self.markers[*i].body);
                 add(Body::Ground);
+            }
+            ConstraintKind::FlexNode { body, node } => {
+                let b = &self.flex_bodies[*body];
+                add(Body::Part(b.nodes[*node].part));
+                add(Body::Part(b.reference));
+                for m in &b.modes {
+                    add(Body::Part(m.part));
+                }
             }
         }
         out

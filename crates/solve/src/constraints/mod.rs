@@ -2,6 +2,7 @@
 //! constraint graph, sparse rank decisions and the motion drivers.
 
 pub mod drivers;
+pub mod flex_rows;
 pub mod graph;
 pub mod hessian;
 pub mod motion_data;

@@ -535,6 +535,11 @@ impl System {
                         r.offset = offset;
                     }
                 }
+                ConstraintKind::FlexNode { body, node } => {
+                    for r in crate::constraints::flex_rows::node_rows(model, *body, *node) {
+                        b.push(e, r.label, r.short, r.unit, r.tier, r.terms);
+                    }
+                }
                 ConstraintKind::Gcon { expr, .. } => {
                     // Unparseable or USER functions are input errors reported by
                     // `drivers::ExpressionDrivers::new`; such a GCON gets no row here.
