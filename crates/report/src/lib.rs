@@ -5,6 +5,7 @@
 
 pub mod coverage;
 pub mod explain;
+pub mod flex;
 pub mod friction;
 pub mod ic;
 pub mod linear;

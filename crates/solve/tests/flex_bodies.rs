@@ -351,7 +351,7 @@ fn cantilever_flex_body_vibrates_at_its_first_frequency() {
     let text = cantilever(
         &CANTILEVER[..2],
         &format!(", CRATIO = 0, DMODE = {q0}, 0, 0, 0"),
-        "",
+        "REQUEST/1, DISPLACEMENT, I = 11, J = 1\nREQUEST/2, F2 = DY(11, 1)",
     );
     let (m, d, f) = load(&text);
     let a = Assembled::new(&m, &d, &f, &Tolerances::default());
@@ -368,7 +368,18 @@ fn cantilever_flex_body_vibrates_at_its_first_frequency() {
     assert!(sim.failure.is_none(), "{:?}", sim.failure);
     let b = &m.flex_bodies[0];
     let tip = node_part(&m, 3);
+    let requests = linkage_solve::physics::requests::RequestSet::new(&m).unwrap();
     for (k, o) in sim.outputs.iter().enumerate() {
+        // REQUESTs on the node marker 11 (at the tip node) follow the node.
+        let values = requests.evaluate(&m, &a.system, o).unwrap();
+        assert!(
+            (values[1] - o.state.poses[tip].p.y).abs() < 1e-15,
+            "{values:?}"
+        );
+        assert!(
+            (values[6] - o.state.poses[tip].p.y).abs() < 1e-15,
+            "{values:?}"
+        );
         let q = (o.state.poses[b.modes[0].part].p - b.rest).dot(b.axis);
         let expected = q0 * (omega * times[k]).cos();
         assert!(
@@ -408,4 +419,54 @@ fn missing_modal_data_file_refuses_naming_the_file() {
     assert_eq!(flex.len(), 1, "{f:?}");
     assert!(flex[0].detail.contains("'modes.mtx'"), "{}", flex[0].detail);
     assert!(flex[0].refuses(linkage_solve::coverage::Analysis::Simulate));
+}
+
+#[test]
+fn cratio_expression_of_fxfreq_gives_each_mode_its_damping_ratio() {
+    // CRATIO = STEP(FXFREQ, 10, 0.02, 100, 0.05): the cubic STEP between 10 and 100 Hz.
+    let text = cantilever(
+        &CANTILEVER[..2],
+        ", CRATIO = STEP(FXFREQ, 10, 0.02, 100, 0.05) + 0*FXMODE",
+        "",
+    );
+    let step = |f: f64| {
+        let d = ((f - 10.0) / 90.0).clamp(0.0, 1.0);
+        0.02 + 0.03 * d * d * (3.0 - 2.0 * d)
+    };
+    let (m, _, _) = load(&text);
+    for mode in &m.flex_bodies[0].modes {
+        let expected = step(mode.frequency);
+        assert!((mode.damping_ratio - expected).abs() < 1e-12, "{mode:?}");
+    }
+    // The linearization sees them: ζ of each mode (c = 2ζωm on the modal coordinate).
+    let lin = linear(&text);
+    for mode in &lin.modes {
+        let expected = step(mode.frequency);
+        assert!(
+            (mode.damping_ratio / expected - 1.0).abs() < 1e-3,
+            "{} vs {expected}",
+            mode.damping_ratio
+        );
+    }
+}
+
+#[test]
+fn flex_body_input_errors_name_the_element() {
+    let errors = |text: &str| {
+        let ds = linkage_adm::parse_dataset(Arc::from("t.adm"), text).unwrap();
+        match linkage_model::build_model(&ds) {
+            Ok(_) => panic!("built"),
+            Err(e) => e.to_string(),
+        }
+    };
+    let base = cantilever(&CANTILEVER[..1], "", "");
+    let e = errors(&base.replace("NODE_ID = 3", "NODE_ID = 7"));
+    assert!(e.contains("has no node 7"), "{e}");
+    let e = errors(&base.replace("DMODE", "X").replace(
+        "FLEX_BODY/1, MATRICES = 1, 2, 3, 4, 5, 6, 7, 8, 9",
+        "FLEX_BODY/1, MATRICES = 1, 2, 3, 4, 5, 6, 7, 8, 9, DMODE = 1, 2, 3",
+    ));
+    assert!(e.contains("DMODE needs 2 values"), "{e}");
+    let e = errors(&base.replace("MATRICES = 1, 2, 3,", "MATRICES = 1, 2,"));
+    assert!(e.contains("no matrix named GENSTIFF"), "{e}");
 }

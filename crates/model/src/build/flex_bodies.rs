@@ -30,8 +30,9 @@
 //! - `CRATIO`: an expression of `FXFREQ` (the mode's natural frequency, cycles per model
 //!   time unit) and `FXMODE` (the mode number), evaluated once per mode [decided]; without
 //!   it Adams' default by frequency in Hz ([`default_damping_ratio`]).
-//! - Markers: `NODE_ID` → on that node's body (an id not in SELNOD is an error); without
-//!   it, on the reference body [decided]. QP/REULER are in the BCS; the offset is kept.
+//! - Markers: `NODE_ID` → on that node's body (an id not in SELNOD is an error), their offset
+//!   from the node's undeformed place and their axes (QP/REULER in the BCS) kept in the node's
+//!   axes; without NODE_ID, on the reference body [decided].
 
 use super::context::{origin, Ctx};
 use super::markers::MarkerStatements;
@@ -589,9 +590,11 @@ fn place_markers(
             .iter()
             .find(|(id, _)| *id == st.header.id)
             .and_then(|(_, n)| n.clone());
-        let part = match node {
+        // A node body's axes are the BCS axes when undeformed: a marker keeps its offset
+        // from the node's undeformed place (so it rides with the DMODE deformation too).
+        let (part, node_at) = match node {
             Some(l) => match b.nodes.iter().find(|n| n.id == l.value) {
-                Some(n) => n.part,
+                Some(n) => (n.part, Some(n.position)),
                 None => {
                     cx.error(
                         l.span,
@@ -600,14 +603,24 @@ fn place_markers(
                     continue;
                 }
             },
-            None => b.reference,
+            None => (b.reference, None),
         };
+        let placed = &mut ms.placed[k];
+        if let Some(s_p) = node_at {
+            placed.body = Body::Part(part);
+            placed.p -= s_p;
+            placed.unsupported = None;
+            let mk = &mut markers[k];
+            mk.body = Body::Part(part);
+            mk.p_bm = placed.p;
+            mk.r_bm = placed.r;
+            continue;
+        }
         let reference = &parts[b.reference];
         let (bcs_p, a) = (
             reference.p_gb + reference.r_gb * b.bcs_in_body,
             reference.r_gb,
         );
-        let placed = &mut ms.placed[k];
         let p_g = bcs_p + a * placed.p;
         let r_g = a * placed.r;
         let body = &parts[part];
