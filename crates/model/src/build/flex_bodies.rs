@@ -282,7 +282,9 @@ fn flex_body(
         }
         None => (1..=m as u64).collect(),
     };
-    if !(mass > 0.0) || gm.iter().any(|g| !(*g > 0.0)) || k.iter().any(|x| !(*x >= 0.0)) {
+    let positive = |x: f64| x.is_finite() && x > 0.0;
+    let not_negative = |x: f64| x.is_finite() && x >= 0.0;
+    if !positive(mass) || !gm.iter().all(|g| positive(*g)) || !k.iter().all(|x| not_negative(*x)) {
         cx.error(
             src.span(),
             format!(

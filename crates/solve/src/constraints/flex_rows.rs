@@ -72,7 +72,7 @@ pub fn node_rows(model: &Model, body: usize, node: usize) -> Vec<NodeRow> {
         }
     };
     let mut out = Vec::with_capacity(6);
-    for k in 0..3 {
+    for (k, (label, short)) in LABELS[..3].iter().enumerate() {
         let mut terms = vec![(
             1.0,
             Quantity::Proj {
@@ -89,8 +89,8 @@ pub fn node_rows(model: &Model, body: usize, node: usize) -> Vec<NodeRow> {
         )];
         modal(&mut terms, &|j| -n.translation[j][k]);
         out.push(NodeRow {
-            label: LABELS[k].0,
-            short: LABELS[k].1,
+            label,
+            short,
             unit: RowUnit::Length,
             tier: Tier::Translation,
             terms,
