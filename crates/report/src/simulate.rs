@@ -255,6 +255,10 @@ pub struct SimulateJson {
     pub removed_equations: Vec<EquationRef>,
     /// Every part at the last output.
     pub final_state: Vec<PartStateJson>,
+    /// The FLEX_BODYs' modal coordinates and rates at the last output (only when there are
+    /// some).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub final_modal_coordinates: Vec<crate::flex::ModalJson>,
     /// Joint friction at the last output (only when the model has FRICTION elements).
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub frictions: Vec<crate::friction::FrictionJson>,
@@ -388,6 +392,12 @@ pub fn summary(a: &Assembled, run: &DynamicRun, warnings: &[Diagnostic]) -> Simu
         .and_then(|s| s.outputs.last())
         .map(|o| part_states(model, &o.state, &o.velocities, Some(&o.accelerations)))
         .unwrap_or_default();
+    let final_modal_coordinates = run
+        .simulation
+        .as_ref()
+        .and_then(|s| s.outputs.last())
+        .map(|o| crate::flex::modal_json(model, &o.state, Some(&o.velocities)))
+        .unwrap_or_default();
     let integrator = &model.integrator;
     warnings.extend(integrator.warnings.iter().map(ToString::to_string));
     let i = &integrator.settings;
@@ -424,6 +434,7 @@ pub fn summary(a: &Assembled, run: &DynamicRun, warnings: &[Diagnostic]) -> Simu
         start,
         removed_equations,
         final_state,
+        final_modal_coordinates,
         frictions: Vec::new(),
         sensors,
         ended_by_sensor,

@@ -34,7 +34,8 @@ pub(super) fn problems(ds: &Dataset, st: &FlexBodyStatement) -> Vec<(Span, Reaso
                     format!("its modal data file '{}' ({key}) does not exist", f.value),
                 )
             };
-            out.push((f.span, reason, format!("{why}; {leave_out}")));
+            // At the statement: the body as a whole is refused (the detail names the file).
+            out.push((st.header.span, reason, format!("{why}; {leave_out}")));
         }
         return out;
     }
