@@ -871,6 +871,29 @@ const FE_LOAD_ARGS: &[ArgDef] = &[
     arg("ROUTINE", Text),
 ];
 
+/// FLEX_BODY (ADM-ELEMENTS §19): a linear flexible body with modal coordinates.
+const FLEX_BODY_ARGS: &[ArgDef] = &[
+    arg("MATRICES", Numbers),
+    arg("MNF_FILE", Text),
+    arg("DB_FILE", Text),
+    arg("MD_DB_FILE", Text),
+    arg("BDF_FILE", Text),
+    arg("INVARIANTS", Words),
+    arg("QG", Numbers),
+    arg("REULER", Numbers),
+    arg("VX", Numbers),
+    arg("VY", Numbers),
+    arg("VZ", Numbers),
+    arg("WX", Numbers),
+    arg("WY", Numbers),
+    arg("WZ", Numbers),
+    arg("DMODE", Numbers),
+    arg("VMODE", Numbers),
+    arg("EXACT", Words),
+    arg("CHAR_LEN", Numbers),
+    arg("CRATIO", Expr),
+];
+
 /// Statements of a dataset (ADM-REFERENCE §1.5, plus FE_NODE and SECTION seen in real files).
 pub(crate) static DATASET_STATEMENTS: &[StatementDef] = &[
     stmt("ACCGRAV", Absent, ACCGRAV_ARGS, true),
@@ -891,7 +914,7 @@ pub(crate) static DATASET_STATEMENTS: &[StatementDef] = &[
     stmt("FE_PART", Required, FE_PART_ARGS, true),
     stmt("FEMDATA", Required, NO_ARGS, false),
     stmt("FIELD", Required, FIELD_ARGS, true),
-    stmt("FLEX_BODY", Required, NO_ARGS, false),
+    stmt("FLEX_BODY", Required, FLEX_BODY_ARGS, true),
     stmt("FRICTION", Required, FRICTION_ARGS, true),
     stmt("GCON", Required, GCON_ARGS, true),
     stmt("GEAR", Required, GEAR_ARGS, true),

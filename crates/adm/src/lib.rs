@@ -42,6 +42,7 @@ pub use statement::{keyword_id, Argument, ExprText, Statement, Value};
 pub use typed::*;
 pub use typing::contact;
 pub use typing::fe_part;
+pub use typing::flex_body;
 pub use typing::graphics;
 
 use std::path::Path;

@@ -743,6 +743,14 @@ impl Typer {
         };
         let fe_node = match carrier {
             Some(MarkerCarrier::FePart(_)) => self.marker_node(st),
+            Some(MarkerCarrier::FlexBody(_)) if st.arg("NODE_ID").is_some() => {
+                self.id_ref(st, "NODE_ID").map(|id| {
+                    FeMarkerNode::Label(Located {
+                        value: id.id,
+                        span: id.span,
+                    })
+                })
+            }
             _ => None,
         };
         Some(Marker {
@@ -1113,6 +1121,7 @@ impl Typer {
 pub mod contact;
 pub(crate) mod controls;
 pub mod fe_part;
+pub mod flex_body;
 mod forces;
 pub(crate) mod friction;
 pub mod graphics;

@@ -81,7 +81,8 @@ pub enum SaveError {
 
 /// Writes the dataset with every moved part's QG/REULER at configuration `state` (markers keep
 /// their place on their part because they are given in the part's frame). FE_PART nodes are
-/// not parts of the dataset: their COORDINATES are written as read.
+/// not parts of the dataset: their COORDINATES are written as read; nor are a FLEX_BODY's mode
+/// and node bodies.
 pub fn save_configuration(
     ds: &Dataset,
     model: &Model,
@@ -94,6 +95,14 @@ pub fn save_configuration(
         .enumerate()
         .filter(|(k, p)| {
             if model.fe_node(*k).is_some() {
+                return false;
+            }
+            // A FLEX_BODY's mode and node bodies are not dataset parts (its reference body
+            // is: its QG/REULER are written; DMODE is written as read).
+            if model
+                .flex_body_of(*k)
+                .is_some_and(|f| model.flex_bodies[f].reference != *k)
+            {
                 return false;
             }
             let s = state.poses[*k];

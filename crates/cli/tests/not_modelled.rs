@@ -1,4 +1,5 @@
-//! Nothing is dropped silently: every statement linkage does not model or run (FLEX_BODY,
+//! Nothing is dropped silently: every statement linkage does not model or run (a FLEX_BODY
+//! whose modal data are in a missing MNF file,
 //! NFORCE, CURVE, UCON, a USER subroutine, GSE) is named by verify with its file:line,
 //! every analysis that cannot run without it refuses with the whole list at once, and
 //! `--deactivate` runs the rest of the model with the report saying what was left out.
@@ -20,7 +21,7 @@ PART/2, MASS = 1, CM = 20, IP = 1, 1, 1
 MARKER/20, PART = 2, QP = 1, 0, 0
 MARKER/21, PART = 2
 JOINT/1, REVOLUTE, I = 21, J = 10
-FLEX_BODY/5
+FLEX_BODY/5, MNF_FILE = 'wing.mnf'
 MARKER/50, FLEX_BODY = 5
 NFORCE/3
 CURVE/7, OPEN, MATRIX = 8
@@ -97,7 +98,7 @@ fn verify_names_every_statement_not_modelled_at_once_with_its_place() {
     assert_eq!(
         listed,
         [
-            ("FLEX_BODY/5", 10, "not modelled"),
+            ("FLEX_BODY/5", 10, "external file missing"),
             ("NFORCE/3", 12, "not modelled"),
             ("CURVE/7", 13, "not used"),
             ("UCON/9", 15, "not modelled"),

@@ -16,6 +16,7 @@ pub mod contacts;
 pub mod controls;
 pub mod curves;
 pub mod fe_parts;
+pub mod flex_bodies;
 pub mod forces;
 pub mod frames;
 pub mod friction;

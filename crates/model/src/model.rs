@@ -65,6 +65,12 @@ pub enum ConstraintKind {
         joints: [usize; 2],
         cv: usize,
     },
+    /// The six node equations of a FLEX_BODY node ([`crate::flex_bodies`]): node body `node`
+    /// of [`Model::flex_bodies`]`[body]` follows the reference body and the mode bodies.
+    FlexNode {
+        body: usize,
+        node: usize,
+    },
     Gcon {
         i: usize,
         function: Option<Located<Function>>,
@@ -116,6 +122,12 @@ impl Constraint {
         if self.origin.statement == crate::fe_parts::FE_PART_STATEMENT {
             return "Cable Node Rotation Hold";
         }
+        if self.origin.statement == crate::flex_bodies::FLEX_BODY_STATEMENT {
+            return match self.kind {
+                ConstraintKind::FlexNode { .. } => "Flex Body Node",
+                _ => "Flex Body Mode Guide",
+            };
+        }
         match &self.kind {
             ConstraintKind::Joint { kind, .. } => joint_description(*kind),
             ConstraintKind::Jprim { kind, .. } => jprim_description(*kind),
@@ -131,6 +143,7 @@ impl Constraint {
             ConstraintKind::Gear { .. } => "Gear",
             ConstraintKind::Gcon { .. } => "General Constraint",
             ConstraintKind::Ptcv(_) => "Point-Curve Constraint",
+            ConstraintKind::FlexNode { .. } => "Flex Body Node",
         }
     }
 
@@ -227,6 +240,10 @@ pub struct Model {
     pub fe_parts: Vec<crate::fe_parts::FePart>,
     /// CURVEs given by a MATRIX (read by PTCV; [`crate::curves`]).
     pub curves: Vec<crate::curves::Curve>,
+    /// FLEX_BODYs: their reference, mode and node bodies are parts (after the FE nodes),
+    /// their node equations constraints, their modal stiffness and damping bushings
+    /// ([`crate::flex_bodies`]).
+    pub flex_bodies: Vec<crate::flex_bodies::FlexBody>,
 }
 
 impl Model {
@@ -273,6 +290,18 @@ impl Model {
         out.sort_unstable();
         out.dedup();
         out
+    }
+
+    /// The flex body (index into [`Model::flex_bodies`]) part `k` belongs to (its reference,
+    /// a mode body or a node body), if any.
+    pub fn flex_body_of(&self, k: usize) -> Option<usize> {
+        let first = self.flex_bodies.first()?.reference;
+        if k < first {
+            return None;
+        }
+        self.flex_bodies
+            .iter()
+            .position(|b| b.parts().any(|p| p == k))
     }
 
     /// Display name of a body.
@@ -323,6 +352,14 @@ impl Model {
             ConstraintKind::Gcon { i, .. } => {
                 add(self.markers[*i].body);
                 add(Body::Ground);
+            }
+            ConstraintKind::FlexNode { body, node } => {
+                let b = &self.flex_bodies[*body];
+                add(Body::Part(b.nodes[*node].part));
+                add(Body::Part(b.reference));
+                for m in &b.modes {
+                    add(Body::Part(m.part));
+                }
             }
         }
         out

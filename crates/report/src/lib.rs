@@ -6,6 +6,7 @@
 pub mod coverage;
 pub mod element_columns;
 pub mod explain;
+pub mod flex;
 pub mod friction;
 pub mod ic;
 pub mod linear;

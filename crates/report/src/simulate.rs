@@ -19,8 +19,9 @@ use std::fmt::Write;
 pub type ExtraColumns = (Vec<String>, Vec<Vec<f64>>);
 
 /// Column names: `time`, then `<part>.x .y .z .psi .theta .phi .vx .vy .vz .wx .wy .wz` for every
-/// moving part and `<element>.fx .fy .fz .tx .ty .tz` for every joint, primitive and motion,
-/// then `extra`; each with its unit as a suffix, `PART_2.x [mm]` (see [`crate::units`]).
+/// moving part, the flex bodies' modal coordinates `<body>.q<mode> .qdot<mode>`
+/// ([`crate::flex`]), `<element>.fx .fy .fz .tx .ty .tz` for every joint, primitive and
+/// motion, then `extra`; each with its unit as a suffix, `PART_2.x [mm]` (see [`crate::units`]).
 pub fn csv_header(model: &Model, reaction_elements: &[usize], extra: &[String]) -> String {
     let units = CsvUnits::of(model);
     let mut s = units.header("time");
@@ -30,6 +31,9 @@ pub fn csv_header(model: &Model, reaction_elements: &[usize], extra: &[String]) 
         ] {
             let _ = write!(s, ",{}", units.header(&format!("{}.{c}", p.origin.name)));
         }
+    }
+    for c in crate::flex::modal_columns(model) {
+        let _ = write!(s, ",{}", units.header(&c));
     }
     for &e in reaction_elements {
         for c in ["fx", "fy", "fz", "tx", "ty", "tz"] {
@@ -47,7 +51,7 @@ pub fn csv_header(model: &Model, reaction_elements: &[usize], extra: &[String]) 
 /// with [`CSV_DIGITS`] significant digits. Rounding noise is printed as 0, judged per kind of
 /// quantity in the row (positions, angles against a full turn, velocities, angular velocities,
 /// forces, torques; see [`crate::num::denoise`]).
-pub fn csv_row(o: &Output, reaction_elements: &[usize], extra: &[f64]) -> String {
+pub fn csv_row(model: &Model, o: &Output, reaction_elements: &[usize], extra: &[f64]) -> String {
     let mut s = general(o.time, CSV_DIGITS);
     let poses = &o.state.poses;
     let position_scale = scale_of(poses.iter().flat_map(|p| p.p.to_array()));
@@ -73,6 +77,9 @@ pub fn csv_row(o: &Output, reaction_elements: &[usize], extra: &[f64]) -> String
         for (x, scale) in fields {
             let _ = write!(s, ",{}", general(denoise(x, scale), CSV_DIGITS));
         }
+    }
+    for x in crate::flex::modal_values(model, &o.state, &o.velocities) {
+        let _ = write!(s, ",{}", general(x, CSV_DIGITS));
     }
     let force_scale = scale_of(o.reactions.iter().flat_map(|r| r.force.to_array()));
     let torque_scale = scale_of(o.reactions.iter().flat_map(|r| r.torque.to_array()));
@@ -160,7 +167,7 @@ impl<W: std::io::Write> CsvHistory<W> {
                 .collect();
         }
         let indices = &self.indices;
-        writeln!(self.out, "{}", csv_row(o, indices, values))?;
+        writeln!(self.out, "{}", csv_row(model, o, indices, values))?;
         self.out.flush()
     }
 
@@ -194,7 +201,7 @@ pub fn to_csv(model: &Model, run: &DynamicRun, extra: Option<&ExtraColumns>) -> 
     s.push('\n');
     for (k, o) in sim.outputs.iter().enumerate() {
         let vals: &[f64] = extra.and_then(|e| e.1.get(k)).map_or(&[], |v| v.as_slice());
-        s.push_str(&csv_row(o, &elements, vals));
+        s.push_str(&csv_row(model, o, &elements, vals));
         s.push('\n');
     }
     s
@@ -248,6 +255,10 @@ pub struct SimulateJson {
     pub removed_equations: Vec<EquationRef>,
     /// Every part at the last output.
     pub final_state: Vec<PartStateJson>,
+    /// The FLEX_BODYs' modal coordinates and rates at the last output (only when there are
+    /// some).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub final_modal_coordinates: Vec<crate::flex::ModalJson>,
     /// Joint friction at the last output (only when the model has FRICTION elements).
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub frictions: Vec<crate::friction::FrictionJson>,
@@ -374,6 +385,12 @@ pub fn summary(a: &Assembled, run: &DynamicRun, warnings: &[Diagnostic]) -> Simu
         .and_then(|s| s.outputs.last())
         .map(|o| part_states(model, &o.state, &o.velocities, Some(&o.accelerations)))
         .unwrap_or_default();
+    let final_modal_coordinates = run
+        .simulation
+        .as_ref()
+        .and_then(|s| s.outputs.last())
+        .map(|o| crate::flex::modal_json(model, &o.state, Some(&o.velocities)))
+        .unwrap_or_default();
     let integrator = &model.integrator;
     warnings.extend(integrator.warnings.iter().map(ToString::to_string));
     let i = &integrator.settings;
@@ -410,6 +427,7 @@ pub fn summary(a: &Assembled, run: &DynamicRun, warnings: &[Diagnostic]) -> Simu
         start,
         removed_equations,
         final_state,
+        final_modal_coordinates,
         frictions: Vec::new(),
         sensors,
         ended_by_sensor,

@@ -61,6 +61,9 @@ pub struct StaticJson {
     /// The model has no degrees of freedom: solved kinematically.
     pub kinematic: bool,
     pub parts: Vec<PartPoseJson>,
+    /// The FLEX_BODYs' modal coordinates at the first step (only when there are some).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub modal_coordinates: Vec<crate::flex::ModalJson>,
     pub reactions: Vec<ReactionJson>,
     /// Joint friction at the reported state (only when the model has FRICTION elements).
     #[serde(skip_serializing_if = "Vec::is_empty")]
@@ -291,6 +294,10 @@ pub fn to_json(a: &Assembled, run: &StaticRun, warnings: &[Diagnostic]) -> Stati
         lowest_stiffness: first.and_then(|s| s.lowest_stiffness),
         kinematic,
         parts: first.map(|s| s.parts.clone()).unwrap_or_default(),
+        modal_coordinates: match run.steps.first() {
+            Some((_, Ok(eq))) => crate::flex::modal_json(model, &eq.state, None),
+            _ => Vec::new(),
+        },
         reactions: first.map(|s| s.reactions.clone()).unwrap_or_default(),
         frictions: Vec::new(),
         steps: if steps.len() > 1 { steps } else { Vec::new() },

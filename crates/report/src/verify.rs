@@ -85,6 +85,19 @@ pub struct FePartJson {
     pub normal_frequencies: Vec<f64>,
 }
 
+/// A FLEX_BODY in the counts: its modes + 6 rigid coordinates.
+#[derive(Clone, Debug, Serialize, PartialEq)]
+pub struct FlexBodyJson {
+    pub name: String,
+    pub modes: usize,
+    /// Nodes markers use (their equations tie them to the modal coordinates).
+    pub marker_nodes: Vec<u64>,
+    /// modes + 6: what the Gruebler count takes.
+    pub gruebler_dof: usize,
+    /// Natural frequency of each mode (cycles per time unit), in SELMOD order.
+    pub frequencies: Vec<f64>,
+}
+
 #[derive(Clone, Debug, Serialize, PartialEq)]
 pub struct MasslessJson {
     pub name: String,
@@ -112,6 +125,8 @@ pub struct VerifyJson {
     pub point_masses: usize,
     /// FE_PARTs, each counted as Adams' equivalent linear flexible body.
     pub fe_parts: Vec<FePartJson>,
+    /// FLEX_BODYs, each counted as its modes + 6.
+    pub flex_bodies: Vec<FlexBodyJson>,
     pub constraint_counts: Vec<CountJson>,
     /// The equations of the constraint elements (the point masses' and cable nodes' held
     /// rotations not included): Gruebler = 6·parts + 3·point masses + Σ FE parts'
@@ -265,7 +280,7 @@ pub fn to_json(model: &Model, v: &Verification, warnings: &[Diagnostic]) -> Veri
         left_out: Vec::new(),
         not_run: Vec::new(),
         later_refused_by: Vec::new(),
-        moving_parts: v.moving_parts - v.point_masses - v.fe_nodes,
+        moving_parts: v.moving_parts - v.point_masses - v.fe_nodes - v.flex_parts,
         point_masses: v.point_masses,
         fe_parts: v
             .fe_parts
@@ -292,7 +307,18 @@ pub fn to_json(model: &Model, v: &Verification, warnings: &[Diagnostic]) -> Veri
                 count: *n,
             })
             .collect(),
-        constraint_equations: v.rows - v.hold_rows,
+        flex_bodies: model
+            .flex_bodies
+            .iter()
+            .map(|b| FlexBodyJson {
+                name: b.origin.name.clone(),
+                modes: b.modes.len(),
+                marker_nodes: b.nodes.iter().map(|n| n.id).collect(),
+                gruebler_dof: b.gruebler_dof(),
+                frequencies: b.modes.iter().map(|m| m.frequency).collect(),
+            })
+            .collect(),
+        constraint_equations: v.rows - v.hold_rows - v.flex_rows,
         gruebler: v.gruebler,
         rank: v.rank,
         dof: v.dof,
@@ -488,6 +514,28 @@ pub fn body_text(j: &VerifyJson) -> String {
                     linkage_adm::num::general(*first, 6)
                 );
             }
+        }
+    }
+    if !j.flex_bodies.is_empty() {
+        let _ = writeln!(
+            s,
+            "{:>5} Flex Bodies (modes + 6 degrees of freedom each)",
+            j.flex_bodies.len()
+        );
+        for f in &j.flex_bodies {
+            let labels: Vec<String> = f.marker_nodes.iter().map(u64::to_string).collect();
+            let _ = writeln!(
+                s,
+                "        {}: {} modes + 6 = {} in the Gruebler count; marker nodes: {}",
+                f.name,
+                f.modes,
+                f.gruebler_dof,
+                if labels.is_empty() {
+                    "none".to_string()
+                } else {
+                    labels.join(", ")
+                }
+            );
         }
     }
     for c in &j.constraint_counts {

@@ -23,6 +23,7 @@
 
 mod contact;
 mod curve_use;
+mod flex_body;
 
 use linkage_adm::{Dataset, Diagnostic, Span, Statement, Value};
 use std::path::Path;
@@ -104,7 +105,7 @@ pub enum Use {
 }
 
 /// Statement kinds every analysis computes with.
-pub const MODELLED: [&str; 36] = [
+pub const MODELLED: [&str; 37] = [
     "UNITS",
     "ACCGRAV",
     "PART",
@@ -137,6 +138,7 @@ pub const MODELLED: [&str; 36] = [
     "MATERIAL",
     "FE_LOAD",
     "SENSOR",
+    "FLEX_BODY",
     "DIFF",
     "LSE",
     "TFSISO",
@@ -189,9 +191,6 @@ fn not_modelled(keyword: &str) -> Option<(Reason, &'static str, &'static [Analys
     let refused = |why| Some((Reason::NotModelled, why, FORCE_ANALYSES));
     let unused = |why| Some((Reason::NotUsed, why, &[][..]));
     match keyword {
-        "FLEX_BODY" => refused(
-            "a modal flexible body is not modelled; verify's DOF count leaves it out",
-        ),
         "NFORCE" => refused("multi-point force elements are not modelled"),
         "MFORCE" => refused("modal forces are not modelled"),
         "GSE" => refused(
@@ -313,6 +312,11 @@ pub fn findings(ds: &Dataset) -> Vec<Finding> {
     let mut out = Vec::new();
     let contacts = contact::ContactGeometries::new(ds);
     let curves = curve_use::CurveUse::new(ds);
+    let flex_bodies = if ds.statements.iter().any(|s| s.keyword == "FLEX_BODY") {
+        linkage_adm::flex_body::type_flex_bodies(ds).0.bodies
+    } else {
+        Vec::new()
+    };
     for (index, st) in ds.statements.iter().enumerate() {
         let use_ = statement_use(&st.keyword);
         if use_ == Use::Bookkeeping {
@@ -383,6 +387,14 @@ pub fn findings(ds: &Dataset) -> Vec<Finding> {
             for (span, reason, detail) in c.problems(ds, index) {
                 out.push(finding(span, reason, detail, FORCE_ANALYSES));
             }
+        }
+        if st.keyword == "FLEX_BODY" {
+            if let Some(fb) = flex_bodies.iter().find(|b| b.header.statement == index) {
+                for (span, reason, detail) in flex_body::problems(ds, fb) {
+                    out.push(finding(span, reason, detail, FORCE_ANALYSES));
+                }
+            }
+            continue;
         }
         if let Some((key, span)) = user {
             let (detail, refused): (String, &[Analysis]) = match st.keyword.as_str() {
@@ -467,7 +479,7 @@ mod tests {
     #[test]
     fn every_unmodelled_statement_is_named_with_the_analyses_that_refuse_it() {
         let ds = dataset(
-            "PART/1, GROUND\nMARKER/2, PART = 1\nFLEX_BODY/3\n\
+            "PART/1, GROUND\nMARKER/2, PART = 1\nFLEX_BODY/3, MNF_FILE = 'beam.mnf'\n\
              SENSOR/4, VALUE = 1, HALT, FUNCTION = TIME\nCURVE/5, MATRIX = 6\n\
              SFORCE/7, I = 2, J = 2, TRANSLATION, FUNCTION = USER(1)\nGRAPHICS/8, CYLINDER\n\
              PINPUT/9, VARIABLES = 1",
@@ -480,7 +492,7 @@ mod tests {
         assert_eq!(
             got,
             [
-                ("FLEX_BODY/3", Reason::NotModelled, 4),
+                ("FLEX_BODY/3", Reason::ExternalFileMissing, 4),
                 ("CURVE/5", Reason::NotUsed, 6),
                 ("SFORCE/7", Reason::UserSubroutine, 7),
             ]

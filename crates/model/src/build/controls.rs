@@ -120,7 +120,7 @@ pub(crate) fn controls(
 /// Every MATRIX, its values read (FULL in either order, SPARSE, or a FILE), and the MATRIX
 /// ids whose file is missing or cannot be read, with why (an error where a state element
 /// uses one; `coverage` names a missing file whoever uses it).
-fn matrices(ds: &Dataset, cx: &mut Ctx) -> (Vec<Matrix>, HashMap<u64, String>) {
+pub(crate) fn matrices(ds: &Dataset, cx: &mut Ctx) -> (Vec<Matrix>, HashMap<u64, String>) {
     let mut unreadable = HashMap::new();
     let mut out = Vec::new();
     let mut seen = HashSet::new();

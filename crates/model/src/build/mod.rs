@@ -16,6 +16,8 @@ mod couplings;
 mod curves;
 mod data;
 pub mod fe_parts;
+pub mod flex_bodies;
+pub use controls::read_adamsmat;
 mod forces;
 mod friction;
 mod joints;
@@ -75,6 +77,15 @@ pub fn build_model(ds: &Dataset) -> Result<Built, Diagnostics> {
         &mut marker_statements,
         &mut cx,
     );
+    let mut flex_bodies = flex_bodies::flex_bodies(
+        ds,
+        &units,
+        gravity,
+        &mut parts,
+        &mut markers,
+        &mut marker_statements,
+        &mut cx,
+    );
     let ground_name = part_statements.ground_name();
     let table = MarkerTable {
         index: &marker_statements.index,
@@ -95,6 +106,13 @@ pub fn build_model(ds: &Dataset) -> Result<Built, Diagnostics> {
     curves::ptcvs(ds, &table, &curve_index, &mut cx, &mut constraints);
     point_masses::check_translational_use(&parts, &markers, &constraints, &forces, &mut cx);
     point_masses::hold_rotations(&parts, &mut markers, &mut constraints);
+    flex_bodies::attach(
+        &mut flex_bodies,
+        &parts,
+        &mut markers,
+        &mut constraints,
+        &mut forces,
+    );
     if !cx.errors.is_empty() {
         return Err(Diagnostics(cx.errors));
     }
@@ -124,6 +142,7 @@ pub fn build_model(ds: &Dataset) -> Result<Built, Diagnostics> {
         graphics,
         fe_parts,
         curves,
+        flex_bodies,
     };
     model.characteristic_length = characteristic_length(&model);
     model.requests = crate::requests::resolve_requests(&model.markers, &model.forces, ds);

@@ -3,6 +3,7 @@
 
 pub mod curve_rows;
 pub mod drivers;
+pub mod flex_rows;
 pub mod graph;
 pub mod hessian;
 pub mod motion_data;

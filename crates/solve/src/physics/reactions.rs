@@ -59,6 +59,7 @@ pub fn element_reactions(
                 | ConstraintKind::Gcon { .. }
                 | ConstraintKind::Ptcv(_)
         ) || linkage_model::build::point_masses::is_rotation_hold(con)
+            || con.origin.statement == linkage_model::flex_bodies::FLEX_BODY_STATEMENT
         {
             continue;
         }

@@ -72,6 +72,11 @@ pub struct Verification {
     pub fe_nodes: usize,
     /// Rotation-hold rows among `rows` (3 per point mass and per 3DCABLE node).
     pub hold_rows: usize,
+    /// Parts of flex bodies among `moving_parts` (reference, mode and node bodies; each flex
+    /// body counted as its modes + 6, see `linkage_model::flex_bodies`).
+    pub flex_parts: usize,
+    /// The flex bodies' hidden equations among `rows` (5 per mode guide, 6 per node).
+    pub flex_rows: usize,
     /// Each FE part's Craig–Bampton reduction and chapter count
     /// ([`crate::stages::fe_modes`]).
     pub fe_parts: Vec<crate::stages::fe_modes::FeModes>,
@@ -408,9 +413,17 @@ fn analyse(
     let massless_free = massless_freedom(model, &sys, &state, &massless_parts, length, tol);
     let mut counts: Vec<(String, usize)> = Vec::new();
     let mut hold_rows = 0;
+    let mut flex_rows = 0;
     for c in &model.constraints {
         if linkage_model::build::point_masses::is_rotation_hold(c) {
             hold_rows += 3;
+            continue;
+        }
+        if c.origin.statement == linkage_model::flex_bodies::FLEX_BODY_STATEMENT {
+            flex_rows += match c.kind {
+                linkage_model::ConstraintKind::FlexNode { .. } => 6,
+                _ => 5,
+            };
             continue;
         }
         let d = c.description();
@@ -449,6 +462,8 @@ fn analyse(
         point_masses: model.parts.iter().filter(|p| p.point_mass).count() - cable_holds / 3,
         fe_nodes,
         hold_rows,
+        flex_parts: model.flex_bodies.iter().map(|b| b.parts().count()).sum(),
+        flex_rows,
         fe_parts,
         massless_parts,
         counts,

@@ -1,0 +1,131 @@
+//! Linear flexible bodies (FLEX_BODY, ADM-ELEMENTS §19) in the model.
+//!
+//! A flex body has six rigid coordinates (its reference frame, the BCS) and one modal
+//! amplitude `q_j` per selected mode. A point P of the body (a node) is at
+//! `r_P = x + A·(s_P + Φ_P·q)` and turned by the small rotation `θ_P = Φ*_P·q` (in BCS axes)
+//! from the reference frame's axes [doc: adams_flex/flex_theory]. linkage keeps the solver's
+//! six-columns-per-body layout and represents the body by ordinary bodies of the model, named
+//! after it:
+//!
+//! - the **reference body** `<name>` (the dataset's FLEX_BODY as a part): mass INVAR1, centre
+//!   of mass INVAR2/INVAR1, inertia INVAR7 moved to the centre of mass; its axes are the BCS;
+//! - one **mode body** `<name>.mode_<label>` per selected mode: its translation along a fixed
+//!   ground direction (`FlexBody::axis`, chosen normal to gravity so that weight does not act
+//!   on it) *is* the modal coordinate, `q_j = (p − rest)·axis`; a hidden translational guide
+//!   to ground holds its other five coordinates; its mass is the generalized mass (INVAR6's
+//!   diagonal); the modal stiffness and damping act on it as a hidden bushing to ground
+//!   (`k_j` = GENSTIFF's diagonal, `c_j = 2 ζ_j ω_j m_j`);
+//! - one massless **node body** `<name>.node_<id>` per node markers use (`NODE_ID`): the six
+//!   node equations (`ConstraintKind::FlexNode`) tie its frame to the reference body and the
+//!   mode bodies: `(P_node − (x + A s_P))·A e_k − Σ_j Φ_Pj,k q_j = 0` for k = x, y, z, and
+//!   `z_n·x_b − θ_y = 0`, `z_n·y_b + θ_x = 0`, `x_n·y_b − θ_z = 0` with `θ = Φ*_P·q`
+//!   (first order in the node's rotation relative to the BCS axes, as the modal theory is).
+//!
+//! Each mode body adds 6 columns and 5 equations, each node body 6 and 6: the body
+//! contributes `6 + modes` to the Gruebler count, as the chapter says, and its modal
+//! coordinates are in the constraint Jacobian through the node equations.
+//!
+//! **What is dropped** [decided, stated by the builder's warning]: the inertia coupling
+//! between rigid and modal coordinates (invariants 3, 4, 5, 8, 9: the modal momentum
+//! `Σ m_p Φ_p`, the rotation–mode coupling, and the change of the inertia tensor with q) and
+//! the modal part of the weight (`Σ m_p Φ_pᵀ Aᵀ g`). The mass matrix is block diagonal:
+//! rigid (invariants 1, 2, 7 at q = 0) and modal (invariant 6). This is exact for a body
+//! whose reference frame is held (a cantilever's modes about a clamped root) and, at the
+//! linearization about rest, for free-free modes orthogonal to the rigid-body motion
+//! (mean-axis modes, for which invariants 3 and 4 vanish).
+
+use crate::bodies::Origin;
+use glam::DVec3;
+
+/// Statement keyword of the flex bodies' parts, hidden markers, guides and bushings.
+pub const FLEX_BODY_STATEMENT: &str = "FLEX_BODY";
+
+/// One selected mode.
+#[derive(Clone, Debug, PartialEq)]
+pub struct FlexMode {
+    /// The mode's number (SELMOD).
+    pub label: u64,
+    /// The mode body (index into [`crate::Model::parts`]).
+    pub part: usize,
+    /// Generalized mass `m_j` (INVAR6's diagonal).
+    pub mass: f64,
+    /// Modal stiffness `k_j` (GENSTIFF's diagonal).
+    pub stiffness: f64,
+    /// Damping ratio ζ_j (CRATIO, or Adams' default by frequency).
+    pub damping_ratio: f64,
+    /// Natural frequency `√(k_j/m_j)/2π` in cycles per model time unit.
+    pub frequency: f64,
+}
+
+/// One node markers use.
+#[derive(Clone, Debug, PartialEq)]
+pub struct FlexNode {
+    pub id: u64,
+    /// The node body (index into [`crate::Model::parts`]).
+    pub part: usize,
+    /// Undeformed position `s_P` in the BCS.
+    pub position: DVec3,
+    /// Translational shape `Φ_P` of each mode (BCS axes), in the order of [`FlexBody::modes`].
+    pub translation: Vec<DVec3>,
+    /// Rotational shape `Φ*_P` of each mode (small rotation vector, BCS axes).
+    pub rotation: Vec<DVec3>,
+}
+
+/// A FLEX_BODY.
+#[derive(Clone, Debug, PartialEq)]
+pub struct FlexBody {
+    pub origin: Origin,
+    /// The reference body (index into [`crate::Model::parts`]).
+    pub reference: usize,
+    /// The BCS origin in the reference body's frame (its frame is at the centre of mass, with
+    /// the BCS axes).
+    pub bcs_in_body: DVec3,
+    pub modes: Vec<FlexMode>,
+    pub nodes: Vec<FlexNode>,
+    /// Ground direction along which each mode body moves (normal to gravity).
+    pub axis: DVec3,
+    /// Ground point of every mode body at q = 0 (the BCS origin at the input).
+    pub rest: DVec3,
+    /// The first FLEX_NODE constraint of this body (index into
+    /// [`crate::Model::constraints`]); its nodes' equations follow in node order.
+    pub first_node_constraint: usize,
+}
+
+impl FlexBody {
+    /// Degrees of freedom in the Gruebler count: the modes + 6.
+    pub fn gruebler_dof(&self) -> usize {
+        self.modes.len() + 6
+    }
+
+    /// Every part of this body: the reference, the mode bodies and the node bodies.
+    pub fn parts(&self) -> impl Iterator<Item = usize> + '_ {
+        std::iter::once(self.reference)
+            .chain(self.modes.iter().map(|m| m.part))
+            .chain(self.nodes.iter().map(|n| n.part))
+    }
+}
+
+/// Adams' default modal damping ratio by natural frequency in Hz [doc: AS/state_flex_body]:
+/// 1 % below 100 Hz, 10 % below 1 kHz, critical (100 %) above.
+pub fn default_damping_ratio(frequency_hz: f64) -> f64 {
+    if frequency_hz < 100.0 {
+        0.01
+    } else if frequency_hz < 1000.0 {
+        0.1
+    } else {
+        1.0
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn default_damping_steps_at_100_hz_and_1_khz() {
+        assert_eq!(default_damping_ratio(99.9), 0.01);
+        assert_eq!(default_damping_ratio(100.0), 0.1);
+        assert_eq!(default_damping_ratio(999.0), 0.1);
+        assert_eq!(default_damping_ratio(1000.0), 1.0);
+    }
+}
