@@ -582,6 +582,7 @@ impl System {
                 ConstraintKind::Ptcv(p) => {
                     let Some((fi, fm)) = frames[e] else { continue };
                     b.curve_rows(e, p, fi, fm, &curves[p.curve]);
+                }
                 ConstraintKind::FlexNode { body, node } => {
                     for r in crate::constraints::flex_rows::node_rows(model, *body, *node) {
                         b.push(e, r.label, r.short, r.unit, r.tier, r.terms);
