@@ -58,12 +58,6 @@ pub const CORRECTOR_NOISE: f64 = 1e-10;
 /// accepted error grew as the steps shrank (the Chrono validation cases with HMAX = 1e-5 were
 /// 1.4e-3 of a signal's range from Adams; now 1.2e-4).
 pub const CORRECTOR_ERROR_FRACTION: f64 = 1e-3;
-/// The corrector judges the error a correction leaves as `ρ/(1−ρ)` of it (ρ: its contraction
-/// against the last correction with the same matrix), but never less than this fraction of it:
-/// ρ from two corrections is a rough estimate. Without this floor the runs of a double
-/// pendulum 1e4 m from the origin and at the origin differed by 1.1e-5 rad/s after 2 s (their
-/// rounding, amplified by the chaotic motion, is 1e-6).
-pub const CORRECTOR_LEFT_MIN: f64 = 0.1;
 
 /// Static equilibrium has converged, whatever the Newton correction, when the largest force
 /// or torque imbalance is below this fraction of the largest applied load component (and below
@@ -180,10 +174,8 @@ pub const MIXED_EIGENVECTOR: f64 = 1e-12;
 
 /// The corrector refreshes its iteration matrix when a correction is more than this fraction
 /// of the one before (modified Newton converging too slowly: a fresh matrix converges
-/// quadratically again, and refreshing costs less than several slow iterations). Measured on
-/// IFToMM A02 N = 40 at ERROR = 1e-6 (I3): 0.05 took 2499 factorisations, 0.2 2199, 0.5
-/// 1971 but more iterations (6322 against 5842) for the same time.
-pub const MATRIX_REFRESH_RATE: f64 = 0.2;
+/// quadratically again, and refreshing costs less than several slow iterations).
+pub const MATRIX_REFRESH_RATE: f64 = 0.05;
 /// The longest run of steps that refactorise the iteration matrix at their first iteration
 /// after a matrix kept from an earlier step failed to converge (the run doubles with each
 /// successive failure: 1, 2, 4, …; dynamics corrector).

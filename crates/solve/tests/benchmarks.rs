@@ -13,15 +13,12 @@
 //!
 //! Every test prints its measured error, steps and run time (`--nocapture`). Measured with the
 //! default BDF integrator (I3) at ERROR = 1e-6 (max error over every output): A01 over 2000 s
-//! 1.2e-5 m; A02 N = 2, 10, 40 over 20 s 1.9e-5, 1.7e-4, 1.17e-3 m (2129, 1680, 2330 steps);
+//! 1.2e-5 m; A02 N = 2, 10, 40 over 20 s 1.8e-5, 1.6e-4, 1.2e-3 m (2130, 1686, ~2300 steps);
 //! A04 3.7e-7 m; Andrews 1.5e-8 relative. With SI2 (`Formulation::Si2`): A01 over 2000 s
-//! 1.8e-5 m, A02 N = 2, 10 2.8e-5, 3.9e-4 m (2133, 1762 steps), N = 40 5.3e-4 m (2239
-//! steps), A04 5.5e-7 m, Andrews 1.1e-8 (A01, A04, Andrews and SI2 on N = 2, 10 measured before
-//! the multipliers' predictor changed). A02 with N = 40 is held to the benchmark with SI2. Its
-//! error at the 26 flat (singular) poses does not follow ERROR smoothly: I3 gives 1.17e-3,
-//! 7.2e-4 and 9.4e-5 m at ERROR 1e-6, 3e-6 and 1e-7; SI2 at 1e-7 stops at t = 6.6 s (corrector
-//! at HMIN at a flat pose; before the predictor change it left the parallelogram branch and
-//! stopped at 10.5 s). The
+//! 1.8e-5 m, A02 N = 2, 10 2.8e-5, 3.9e-4 m (2133, 1762 steps), N = 40 1.15e-4 m (2277
+//! steps), A04 5.5e-7 m, Andrews 1.1e-8. A02 with N = 40 is held to the benchmark with SI2. Its
+//! error at the 26 flat (singular) poses does not follow ERROR smoothly; SI2 at 1e-7 leaves
+//! the parallelogram branch and stops at 10.5 s (a singular velocity projection). The
 //! measurement tables are `#[ignore]`d: run them with
 //! `cargo test --release -p linkage-solve --test benchmarks -- --ignored --nocapture`.
 
@@ -578,8 +575,8 @@ fn a02_ten_loops_over_20_s_within_1e_3_m() {
     assert!(e < 1e-3, "A02 N = 10: max error {e:.3e} m");
 }
 
-/// IFToMM A02 as published, N = 40, with the SI2 formulation (GSTIFF, SI2): 5.3e-4 m at
-/// ERROR = 1e-6, 2239 steps. The index-3 form (measured 1.17e-3 m at the same ERROR and cost)
+/// IFToMM A02 as published, N = 40, with the SI2 formulation (GSTIFF, SI2): 1.15e-4 m at
+/// ERROR = 1e-6, 2277 steps. The index-3 form (measured 1.2e-3 m at the same ERROR and cost)
 /// passes its position-corrector's error into the velocities divided by the step, a phase
 /// error that grows with the number of steps and that its position-only error test cannot see.
 #[test]

@@ -24,7 +24,7 @@
 //! instead, then projects the positions onto `Φ = 0` with multipliers of their own
 //! ([`super::corrector`]'s `project`), so the position correction does not leak into the
 //! velocities as its quotient by the step; its error test has the velocities too (times the
-//! step). On IFToMM A02 with N = 40 at ERROR = 1e-6, I3 ends 1.17e-3 m off, SI2 5.3e-4 m, at
+//! step). On IFToMM A02 with N = 40 at ERROR = 1e-6, I3 ends 1.2e-3 m off, SI2 1.15e-4 m, at
 //! about the same number of steps.
 //!
 //! Local error (positions; translations over the characteristic length, rotations in
@@ -67,8 +67,6 @@ struct Point {
     /// Control states and their rates.
     x: Vec<f64>,
     xd: Vec<f64>,
-    /// Multipliers of the kept rows (force units).
-    lambda: Vec<f64>,
 }
 
 /// `J_l(θ)⁻¹`, the inverse of the left Jacobian of SO(3):
@@ -126,6 +124,8 @@ pub struct Bdf<'p, 'a> {
     steps_at_order: usize,
     cur: Step,
     trial: Step,
+    prev_lambda: Vec<f64>,
+    prev_h: Option<f64>,
     work: Workspace,
     /// The past points' orientations in the chart of the current one (`len × n`).
     chart: Vec<DVec3>,
@@ -182,7 +182,6 @@ impl<'p, 'a> Bdf<'p, 'a> {
             v: cur.v.clone(),
             x: start.controls.x.clone(),
             xd: start.controls.xdot.clone(),
-            lambda: cur.lambda.clone(),
         };
         let mut past = vec![point; KEPT];
         past[0].time = start.time;
@@ -196,6 +195,8 @@ impl<'p, 'a> Bdf<'p, 'a> {
                 order: 1,
                 steps_at_order: 0,
                 trial: cur.clone(),
+                prev_lambda: cur.lambda.clone(),
+                prev_h: None,
                 cur,
                 work,
                 chart: vec![DVec3::ZERO; KEPT * n],
@@ -312,7 +313,7 @@ impl<'p, 'a> Bdf<'p, 'a> {
         }
         // Predictor: the velocities and orientations extrapolated by the polynomial through
         // the last k+1 points (a Taylor expansion at the first step); accelerations that give
-        // those velocities; multipliers by the same polynomial (below).
+        // those velocities; multipliers extrapolated linearly.
         let degree = k.min(self.len - 1);
         let mut w = [0.0; KEPT];
         extrapolation_weights(t1, &times[..=degree], &mut w);
@@ -345,15 +346,18 @@ impl<'p, 'a> Bdf<'p, 'a> {
                 (0..=degree).map(|j| w[j] * self.past[j].xd[i]).sum()
             };
         }
-        // The multipliers by the same polynomial as the velocities: a multiplier predicted
-        // off by Δλ leaks `(J_{n+1} − J_kept)ᵀΔλ` into the accelerations through a kept
-        // iteration matrix, which is what made kept matrices fail on IFToMM A02.
-        for (i, x) in self.trial.lambda.iter_mut().enumerate() {
-            *x = if degree == 0 {
-                self.cur.lambda[i]
-            } else {
-                (0..=degree).map(|j| w[j] * self.past[j].lambda[i]).sum()
-            };
+        let r = self
+            .prev_h
+            .filter(|hp| *hp > 0.0)
+            .map_or(0.0, |hp| (h / hp).min(2.0));
+        for ((x, now), before) in self
+            .trial
+            .lambda
+            .iter_mut()
+            .zip(&self.cur.lambda)
+            .zip(&self.prev_lambda)
+        {
+            *x = now + r * (now - before);
         }
         let stabilised = self.settings.formulation == Formulation::Si2;
         let Bdf {
@@ -495,6 +499,8 @@ impl<'p, 'a> Bdf<'p, 'a> {
     /// and the points kept) whose estimate allows the longest step for `tolerance`. Returns
     /// the error estimate and order the next step size is to be chosen with.
     pub fn accept(&mut self, tolerance: f64) -> (f64, usize) {
+        self.prev_lambda.copy_from_slice(&self.cur.lambda);
+        self.prev_h = Some(self.trial.s.time - self.cur.s.time);
         std::mem::swap(&mut self.cur, &mut self.trial);
         self.past.rotate_right(1);
         let newest = &mut self.past[0];
@@ -503,7 +509,6 @@ impl<'p, 'a> Bdf<'p, 'a> {
         newest.v.copy_from_slice(&self.cur.v);
         newest.x.copy_from_slice(&self.cur.s.controls.x);
         newest.xd.copy_from_slice(&self.cur.s.controls.xdot);
-        newest.lambda.copy_from_slice(&self.cur.lambda);
         self.len = (self.len + 1).min(KEPT);
         self.chart_fresh = false;
         self.steps_at_order += 1;

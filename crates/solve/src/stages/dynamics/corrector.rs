@@ -14,8 +14,8 @@ use crate::physics::mass::{self, SingularInertia};
 use crate::state::State;
 use crate::tolerances::{
     CORRECTOR_ACCELERATION_FLOOR, CORRECTOR_ACCELERATION_MIN, CORRECTOR_CONSTRAINT,
-    CORRECTOR_ERROR_FRACTION, CORRECTOR_LEFT_MIN, CORRECTOR_NOISE, CORRECTOR_RELATIVE,
-    CORRECTOR_ROUNDING, MATRIX_REFRESH_RATE, MATRIX_REUSE_BACKOFF,
+    CORRECTOR_ERROR_FRACTION, CORRECTOR_NOISE, CORRECTOR_RELATIVE, CORRECTOR_ROUNDING,
+    MATRIX_REFRESH_RATE, MATRIX_REUSE_BACKOFF,
 };
 use glam::DVec3;
 use linkage_model::frames::exp_so3;
@@ -310,23 +310,8 @@ pub(super) fn correct(
         // velocities over the step) is a negligible fraction of the local error the step is
         // allowed is accepted. That allowance is the step's share of ERROR, so what is
         // accepted over a run does not grow as the steps shrink (HMAX = 1e-5 takes 500,000
-        // steps over 5 s), and it stays below what the local error estimate can see. With a
-        // matrix that contracted this correction by ρ against the last one (both with the same
-        // matrix), the error left is about `ρ/(1−ρ)` of it (the corrections still to come,
-        // credited at most down to `CORRECTOR_LEFT_MIN`: ρ from two corrections is rough),
-        // and that is what is compared.
-        let contraction = if !stale && da_prev.is_finite() && da_prev > 0.0 {
-            (da / da_prev).min(0.9)
-        } else {
-            1.0
-        };
-        let remaining = if contraction < 1.0 {
-            (contraction / (1.0 - contraction)).max(CORRECTOR_LEFT_MIN)
-        } else {
-            1.0
-        };
-        let negligible =
-            position.max(velocity * h) * da * remaining <= CORRECTOR_ERROR_FRACTION * tolerance;
+        // steps over 5 s), and it stays below what the local error estimate can see.
+        let negligible = position.max(velocity * h) * da <= CORRECTOR_ERROR_FRACTION * tolerance;
         if phi_ok
             && states_ok
             && (da <= CORRECTOR_RELATIVE * amax.max(CORRECTOR_ACCELERATION_MIN)

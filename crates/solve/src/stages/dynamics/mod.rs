@@ -17,7 +17,7 @@
 //! with the exponential map). Newton uses the scaled iteration matrix
 //! `[M + (1+α)(βh² K_T + γh C_T), (1+α)Jᵀ; J, 0]` (K_T with the geometric stiffness), kept
 //! across iterations and steps while it converges well (modified Newton: refreshed when a
-//! correction contracts by less than `MATRIX_REFRESH_RATE` (0.2), when the step size moved by
+//! correction contracts by less than `MATRIX_REFRESH_RATE` (0.05), when the step size moved by
 //! more than a factor 2, or after three iterations with a matrix from an earlier step). The
 //! scaling makes the matrix nearly independent of h, which is what allows keeping it across
 //! step-size changes. The iteration starts from accelerations and multipliers extrapolated
