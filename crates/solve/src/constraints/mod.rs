@@ -1,9 +1,7 @@
 //! Constraint equations: rows with analytic Jacobians and Hessians, the compiled system, the
 //! constraint graph, sparse rank decisions and the motion drivers.
 
-pub mod curve_rows;
 pub mod drivers;
-pub mod flex_rows;
 pub mod graph;
 pub mod hessian;
 pub mod motion_data;

@@ -18,6 +18,8 @@
 //!   `∂/∂θ_j = −u_j × e`, and `∂/∂θ_E = e × d` for the body carrying e;
 //! * `atan2(s, c)`: `(c·ds − s·dc)/(s² + c²)`.
 
+pub mod curve_gap;
+
 use crate::state::State;
 use crate::tolerances::{ATAN2_DEGENERATE, EULER_RATE_SINGULAR};
 use glam::{DMat3, DVec3};
@@ -107,8 +109,8 @@ pub enum Quantity {
     /// (`R_jᵀ R_i = Rx(b1)·Ry(b2)·Rz(b3)` for body 1-2-3, …).
     Euler(Box<EulerAngle>),
     /// A component of a PTCV's gap in the normal plane of its curve
-    /// ([`crate::constraints::curve_rows`]).
-    CurveGap(Box<crate::constraints::curve_rows::CurveGap>),
+    /// ([`curve_gap`]).
+    CurveGap(Box<curve_gap::CurveGap>),
 }
 
 /// Euler angle `k` (0, 1, 2) of frame `i` relative to frame `j` in sequence `seq`.

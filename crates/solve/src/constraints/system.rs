@@ -4,7 +4,9 @@
 //! primitive rows (translational rows first, rotational last), one row per motion, coupler,
 //! gear, rack-and-pinion and screw. Every analysis uses these rows.
 
-use crate::constraints::curve_rows::{CurveGap, LastContact};
+mod flex_rows;
+
+use crate::constraints::rows::curve_gap::{CurveGap, LastContact};
 use crate::constraints::rows::{BodyDir, BodyFrame, EulerSeq, Quantity, RowGradient, Velocities};
 use crate::physics::measures::{add_dual_gradient, MarkerFrames, PathEnv, PositionEnv};
 use crate::state::State;
@@ -300,7 +302,7 @@ impl Builder {
         (to_body(ri.x_axis), to_body(ri.y_axis))
     }
 
-    /// The two rows of a PTCV ([`crate::constraints::curve_rows`]), their contact started at
+    /// The two rows of a PTCV ([`crate::constraints::rows::curve_gap`]), their contact started at
     /// the curve point nearest to DISP, or else to the I marker at the input.
     fn curve_rows(
         &mut self,
@@ -584,7 +586,7 @@ impl System {
                     b.curve_rows(e, p, fi, fm, &curves[p.curve]);
                 }
                 ConstraintKind::FlexNode { body, node } => {
-                    for r in crate::constraints::flex_rows::node_rows(model, *body, *node) {
+                    for r in flex_rows::node_rows(model, *body, *node) {
                         b.push(e, r.label, r.short, r.unit, r.tier, r.terms);
                     }
                 }
