@@ -122,9 +122,13 @@ fn scan_line(line: &str) -> LineScan<'_> {
 
 /// The `adams_view_name='…'` value of a comment, if it has one.
 pub(crate) fn view_name_in(comment: &str) -> Option<String> {
-    const KEY: &str = "adams_view_name";
-    let lower = comment.to_ascii_lowercase();
-    let at = lower.find(KEY)?;
+    const KEY: &[u8] = b"adams_view_name";
+    // Case-insensitive search without a lower-case copy (one comment per element in files
+    // written by Adams View). The key is ASCII, so a match starts at a character boundary.
+    let at = comment
+        .as_bytes()
+        .windows(KEY.len())
+        .position(|w| w.eq_ignore_ascii_case(KEY))?;
     let rest = comment.get(at + KEY.len()..)?.trim_start();
     let rest = rest.strip_prefix('=')?.trim_start();
     let quote = rest.chars().next().filter(|q| *q == '\'' || *q == '"')?;

@@ -340,6 +340,7 @@ fn input_and_output(command: &Command) -> Vec<(&std::path::Path, &std::path::Pat
 
 fn main() -> ExitCode {
     common::restore_sigpipe();
+    common::keep_freed_memory();
     let cli = Cli::parse();
     for (input, output) in input_and_output(&cli.command) {
         if let Err(e) = common::check_output(input, output) {
