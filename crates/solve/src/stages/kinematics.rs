@@ -22,8 +22,8 @@ use crate::constraints::system::RowUnit;
 use crate::linalg::kkt::{jacobian_entries, CoordinateScale, Zeros};
 use crate::linalg::linear::SparseLu;
 use crate::stages::dynamics::{
-    flat, redundant_violation, Failure, IntegrationError, Output, OutputSolver, Problem,
-    SensorWatch, Simulation,
+    flat, outputs_every, redundant_violation, Failure, IntegrationError, Output, OutputSolver,
+    Problem, SensorWatch, Simulation,
 };
 use crate::stages::verify::{report_residual, report_unit_suffix};
 use crate::state::State;
@@ -125,18 +125,7 @@ pub(crate) fn run(
                     sim.outputs.push(output);
                     k += 1;
                 }
-                schedule.truncate(k);
-                let mut j = 1.0;
-                while at + j * dt <= end + OUTPUT_GRID * dt {
-                    schedule.push((at + j * dt).min(end));
-                    j += 1.0;
-                }
-                if schedule
-                    .last()
-                    .is_some_and(|last| *last < end - OUTPUT_GRID * dt)
-                {
-                    schedule.push(end);
-                }
+                outputs_every(&mut schedule, k, at, dt, end);
                 previous = Some(fired.output);
             }
             None => {
@@ -149,9 +138,6 @@ pub(crate) fn run(
     }
     sim
 }
-
-/// Output times closer than this fraction of DT to the end are the end.
-const OUTPUT_GRID: f64 = 1e-9;
 
 /// The consistent output at time `t`: positions by Newton from a second-order extrapolation
 /// `q + v Δt + a Δt²/2` of `from` (or from `start`), removed rows checked, then

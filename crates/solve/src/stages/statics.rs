@@ -27,7 +27,9 @@ use crate::linalg::linear::LinearError;
 use crate::physics::applied::{AppliedForces, ForceError};
 use crate::physics::reactions::{element_reactions, Reaction};
 use crate::pipeline::Assembled;
-use crate::stages::dynamics::{IntegrationError, Output, SensorEvent, SensorStop, SensorWatch};
+use crate::stages::dynamics::{
+    outputs_every, IntegrationError, Output, SensorEvent, SensorStop, SensorWatch,
+};
 use crate::state::State;
 use crate::tolerances::{
     FRICTION_LOAD_PASSES, FRICTION_LOAD_SETTLED, STABILITY_EIGENVALUE, STABILITY_RANK,
@@ -633,9 +635,6 @@ pub fn output_times(end: f64, steps: usize) -> Vec<f64> {
     (0..=steps).map(|k| end * k as f64 / steps as f64).collect()
 }
 
-/// Output times closer than this fraction of a sensor's DT to the end are the end.
-const OUTPUT_GRID: f64 = 1e-9;
-
 /// Static equilibrium of an assembled model at each of `times` (one time for a single
 /// equilibrium), each started from a linear extrapolation of the previous two; nothing when the
 /// model could not be assembled ([`Assembled::failure`] says why).
@@ -778,18 +777,7 @@ pub fn run(a: &Assembled, times: &[f64]) -> StaticRun {
                         s
                     }
                 };
-                schedule.truncate(k);
-                let mut j = 1.0;
-                while at + j * dt <= end + OUTPUT_GRID * dt {
-                    schedule.push((at + j * dt).min(end));
-                    j += 1.0;
-                }
-                if schedule
-                    .last()
-                    .is_some_and(|last| *last < end - OUTPUT_GRID * dt)
-                {
-                    schedule.push(end);
-                }
+                outputs_every(&mut schedule, k, at, dt, end);
                 history = vec![from];
             }
             None => {

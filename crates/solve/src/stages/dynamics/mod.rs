@@ -73,6 +73,6 @@ pub use run::{
     run, run_from, run_streamed, DynamicRun, RunError, RunProgress, Start, StartingEquilibrium,
     Stream, UnstableStart,
 };
-pub use sensors::{SensorEvent, SensorStop, SensorWatch};
+pub use sensors::{outputs_every, SensorEvent, SensorStop, SensorWatch};
 pub use simulate::{simulate, simulate_with, AfterOutput};
 pub use stepper::Stepper;

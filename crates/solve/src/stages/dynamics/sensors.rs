@@ -408,3 +408,24 @@ fn integrate_to(
     }
     integ.output()
 }
+
+/// Output times closer than this fraction of a sensor's DT to the end are the end.
+const OUTPUT_GRID: f64 = 1e-9;
+
+/// A sensor's `DT` from the event at `at` on: keeps `schedule[..kept]`, then outputs every
+/// `dt` up to `end`, the last one at `end` (a remainder shorter than `OUTPUT_GRID·dt` is
+/// dropped). Shared by the kinematic and quasi-static runs.
+pub fn outputs_every(schedule: &mut Vec<f64>, kept: usize, at: f64, dt: f64, end: f64) {
+    schedule.truncate(kept);
+    let mut j = 1.0;
+    while at + j * dt <= end + OUTPUT_GRID * dt {
+        schedule.push((at + j * dt).min(end));
+        j += 1.0;
+    }
+    if schedule
+        .last()
+        .is_some_and(|last| *last < end - OUTPUT_GRID * dt)
+    {
+        schedule.push(end);
+    }
+}
