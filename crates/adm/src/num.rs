@@ -23,6 +23,8 @@ pub const TEXT_DIGITS: usize = 7;
 /// Significant digits of CSV fields: more than the solver resolves (about 1e-10 of the model's
 /// size), fewer than the round-trip noise of f64.
 pub const CSV_DIGITS: usize = 12;
+/// Significant digits of a time in a message (`simulation stopped at time 0.707445495894`).
+pub const TIME_DIGITS: usize = 12;
 
 /// `x` in scientific notation with `digits` significant digits and an exponent of at least
 /// two digits: `sci(-5.1608838, 7) == "-5.160884E+00"`, `sci(0.0, 3) == "0.00E+00"`.

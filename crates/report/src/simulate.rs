@@ -1,6 +1,6 @@
 //! Simulation output: CSV time histories and a JSON/text summary.
 
-use crate::num::{denoise, general, scale_of, sci, sci_in, CSV_DIGITS};
+use crate::num::{denoise, general, scale_of, sci, sci_in, CSV_DIGITS, TIME_DIGITS};
 use crate::poses::{part_states, pose_line, PartStateJson};
 use crate::statics::{settling_line, settling_summary, SettlingJson};
 use crate::units::{text_line, units_json, Angle, CsvUnits, UnitsJson};
@@ -342,7 +342,8 @@ pub fn summary(a: &Assembled, run: &DynamicRun, warnings: &[Diagnostic]) -> Simu
             if let Some(f) = &sim.failure {
                 errors.push(format!(
                     "simulation stopped at time {}: {}",
-                    f.time, f.message
+                    general(f.time, TIME_DIGITS),
+                    f.message
                 ));
             }
             if sim.kinematic {
@@ -526,7 +527,7 @@ pub fn to_text(j: &SimulateJson) -> String {
             s,
             "Simulation {} at time {}: {} outputs, {} steps ({} rejected)",
             if j.completed { "finished" } else { "STOPPED" },
-            j.end_time,
+            general(j.end_time, TIME_DIGITS),
             j.outputs,
             j.steps,
             j.rejected_steps
@@ -536,7 +537,11 @@ pub fn to_text(j: &SimulateJson) -> String {
         }
         s.push_str(&crate::sensors::events_text(&j.sensors));
         if let Some(by) = &j.ended_by_sensor {
-            let _ = writeln!(s, "The run was ended at time {} by {by}.", j.end_time);
+            let _ = writeln!(
+                s,
+                "The run was ended at time {} by {by}.",
+                general(j.end_time, TIME_DIGITS)
+            );
         }
     } else {
         let _ = writeln!(s, "No simulation was run.");

@@ -1,6 +1,6 @@
 //! The static-equilibrium report: text, JSON and CSV.
 
-use crate::num::{denoise, general, scale_of, sci, CSV_DIGITS};
+use crate::num::{denoise, general, scale_of, sci, CSV_DIGITS, TIME_DIGITS};
 use crate::poses::{part_poses, pose_line, PartPoseJson};
 use crate::reactions::{reaction_table, reactions_json, ReactionJson};
 use crate::units::{text_line, units_json, Angle, CsvUnits, UnitsJson};
@@ -263,7 +263,7 @@ pub fn to_json(a: &Assembled, run: &StaticRun, warnings: &[Diagnostic]) -> Stati
             Ok(eq) => eq.failure(model, &a.system),
         };
         if let Some(why) = why {
-            errors.push(format!("time {t}: {why}"));
+            errors.push(format!("time {}: {why}", general(*t, TIME_DIGITS)));
         }
     }
     let kinematic = run
@@ -390,7 +390,11 @@ pub fn to_text(j: &StaticJson) -> String {
     let series: Vec<&StepJson> = j.steps.iter().collect();
     s.push_str(&crate::sensors::events_text(&j.sensors));
     if let (Some(by), Some(last)) = (&j.ended_by_sensor, j.steps.last()) {
-        let _ = writeln!(s, "The series was ended at time {} by {by}.", last.time);
+        let _ = writeln!(
+            s,
+            "The series was ended at time {} by {by}.",
+            general(last.time, TIME_DIGITS)
+        );
     }
     if let Some(st) = &j.settling {
         let _ = writeln!(s, "{}", settling_line(st));
@@ -559,7 +563,9 @@ pub fn unstable_verdict(j: &StaticJson) -> Option<String> {
         let st = j.steps.iter().find(|st| st.stable == Some(false))?;
         (Some(st.time), st.lowest_stiffness?)
     };
-    let at = time.map_or(String::new(), |t| format!(" at time {t}"));
+    let at = time.map_or(String::new(), |t| {
+        format!(" at time {}", general(t, TIME_DIGITS))
+    });
     let try_next = if j.settling.is_some() {
         "pass --allow-unstable to accept it"
     } else {
