@@ -194,5 +194,7 @@ impl Job {
 }
 
 fn to_value<T: serde::Serialize>(report: &T) -> Result<serde_json::Value, Error> {
-    serde_json::to_value(report).map_err(|e| Error::Output(format!("cannot write JSON: {e}")))
+    serde_json::to_value(report)
+        .map(linkage_report::with_schema_version)
+        .map_err(|e| Error::Output(format!("cannot write JSON: {e}")))
 }

@@ -47,7 +47,8 @@ pub fn errors_to_stderr(errors: &[String], report_on_terminal: bool) {
 
 /// Pretty JSON on stdout; false (after a message) when serialisation fails.
 pub fn print_json<T: serde::Serialize>(v: &T) -> bool {
-    match serde_json::to_string_pretty(v) {
+    let document = serde_json::to_value(v).map(linkage_report::with_schema_version);
+    match document.and_then(|d| serde_json::to_string_pretty(&d)) {
         Ok(s) => {
             println!("{s}");
             true

@@ -18,6 +18,23 @@ fn temp(tag: &str) -> PathBuf {
     std::env::temp_dir().join(format!("linkage-units-{}-{tag}", std::process::id()))
 }
 
+/// Every JSON report states the version of its layout, also each report of a multi-model
+/// verify.
+#[test]
+fn json_reports_state_their_schema_version() {
+    let src = slider_crank();
+    for command in ["verify", "ic", "static", "linear"] {
+        let (_, v) = json(&[command, &src, "--format", "json"]);
+        assert_eq!(v["schema_version"].as_u64(), Some(1), "{command}");
+    }
+    let (_, v) = json(&["verify", &src, &src, "--format", "json"]);
+    let reports = v.as_array().expect("a list of reports");
+    assert_eq!(reports.len(), 2);
+    assert!(reports
+        .iter()
+        .all(|r| r["schema_version"].as_u64() == Some(1)));
+}
+
 #[test]
 fn millimeter_model_reports_state_millimeter_units_in_json() {
     let src = slider_crank();

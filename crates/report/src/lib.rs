@@ -20,3 +20,21 @@ pub mod simulate;
 pub mod statics;
 pub mod units;
 pub mod verify;
+
+/// The version of the JSON reports' layout, stated in every report as `schema_version`
+/// (raised when a key is removed or changes meaning; added keys keep it).
+pub const JSON_SCHEMA_VERSION: u32 = 1;
+
+/// `document` with `schema_version` (in each report when it is a list of reports).
+pub fn with_schema_version(mut document: serde_json::Value) -> serde_json::Value {
+    let stamp = |d: &mut serde_json::Value| {
+        if let Some(map) = d.as_object_mut() {
+            map.insert("schema_version".into(), JSON_SCHEMA_VERSION.into());
+        }
+    };
+    match document.as_array_mut() {
+        Some(reports) => reports.iter_mut().for_each(stamp),
+        None => stamp(&mut document),
+    }
+    document
+}
