@@ -125,6 +125,8 @@ pub struct Curve {
     /// (its binormal), else the frame axis most nearly normal to every tangent. PTCV measures
     /// its out-of-plane equation along it.
     pub reference_axis: DVec3,
+    /// Every point has z = 0: the curve lies in its frame's x-y plane (a CVCV needs that).
+    pub planar: bool,
 }
 
 /// The points of a matrix curve and how to read them.
@@ -192,6 +194,7 @@ impl Curve {
             t_lo,
             t_hi,
             reference_axis: DVec3::Z,
+            planar: spec.points.iter().all(|p| p.z.abs() <= 1e-12 * scale),
         };
         curve.reference_axis = curve.choose_reference_axis(&spec.points, scale);
         Ok(curve)

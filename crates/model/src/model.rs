@@ -82,6 +82,31 @@ pub enum ConstraintKind {
     /// [`Model::curves`]) carried by marker `rm` (the curve's frame) on another body
     /// ([`crate::curves`]). Removes 2 degrees of freedom.
     Ptcv(Box<PointOnCurve>),
+    /// CVCV: planar curve `icurve` carried by marker `irm` kept in contact with, and tangent
+    /// to, planar curve `jcurve` carried by marker `jrm` on another body ([`crate::curves`]).
+    /// Removes 2 degrees of freedom.
+    Cvcv(Box<CurveOnCurve>),
+}
+
+/// A CVCV's markers, curves and initial conditions (ADM-ELEMENTS §16). The I side is curve
+/// `icurve` in the frame of marker `irm`, the J side curve `jcurve` in the frame of `jrm`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct CurveOnCurve {
+    pub irm: usize,
+    pub jrm: usize,
+    /// The floating markers on IRM's and JRM's bodies that mark the contact point.
+    pub ifloat: usize,
+    pub jfloat: usize,
+    /// Indices into [`Model::curves`].
+    pub icurve: usize,
+    pub jcurve: usize,
+    /// IDISP, JDISP: initial contact point guesses, converted into the IRM and JRM frames.
+    pub idisp: Option<DVec3>,
+    pub jdisp: Option<DVec3>,
+    /// IVEL, JVEL: the initial speeds of the contact point along each curve's tangent
+    /// (dα/dt·|c_I'|, dβ/dt·|c_J'|).
+    pub ivel: Option<f64>,
+    pub jvel: Option<f64>,
 }
 
 /// A PTCV's markers, curve and initial conditions.
@@ -143,17 +168,20 @@ impl Constraint {
             ConstraintKind::Gear { .. } => "Gear",
             ConstraintKind::Gcon { .. } => "General Constraint",
             ConstraintKind::Ptcv(_) => "Point-Curve Constraint",
+            ConstraintKind::Cvcv(_) => "Curve-Curve Constraint",
             ConstraintKind::FlexNode { .. } => "Flex Body Node",
         }
     }
 
-    /// The two markers of a joint, primitive or motion (a PTCV's I and RM).
+    /// The two markers of a joint, primitive or motion (a PTCV's I and RM, a CVCV's IRM and
+    /// JRM).
     pub fn markers(&self) -> Option<(usize, usize)> {
         match &self.kind {
             ConstraintKind::Joint { i, j, .. }
             | ConstraintKind::Jprim { i, j, .. }
             | ConstraintKind::Motion { i, j, .. } => Some((*i, *j)),
             ConstraintKind::Ptcv(p) => Some((p.i, p.rm)),
+            ConstraintKind::Cvcv(c) => Some((c.irm, c.jrm)),
             _ => None,
         }
     }
@@ -202,7 +230,7 @@ pub struct Model {
     /// Moving parts (ground excluded).
     pub parts: Vec<Part>,
     pub markers: Vec<Marker>,
-    /// Joints, primitives, motions, couplers, gears, general constraints and PTCVs, in that order of
+    /// Joints, primitives, motions, couplers, gears, general constraints, PTCVs and CVCVs, in that order of
     /// kinds and in definition order within each kind, then one rotation hold per point mass
     /// (an ORIENTATION primitive to ground whose origin is the POINT_MASS statement).
     pub constraints: Vec<Constraint>,
@@ -238,7 +266,7 @@ pub struct Model {
     /// FE_PARTs: their nodes are parts (after the dataset's parts and point masses), their
     /// elements force elements ([`crate::fe_parts`]).
     pub fe_parts: Vec<crate::fe_parts::FePart>,
-    /// CURVEs given by a MATRIX (read by PTCV; [`crate::curves`]).
+    /// CURVEs given by a MATRIX (read by PTCV and CVCV; [`crate::curves`]).
     pub curves: Vec<crate::curves::Curve>,
     /// FLEX_BODYs: their reference, mode and node bodies are parts (after the FE nodes),
     /// their node equations constraints, their modal stiffness and damping bushings
@@ -331,6 +359,10 @@ impl Model {
             ConstraintKind::Ptcv(p) => {
                 add(self.markers[p.i].body);
                 add(self.markers[p.rm].body);
+            }
+            ConstraintKind::Cvcv(c) => {
+                add(self.markers[c.irm].body);
+                add(self.markers[c.jrm].body);
             }
             ConstraintKind::Coupler { terms, .. } => {
                 for (jt, _, _) in terms {

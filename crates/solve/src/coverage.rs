@@ -105,7 +105,7 @@ pub enum Use {
 }
 
 /// Statement kinds every analysis computes with.
-pub const MODELLED: [&str; 37] = [
+pub const MODELLED: [&str; 38] = [
     "UNITS",
     "ACCGRAV",
     "PART",
@@ -118,6 +118,7 @@ pub const MODELLED: [&str; 37] = [
     "GEAR",
     "GCON",
     "PTCV",
+    "CVCV",
     "CURVE",
     "SFORCE",
     "SPRINGDAMPER",
@@ -196,10 +197,6 @@ fn not_modelled(keyword: &str) -> Option<(Reason, &'static str, &'static [Analys
         "GSE" => refused(
             "a GSE's equations are USER subroutines (GSE_DERIV, GSE_OUTPUT, GSE_UPDATE), which \
              linkage cannot run; DIFF, LSE and TFSISO are the state equations it models",
-        ),
-        "CVCV" => refused(
-            "curve-to-curve constraints (CVCV) are not modelled; verify's DOF count leaves them \
-             out",
         ),
         "UCON" => refused("user constraints are not modelled"),
         "SURFACE" => unused("surface data is not read (CONTACT geometries are GRAPHICS)"),

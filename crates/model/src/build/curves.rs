@@ -15,7 +15,7 @@ use glam::{DMat3, DVec3};
 use linkage_adm::{Dataset, IdRef, Statement, Value};
 use std::collections::HashMap;
 
-fn origin_of(keyword: &'static str, st: &Statement, index: usize) -> Origin {
+pub(super) fn origin_of(keyword: &'static str, st: &Statement, index: usize) -> Origin {
     let id = st.id.unwrap_or(0);
     Origin {
         statement: keyword,
@@ -30,7 +30,7 @@ fn origin_of(keyword: &'static str, st: &Statement, index: usize) -> Origin {
 }
 
 /// The numbers of argument `key`.
-fn numbers(st: &Statement, key: &str) -> Option<(Vec<f64>, linkage_adm::Span)> {
+pub(super) fn numbers(st: &Statement, key: &str) -> Option<(Vec<f64>, linkage_adm::Span)> {
     let a = st.arg(key)?;
     let v = a
         .values
@@ -44,7 +44,7 @@ fn numbers(st: &Statement, key: &str) -> Option<(Vec<f64>, linkage_adm::Span)> {
 }
 
 /// The id argument `key` (one whole number).
-fn id_ref(st: &Statement, key: &str, cx: &mut Ctx, name: &str) -> Option<IdRef> {
+pub(super) fn id_ref(st: &Statement, key: &str, cx: &mut Ctx, name: &str) -> Option<IdRef> {
     let (v, span) = numbers(st, key)?;
     match v.as_slice() {
         [x] if *x >= 0.0 && x.fract() == 0.0 => Some(IdRef {
@@ -58,7 +58,7 @@ fn id_ref(st: &Statement, key: &str, cx: &mut Ctx, name: &str) -> Option<IdRef> 
     }
 }
 
-/// Every matrix CURVE a PTCV reads (the others are data nothing uses, which the coverage
+/// Every matrix CURVE a PTCV or CVCV reads (the others are data nothing uses, which the coverage
 /// check names): the curves and the index of each CURVE id in them.
 pub(crate) fn curves(
     ds: &Dataset,
@@ -70,8 +70,13 @@ pub(crate) fn curves(
     let read: std::collections::HashSet<u64> = ds
         .statements
         .iter()
-        .filter(|s| s.keyword == "PTCV")
-        .filter_map(|s| numbers(s, "CURVE")?.0.first().map(|&c| c as u64))
+        .flat_map(|s| match s.keyword.as_str() {
+            "PTCV" => vec!["CURVE"],
+            "CVCV" => vec!["ICURVE", "JCURVE"],
+            _ => Vec::new(),
+        }
+        .into_iter()
+        .filter_map(move |key| numbers(s, key)?.0.first().map(|&c| c as u64)))
         .collect();
     for (k, st) in ds.statements.iter().enumerate() {
         if st.keyword != "CURVE" || !st.id.is_some_and(|id| read.contains(&id)) {
@@ -249,7 +254,7 @@ pub(crate) fn ptcvs(
 }
 
 /// A marker's pose in ground at the input configuration.
-fn input_pose(table: &MarkerTable, m: usize) -> (DVec3, DMat3) {
+pub(super) fn input_pose(table: &MarkerTable, m: usize) -> (DVec3, DMat3) {
     let mk = &table.markers[m];
     match mk.body {
         Body::Ground => (mk.p_bm, mk.r_bm),

@@ -294,7 +294,7 @@ impl System {
 }
 
 impl Quantity {
-    /// Adds `c · ∂²Q/∂q²` to `h` (Euler angles and PTCV gaps by polarization of
+    /// Adds `c · ∂²Q/∂q²` to `h` (Euler angles, PTCV and CVCV gaps by polarization of
     /// [`Quantity::series`]).
     /// Returns true (every quantity has its second derivatives).
     pub fn hessian(&self, s: &State, c: f64, h: &mut HessianBlocks) -> bool {
@@ -329,10 +329,11 @@ impl Quantity {
                 add_outer(h, &gc, &gc, -k * sn * cs);
                 true
             }
-            Quantity::Euler(_) | Quantity::CurveGap(_) => {
+            Quantity::Euler(_) | Quantity::CurveGap(_) | Quantity::CurveContact(_) => {
                 let (bi, bj) = match self {
                     Quantity::Euler(e) => (e.i.body, e.j.body),
                     Quantity::CurveGap(q) => (q.point.body, q.frame.body),
+                    Quantity::CurveContact(q) => (q.frames[0].body, q.frames[1].body),
                     _ => return true,
                 };
                 let mut parts: Vec<usize> = [bi, bj].iter().filter_map(|b| b.part()).collect();

@@ -18,6 +18,7 @@
 //!   `∂/∂θ_j = −u_j × e`, and `∂/∂θ_E = e × d` for the body carrying e;
 //! * `atan2(s, c)`: `(c·ds − s·dc)/(s² + c²)`.
 
+pub mod curve_curve;
 pub mod curve_gap;
 
 use crate::state::State;
@@ -111,6 +112,9 @@ pub enum Quantity {
     /// A component of a PTCV's gap in the normal plane of its curve
     /// ([`curve_gap`]).
     CurveGap(Box<curve_gap::CurveGap>),
+    /// A component of a CVCV's gap: along the common normal of its two curves, or out of
+    /// their plane ([`curve_curve`]).
+    CurveContact(Box<curve_curve::CurveContact>),
 }
 
 /// Euler angle `k` (0, 1, 2) of frame `i` relative to frame `j` in sequence `seq`.
@@ -188,7 +192,7 @@ impl EulerSeq {
 /// Velocity of every moving part: centre-of-mass velocity and angular velocity, in ground.
 pub type Velocities = [(DVec3, DVec3)];
 
-fn twist(v: &Velocities, b: Body) -> (DVec3, DVec3) {
+pub(crate) fn twist(v: &Velocities, b: Body) -> (DVec3, DVec3) {
     match b {
         Body::Ground => (DVec3::ZERO, DVec3::ZERO),
         Body::Part(k) => v[k],
@@ -326,6 +330,7 @@ impl Quantity {
                 seq.angles(&(rj.transpose() * ri))[*k]
             }
             Quantity::CurveGap(q) => q.value(s),
+            Quantity::CurveContact(q) => q.value(s),
         }
     }
 
@@ -375,6 +380,7 @@ impl Quantity {
                 g.add(j.body, -c, DVec3::ZERO, w);
             }
             Quantity::CurveGap(q) => q.gradient(s, c, g),
+            Quantity::CurveContact(q) => q.gradient(s, c, g),
         }
     }
 
@@ -427,6 +433,7 @@ impl Quantity {
                 [b[*k], bd[*k], bdd[*k]]
             }
             Quantity::CurveGap(q) => q.series(s, v, acc),
+            Quantity::CurveContact(q) => q.series(s, v, acc),
         }
     }
 

@@ -4,9 +4,11 @@
 //! primitive rows (translational rows first, rotational last), one row per motion, coupler,
 //! gear, rack-and-pinion and screw. Every analysis uses these rows.
 
+mod curve_pair;
 mod flex_rows;
 
 use crate::constraints::rows::curve_gap::{CurveGap, LastContact};
+use curve_pair::curve_curve_rows;
 use crate::constraints::rows::{BodyDir, BodyFrame, EulerSeq, Quantity, RowGradient, Velocities};
 use crate::physics::measures::{add_dual_gradient, MarkerFrames, PathEnv, PositionEnv};
 use crate::state::State;
@@ -38,7 +40,9 @@ pub enum Tier {
     Translation = 0,
     /// Rotational rows of joints and primitives.
     Rotation = 1,
-    /// Couplings between joint coordinates: couplers, gears, rack-and-pinion, screw, GCON.
+    /// Couplings between joint coordinates: couplers, gears, rack-and-pinion, screw, GCON;
+    /// and the curve-on-curve contacts (CVCV), so that in a planar mechanism the joints keep
+    /// their rows and the CVCV's out-of-plane row is the one named redundant.
     Coupling = 2,
     /// Motions (drivers).
     Motion = 3,
@@ -318,8 +322,8 @@ impl Builder {
             rm.transpose() * (pi - pm)
         });
         let contact = Arc::new(Mutex::new(LastContact {
-            rho: DVec3::NAN,
-            alpha: curve.nearest(start, None),
+            key: DVec3::NAN,
+            params: curve.nearest(start, None),
         }));
         for (axis, label, short) in [
             (0, "Translation of I Marker Normal to Curve", "Si.Nc"),
@@ -584,6 +588,20 @@ impl System {
                 ConstraintKind::Ptcv(p) => {
                     let Some((fi, fm)) = frames[e] else { continue };
                     b.curve_rows(e, p, fi, fm, &curves[p.curve]);
+                }
+                ConstraintKind::Cvcv(c) => {
+                    let Some((fa, fb)) = frames[e] else { continue };
+                    let pair = [Arc::clone(&curves[c.icurve]), Arc::clone(&curves[c.jcurve])];
+                    for (label, short, q) in curve_curve_rows(c, [fa, fb], pair, &b.input) {
+                        b.push(
+                            e,
+                            label,
+                            short,
+                            RowUnit::Length,
+                            Tier::Coupling,
+                            vec![(1.0, q)],
+                        );
+                    }
                 }
                 ConstraintKind::FlexNode { body, node } => {
                     for r in flex_rows::node_rows(model, *body, *node) {

@@ -1,13 +1,13 @@
-//! CURVE and PTCV statements linkage cannot use: a CURVE no PTCV reads (data nothing uses;
-//! CVCV and CURVE contact geometry are not modelled), and a PTCV on a curve given by a USER
-//! subroutine (`FUNCTION = USER(…)`), which linkage cannot evaluate. The USER CURVE itself is
-//! named by the USER-call check when a PTCV uses it.
+//! CURVE, PTCV and CVCV statements linkage cannot use: a CURVE no PTCV or CVCV reads (data
+//! nothing uses; CURVE contact geometry is not modelled), and a PTCV or CVCV on a curve given by
+//! a USER subroutine (`FUNCTION = USER(…)`), which linkage cannot evaluate. The USER CURVE
+//! itself is named by the USER-call check when a PTCV or CVCV uses it.
 
 use super::{Analysis, Reason, FORCE_ANALYSES};
 use linkage_adm::{Dataset, Statement, Value};
 use std::collections::HashSet;
 
-/// Which CURVE ids PTCVs read, and which CURVEs are USER subroutines.
+/// Which CURVE ids PTCVs and CVCVs read, and which CURVEs are USER subroutines.
 pub(super) struct CurveUse {
     read: HashSet<u64>,
     user: HashSet<u64>,
@@ -28,6 +28,7 @@ impl CurveUse {
         for st in &ds.statements {
             match st.keyword.as_str() {
                 "PTCV" => read.extend(id_of(st, "CURVE")),
+                "CVCV" => read.extend(["ICURVE", "JCURVE"].iter().filter_map(|k| id_of(st, k))),
                 "CURVE" if st.arg("FUNCTION").is_some() => user.extend(st.id),
                 _ => {}
             }
@@ -35,23 +36,32 @@ impl CurveUse {
         CurveUse { read, user }
     }
 
-    /// The finding for statement `st`, if it is a CURVE no PTCV reads or a PTCV on a USER
-    /// curve: reason, detail, the analyses that refuse it.
+    /// The finding for statement `st`, if it is a CURVE no PTCV or CVCV reads, or a PTCV or
+    /// CVCV on a USER curve: reason, detail, the analyses that refuse it.
     pub(super) fn problem(&self, st: &Statement) -> Option<(Reason, String, &'static [Analysis])> {
         match st.keyword.as_str() {
             "CURVE" if !st.id.is_some_and(|id| self.read.contains(&id)) => Some((
                 Reason::NotUsed,
-                "curve data no PTCV reads (CVCV and CURVE contact geometry are not modelled)"
+                "curve data no PTCV or CVCV reads (CURVE contact geometry is not modelled)"
                     .to_string(),
                 &[],
             )),
-            "PTCV" => {
-                let c = id_of(st, "CURVE").filter(|c| self.user.contains(c))?;
+            "PTCV" | "CVCV" => {
+                let keys: &[&str] = if st.keyword == "PTCV" {
+                    &["CURVE"]
+                } else {
+                    &["ICURVE", "JCURVE"]
+                };
+                let c = keys
+                    .iter()
+                    .filter_map(|k| id_of(st, k))
+                    .find(|c| self.user.contains(c))?;
                 Some((
                     Reason::NotModelled,
                     format!(
                         "its CURVE/{c} is a USER subroutine, which linkage cannot evaluate; \
-                         verify's DOF count leaves the PTCV out"
+                         verify's DOF count leaves the {} out",
+                        st.keyword
                     ),
                     FORCE_ANALYSES,
                 ))

@@ -58,6 +58,7 @@ pub fn element_reactions(
                 | ConstraintKind::Motion { .. }
                 | ConstraintKind::Gcon { .. }
                 | ConstraintKind::Ptcv(_)
+                | ConstraintKind::Cvcv(_)
         ) || linkage_model::build::point_masses::is_rotation_hold(con)
             || con.origin.statement == linkage_model::flex_bodies::FLEX_BODY_STATEMENT
         {

@@ -6,7 +6,8 @@
 //!    analysis again at the assembled configuration; if it admits a row the assembly did not
 //!    satisfy, assemble once more with the new set.
 //! 2. Velocity: `min ½(v − v₀)ᵀW(v − v₀)` subject to `J v = ḟ(t) − ∂Φ/∂t` (motions, and
-//!    general constraints that depend on TIME) and the joints' initial velocities.
+//!    general constraints that depend on TIME), the joints' initial velocities and the curve
+//!    constraints' initial sliding speeds (PTCV VEL, CVCV IVEL/JVEL).
 //! 3. Acceleration and force: `M a + Jᵀμ = Q` (gravity and gyroscopic terms),
 //!    `J a = f̈ − γ` with the exact velocity-product terms γ of every row, general constraints
 //!    included ([`System::acceleration_bias`]); reactions `−Jᵀμ / UCF` on each element's I
@@ -389,6 +390,10 @@ pub fn velocity_ic(
             }
         }
     }
+    // Curve constraints' initial sliding speeds (PTCV VEL, CVCV IVEL and JVEL).
+    eqs.extend(crate::constraints::curve_contacts::speed_equations(
+        model, sys, s,
+    ));
     // `[W Jᵀ; J 0] [v; μ] = [W v₀; ḟ]`: given velocities are targets; the others are "inexact
     // zeros" the solve may change freely (weight UNGIVEN_VELOCITY_WEIGHT keeps the problem
     // well posed). WX, WY, WZ are in the CM marker's axes.

@@ -53,7 +53,7 @@ pub type ScalarJet = [f64; 3];
 /// A vector's `[value, rate, acceleration]`.
 pub type Jet = [DVec3; 3];
 
-fn jet_cross(a: &Jet, b: &Jet) -> Jet {
+pub(crate) fn jet_cross(a: &Jet, b: &Jet) -> Jet {
     [
         a[0].cross(b[0]),
         a[1].cross(b[0]) + a[0].cross(b[1]),
@@ -61,7 +61,7 @@ fn jet_cross(a: &Jet, b: &Jet) -> Jet {
     ]
 }
 
-fn jet_scale(s: ScalarJet, v: &Jet) -> Jet {
+pub(crate) fn jet_scale(s: ScalarJet, v: &Jet) -> Jet {
     [
         v[0] * s[0],
         v[1] * s[0] + v[0] * s[1],
@@ -69,12 +69,12 @@ fn jet_scale(s: ScalarJet, v: &Jet) -> Jet {
     ]
 }
 
-fn jet_sub(a: &Jet, b: &Jet) -> Jet {
+pub(crate) fn jet_sub(a: &Jet, b: &Jet) -> Jet {
     [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
 }
 
 /// `unit(v) = v·(v·v)^(−1/2)` as a jet.
-fn jet_unit(v: &Jet) -> Jet {
+pub(crate) fn jet_unit(v: &Jet) -> Jet {
     let [x0, x1, x2] = dot_series(v, v);
     let f0 = 1.0 / x0.sqrt();
     let f1 = -0.5 * f0 / x0;
@@ -96,22 +96,40 @@ pub struct CurveGap {
     pub contact: Arc<Mutex<LastContact>>,
 }
 
-/// The last point (curve frame) a PTCV's contact was solved for and its parameter: the warm
-/// start of the next solve, and the answer again for the same point, so that every evaluation
-/// at one pose gives the same numbers to the last bit (the fixed-pattern matrices rely on it).
+/// The last contact a curve constraint solved: the configuration it was solved for (`key`: a
+/// PTCV's point in the curve frame, a CVCV's relative pose of its two curve frames) and the
+/// curve parameters found (`params`). It is the warm start of the next solve, and the answer
+/// again for the same configuration, so that every evaluation at one pose gives the same
+/// numbers to the last bit (the fixed-pattern matrices rely on it). Shared by the rows of one
+/// element.
 #[derive(Clone, Copy, Debug)]
-pub struct LastContact {
-    pub rho: DVec3,
-    pub alpha: f64,
+pub struct LastContact<K = DVec3, P = f64> {
+    pub key: K,
+    pub params: P,
 }
 
 impl LastContact {
     /// No contact yet: the first solve searches the whole curve.
     pub fn none() -> LastContact {
         LastContact {
-            rho: DVec3::NAN,
-            alpha: f64::NAN,
+            key: DVec3::NAN,
+            params: f64::NAN,
         }
+    }
+}
+
+impl<K: PartialEq + Copy, P: Copy> LastContact<K, P> {
+    /// The parameters for configuration `key`: the remembered ones when `key` is the last one,
+    /// else `solve(the last parameters)`, remembered. A poisoned lock is taken over (the data
+    /// is two plain values, always whole).
+    pub fn solve_at(cell: &Mutex<Self>, key: K, solve: impl FnOnce(P) -> P) -> P {
+        let mut last = cell.lock().unwrap_or_else(std::sync::PoisonError::into_inner);
+        if last.key == key {
+            return last.params;
+        }
+        let params = solve(last.params);
+        *last = LastContact { key, params };
+        params
     }
 }
 
@@ -146,23 +164,28 @@ impl CurveGap {
     /// The contact parameter for the point `rho` (curve frame), warm-started from the last one
     /// and remembered.
     pub fn contact(&self, rho: DVec3) -> f64 {
-        let mut last = self
-            .contact
-            .lock()
-            .unwrap_or_else(std::sync::PoisonError::into_inner);
-        if last.rho == rho {
-            return last.alpha;
-        }
-        let a = self
-            .curve
-            .nearest(rho, last.alpha.is_finite().then_some(last.alpha));
-        *last = LastContact { rho, alpha: a };
-        a
+        LastContact::solve_at(&self.contact, rho, |last| {
+            self.curve.nearest(rho, last.is_finite().then_some(last))
+        })
     }
 
     /// The contact parameter at state `s`.
     pub fn alpha_at(&self, s: &State) -> f64 {
         self.contact(self.rho(s))
+    }
+
+    /// The point's speed along the curve relative to the curve's body, `α̇·|c'|` with
+    /// `α̇ = ρ̇·c'/D` (module docs), along the twists `v` (PTCV's VEL).
+    pub fn sliding_speed(&self, s: &State, v: &Velocities) -> f64 {
+        let rho = self.rho_series(s, v, None);
+        let alpha = self.contact(rho[0]);
+        let [c, c1, c2, _] = self.curve.eval(alpha);
+        let den = c1.length_squared() - (rho[0] - c).dot(c2);
+        if den > 0.0 {
+            rho[1].dot(c1) / den * c1.length()
+        } else {
+            0.0
+        }
     }
 
     /// The row's `[Φ, Φ̇, Φ̈]` for the point series `rho` at contact parameter `alpha`.

@@ -108,7 +108,9 @@ fn row_kind(sys: &System, r: usize, s: &State) -> RowKind {
                 torque += *c * x_ref.eval(s).cross(y_ref.eval(s));
                 nt += 1;
             }
-            Quantity::Euler(_) | Quantity::CurveGap(_) => return RowKind::Scalar(row.label),
+            Quantity::Euler(_) | Quantity::CurveGap(_) | Quantity::CurveContact(_) => {
+                return RowKind::Scalar(row.label)
+            }
         }
     }
     match (nf, nt) {
