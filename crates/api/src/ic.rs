@@ -34,6 +34,18 @@ pub fn ic(loaded: &Loaded) -> Result<IcRun, Diagnostics> {
         let values = forces.friction_values(&ic.assembly.state, &v.velocities);
         report.frictions = linkage_report::friction::frictions_json(&loaded.model, &values);
     }
+    if !matches!(
+        assembled.failure(),
+        Some(NotAssembled::DidNotConverge { .. })
+    ) {
+        let contacts = linkage_solve::constraints::curve_contacts::curve_contacts(
+            &loaded.model,
+            &assembled.system,
+            &ic.assembly.state,
+        );
+        report.curve_contacts =
+            linkage_report::curve_contacts::curve_contacts_json(&loaded.model, &contacts);
+    }
     (report.left_out, report.runs_without) = coverage_json(loaded, Analysis::Ic);
     // An assembly that did not converge has its own error; an inconsistent redundancy is named
     // here, as the one line of the verdict.

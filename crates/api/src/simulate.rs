@@ -89,7 +89,18 @@ impl CsvStream<'_> {
         } else {
             self.forces.friction_values(&o.state, &o.velocities)
         };
-        element_columns::values(assembled.model, &frictions, &o.state, &mut values);
+        let contacts = linkage_solve::constraints::curve_contacts::curve_contacts(
+            assembled.model,
+            &assembled.system,
+            &o.state,
+        );
+        element_columns::values(
+            assembled.model,
+            &frictions,
+            &contacts,
+            &o.state,
+            &mut values,
+        );
         self.csv.write(assembled.model, o, names, &values)
     }
 }
@@ -210,6 +221,13 @@ pub fn simulate(loaded: &Loaded, args: SimulateArgs) -> Result<SimulateJson, Err
     if let Some(last) = result.simulation.as_ref().and_then(|s| s.outputs.last()) {
         let values = forces.friction_values(&last.state, &last.velocities);
         report.frictions = linkage_report::friction::frictions_json(&loaded.model, &values);
+        let contacts = linkage_solve::constraints::curve_contacts::curve_contacts(
+            &loaded.model,
+            &assembled.system,
+            &last.state,
+        );
+        report.curve_contacts =
+            linkage_report::curve_contacts::curve_contacts_json(&loaded.model, &contacts);
     }
     (report.left_out, report.runs_without) = coverage_json(loaded, Analysis::Simulate);
     if let Some(c) = csv.as_mut() {

@@ -138,6 +138,13 @@ pub fn statics(
         let values = applied.friction_values(&eq.state, &rest);
         applied.set_static(false);
         report.frictions = linkage_report::friction::frictions_json(&loaded.model, &values);
+        let contacts = linkage_solve::constraints::curve_contacts::curve_contacts(
+            &loaded.model,
+            &assembled.system,
+            &eq.state,
+        );
+        report.curve_contacts =
+            linkage_report::curve_contacts::curve_contacts_json(&loaded.model, &contacts);
     }
     (report.left_out, report.runs_without) = coverage_json(loaded, analysis);
     judge_stability(&mut report, args.allow_unstable);

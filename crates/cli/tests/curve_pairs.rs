@@ -149,7 +149,12 @@ fn a_driven_eccentric_cam_lifts_its_follower_by_e_sin_theta() {
     // N = m_f (g + ÿ_f), so the reaction on the cam is −N along y. The interpolated circle's
     // support function ripples by ~1e-9·RC (displacement) and its curvature by 4e-5
     // (acceleration, so the force).
-    let f = cam("driven", 0.0, "MOTION/5, JOINT = 1, ROTATION, FUNCTION = 2*TIME\n");
+    let f = cam(
+        "driven",
+        0.0,
+        "MOTION/5, JOINT = 1, ROTATION, FUNCTION = 2*TIME
+REQUEST/9, F2 = DX(23)\\F3 = DY(23)\\F4 = DX(32)\\F6 = DY(32, 22, 23)\n",
+    );
     let (h, rows) = simulate(&f, 3.0, 60);
     let (t, y, vy, fy, fx) = (
         col(&h, "time"),
@@ -177,6 +182,46 @@ fn a_driven_eccentric_cam_lifts_its_follower_by_e_sin_theta() {
             -n
         );
         assert!(r[fx].abs() < 1e-6, "no tangential force at {}", r[t]);
+    }
+    // The contact is the top of the cam circle, (E cos θ, E sin θ + RC): on the follower's
+    // line (x from −2 to 2 through evenly spaced points: α linear in x) at β = E cos θ / 2,
+    // and on the cam circle at angle π/2 − θ in the cam's frame (α = −1 at angle 0). IFLOAT
+    // (23, on the cam) and JFLOAT (32, on the follower) both sit there; IFLOAT's y is the
+    // normal of the cam circle (x its tangent, z = IRM's z), so the cam's centre is RC below
+    // it along y. Where along the flat the tangency falls follows the interpolated circle's
+    // normal direction, which wavers by ~1e-7 rad between its points: 1e-7 in x.
+    let (alpha, beta, cx, cy) = (
+        col(&h, "CVCV_6.alpha"),
+        col(&h, "CVCV_6.beta"),
+        col(&h, "CVCV_6.contact.x"),
+        col(&h, "CVCV_6.contact.y"),
+    );
+    let (ix, iy, jx, centre) = (
+        col(&h, "REQUEST_9.f2"),
+        col(&h, "REQUEST_9.f3"),
+        col(&h, "REQUEST_9.f4"),
+        col(&h, "REQUEST_9.f6"),
+    );
+    for r in &rows {
+        let th = 2.0 * r[t];
+        let (x, y) = (E * th.cos(), E * th.sin() + RC);
+        assert!(
+            (r[cx] - x).abs() < 1e-7 && (r[cy] - y).abs() < 1e-8,
+            "at {}",
+            r[t]
+        );
+        assert!((r[beta] - x / 2.0).abs() < 5e-8, "beta at {}", r[t]);
+        let on_cam = (PI / 2.0 - th).rem_euclid(TAU);
+        let a = -1.0 + on_cam / PI;
+        assert!(
+            (r[alpha] - a).abs() < 1e-7 || (r[alpha] - a).abs() > 2.0 - 1e-7,
+            "alpha at {}: {} vs {a}",
+            r[t],
+            r[alpha]
+        );
+        assert!((r[ix] - r[cx]).abs() < 1e-12 && (r[iy] - r[cy]).abs() < 1e-12);
+        assert!((r[jx] - r[cx]).abs() < 1e-12);
+        assert!((r[centre] + RC).abs() < 1e-8, "{}", r[centre]);
     }
 }
 
@@ -280,8 +325,44 @@ fn a_disc_sliding_in_a_trough_swings_as_a_pendulum_of_length_r_big_minus_r() {
     let energy = |r: &Vec<f64>| 0.5 * 2.0 * (r[vx] * r[vx] + r[vy] * r[vy]) + 2.0 * G * r[y];
     let e0 = energy(&rows[0]);
     for r in &rows {
-        assert!((energy(r) - e0).abs() < 1e-6 * e0.abs(), "energy at {}", r[t]);
-        assert!((r[x].hypot(r[y]) - 1.5).abs() < 1e-8, "path radius at {}", r[t]);
+        assert!(
+            (energy(r) - e0).abs() < 1e-6 * e0.abs(),
+            "energy at {}",
+            r[t]
+        );
+        assert!(
+            (r[x].hypot(r[y]) - 1.5).abs() < 1e-8,
+            "path radius at {}",
+            r[t]
+        );
         assert!(r[wz].abs() < 1e-5, "spin at {}: {}", r[t], r[wz]);
     }
+}
+
+#[test]
+fn equal_ivel_and_jvel_start_the_disc_rolling() {
+    // The contact point moving at 2 m/s along both curves is rolling: at the bottom the centre
+    // moves at 2·(R − r)/R = 1.5 m/s along +x (the trough's tangent there, its points running
+    // counter-clockwise) and the disc turns at −(R − r)/r · θ̇ = −3 rad/s. The contact point's
+    // speed along the trough is (R/(R − r)) v_c through the curves' curvatures, which the
+    // interpolated circles hold to 4e-5.
+    let f = trough("roll", 0.0, ", IVEL = 2, JVEL = 2");
+    let (code, v) = json(&["ic", f.to_str().unwrap(), "--format", "json"]);
+    assert_eq!(code, 0, "{v}");
+    let part = &v["parts"][0];
+    let vx = part["velocity"][0].as_f64().unwrap();
+    let wz = part["angular_velocity"][2].as_f64().unwrap();
+    assert!((vx / 1.5 - 1.0).abs() < 1e-4, "{vx}");
+    assert!((wz / -3.0 - 1.0).abs() < 1e-4, "{wz}");
+    assert!(part["velocity"][1].as_f64().unwrap().abs() < 1e-9);
+    // The contact at the bottom of both circles: angle −π/2, α = β = 0.5.
+    let c = &v["curve_contacts"][0];
+    assert_eq!(c["name"], "CVCV_8");
+    assert!((c["alpha"].as_f64().unwrap() - 0.5).abs() < 1e-9, "{c}");
+    assert!((c["beta"].as_f64().unwrap() - 0.5).abs() < 1e-9, "{c}");
+    assert!((c["point"][1].as_f64().unwrap() + 2.0).abs() < 1e-9, "{c}");
+    // Without them the disc starts at rest (the velocity IC's least change).
+    let f = trough("rest", 0.0, "");
+    let (_, v) = json(&["ic", f.to_str().unwrap(), "--format", "json"]);
+    assert!(v["parts"][0]["velocity"][0].as_f64().unwrap().abs() < 1e-12);
 }

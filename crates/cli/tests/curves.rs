@@ -42,12 +42,17 @@ CURVE/2, CLOSED, CURVE_POINTS, MATRIX = 1
 /// A point mass of [`MASS`] at angle `theta` from the bottom of the circle with initial
 /// velocity `vx` along x, on the circle by PTCV/3.
 fn pendulum(tag: &str, theta: f64, vx: f64) -> PathBuf {
+    pendulum_with(tag, theta, vx, "", "")
+}
+
+/// [`pendulum`] with more PTCV arguments (`, VEL = 3`) and more statements.
+fn pendulum_with(tag: &str, theta: f64, vx: f64, ptcv: &str, extra: &str) -> PathBuf {
     let (x, y) = (R * theta.sin(), -R * theta.cos());
     let text = format!(
         "pendulum on a curve\n{}POINT_MASS/4, MASS = {MASS}, QG = {x}, {y}, 0, VX = {vx}
 MARKER/40, POINT_MASS = 4
-PTCV/3, I = 40, JFLOAT = 11, RM = 1, CURVE = 2
-INTEGRATOR/GSTIFF, ERROR = 1E-7
+PTCV/3, I = 40, JFLOAT = 11, RM = 1, CURVE = 2{ptcv}
+{extra}INTEGRATOR/GSTIFF, ERROR = 1E-7
 END
 ",
         header()
@@ -263,6 +268,86 @@ fn a_point_looping_a_closed_curve_crosses_its_seam() {
     }
     let worst = worst_reaction_error(&s);
     assert!(worst < 5e-4, "reaction off by {worst}");
+}
+
+/// PTCV's VEL starts the point sliding along the curve's tangent (+x at the bottom of the
+/// counter-clockwise circle) at that speed, and the swing then rises to the energy height:
+/// cos θ_max = 1 − v0²/(2gR). The JFLOAT marker sits at the contact point (REQUEST DX, DY of
+/// marker 11 read the point's position) with x along the tangent and y away from the centre
+/// of curvature; the α column is the point's angle on the circle (α = −1 at angle 0, the
+/// first matrix point).
+#[test]
+fn ptcv_vel_starts_the_point_sliding_and_jfloat_follows_the_contact() {
+    let v0 = 3.0;
+    let f = pendulum_with(
+        "vel",
+        0.0,
+        0.0,
+        ", VEL = 3",
+        "REQUEST/9, F2 = DX(11)\\F3 = DY(11)\\F4 = DX(11, 1, 11)\\F6 = DY(1, 11, 11)\n",
+    );
+    let csv = f.with_extension("csv");
+    let (code, out, err) = run(&[
+        "simulate",
+        f.to_str().unwrap(),
+        "--end",
+        "2",
+        "--steps",
+        "200",
+        "--out",
+        csv.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{out}\n{err}");
+    let text = std::fs::read_to_string(&csv).unwrap();
+    let mut lines = text.lines();
+    let header: Vec<&str> = lines
+        .next()
+        .unwrap()
+        .split(',')
+        .map(|h| h.split(' ').next().unwrap_or(h))
+        .collect();
+    let col = |name: &str| header.iter().position(|h| *h == name).expect(name);
+    let rows: Vec<Vec<f64>> = lines
+        .map(|l| l.split(',').map(|x| x.parse().unwrap()).collect())
+        .collect();
+    let (x, y, vx, vy) = (
+        col("POINT_MASS_4.x"),
+        col("POINT_MASS_4.y"),
+        col("POINT_MASS_4.vx"),
+        col("POINT_MASS_4.vy"),
+    );
+    assert!((rows[0][vx] - v0).abs() < 1e-9, "{}", rows[0][vx]);
+    assert!(rows[0][vy].abs() < 1e-9);
+    let cos_max = 1.0 - v0 * v0 / (2.0 * G * R);
+    let x_max = R * (1.0 - cos_max * cos_max).sqrt();
+    let reached = rows.iter().map(|r| r[x]).fold(f64::MIN, f64::max);
+    // 200 outputs over 2 s sample the turning point within 1e-2 s: x is within
+    // ẍ·δt²/2 ≈ 5·1e-4/2 of its maximum there.
+    assert!((reached - x_max).abs() < 3e-4, "{reached} vs {x_max}");
+    let (dx, dy, tangent_x, away_y, alpha) = (
+        col("REQUEST_9.f2"),
+        col("REQUEST_9.f3"),
+        col("REQUEST_9.f4"),
+        col("REQUEST_9.f6"),
+        col("PTCV_3.alpha"),
+    );
+    for r in &rows {
+        assert!((r[dx] - r[x]).abs() < 1e-12 && (r[dy] - r[y]).abs() < 1e-12);
+        // DX(11, 1, 11): the point's position from the centre along JFLOAT's x (the tangent)
+        // is 0; DY(1, 11, 11): the centre seen from the contact along JFLOAT's y is −R (y
+        // points away from the centre). The interpolated circle's tangent leans off the
+        // true one by up to ~7e-7 rad between its points (1.3e-6 m at R = 2), its radius
+        // off R by up to 2e-8 m.
+        assert!(r[tangent_x].abs() < 3e-6, "{}", r[tangent_x]);
+        assert!((r[away_y] + R).abs() < 5e-8, "{}", r[away_y]);
+        let angle = r[y].atan2(r[x]).rem_euclid(TAU);
+        let expected = -1.0 + angle / PI;
+        assert!(
+            (r[alpha] - expected).abs() < 1e-9 || (r[alpha] - expected).abs() > 2.0 - 1e-9,
+            "{} vs {expected}",
+            r[alpha]
+        );
+    }
 }
 
 /// The FRS5 feed-system models (two corpus variants) hold 18 PTCVs on two matrix CURVEs (a

@@ -66,6 +66,10 @@ pub struct IcJson {
     /// Joint friction at the reported state (only when the model has FRICTION elements).
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub frictions: Vec<crate::friction::FrictionJson>,
+    /// Curve constraints' contacts at the reported state (only when the model has PTCVs or
+    /// CVCVs).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub curve_contacts: Vec<crate::curve_contacts::CurveContactJson>,
     pub warnings: Vec<String>,
     pub errors: Vec<String>,
 }
@@ -180,6 +184,7 @@ pub fn to_json(model: &Model, ic: &InitialConditions, warnings: &[Diagnostic]) -
             .map(|a| reactions_json(model, &a.reactions))
             .unwrap_or_default(),
         frictions: Vec::new(),
+        curve_contacts: Vec::new(),
         warnings,
         errors,
     }
@@ -294,6 +299,7 @@ pub fn to_text(j: &IcJson) -> String {
         reaction_table(&mut s, &j.reactions);
     }
     crate::friction::friction_table(&mut s, &j.frictions);
+    crate::curve_contacts::curve_contact_table(&mut s, &j.curve_contacts);
     for w in &j.warnings {
         let _ = writeln!(s, "{w}");
     }

@@ -4,6 +4,7 @@
 //! text in the spirit of Adams' own output and into JSON with a stable schema.
 
 pub mod coverage;
+pub mod curve_contacts;
 pub mod element_columns;
 pub mod explain;
 pub mod flex;

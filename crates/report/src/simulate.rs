@@ -262,6 +262,10 @@ pub struct SimulateJson {
     /// Joint friction at the last output (only when the model has FRICTION elements).
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub frictions: Vec<crate::friction::FrictionJson>,
+    /// Curve constraints' contacts at the reported state (only when the model has PTCVs or
+    /// CVCVs).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub curve_contacts: Vec<crate::curve_contacts::CurveContactJson>,
     /// The SENSORs that fired, in time order.
     pub sensors: Vec<crate::sensors::SensorEventJson>,
     /// `HALT` or `RETURN` when a sensor ended the run (at `end_time`, the run complete).
@@ -430,6 +434,7 @@ pub fn summary(a: &Assembled, run: &DynamicRun, warnings: &[Diagnostic]) -> Simu
         final_state,
         final_modal_coordinates,
         frictions: Vec::new(),
+        curve_contacts: Vec::new(),
         sensors,
         ended_by_sensor,
         notes: integrator.notes.iter().map(ToString::to_string).collect(),
@@ -577,6 +582,7 @@ pub fn to_text(j: &SimulateJson) -> String {
         }
     }
     crate::friction::friction_table(&mut s, &j.frictions);
+    crate::curve_contacts::curve_contact_table(&mut s, &j.curve_contacts);
     for n in &j.notes {
         let _ = writeln!(s, "note: {n}");
     }

@@ -68,6 +68,10 @@ pub struct StaticJson {
     /// Joint friction at the reported state (only when the model has FRICTION elements).
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub frictions: Vec<crate::friction::FrictionJson>,
+    /// Curve constraints' contacts at the reported state (only when the model has PTCVs or
+    /// CVCVs).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub curve_contacts: Vec<crate::curve_contacts::CurveContactJson>,
     pub steps: Vec<StepJson>,
     /// The SENSORs that fired during a quasi-static series, in time order.
     #[serde(skip_serializing_if = "Vec::is_empty")]
@@ -300,6 +304,7 @@ pub fn to_json(a: &Assembled, run: &StaticRun, warnings: &[Diagnostic]) -> Stati
         },
         reactions: first.map(|s| s.reactions.clone()).unwrap_or_default(),
         frictions: Vec::new(),
+        curve_contacts: Vec::new(),
         steps: if steps.len() > 1 { steps } else { Vec::new() },
         sensors: crate::sensors::events_json(model, &run.sensor_events),
         ended_by_sensor: run.stopped_by_sensor.and_then(|stop| {
@@ -465,6 +470,7 @@ pub fn to_text(j: &StaticJson) -> String {
             reaction_table(&mut s, &j.reactions);
         }
         crate::friction::friction_table(&mut s, &j.frictions);
+        crate::curve_contacts::curve_contact_table(&mut s, &j.curve_contacts);
     } else {
         let _ = writeln!(
             s,

@@ -170,7 +170,9 @@ impl Records {
         } else {
             forces.friction_values(&o.state, &o.velocities)
         };
-        element_columns::values(model, &frictions, &o.state, &mut columns);
+        let contacts =
+            linkage_solve::constraints::curve_contacts::curve_contacts(model, sys, &o.state);
+        element_columns::values(model, &frictions, &contacts, &o.state, &mut columns);
         self.csv
             .write(
                 model,

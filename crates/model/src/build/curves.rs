@@ -70,13 +70,15 @@ pub(crate) fn curves(
     let read: std::collections::HashSet<u64> = ds
         .statements
         .iter()
-        .flat_map(|s| match s.keyword.as_str() {
-            "PTCV" => vec!["CURVE"],
-            "CVCV" => vec!["ICURVE", "JCURVE"],
-            _ => Vec::new(),
-        }
-        .into_iter()
-        .filter_map(move |key| numbers(s, key)?.0.first().map(|&c| c as u64)))
+        .flat_map(|s| {
+            match s.keyword.as_str() {
+                "PTCV" => vec!["CURVE"],
+                "CVCV" => vec!["ICURVE", "JCURVE"],
+                _ => Vec::new(),
+            }
+            .into_iter()
+            .filter_map(move |key| numbers(s, key)?.0.first().map(|&c| c as u64))
+        })
         .collect();
     for (k, st) in ds.statements.iter().enumerate() {
         if st.keyword != "CURVE" || !st.id.is_some_and(|id| read.contains(&id)) {

@@ -156,7 +156,10 @@ pub(crate) fn cvcvs(
             span: st.span,
             statement: k,
         };
-        if table.two_bodies(cx, Some(i.rm), Some(j.rm), &header).is_none() {
+        if table
+            .two_bodies(cx, Some(i.rm), Some(j.rm), &header)
+            .is_none()
+        {
             continue;
         }
         constraints.push(Constraint {

@@ -105,14 +105,7 @@ pub fn build_model(ds: &Dataset) -> Result<Built, Diagnostics> {
     let controls = controls::controls(ds, &data.variables, &data.arrays, &mut cx);
     let (curves, curve_index) = curves::curves(ds, &controls.matrices, &mut cx);
     curves::ptcvs(ds, &table, &curve_index, &mut cx, &mut constraints);
-    cvcvs::cvcvs(
-        ds,
-        &table,
-        &curve_index,
-        &curves,
-        &mut cx,
-        &mut constraints,
-    );
+    cvcvs::cvcvs(ds, &table, &curve_index, &curves, &mut cx, &mut constraints);
     point_masses::check_translational_use(&parts, &markers, &constraints, &forces, &mut cx);
     point_masses::hold_rotations(&parts, &mut markers, &mut constraints);
     flex_bodies::attach(

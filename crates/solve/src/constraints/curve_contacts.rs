@@ -9,7 +9,7 @@
 
 use crate::constraints::rows::curve_curve::CurveContact;
 use crate::constraints::rows::curve_gap::CurveGap;
-use crate::constraints::rows::{Quantity, RowGradient, Velocities};
+use crate::constraints::rows::{BodyFrame, Quantity, RowGradient, Velocities};
 use crate::constraints::system::System;
 use crate::state::State;
 use glam::{DMat3, DVec3};
@@ -26,8 +26,11 @@ pub struct CurveContactValue {
     pub beta: Option<f64>,
     /// The contact point in ground (on the PTCV's curve; on a CVCV's I curve).
     pub point: DVec3,
-    /// The floating marker's frame there, in ground: x along the (I) curve's tangent, z along
-    /// the curve frame's reference axis (a planar curve's binormal), y = z × x.
+    /// The floating markers' axes there, in ground (ADM-ELEMENTS §15, §16). PTCV's JFLOAT: x
+    /// along the tangent, y away from the centre of curvature (on a straight piece, where
+    /// there is no centre, y = x × the curve frame's reference axis, as on a curve bending
+    /// toward `reference × x`), z = x × y. CVCV's IFLOAT and JFLOAT: x along curve I's
+    /// tangent, z along IRM's z, y = z × x.
     pub frame: DMat3,
 }
 
@@ -58,16 +61,21 @@ pub fn curve_contacts(model: &Model, sys: &System, s: &State) -> Vec<CurveContac
             Some(Contact::Point(q)) => {
                 let alpha = q.alpha_at(s);
                 let (p_m, r_m) = q.frame.eval(s);
-                let [c, c1, _, _] = q.curve.eval(alpha);
-                let z = r_m * q.curve.reference_axis;
-                let x = (r_m * c1).normalize_or_zero();
-                let x = (x - z * z.dot(x)).normalize_or_zero();
+                let [c, c1, c2, _] = q.curve.eval(alpha);
+                let x = c1.normalize_or_zero();
+                let toward = c2 - x * x.dot(c2);
+                let toward = if toward.length() > 1e-9 * c2.length().max(c1.length_squared()) {
+                    toward.normalize()
+                } else {
+                    q.curve.reference_axis.cross(x).normalize_or_zero()
+                };
+                let y = -toward;
                 out.push(CurveContactValue {
                     element: e,
                     alpha,
                     beta: None,
                     point: p_m + r_m * c,
-                    frame: DMat3::from_cols(x, z.cross(x), z),
+                    frame: r_m * DMat3::from_cols(x, y, x.cross(y)),
                 });
             }
             Some(Contact::Pair(q)) => {
@@ -82,6 +90,42 @@ pub fn curve_contacts(model: &Model, sys: &System, s: &State) -> Vec<CurveContac
                 });
             }
             None => {}
+        }
+    }
+    out
+}
+
+/// Where the floating markers of the curve constraints are at state `s`: (marker id, its frame
+/// on its body) for every PTCV's JFLOAT and CVCV's IFLOAT and JFLOAT, at the contact point with
+/// the axes of [`CurveContactValue::frame`]. A measure of such a marker reads the contact as a
+/// point of the marker's body at that instant: its position and axes are the contact's, its
+/// velocity and acceleration those of the body's material point there.
+pub fn floating_placements(model: &Model, sys: &System, s: &State) -> Vec<(u64, BodyFrame)> {
+    let mut out = Vec::new();
+    if !model
+        .constraints
+        .iter()
+        .any(|c| matches!(c.kind, ConstraintKind::Ptcv(_) | ConstraintKind::Cvcv(_)))
+    {
+        return out;
+    }
+    for v in curve_contacts(model, sys, s) {
+        let floats = match &model.constraints[v.element].kind {
+            ConstraintKind::Ptcv(p) => vec![p.jfloat],
+            ConstraintKind::Cvcv(c) => vec![c.ifloat, c.jfloat],
+            _ => continue,
+        };
+        for m in floats {
+            let mk = &model.markers[m];
+            let pose = s.pose(mk.body);
+            out.push((
+                mk.id,
+                BodyFrame {
+                    body: mk.body,
+                    p_b: pose.r.transpose() * (v.point - pose.p),
+                    r_b: pose.r.transpose() * v.frame,
+                },
+            ));
         }
     }
     out

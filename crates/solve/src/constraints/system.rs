@@ -8,11 +8,11 @@ mod curve_pair;
 mod flex_rows;
 
 use crate::constraints::rows::curve_gap::{CurveGap, LastContact};
-use curve_pair::curve_curve_rows;
 use crate::constraints::rows::{BodyDir, BodyFrame, EulerSeq, Quantity, RowGradient, Velocities};
 use crate::physics::measures::{add_dual_gradient, MarkerFrames, PathEnv, PositionEnv};
 use crate::state::State;
 use crate::tolerances::ALIGNMENT_DIRECTION;
+use curve_pair::curve_curve_rows;
 use glam::{DMat3, DQuat, DVec3};
 use linkage_adm::{CouplerDof, JointType, JprimType, MotionAxis};
 use linkage_expr::{evaluate, evaluate_path_series, evaluate_with_gradient, EvalError, Expr};

@@ -53,6 +53,15 @@ impl MarkerFrames {
         MarkerFrames { frames }
     }
 
+    /// These frames with markers `placed` (id, frame on its body) moved: the floating markers
+    /// of curve constraints at their contacts, for one output
+    /// ([`crate::constraints::curve_contacts::floating_placements`]).
+    pub fn with_placed(&self, placed: &[(u64, BodyFrame)]) -> MarkerFrames {
+        let mut frames = self.frames.clone();
+        frames.extend(placed.iter().copied());
+        MarkerFrames { frames }
+    }
+
     /// The frame of marker `id`; id 0 is the ground frame.
     pub fn get(&self, id: u32) -> Result<BodyFrame, EvalError> {
         if id == 0 {

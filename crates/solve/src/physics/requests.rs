@@ -210,7 +210,17 @@ impl RequestSet {
         sys: &System,
         output: &Output,
     ) -> Result<Vec<f64>, RequestError> {
-        let env = OutputEnv::new(self, model, sys, output);
+        // The curve constraints' floating markers sit at their contacts at this output.
+        let placed =
+            crate::constraints::curve_contacts::floating_placements(model, sys, &output.state);
+        let moved;
+        let frames = if placed.is_empty() {
+            &self.frames
+        } else {
+            moved = self.frames.with_placed(&placed);
+            &moved
+        };
+        let env = OutputEnv::new(self, frames, model, sys, output);
         let t = output.time;
         let mut out = Vec::new();
         for r in &self.requests {
@@ -315,6 +325,8 @@ struct Memo {
 /// `MODE` is 0, as for the force elements during the simulation.
 pub struct OutputEnv<'a> {
     set: &'a RequestSet,
+    /// The markers' frames at this output (floating markers placed).
+    frames: &'a MarkerFrames,
     model: &'a Model,
     output: &'a Output,
     /// The run's compiled constraint rows.
@@ -341,16 +353,18 @@ fn pick(v: DVec3, axis: usize) -> f64 {
 impl<'a> OutputEnv<'a> {
     pub fn new(
         set: &'a RequestSet,
+        frames: &'a MarkerFrames,
         model: &'a Model,
         sys: &'a System,
         output: &'a Output,
     ) -> OutputEnv<'a> {
         OutputEnv {
             set,
+            frames,
             model,
             sys,
             output,
-            inner: StateEnv::new(&set.frames, &output.state, &output.velocities, &set.data),
+            inner: StateEnv::new(frames, &output.state, &output.velocities, &set.data),
             memo: RefCell::new(Memo::default()),
             remainder: RefCell::new(None),
         }
@@ -475,7 +489,7 @@ impl<'a> OutputEnv<'a> {
     }
 
     fn frame(&self, id: u32) -> Result<BodyFrame, EvalError> {
-        self.set.frames.get(id)
+        self.frames.get(id)
     }
 
     fn marker_frame(&self, m: usize) -> BodyFrame {

@@ -100,7 +100,11 @@ impl FrameJet {
         let r = pose.r * f.r_b;
         let moving = |e: DVec3| [e, w.cross(e), al.cross(e) + w.cross(w.cross(e))];
         FrameJet {
-            origin: [pose.p + u, v + w.cross(u), a + al.cross(u) + w.cross(w.cross(u))],
+            origin: [
+                pose.p + u,
+                v + w.cross(u),
+                a + al.cross(u) + w.cross(w.cross(u)),
+            ],
             axes: [moving(r.x_axis), moving(r.y_axis), moving(r.z_axis)],
         }
     }
@@ -110,7 +114,11 @@ impl FrameJet {
         let rest = |j: &Jet| [j[0], DVec3::ZERO, DVec3::ZERO];
         FrameJet {
             origin: rest(&self.origin),
-            axes: [rest(&self.axes[0]), rest(&self.axes[1]), rest(&self.axes[2])],
+            axes: [
+                rest(&self.axes[0]),
+                rest(&self.axes[1]),
+                rest(&self.axes[2]),
+            ],
         }
     }
 
@@ -329,7 +337,12 @@ impl CurveContact {
 
     /// `(x, ẋ, ẍ)` for the moving frames `fa`, `fb` at contact `x`; zero rates where `G` is
     /// singular (the curves' curvatures conform there and the contact is not unique).
-    fn rates_at(&self, fa: &FrameJet, fb: &FrameJet, x: [f64; 2]) -> ([f64; 2], [f64; 2], [f64; 2]) {
+    fn rates_at(
+        &self,
+        fa: &FrameJet,
+        fb: &FrameJet,
+        x: [f64; 2],
+    ) -> ([f64; 2], [f64; 2], [f64; 2]) {
         let (ea, eb) = (self.curves[0].eval(x[0]), self.curves[1].eval(x[1]));
         let (_, m) = self.conditions(&fa.at_rest(), &fb.at_rest(), x);
         let g = contact_jets(fa, fb, &ea, &eb, [x[0], 0.0, 0.0], [x[1], 0.0, 0.0]);
@@ -484,8 +497,9 @@ mod tests {
         let x = row.parameters_at(&s);
         let (g, _) = row.conditions(&fa, &fb, x);
         assert!(g[0].abs() < 1e-12 && g[1].abs() < 1e-12, "{g:?}");
-        // The ellipse's lower half faces the wave: sin(πα) < 0.
-        assert!((std::f64::consts::PI * x[0]).sin() < -0.5, "{x:?}");
+        // The ellipse's lower half faces the wave: its points run from angle 0 at α = −1, so
+        // the contact's angle π(α + 1) has a negative sine.
+        assert!((std::f64::consts::PI * (x[0] + 1.0)).sin() < -0.5, "{x:?}");
     }
 
     #[test]

@@ -123,7 +123,9 @@ impl<K: PartialEq + Copy, P: Copy> LastContact<K, P> {
     /// else `solve(the last parameters)`, remembered. A poisoned lock is taken over (the data
     /// is two plain values, always whole).
     pub fn solve_at(cell: &Mutex<Self>, key: K, solve: impl FnOnce(P) -> P) -> P {
-        let mut last = cell.lock().unwrap_or_else(std::sync::PoisonError::into_inner);
+        let mut last = cell
+            .lock()
+            .unwrap_or_else(std::sync::PoisonError::into_inner);
         if last.key == key {
             return last.params;
         }

@@ -53,11 +53,7 @@ pub(super) fn curve_curve_rows(
         }))
     };
     [
-        (
-            "Curve Gap Along Common Normal",
-            "Nc.d",
-            row(0),
-        ),
+        ("Curve Gap Along Common Normal", "Nc.d", row(0)),
         ("Curve Offset Along Binormal", "Bc.d", row(1)),
     ]
 }
