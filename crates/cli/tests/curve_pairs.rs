@@ -366,3 +366,35 @@ fn equal_ivel_and_jvel_start_the_disc_rolling() {
     let (_, v) = json(&["ic", f.to_str().unwrap(), "--format", "json"]);
     assert!(v["parts"][0]["velocity"][0].as_f64().unwrap().abs() < 1e-12);
 }
+
+#[test]
+fn idisp_chooses_which_side_of_the_cam_the_follower_touches() {
+    // Two contacts satisfy the common-normal conditions between the flat and the circle: its
+    // top and its bottom. IDISP at the bottom of the cam (IRM frame) starts the contact there,
+    // so the assembly brings the follower's line down to the cam's bottom, y = −RC (θ = 0),
+    // at the circle's angle 270° (α = 0.5); without it the closest pair is the top.
+    let motion = "MOTION/5, JOINT = 1, ROTATION, FUNCTION = 2*TIME\n";
+    let f = cam("idisp", 0.0, motion);
+    let text = std::fs::read_to_string(&f)
+        .unwrap()
+        .replace("JFLOAT = 32\n", "JFLOAT = 32, IDISP = 0, -0.5, 0\n");
+    std::fs::write(&f, text).unwrap();
+    let (code, v) = json(&["ic", f.to_str().unwrap(), "--format", "json"]);
+    assert_eq!(code, 0, "{v}");
+    let follower = v["parts"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|p| p["name"] == "PART_3")
+        .unwrap();
+    let y = follower["position"][1].as_f64().unwrap();
+    assert!((y + RC).abs() < 1e-9, "{y}");
+    let c = &v["curve_contacts"][0];
+    assert!((c["alpha"].as_f64().unwrap() - 0.5).abs() < 1e-9, "{c}");
+    assert!((c["point"][0].as_f64().unwrap() - E).abs() < 1e-9, "{c}");
+    let f = cam("top", 0.0, motion);
+    let (_, v) = json(&["ic", f.to_str().unwrap(), "--format", "json"]);
+    let c = &v["curve_contacts"][0];
+    assert!((c["alpha"].as_f64().unwrap() + 0.5).abs() < 1e-9, "{c}");
+    assert!((c["point"][1].as_f64().unwrap() - RC).abs() < 1e-9, "{c}");
+}

@@ -503,6 +503,34 @@ mod tests {
     }
 
     #[test]
+    fn cvcv_is_modelled_and_reads_its_curves_unless_one_is_a_user_curve() {
+        assert_eq!(statement_use("CVCV"), Use::Modelled);
+        assert_eq!(MODELLED.len(), 38);
+        let ds = dataset(
+            "PART/1, GROUND\nCURVE/5, MATRIX = 6\nCURVE/7, MATRIX = 8\n\
+             CVCV/9, ICURVE = 5, IRM = 1, IFLOAT = 2, JCURVE = 7, JRM = 3, JFLOAT = 4",
+        );
+        assert!(findings(&ds).is_empty(), "{:?}", findings(&ds));
+        let ds = dataset(
+            "PART/1, GROUND\nCURVE/5, MATRIX = 6\n\
+             CURVE/7, FUNCTION = USER(1)\\, MINPAR = 0, MAXPAR = 1\n\
+             CVCV/9, ICURVE = 5, IRM = 1, IFLOAT = 2, JCURVE = 7, JRM = 3, JFLOAT = 4",
+        );
+        let f = findings(&ds);
+        let cvcv = f
+            .iter()
+            .find(|f| f.element == "CVCV/9")
+            .expect("CVCV named");
+        assert_eq!(cvcv.reason, Reason::NotModelled);
+        assert!(
+            cvcv.detail.contains("CURVE/7 is a USER subroutine"),
+            "{}",
+            cvcv.detail
+        );
+        assert!(cvcv.refuses(Analysis::Simulate));
+    }
+
+    #[test]
     fn every_statement_kind_of_the_language_is_classified() {
         for k in linkage_adm::dataset_keywords() {
             let ok = statement_use(k) != Use::Named || not_modelled(k).is_some();

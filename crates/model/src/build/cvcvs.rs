@@ -179,3 +179,72 @@ pub(crate) fn cvcvs(
         });
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use crate::build::test_support::{errors, ok};
+    use crate::model::ConstraintKind;
+
+    /// A square (closed, planar) as MATRIX/5 → CURVE/6, a tilted square (z ≠ 0) as
+    /// MATRIX/7 → CURVE/8. Lines 12–15.
+    const CURVES: &str = "MATRIX/5, FULL = RORDER, ROWS = 5, COLUMNS = 3, VALUES = 1, 0, 0, 0, 1, 0, -1, 0, 0, 0, -1, 0, 1, 0, 0\nCURVE/6, CLOSED, CURVE_POINTS, MATRIX = 5\nMATRIX/7, FULL = RORDER, ROWS = 5, COLUMNS = 3, VALUES = 1, 0, 0, 0, 1, 1, -1, 0, 0, 0, -1, -1, 1, 0, 0\nCURVE/8, CLOSED, CURVE_POINTS, MATRIX = 7\n";
+
+    #[test]
+    fn a_cvcv_reads_its_markers_curves_and_initial_conditions() {
+        let b = ok(&format!(
+            "{CURVES}MARKER/9, PART = 1, FLOATING\nCVCV/3, ICURVE = 6, IRM = 20, IFLOAT = 22, JCURVE = 6, JRM = 1, JFLOAT = 9, IDISP = 0, 1, 0, JVEL = 2"
+        ));
+        let c = b
+            .model
+            .constraints
+            .iter()
+            .find_map(|c| match &c.kind {
+                ConstraintKind::Cvcv(c) => Some(c.clone()),
+                _ => None,
+            })
+            .expect("the CVCV is built");
+        let m = &b.model.markers;
+        assert_eq!((m[c.irm].id, m[c.jrm].id), (20, 1));
+        assert_eq!((m[c.ifloat].id, m[c.jfloat].id), (22, 9));
+        assert_eq!(c.icurve, c.jcurve);
+        // IDISP is in IRM's frame: marker 20 is at the CM with the part's axes.
+        assert_eq!(c.idisp, Some(glam::DVec3::new(0.0, 1.0, 0.0)));
+        assert_eq!((c.ivel, c.jvel), (None, Some(2.0)));
+        assert_eq!(
+            b.model.constraints[b.model.constraints.len() - 1].description(),
+            "Curve-Curve Constraint"
+        );
+    }
+
+    #[test]
+    fn cvcv_errors_name_the_argument() {
+        let e = errors(&format!(
+            "{CURVES}CVCV/3, ICURVE = 8, IRM = 20, IFLOAT = 22, JCURVE = 6, JRM = 1, JFLOAT = 2"
+        ));
+        let text: Vec<&str> = e.iter().map(|(_, _, m)| m.as_str()).collect();
+        assert!(
+            text.iter()
+                .any(|m| m.contains("CURVE/8 is not planar") && m.starts_with("CVCV_3")),
+            "{text:?}"
+        );
+        assert!(
+            text.iter()
+                .any(|m| m.contains("JFLOAT marker 2 is not FLOATING")),
+            "{text:?}"
+        );
+        let e = errors(&format!(
+            "{CURVES}CVCV/3, ICURVE = 6, IRM = 20, IFLOAT = 31, JCURVE = 6, JRM = 21, JFLOAT = 22"
+        ));
+        let text: Vec<&str> = e.iter().map(|(_, _, m)| m.as_str()).collect();
+        assert!(
+            text.iter()
+                .any(|m| m.contains("IFLOAT marker 31 is not on the IRM marker's part")),
+            "{text:?}"
+        );
+        let e = errors(&format!(
+            "{CURVES}CVCV/3, ICURVE = 6, IRM = 20, IFLOAT = 22, JCURVE = 6, JRM = 21, JFLOAT = 22"
+        ));
+        assert_eq!(e.len(), 1, "IRM and JRM on one part: {e:?}");
+        assert!(e[0].2.starts_with("CVCV_3"), "{e:?}");
+    }
+}

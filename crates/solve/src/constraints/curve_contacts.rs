@@ -131,6 +131,9 @@ pub fn floating_placements(model: &Model, sys: &System, s: &State) -> Vec<(u64, 
     out
 }
 
+/// The sliding speeds of one curve element along some twists (`[PTCV's, 0]`, `[I, J]`).
+type SpeedsOf<'a> = dyn Fn(&Velocities) -> [f64; 2] + 'a;
+
 /// The linear velocity equations `∇s·v = given` of the given initial sliding speeds: a PTCV's
 /// VEL (`s = α̇·|c'|`, the point's speed along the curve relative to the curve's body) and a
 /// CVCV's IVEL and JVEL (`α̇·|c_I'|`, `β̇·|c_J'|`, the contact point's speed along each curve
@@ -148,7 +151,7 @@ pub fn speed_equations(model: &Model, sys: &System, s: &State) -> Vec<(RowGradie
         let Some(contact) = contact_of(sys, e) else {
             continue;
         };
-        let (bodies, speed): (Vec<Body>, Box<dyn Fn(&Velocities) -> [f64; 2]>) = match contact {
+        let (bodies, speed): (Vec<Body>, Box<SpeedsOf>) = match contact {
             Contact::Point(q) => (
                 vec![q.point.body, q.frame.body],
                 Box::new(move |v: &Velocities| [q.sliding_speed(s, v), 0.0]),

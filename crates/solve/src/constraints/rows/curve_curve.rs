@@ -125,9 +125,9 @@ impl FrameJet {
     /// `R·w` for a vector jet `w` of frame coordinates.
     fn rotate(&self, w: &Jet) -> Jet {
         let mut out = [DVec3::ZERO; 3];
-        for k in 0..3 {
+        for (k, axis) in self.axes.iter().enumerate() {
             let comp = [w[0][k], w[1][k], w[2][k]];
-            let term = jet_scale(comp, &self.axes[k]);
+            let term = jet_scale(comp, axis);
             for o in 0..3 {
                 out[o] += term[o];
             }
@@ -187,7 +187,8 @@ fn contact_jets(
 fn solve2(m: [[f64; 2]; 2], r: [f64; 2]) -> Option<[f64; 2]> {
     let det = m[0][0] * m[1][1] - m[0][1] * m[1][0];
     let scale = m.iter().flatten().map(|x| x.abs()).fold(0.0, f64::max);
-    if !(det.abs() > 1e-14 * scale * scale) {
+    // Also singular when not finite (a NaN compares false).
+    if det.abs() <= 1e-14 * scale * scale || !det.is_finite() {
         return None;
     }
     Some([
