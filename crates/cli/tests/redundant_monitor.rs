@@ -10,7 +10,7 @@
 
 mod common;
 use common::{corpus, json};
-use std::path::PathBuf;
+use std::path::Path;
 
 const DATASET: &str =
     "kiterunner347__3-RPR-parallel--robot__Matlab_Adams__Controls_Plant_2__Controls_Plant_2.adm";
@@ -18,7 +18,7 @@ const DATASET: &str =
 /// The run's end: past the old stop at 13.7 s.
 const END: f64 = 20.0;
 
-fn simulate(f: &PathBuf) -> (i32, serde_json::Value) {
+fn simulate(f: &Path) -> (i32, serde_json::Value) {
     json(&[
         "simulate",
         f.to_str().unwrap(),

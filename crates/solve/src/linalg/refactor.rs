@@ -270,9 +270,9 @@ mod tests {
 
     fn residual(a: &SparseColMat<usize, f64>, x: &[f64], b: &[f64]) -> f64 {
         let mut r = b.to_vec();
-        for j in 0..a.ncols() {
+        for (j, xj) in x.iter().enumerate() {
             for (&i, &v) in a.row_idx_of_col_raw(j).iter().zip(a.val_of_col(j)) {
-                r[i] -= v * x[j];
+                r[i] -= v * xj;
             }
         }
         r.iter().fold(0.0, |m, x| m.max(x.abs()))
