@@ -2,7 +2,7 @@
 //! INTEGRATOR ERROR = 1e-6 with 400 outputs, as the benchmark asks, for N = 2, 10 and 40 (the
 //! published N = 40 has 120 redundant equations and passes a singular pose every half turn).
 //! Accuracy against the exact one-degree-of-freedom reduction is asserted by
-//! `tests/benchmarks.rs` (measured at ERROR = 1e-6, I3: 1.8e-5, 1.6e-4 and 1.2e-3 m; SI2 on
+//! `tests/benchmarks.rs` (measured at ERROR = 1e-6, I3: 1.8e-5, 1.6e-4 and 7.6e-4 m; SI2 on
 //! N = 40: 1.15e-4 m); this bench gives the seconds of both formulations, and prints
 //! the steps taken once per case.
 

@@ -1,6 +1,7 @@
 //! Measures IFToMM A02 (N loops, 20 s, 400 outputs): max B0 error against the exact
 //! one-degree-of-freedom reduction, steps, rejections, corrector iterations, factorisations,
-//! thread CPU time. `cargo run --release -p linkage-solve --example a02_probe -- N ERROR [si2|i3]`.
+//! thread CPU time. `cargo run --release -p linkage-solve --example a02_probe -- N ERROR [si2|i3]`;
+//! with `TRACE=1` in the environment also the reference angle and the error at every output.
 use linkage_model::settings::Formulation;
 use linkage_model::Body;
 use linkage_solve::constraints::drivers::ExpressionDrivers;
@@ -74,7 +75,11 @@ fn main() {
             Body::Ground => mk.p_bm,
             Body::Part(k) => o.state.poses[k].p + o.state.poses[k].r * mk.p_bm,
         };
-        worst = worst.max((p - glam::DVec3::new(phi.cos(), phi.sin(), 0.0)).length());
+        let e = (p - glam::DVec3::new(phi.cos(), phi.sin(), 0.0)).length();
+        if std::env::var_os("TRACE").is_some() {
+            println!("t {:.3} phi {:.4} err {e:.3e}", o.time, phi);
+        }
+        worst = worst.max(e);
     }
     println!(
         "N={n} ERROR={error:e} {formulation:?}: err {worst:.3e} m, outputs {}, steps {}, rejected {}, iters {}, factorisations {}, cpu {cpu:.3} s, wall {wall:.3} s, failure {:?}",

@@ -26,6 +26,8 @@ use faer::sparse::linalg::solvers::Lu;
 use faer::sparse::{SparseColMat, SparseColMatRef, SymbolicSparseColMat, Triplet};
 use faer::{Conj, Mat, MatMut, Par};
 
+use super::refactor::KeptPivotLu;
+
 /// A factorised square sparse matrix.
 pub struct SparseLu {
     lu: Lu<usize, f64>,
@@ -135,6 +137,10 @@ pub struct FixedPatternLu {
     slot_log: Vec<u32>,
     /// Position of the next call in `slot_log` since the last clear.
     cursor: usize,
+    /// The factors with their pivot sequence kept across refactorisations
+    /// ([`FixedPatternLu::keep_pivots`]); `None`: faer's factorisation with partial pivoting
+    /// every time.
+    kept: Option<KeptPivotLu>,
 }
 
 /// `slot_log` markers (see there).
@@ -201,7 +207,18 @@ impl FixedPatternLu {
             missing: Vec::new(),
             slot_log: Vec::new(),
             cursor: 0,
+            kept: None,
         })
+    }
+
+    /// From now on, refactorisations keep the pivot sequence of the last factorisation with
+    /// partial pivoting while its pivots stay acceptable ([`KeptPivotLu`]: no pivot search and
+    /// no symbolic work, several times faster for the integrator's iteration matrix); the
+    /// setting survives [`FixedPatternLu::grow`].
+    pub fn keep_pivots(&mut self) {
+        if self.kept.is_none() {
+            self.kept = Some(KeptPivotLu::new(self.n));
+        }
     }
 
     /// Matrix dimension.
@@ -236,6 +253,7 @@ impl FixedPatternLu {
             missing: Vec::new(),
             slot_log: Vec::new(),
             cursor: 0,
+            kept: None,
         })
     }
 
@@ -377,7 +395,11 @@ impl FixedPatternLu {
         let rows = self.pattern.row_idx();
         let existing = (0..self.n).flat_map(|j| (ptr[j]..ptr[j + 1]).map(move |k| (rows[k], j)));
         let coords: Vec<(usize, usize)> = existing.chain(self.missing.iter().copied()).collect();
+        let keep = self.kept.is_some();
         *self = FixedPatternLu::new(self.n, coords)?;
+        if keep {
+            self.keep_pivots();
+        }
         Ok(())
     }
 
@@ -389,6 +411,11 @@ impl FixedPatternLu {
             return Err(LinearError::NotFinite);
         }
         let a = SparseColMatRef::new(self.pattern.as_ref(), &self.values);
+        if let Some(kept) = self.kept.as_mut() {
+            kept.factor(a, self.symbolic.col_perm()).map_err(lu_error)?;
+            self.factored = true;
+            return Ok(());
+        }
         self.symbolic
             .factorize_numeric_lu(
                 &mut self.numeric,
@@ -409,6 +436,13 @@ impl FixedPatternLu {
         }
         if b.len() != self.n {
             return Err(LinearError::RhsLength);
+        }
+        if let Some(kept) = self.kept.as_mut() {
+            return if kept.solve_in_place(b) && b.iter().all(|x| x.is_finite()) {
+                Ok(())
+            } else {
+                Err(LinearError::Singular)
+            };
         }
         let lu = LuRef::new_unchecked(&self.symbolic, &self.numeric);
         lu.solve_in_place_with_conj(

@@ -24,8 +24,18 @@
 //! instead, then projects the positions onto `Φ = 0` with multipliers of their own
 //! ([`super::corrector`]'s `project`), so the position correction does not leak into the
 //! velocities as its quotient by the step; its error test has the velocities too (times the
-//! step). On IFToMM A02 with N = 40 at ERROR = 1e-6, I3 ends 1.2e-3 m off, SI2 1.15e-4 m, at
-//! about the same number of steps.
+//! step). On IFToMM A02 with N = 40 at ERROR = 1e-6, I3 ends 7.6e-4 m off, SI2 1.15e-4 m, at
+//! about the same number of steps (through the chain's flat poses both depend on rounding:
+//! README, dynamics).
+//!
+//! The iteration matrix of I3 is refactorised with the pivot sequence of its last
+//! factorisation with partial pivoting while those pivots stay within a factor 10 of their
+//! columns' largest candidates ([`crate::linalg::refactor`]): on IFToMM A02 with N = 40 that
+//! is 2.4k refactorisations of about 35 µs instead of pivoting factorisations of about
+//! 0.2 ms, 78 of them falling back to a fresh pivot search. SI2 keeps partial pivoting at
+//! every factorisation: its position projection uses the same matrix, and through A02's flat
+//! poses it left the parallelogram branch with the kept pivots (measured at ERROR = 1e-6:
+//! 2.0 m off, against 1.15e-4 m with partial pivoting).
 //!
 //! Local error (positions; translations over the characteristic length, rotations in
 //! radians): with `y^P` the polynomial through the k+1 last accepted points, extrapolated to
@@ -167,6 +177,10 @@ impl<'p, 'a> Bdf<'p, 'a> {
         crate::physics::controls::consistent_rates(p.forces, &mut start, &v0)?;
         let start = &start;
         let mut work = Workspace::new(p, start, &v0, |h| scheme(h, false).matrix)?;
+        if settings.formulation != Formulation::Si2 {
+            // I3 refactorises with kept pivots (module docs); SI2 pivots afresh each time.
+            work.matrix.lu.keep_pivots();
+        }
         let first = work.output.solve(p, start, &flat(&v0), &work.matrix)?;
         let mut cur = Step {
             s: start.clone(),

@@ -104,6 +104,8 @@ impl<'p, 'a> Integrator<'p, 'a> {
         let start = &start;
         let hht = Hht::new(settings.alpha);
         let mut work = Workspace::new(p, start, &v0, |h| hht.matrix_coefficients(h))?;
+        // Refactorisations keep their pivot sequence ([`crate::linalg::refactor`]).
+        work.matrix.lu.keep_pivots();
         let first = work.output.solve(p, start, &flat(&v0), &work.matrix)?;
         let mut cur = Step {
             s: start.clone(),

@@ -42,7 +42,9 @@
 //! known (a test counts the allocations). The matrix lives in a
 //! [`crate::linalg::linear::FixedPatternLu`]: its pattern (the entries nonzero when first assembled,
 //! grown if another becomes nonzero) gets its column ordering and symbolic analysis once;
-//! each refresh is a numeric refactorisation into the same storage. Per iteration: the rows'
+//! each refresh is a numeric refactorisation into the same storage (for I3 and HHT with the
+//! pivots of the last factorisation while they stay acceptable: [`crate::linalg::refactor`]).
+//! Per iteration: the rows'
 //! residuals and gradients, the generalised forces, one sparse solve — O(rows + parts) for a
 //! chain; per refresh additionally the assembly (row second derivatives) and the numeric LU.
 
