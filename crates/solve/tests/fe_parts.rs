@@ -3,7 +3,7 @@
 //! cantilever deflection `P·L³/(3·E·I)`, the first bending frequencies of a cantilever
 //! (`1.875104²·√(EI/(ρAL⁴))/2π`) and of a free-free beam (`4.730041²·…`, with six zero
 //! modes), a pure end moment bending the cantilever into a circle of radius `EI/M` (exact
-//! elastica), Rayleigh damping ratios, a hanging 3DCABLE's stretch `ρ·g·L²/(2E)`, and the
+//! elastica), a tip load's large deflection against Mattiasson's elastica, Rayleigh damping ratios, a hanging 3DCABLE's stretch `ρ·g·L²/(2E)`, and the
 //! corpus dataset with its six-node 3DBEAM through verify, ic, static and simulate.
 //!
 //! Beam: steel, L = 1 m, 10 mm square section: E = 2.1e11 Pa, ρ = 7800 kg/m³,
@@ -231,6 +231,45 @@ fn end_moment_bends_the_cantilever_into_a_circle_of_radius_ei_over_m() {
     );
     let x_axis = eq.state.poses[k].r.x_axis;
     assert!((x_axis - DVec3::Y).length() < 1e-3, "{x_axis:?}");
+}
+
+/// The elastica of a cantilever under a tip load of fixed direction (normal to the undeformed
+/// beam): tip displacements `(u/L, v/L)` by `k = P·L²/(E·I)`, from K. Mattiasson, "Numerical
+/// results from large deflection beam and frame problems analysed by means of elliptic
+/// integrals", IJNME 17 (1981) 145–153, Table I (checked to 5 digits by shooting on
+/// `θ'' = −k·cos θ`, `θ(0) = 0`, `θ'(1) = 0`).
+const MATTIASSON: [(f64, f64, f64); 4] = [
+    (1.0, 0.05643, 0.30172),
+    (2.0, 0.16064, 0.49346),
+    (5.0, 0.38763, 0.71379),
+    (10.0, 0.55500, 0.81061),
+];
+
+#[test]
+fn tip_loaded_cantilever_follows_mattiassons_elastica() {
+    // 20 elements; the load keeps its ground direction (RM = ground marker 1). The beam's
+    // stretch (P/EA ≤ 1e-4) and the discretisation stay within 5e-3 of the inextensible
+    // elastica's tip displacements.
+    let ei = E * second_moment();
+    for (k, u, v) in MATTIASSON {
+        let p = k * ei / (L * L);
+        let (m, eq) = equilibrium(&cantilever(
+            21,
+            "",
+            &format!(
+                "EQUILIBRIUM/MAXIT = 200\n\
+                 VFORCE/1, I = 11, JFLOAT = 12, RM = 1, FX = 0, FY = {}, FZ = 0",
+                -p
+            ),
+        ));
+        let tip = eq.state.poses[node(&m, 21)].p;
+        let (got_u, got_v) = ((L - tip.x) / L, -tip.y / L);
+        assert!(
+            (got_u / u - 1.0).abs() < 5e-3 && (got_v / v - 1.0).abs() < 5e-3,
+            "PL²/EI = {k}: (u/L, v/L) = ({got_u}, {got_v}) vs ({u}, {v})"
+        );
+        assert!(tip.z.abs() < 1e-9 * L, "out of plane: {}", tip.z);
+    }
 }
 
 #[test]
