@@ -25,6 +25,7 @@ pub mod graphics;
 pub mod inertia;
 pub mod model;
 pub mod requests;
+pub mod saved;
 pub mod sensors;
 pub mod settings;
 pub mod units;

@@ -470,3 +470,77 @@ fn flex_body_input_errors_name_the_element() {
     let e = errors(&base.replace("MATRICES = 1, 2, 3,", "MATRICES = 1, 2,"));
     assert!(e.contains("no matrix named GENSTIFF"), "{e}");
 }
+
+/// The equilibrium's changes written into the dataset (as `static --save` does), read back
+/// and assembled: every body's pose within `1e-9` (length) and `1e-9` rad of the equilibrium.
+fn assert_saved_pose_reads_back(text: &str) -> String {
+    let ds = linkage_adm::parse_dataset(Arc::from("t.adm"), text).unwrap();
+    let (m, eq) = equilibrium(text);
+    let poses: Vec<_> = eq.state.poses.iter().map(|p| (p.p, p.r)).collect();
+    let changes = linkage_model::saved::saved_changes(&ds, &m, &poses);
+    let saved = linkage_adm::writer::write_changes(&ds, &changes.parts, &changes.arguments)
+        .unwrap_or_else(|e| panic!("{e}"));
+    let (m2, d2, f2) = load(&saved);
+    assert_eq!(m2.parts.len(), m.parts.len());
+    let a = Assembled::new(&m2, &d2, &f2, &Tolerances::default());
+    assert!(a.failure().is_none(), "{:?}", a.failure());
+    // Modal coordinates: `(p − rest)·axis` of each mode body (its rest point is the BCS
+    // origin as read, so the mode bodies themselves are elsewhere).
+    let (b, b2) = (&m.flex_bodies[0], &m2.flex_bodies[0]);
+    for (j, (mode, mode2)) in b.modes.iter().zip(&b2.modes).enumerate() {
+        let q = (eq.state.poses[mode.part].p - b.rest).dot(b.axis);
+        let q2 = (a.state().poses[mode2.part].p - b2.rest).dot(b2.axis);
+        assert!(
+            (q - q2).abs() < 1e-9 * q.abs().max(1e-9),
+            "q{}: {q2} vs {q}",
+            j + 1
+        );
+    }
+    for (k, (want, got)) in eq.state.poses.iter().zip(&a.state().poses).enumerate() {
+        if b.modes.iter().any(|mode| mode.part == k) {
+            continue;
+        }
+        let turn = largest_difference(want.r.transpose() * got.r, glam::DMat3::IDENTITY);
+        assert!(
+            (want.p - got.p).length() < 1e-9 && turn < 1e-9,
+            "{}: {:?} vs {:?}",
+            m.parts[k].origin.name,
+            got,
+            want
+        );
+    }
+    saved
+}
+
+#[test]
+fn saved_flex_body_equilibrium_reads_back_with_its_pose_and_dmode() {
+    // Clamped to a ground marker turned 30° about z and moved up 0.1 m: the assembly moves
+    // the reference frame there; a tip load bends the modes. The saved dataset has the
+    // reference frame's QG/REULER and DMODE, and assembles at the equilibrium pose.
+    let text = dataset(
+        &CANTILEVER[..2],
+        false,
+        ", CRATIO = 0",
+        "MARKER/5, PART = 1, QP = 0, 0.1, 0, REULER = 30D, 0, 0\n\
+         JOINT/1, FIXED, I = 10, J = 5\n\
+         VFORCE/1, I = 11, JFLOAT = 12, RM = 1, FX = 0, FY = -0.05, FZ = 0",
+    );
+    let saved = assert_saved_pose_reads_back(&text);
+    let ds = linkage_adm::parse_dataset(Arc::from("t.adm"), &saved).unwrap();
+    let flex = ds
+        .statements
+        .iter()
+        .find(|s| s.keyword == "FLEX_BODY")
+        .unwrap();
+    for key in ["QG", "REULER", "DMODE"] {
+        assert!(flex.arg(key).is_some(), "{key} not written:\n{saved}");
+    }
+}
+
+/// The largest entry of `a − b`.
+fn largest_difference(a: glam::DMat3, b: glam::DMat3) -> f64 {
+    (a - b)
+        .to_cols_array()
+        .iter()
+        .fold(0.0f64, |m, x| m.max(x.abs()))
+}
