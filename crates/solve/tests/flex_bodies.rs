@@ -46,6 +46,19 @@ fn beam_scale() -> f64 {
     (E * second_moment() / (RHO * area() * L.powi(4))).sqrt()
 }
 
+/// `∫₀ᴸ φ dx` of a beam mode (cantilever or free-free; zero for a free-free elastic mode).
+fn mode_integral(bl: f64, free: bool) -> f64 {
+    let b = bl / L;
+    let (ch, c, sh, s) = (bl.cosh(), bl.cos(), bl.sinh(), bl.sin());
+    if free {
+        let sigma = (ch - c) / (sh - s);
+        (sh + s - sigma * (ch - c)) / b
+    } else {
+        let sigma = (ch + c) / (sh + s);
+        (sh - s - sigma * (ch + c - 2.0)) / b
+    }
+}
+
 /// A beam mode: `φ(x)` and `φ'(x)` for `βL` (cantilever or free-free).
 fn mode(bl: f64, free: bool, x: f64) -> (f64, f64) {
     let b = bl / L;
@@ -89,9 +102,11 @@ fn dataset(bls: &[f64], free: bool, flex: &str, extra: &str) -> String {
     let mut r = vec![0.0; 9 * nm];
     let mut k = vec![0.0; nm * nm];
     let mut gm = vec![0.0; nm * nm];
+    let mut i3 = vec![0.0; 3 * nm];
     for (p, bl) in bls.iter().enumerate() {
         for plane in 0..2 {
             let j = 2 * p + plane;
+            i3[(1 + plane) * nm + j] = RHO * a * mode_integral(*bl, free);
             k[j * nm + j] = bl.powi(4) * E * i / L.powi(3);
             gm[j * nm + j] = m;
             for (n, x) in nodes.iter().enumerate() {
@@ -112,7 +127,10 @@ fn dataset(bls: &[f64], free: bool, flex: &str, extra: &str) -> String {
         "flex beam\nUNITS/, FORCE = NEWTON, MASS = KILOGRAM, LENGTH = METER, TIME = SECOND\n\
          PART/1, GROUND\nMARKER/1, PART = 1\nMARKER/12, PART = 1, FLOATING\n",
     );
-    let _ = writeln!(s, "FLEX_BODY/1, MATRICES = 1, 2, 3, 4, 5, 6, 7, 8, 9{flex}");
+    let _ = writeln!(
+        s,
+        "FLEX_BODY/1, MATRICES = 1, 2, 3, 4, 5, 6, 7, 8, 9, 10{flex}"
+    );
     let selmod: Vec<f64> = (1..=nm).map(|x| x as f64).collect();
     matrix(&mut s, 1, "SELMOD", nm, 1, &selmod);
     matrix(
@@ -138,6 +156,7 @@ fn dataset(bls: &[f64], free: bool, flex: &str, extra: &str) -> String {
     );
     matrix(&mut s, 8, "T_MODES", 9, nm, &t);
     matrix(&mut s, 9, "R_MODES", 9, nm, &r);
+    matrix(&mut s, 10, "INVAR3", 3, nm, &i3);
     let _ = write!(
         s,
         "MARKER/10, FLEX_BODY = 1, NODE_ID = 1\nMARKER/11, FLEX_BODY = 1, NODE_ID = 3, QP = {L}, 0, 0\n\
@@ -463,8 +482,8 @@ fn flex_body_input_errors_name_the_element() {
     let e = errors(&base.replace("NODE_ID = 3", "NODE_ID = 7"));
     assert!(e.contains("has no node 7"), "{e}");
     let e = errors(&base.replace("DMODE", "X").replace(
-        "FLEX_BODY/1, MATRICES = 1, 2, 3, 4, 5, 6, 7, 8, 9",
-        "FLEX_BODY/1, MATRICES = 1, 2, 3, 4, 5, 6, 7, 8, 9, DMODE = 1, 2, 3",
+        "FLEX_BODY/1, MATRICES = 1, 2, 3, 4, 5, 6, 7, 8, 9, 10",
+        "FLEX_BODY/1, MATRICES = 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, DMODE = 1, 2, 3",
     ));
     assert!(e.contains("DMODE needs 2 values"), "{e}");
     let e = errors(&base.replace("MATRICES = 1, 2, 3,", "MATRICES = 1, 2,"));
@@ -543,4 +562,42 @@ fn largest_difference(a: glam::DMat3, b: glam::DMat3) -> f64 {
         .to_cols_array()
         .iter()
         .fold(0.0f64, |m, x| m.max(x.abs()))
+}
+
+#[test]
+fn weight_bends_the_cantilever_flex_body_by_rho_a_g_l4_over_8ei() {
+    // The weight's modal load gᵀ·A·I3_j (INVAR3 = ρA∫φ_j): the tip deflects
+    // Σ φ_j(L)·ρAg∫φ_j/k_j, which with the five modes is 1.0000147 of ρ·A·g·L⁴/(8·E·I)
+    // (the series in closed form; the z-plane modes stay unloaded).
+    let g = 9.80665;
+    let (m, eq) = equilibrium(&cantilever(&CANTILEVER, "", "ACCGRAV/, JGRAV = -9.80665"));
+    let tip = eq.state.poses[node_part(&m, 3)].p;
+    let closed = RHO * area() * g * L.powi(4) / (8.0 * E * second_moment());
+    let series: f64 = CANTILEVER
+        .iter()
+        .map(|bl| {
+            let k = bl.powi(4) * E * second_moment() / L.powi(3);
+            mode(*bl, false, L).0 * RHO * area() * g * mode_integral(*bl, false) / k
+        })
+        .sum();
+    assert!(
+        (series / closed - 1.0000147).abs() < 1e-6,
+        "{}",
+        series / closed
+    );
+    assert!(
+        (-tip.y / series - 1.0).abs() < 1e-6,
+        "{} vs {series} ({} of ρAgL⁴/8EI)",
+        -tip.y,
+        -tip.y / closed
+    );
+    assert!(tip.z.abs() < 1e-9 * closed, "{}", tip.z);
+    // Without INVAR3 (INVARIANTS switch 3 off) the weight loads no mode.
+    let off = "T:T:F:T:T:T:T:T:T";
+    let (m, eq) = equilibrium(&cantilever(
+        &CANTILEVER,
+        &format!(", INVARIANTS = {off}"),
+        "ACCGRAV/, JGRAV = -9.80665",
+    ));
+    assert!(eq.state.poses[node_part(&m, 3)].p.y.abs() < 1e-12);
 }

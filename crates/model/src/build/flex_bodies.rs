@@ -19,8 +19,12 @@
 //! | `T_MODES` | 3N × m | translational mode shapes: rows 3k … 3k+2 are node k's x, y, z (SELNOD order) |
 //! | `R_MODES` | 3N × m | rotational mode shapes (small rotations), same rows. Optional: zero |
 //!
-//! INVAR3, 4, 5, 8 and 9 may be listed; they are not used (see the module doc of
-//! [`crate::flex_bodies`]): a warning says so unless `INVARIANTS` switches them off.
+//! | `INVAR3` | 3 × m | `Σ m_p Φ_p` (BCS): column j is mode j's first moment of mass. Optional: zero (a warning under gravity) |
+//!
+//! INVAR3 gives the modal load of the weight (`INVARIANTS` 3 = F switches it off). INVAR4,
+//! 5, 8 and 9 may be listed; they are not used, nor is INVAR3 in the mass matrix (see the
+//! module doc of [`crate::flex_bodies`]): a warning says so unless `INVARIANTS` switches
+//! them off.
 //! A GENSTIFF or INVAR6 with off-diagonal terms is an error (orthonormalize the modes).
 //!
 //! - A FLEX_BODY whose data is an MNF or MD DB file, or whose MATRIX file is missing or
@@ -323,11 +327,28 @@ fn flex_body(
             st.invariants_span.unwrap_or(st.header.span),
             format!(
                 "{name}: the inertia coupling between rigid and modal coordinates \
-                 (invariants 3, 4, 5, 8, 9) and the modal part of the weight are not modelled: \
-                 the modes are coupled to the rigid motion through the node equations only"
+                 (invariants 3, 4, 5, 8, 9 in the mass matrix) is not modelled: the modes are \
+                 coupled to the rigid motion through the node equations only"
             ),
         );
     }
+    // INVAR3 (Σ m_p Φ_p, 3 × m in the BCS): the modal load of the weight.
+    let first_moments: Vec<DVec3> = if !st.invariants[2] {
+        vec![DVec3::ZERO; m]
+    } else if src.find("INVAR3").is_some() {
+        let i3 = src.sized("INVAR3", 3, m, cx)?;
+        (0..m)
+            .map(|j| DVec3::new(i3.get(0, j), i3.get(1, j), i3.get(2, j)))
+            .collect()
+    } else {
+        if gravity != DVec3::ZERO {
+            cx.warn(
+                src.span(),
+                format!("{name}: MATRICES has no INVAR3 (Σ m_p Φ_p), so the weight loads no mode"),
+            );
+        }
+        vec![DVec3::ZERO; m]
+    };
     // The BCS, the reference body at the centre of mass.
     let bcs_p = st
         .qg
@@ -381,6 +402,7 @@ fn flex_body(
             stiffness: k[j],
             damping_ratio: ratios[j],
             frequency: (k[j] / gm[j]).sqrt() / std::f64::consts::TAU,
+            first_moment: first_moments[j],
         });
         parts.push(Part {
             origin: o,
