@@ -98,12 +98,32 @@ pub struct FlexBody {
     /// The first FLEX_NODE constraint of this body (index into
     /// [`crate::Model::constraints`]); its nodes' equations follow in node order.
     pub first_node_constraint: usize,
+    /// The dataset's mode numbers (SELMOD), one per modal coordinate q of the dataset.
+    pub labels: Vec<u64>,
+    /// The principal basis `V` (row-major m × m, `q = V·η`) when GENSTIFF or INVAR6 is not
+    /// diagonal: [`FlexBody::modes`] are then the principal modes η
+    /// (`crate::modal_basis`); `None`: the modes are the dataset's.
+    pub basis: Option<Vec<f64>>,
 }
 
 impl FlexBody {
     /// Degrees of freedom in the Gruebler count: the modes + 6.
     pub fn gruebler_dof(&self) -> usize {
         self.modes.len() + 6
+    }
+
+    /// The dataset's modal coordinates `q` (in the order of [`FlexBody::labels`]) from the
+    /// coordinates of the mode bodies `eta` (in the order of [`FlexBody::modes`]).
+    pub fn coordinates(&self, eta: &[f64]) -> Vec<f64> {
+        match &self.basis {
+            None => eta.to_vec(),
+            Some(v) => {
+                let m = eta.len();
+                (0..m)
+                    .map(|i| (0..m).map(|j| v[i * m + j] * eta[j]).sum())
+                    .collect()
+            }
+        }
     }
 
     /// Every part of this body: the reference, the mode bodies and the node bodies.

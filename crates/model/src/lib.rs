@@ -23,6 +23,7 @@ pub mod friction;
 pub mod functions;
 pub mod graphics;
 pub mod inertia;
+pub mod modal_basis;
 pub mod model;
 pub mod requests;
 pub mod saved;

@@ -5,7 +5,8 @@
 //! pages seen]:
 //! - a moved PART or POINT_MASS: its `QG`/`REULER` (the writer's part poses);
 //! - a FLEX_BODY: `QG`/`REULER` of its BCS when the reference body moved, and `DMODE`, one
-//!   modal coordinate per mode (`q_j = (p_mode − rest)·axis`), when a mode moved. Markers on
+//!   modal coordinate per mode of the dataset (`q = V·η`, `η_j = (p_mode − rest)·axis`), when a
+//!   mode moved. Markers on
 //!   its nodes keep their QP/REULER: they are given from the node's undeformed place, which
 //!   SELNOD keeps, and DMODE carries the deformation;
 //! - an FE_PART: `COORDINATES` with every node's place and 3-1-3 angles (radians) in the
@@ -59,10 +60,15 @@ pub fn saved_changes(ds: &Dataset, model: &Model, poses: &[(DVec3, DMat3)]) -> S
             out.arguments.push(angles(statement, "REULER", &r));
         }
         if b.modes.iter().any(|m| moved(m.part)) {
-            let q = b
+            let eta: Vec<f64> = b
                 .modes
                 .iter()
-                .map(|m| NewValue::Scaled((poses[m.part].0 - b.rest).dot(b.axis)))
+                .map(|m| (poses[m.part].0 - b.rest).dot(b.axis))
+                .collect();
+            let q = b
+                .coordinates(&eta)
+                .into_iter()
+                .map(NewValue::Scaled)
                 .collect();
             out.arguments.push(ArgumentValues {
                 statement,

@@ -12,6 +12,7 @@
 //! beam: 4.730041, 7.853205, 10.995608 (Blevins, Formulas for Natural Frequency and Mode
 //! Shape, table 8-1).
 
+use glam::DVec3;
 use linkage_model::Model;
 use linkage_solve::constraints::drivers::ExpressionDrivers;
 use linkage_solve::physics::forces::ForceSet;
@@ -94,6 +95,18 @@ fn matrix(out: &mut String, id: u64, name: &str, rows: usize, cols: usize, value
 /// 3 (x = L); markers 10 (node 1), 11 (node 3), 13 (node 2), `flex` appended to the
 /// FLEX_BODY statement, `extra` statements before END.
 fn dataset(bls: &[f64], free: bool, flex: &str, extra: &str) -> String {
+    dataset_in_basis(bls, free, flex, extra, None)
+}
+
+/// [`dataset`] with the modal coordinates of another basis `q = R·q'` (`R` row-major
+/// `nm × nm`): shapes and INVAR3 `·R`, GENSTIFF and INVAR6 `Rᵀ·(·)·R`.
+fn dataset_in_basis(
+    bls: &[f64],
+    free: bool,
+    flex: &str,
+    extra: &str,
+    basis: Option<&[f64]>,
+) -> String {
     let (a, i) = (area(), second_moment());
     let m = RHO * a * L;
     let nodes = [0.0, 0.5 * L, L];
@@ -122,6 +135,32 @@ fn dataset(bls: &[f64], free: bool, flex: &str, extra: &str) -> String {
                 }
             }
         }
+    }
+    if let Some(rb) = basis {
+        let right = |a: &[f64], rows: usize| -> Vec<f64> {
+            (0..rows * nm)
+                .map(|x| {
+                    (0..nm)
+                        .map(|i| a[(x / nm) * nm + i] * rb[i * nm + x % nm])
+                        .sum()
+                })
+                .collect()
+        };
+        let congruent = |a: &[f64]| -> Vec<f64> {
+            let ar = right(a, nm);
+            (0..nm * nm)
+                .map(|x| {
+                    (0..nm)
+                        .map(|i| rb[i * nm + x / nm] * ar[i * nm + x % nm])
+                        .sum()
+                })
+                .collect()
+        };
+        t = right(&t, 9);
+        r = right(&r, 9);
+        i3 = right(&i3, 3);
+        k = congruent(&k);
+        gm = congruent(&gm);
     }
     let mut s = String::from(
         "flex beam\nUNITS/, FORCE = NEWTON, MASS = KILOGRAM, LENGTH = METER, TIME = SECOND\n\
@@ -600,4 +639,70 @@ fn weight_bends_the_cantilever_flex_body_by_rho_a_g_l4_over_8ei() {
         "ACCGRAV/, JGRAV = -9.80665",
     ));
     assert!(eq.state.poses[node_part(&m, 3)].p.y.abs() < 1e-12);
+}
+
+#[test]
+fn full_modal_matrices_of_a_mixed_basis_give_the_same_frequencies_and_deflection() {
+    // Four cantilever modes (y1, z1, y2, z2) written in the basis q = R·q' that mixes y1 with
+    // y2 and z1 with z2 (not orthogonal): GENSTIFF and INVAR6 are full. linkage integrates
+    // the principal basis of (K', M'): the frequencies and a tip deflection are those of the
+    // orthonormal modes (to rounding, 1e-9), and the reported q' are R⁻¹·q.
+    #[rustfmt::skip]
+    let mix = [
+        1.0, 0.0, 0.6, 0.0,
+        0.0, 1.0, 0.0, -0.4,
+        0.3, 0.0, 1.0, 0.0,
+        0.0, 0.5, 0.0, 2.0,
+    ];
+    let plain = cantilever(&CANTILEVER[..2], ", CRATIO = 0", "");
+    let mixed = dataset_in_basis(
+        &CANTILEVER[..2],
+        false,
+        ", CRATIO = 0",
+        "JOINT/1, FIXED, I = 10, J = 1\n",
+        Some(&mix),
+    );
+    let (m, _, _) = load(&mixed);
+    assert!(m.flex_bodies[0].basis.is_some());
+    let freqs = |text: &str| {
+        let mut f: Vec<f64> = linear(text).modes.iter().map(|m| m.frequency).collect();
+        f.sort_by(f64::total_cmp);
+        f
+    };
+    let (a, b) = (freqs(&plain), freqs(&mixed));
+    assert_eq!(a.len(), 4);
+    for (x, y) in a.iter().zip(&b) {
+        assert!((x / y - 1.0).abs() < 1e-9, "{a:?} vs {b:?}");
+    }
+    let load_tip = "VFORCE/1, I = 11, JFLOAT = 12, RM = 1, FX = 0, FY = -0.01, FZ = 0.005";
+    let (m1, e1) = equilibrium(&plain.replace("END\n", &format!("{load_tip}\nEND\n")));
+    let (m2, e2) = equilibrium(&mixed.replace("END\n", &format!("{load_tip}\nEND\n")));
+    let (t1, t2) = (
+        e1.state.poses[node_part(&m1, 3)].p,
+        e2.state.poses[node_part(&m2, 3)].p,
+    );
+    assert!(
+        (t1 - t2).length() < 1e-9 * (t1 - DVec3::new(L, 0.0, 0.0)).length(),
+        "{t1} vs {t2}"
+    );
+    // The dataset's coordinates: q = R·q', so q' = R⁻¹·q; check R·q' = q.
+    let q_of = |m: &Model, e: &Equilibrium| {
+        let b = &m.flex_bodies[0];
+        let eta: Vec<f64> = b
+            .modes
+            .iter()
+            .map(|x| (e.state.poses[x.part].p - b.rest).dot(b.axis))
+            .collect();
+        b.coordinates(&eta)
+    };
+    let (q, q_mixed) = (q_of(&m1, &e1), q_of(&m2, &e2));
+    for i in 0..4 {
+        let back: f64 = (0..4).map(|j| mix[i * 4 + j] * q_mixed[j]).sum();
+        assert!(
+            (back - q[i]).abs() < 1e-9 * q[i].abs().max(1e-12),
+            "q{}: {back} vs {}",
+            i + 1,
+            q[i]
+        );
+    }
 }
