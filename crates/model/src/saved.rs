@@ -112,7 +112,9 @@ fn fe_part(
     let bcs_p = vector("QG").unwrap_or(DVec3::ZERO);
     let bcs_r = vector("REULER").map_or(DMat3::IDENTITY, |e| euler313_to_matrix(e.to_array()));
     let in_bcs = |(x, r): (DVec3, DMat3)| (bcs_r.transpose() * (x - bcs_p), bcs_r.transpose() * r);
-    for arg in st.args.iter().filter(|a| a.key == "COORDINATES") {
+    // The first COORDINATES is what the reader takes; a repeated one is rewritten alike by
+    // the writer.
+    if let Some(arg) = st.arg("COORDINATES") {
         let mut values = Vec::with_capacity(arg.values.len());
         for row in arg.values.chunks(7) {
             let node = match row.first() {
@@ -136,9 +138,6 @@ fn fe_part(
             key: "COORDINATES".into(),
             values,
         });
-        // One COORDINATES is what the reader takes; a repeated one is rewritten alike by
-        // the writer.
-        break;
     }
     for m in &ds.markers {
         if !matches!(m.carrier, Some(MarkerCarrier::FePart(r)) if r.id == fe.origin.id) {

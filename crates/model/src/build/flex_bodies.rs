@@ -11,20 +11,20 @@
 //! |---|---|---|
 //! | `SELMOD` | m × 1 or m × 2 | mode numbers (column 1; an optional column 2, the frequency, is not read). Optional: modes 1 … m |
 //! | `SELNOD` | N × 4 | node id, then its undeformed x, y, z in the BCS |
-//! | `GENSTIFF` | m × m | modal stiffness; diagonal (orthonormal modes) |
+//! | `GENSTIFF` | m × m | modal stiffness, symmetric (diagonal for orthogonal modes) |
 //! | `INVAR1` | 1 × 1 | mass |
 //! | `INVAR2` | 3 × 1 | first moment of mass `Σ m_p s_p` (BCS) |
-//! | `INVAR6` | m × m | generalized mass; diagonal |
+//! | `INVAR3` | 3 × m | `Σ m_p Φ_p` (BCS): column j is mode j's first moment of mass. Optional: zero (a warning under gravity) |
+//! | `INVAR6` | m × m | generalized mass, symmetric positive definite (diagonal for orthogonal modes) |
 //! | `INVAR7` | 3 × 3 | inertia tensor about the BCS origin, BCS axes |
 //! | `T_MODES` | 3N × m | translational mode shapes: rows 3k … 3k+2 are node k's x, y, z (SELNOD order) |
 //! | `R_MODES` | 3N × m | rotational mode shapes (small rotations), same rows. Optional: zero |
-//!
-//! | `INVAR3` | 3 × m | `Σ m_p Φ_p` (BCS): column j is mode j's first moment of mass. Optional: zero (a warning under gravity) |
 //!
 //! INVAR3 gives the modal load of the weight (`INVARIANTS` 3 = F switches it off). INVAR4,
 //! 5, 8 and 9 may be listed; they are not used, nor is INVAR3 in the mass matrix (see the
 //! module doc of [`crate::flex_bodies`]): a warning says so unless `INVARIANTS` switches
 //! them off.
+//!
 //! GENSTIFF and INVAR6 may be full symmetric matrices (INVAR6 positive definite): then the
 //! modes linkage integrates are those of the principal basis `q = V·η` with `K·V = M·V·Λ`,
 //! `Vᵀ·M·V = 1` ([`crate::modal_basis`]): shapes and INVAR3 times V, DMODE/VMODE as
