@@ -248,8 +248,8 @@ const MATTIASSON: [(f64, f64, f64); 4] = [
 #[test]
 fn tip_loaded_cantilever_follows_mattiassons_elastica() {
     // 20 elements; the load keeps its ground direction (RM = ground marker 1). The beam's
-    // stretch (P/EA ≤ 1e-4) and the discretisation stay within 5e-3 of the inextensible
-    // elastica's tip displacements.
+    // stretch (P/EA ≤ 1e-4) and the discretisation stay within 1e-3 of the inextensible
+    // elastica's tip displacements (measured: at most 6.3e-4, v/L at PL²/EI = 10).
     let ei = E * second_moment();
     for (k, u, v) in MATTIASSON {
         let p = k * ei / (L * L);
@@ -265,7 +265,7 @@ fn tip_loaded_cantilever_follows_mattiassons_elastica() {
         let tip = eq.state.poses[node(&m, 21)].p;
         let (got_u, got_v) = ((L - tip.x) / L, -tip.y / L);
         assert!(
-            (got_u / u - 1.0).abs() < 5e-3 && (got_v / v - 1.0).abs() < 5e-3,
+            (got_u / u - 1.0).abs() < 1e-3 && (got_v / v - 1.0).abs() < 1e-3,
             "PL²/EI = {k}: (u/L, v/L) = ({got_u}, {got_v}) vs ({u}, {v})"
         );
         assert!(tip.z.abs() < 1e-9 * L, "out of plane: {}", tip.z);
