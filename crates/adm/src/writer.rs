@@ -1,4 +1,5 @@
-//! Writing a dataset back: new part poses patched into the original text.
+//! Writing a dataset back: new part poses (and, by [`write_changes`], new numbers of any
+//! statement's arguments, `writer/arguments.rs`) patched into the original text.
 //!
 //! Contract:
 //! - [`write_part_poses`] returns the original text with only the numbers of the listed parts'
@@ -25,6 +26,9 @@ use std::fs;
 use std::io::{self, Write};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicU64, Ordering};
+
+mod arguments;
+pub use arguments::{ArgumentValues, NewValue};
 
 /// New pose of a part's BCS: origin in ground and body 3-1-3 Euler angles in radians.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -63,7 +67,19 @@ pub struct PartPose {
 /// value, a number whose text cannot be found at its span, or (a bug) output that does not
 /// read back with the requested poses.
 pub fn write_part_poses(ds: &Dataset, poses: &[PartPose]) -> Result<String, Diagnostics> {
-    if poses.is_empty() {
+    write_changes(ds, poses, &[])
+}
+
+/// [`write_part_poses`] together with new numbers for other statements' arguments
+/// ([`ArgumentValues`]: an FE_PART's `COORDINATES`, a marker's `QP`/`REULER`, a FLEX_BODY's
+/// `QG`/`REULER`/`DMODE`; contract in `writer/arguments.rs`). An edit of an argument
+/// that a part pose also edits is an error (two changes of one number).
+pub fn write_changes(
+    ds: &Dataset,
+    poses: &[PartPose],
+    arguments: &[ArgumentValues],
+) -> Result<String, Diagnostics> {
+    if poses.is_empty() && arguments.is_empty() {
         return Ok(ds.text.clone());
     }
     let lines = LineTable::new(&ds.text);
@@ -94,11 +110,22 @@ pub fn write_part_poses(ds: &Dataset, poses: &[PartPose]) -> Result<String, Diag
         edits.append(&mut planner.edits);
         errors.append(&mut planner.errors);
     }
+    let mut planner = Planner {
+        ds,
+        lines: &lines,
+        edits: Vec::new(),
+        errors: Vec::new(),
+    };
+    for change in arguments {
+        planner.plan_argument(change);
+    }
+    edits.append(&mut planner.edits);
+    errors.append(&mut planner.errors);
     if !errors.is_empty() {
         return Err(Diagnostics(errors));
     }
     let text = apply_edits(ds, edits)?;
-    verify(ds, &text, poses)?;
+    verify(ds, &text, poses, arguments)?;
     Ok(text)
 }
 
@@ -398,7 +425,12 @@ fn apply_edits(ds: &Dataset, mut edits: Vec<Edit>) -> Result<String, Diagnostics
 }
 
 /// Re-reads the written text and checks that every posed part has its new pose.
-fn verify(ds: &Dataset, text: &str, poses: &[PartPose]) -> Result<(), Diagnostics> {
+fn verify(
+    ds: &Dataset,
+    text: &str,
+    poses: &[PartPose],
+    arguments: &[ArgumentValues],
+) -> Result<(), Diagnostics> {
     let written = crate::parse_dataset(ds.file.clone(), text).map_err(|d| {
         let mut all = vec![error(
             ds,
@@ -408,7 +440,7 @@ fn verify(ds: &Dataset, text: &str, poses: &[PartPose]) -> Result<(), Diagnostic
         all.extend(d.0);
         Diagnostics(all)
     })?;
-    let mut errors = Vec::new();
+    let mut errors = arguments::check_arguments(ds, &written, arguments);
     for pose in poses {
         let old = ds
             .parts

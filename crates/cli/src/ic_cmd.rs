@@ -79,45 +79,19 @@ pub enum SaveError {
     Write(std::io::Error),
 }
 
-/// Writes the dataset with every moved part's QG/REULER at configuration `state` (markers keep
-/// their place on their part because they are given in the part's frame). FE_PART nodes are
-/// not parts of the dataset: their COORDINATES are written as read; nor are a FLEX_BODY's mode
-/// and node bodies.
+/// Writes the dataset at configuration `state`: every moved part's QG/REULER (markers keep
+/// their place on their part because they are given in the part's frame), an FE_PART's
+/// COORDINATES and the markers on its nodes, a FLEX_BODY's QG/REULER and DMODE
+/// (`linkage_model::saved` states what and why).
 pub fn save_configuration(
     ds: &Dataset,
     model: &Model,
     state: &State,
     out: &Path,
 ) -> Result<(), SaveError> {
-    let poses: Vec<linkage_adm::writer::PartPose> = model
-        .parts
-        .iter()
-        .enumerate()
-        .filter(|(k, p)| {
-            if model.fe_node(*k).is_some() {
-                return false;
-            }
-            // A FLEX_BODY's mode and node bodies are not dataset parts (its reference body
-            // is: its QG/REULER are written; DMODE is written as read).
-            if model
-                .flex_body_of(*k)
-                .is_some_and(|f| model.flex_bodies[f].reference != *k)
-            {
-                return false;
-            }
-            let s = state.poses[*k];
-            (s.p - p.p_gb).length() > 0.0 || s.r != p.r_gb
-        })
-        .map(|(k, p)| {
-            let s = state.poses[k];
-            let qg = s.p + s.r * p.p_b_bcs;
-            linkage_adm::writer::PartPose {
-                statement: p.origin.statement_index,
-                qg: qg.to_array(),
-                reuler: linkage_model::frames::matrix_to_euler313(&s.r),
-            }
-        })
-        .collect();
-    let text = linkage_adm::writer::write_part_poses(ds, &poses).map_err(SaveError::Rewrite)?;
+    let poses: Vec<_> = state.poses.iter().map(|s| (s.p, s.r)).collect();
+    let changes = linkage_model::saved::saved_changes(ds, model, &poses);
+    let text = linkage_adm::writer::write_changes(ds, &changes.parts, &changes.arguments)
+        .map_err(SaveError::Rewrite)?;
     linkage_adm::writer::write_atomically(out, &text).map_err(SaveError::Write)
 }

@@ -25,10 +25,16 @@
 //! contributes `6 + modes` to the Gruebler count, as the chapter says, and its modal
 //! coordinates are in the constraint Jacobian through the node equations.
 //!
+//! **The weight** acts on the reference body (INVAR1 at the centre of mass) and, through
+//! INVAR3 `= Σ m_p Φ_p`, on the modes: from `V = −gᵀ(x·I1 + A·(I2 + I3·q))` the
+//! generalized force on mode j is `gᵀ·A·I3_j` and the torque on the reference body
+//! `(A·I3·q) × g` (the weight of the deformation's first moment), a force element of the
+//! solver (`physics::forces::flex_weight`).
+//!
 //! **What is dropped** [decided, stated by the builder's warning]: the inertia coupling
-//! between rigid and modal coordinates (invariants 3, 4, 5, 8, 9: the modal momentum
-//! `Σ m_p Φ_p`, the rotation–mode coupling, and the change of the inertia tensor with q) and
-//! the modal part of the weight (`Σ m_p Φ_pᵀ Aᵀ g`). The mass matrix is block diagonal:
+//! between rigid and modal coordinates (invariants 3, 4, 5, 8, 9 in the mass matrix: the
+//! modal momentum `Σ m_p Φ_p`, the rotation–mode coupling, and the change of the inertia
+//! tensor with q). The mass matrix is block diagonal:
 //! rigid (invariants 1, 2, 7 at q = 0) and modal (invariant 6). This is exact for a body
 //! whose reference frame is held (a cantilever's modes about a clamped root) and, at the
 //! linearization about rest, for free-free modes orthogonal to the rigid-body motion
@@ -55,6 +61,9 @@ pub struct FlexMode {
     pub damping_ratio: f64,
     /// Natural frequency `√(k_j/m_j)/2π` in cycles per model time unit.
     pub frequency: f64,
+    /// First moment of mass of the mode, `Σ_p m_p Φ_pj` (INVAR3's column j, BCS axes; zero
+    /// without INVAR3): the weight's generalized force on the mode is `gᵀ·A·first_moment`.
+    pub first_moment: DVec3,
 }
 
 /// One node markers use.
@@ -89,12 +98,32 @@ pub struct FlexBody {
     /// The first FLEX_NODE constraint of this body (index into
     /// [`crate::Model::constraints`]); its nodes' equations follow in node order.
     pub first_node_constraint: usize,
+    /// The dataset's mode numbers (SELMOD), one per modal coordinate q of the dataset.
+    pub labels: Vec<u64>,
+    /// The principal basis `V` (row-major m × m, `q = V·η`) when GENSTIFF or INVAR6 is not
+    /// diagonal: [`FlexBody::modes`] are then the principal modes η
+    /// (`crate::modal_basis`); `None`: the modes are the dataset's.
+    pub basis: Option<Vec<f64>>,
 }
 
 impl FlexBody {
     /// Degrees of freedom in the Gruebler count: the modes + 6.
     pub fn gruebler_dof(&self) -> usize {
         self.modes.len() + 6
+    }
+
+    /// The dataset's modal coordinates `q` (in the order of [`FlexBody::labels`]) from the
+    /// coordinates of the mode bodies `eta` (in the order of [`FlexBody::modes`]).
+    pub fn coordinates(&self, eta: &[f64]) -> Vec<f64> {
+        match &self.basis {
+            None => eta.to_vec(),
+            Some(v) => {
+                let m = eta.len();
+                (0..m)
+                    .map(|i| (0..m).map(|j| v[i * m + j] * eta[j]).sum())
+                    .collect()
+            }
+        }
     }
 
     /// Every part of this body: the reference, the mode bodies and the node bodies.

@@ -1,4 +1,5 @@
-//! FLEX_BODY outputs: the modal coordinates `q_j = (P_mode_j − rest)·axis` and their rates
+//! FLEX_BODY outputs: the dataset's modal coordinates `q = V·η` (`η_j = (P_mode_j − rest)·axis`,
+//! V the principal basis or the identity) and their rates
 //! (`linkage_model::flex_bodies`), as CSV columns named after the body:
 //! `<body>.q<mode>` and `<body>.qdot<mode>`, per mode in SELMOD order. The node bodies'
 //! positions are ordinary part columns (`<body>.node_<id>.x …`).
@@ -11,21 +12,46 @@ use linkage_solve::state::State;
 pub fn modal_columns(model: &Model) -> Vec<String> {
     let mut out = Vec::new();
     for b in &model.flex_bodies {
-        for m in &b.modes {
-            out.push(format!("{}.q{}", b.origin.name, m.label));
-            out.push(format!("{}.qdot{}", b.origin.name, m.label));
+        for label in &b.labels {
+            out.push(format!("{}.q{label}", b.origin.name));
+            out.push(format!("{}.qdot{label}", b.origin.name));
         }
     }
     out
+}
+
+/// The dataset's modal coordinates and rates of body `b` (the mode bodies' coordinates
+/// through its basis, [`linkage_model::flex_bodies::FlexBody::coordinates`]).
+fn coordinates(
+    b: &linkage_model::flex_bodies::FlexBody,
+    state: &State,
+    v: Option<&[(DVec3, DVec3)]>,
+) -> (Vec<f64>, Option<Vec<f64>>) {
+    let eta: Vec<f64> = b
+        .modes
+        .iter()
+        .map(|m| (state.poses[m.part].p - b.rest).dot(b.axis))
+        .collect();
+    let rates = v.map(|v| {
+        let eta_dot: Vec<f64> = b
+            .modes
+            .iter()
+            .map(|m| v.get(m.part).map_or(0.0, |(v, _)| v.dot(b.axis)))
+            .collect();
+        b.coordinates(&eta_dot)
+    });
+    (b.coordinates(&eta), rates)
 }
 
 /// The values of [`modal_columns`] at a state with CM velocities `v` (one per part).
 pub fn modal_values(model: &Model, state: &State, v: &[(DVec3, DVec3)]) -> Vec<f64> {
     let mut out = Vec::new();
     for b in &model.flex_bodies {
-        for m in &b.modes {
-            out.push((state.poses[m.part].p - b.rest).dot(b.axis));
-            out.push(v.get(m.part).map_or(0.0, |(v, _)| v.dot(b.axis)));
+        let (q, qdot) = coordinates(b, state, Some(v));
+        let qdot = qdot.unwrap_or_default();
+        for (j, x) in q.iter().enumerate() {
+            out.push(*x);
+            out.push(qdot.get(j).copied().unwrap_or(0.0));
         }
     }
     out
@@ -48,12 +74,13 @@ pub struct ModalJson {
 pub fn modal_json(model: &Model, state: &State, v: Option<&[(DVec3, DVec3)]>) -> Vec<ModalJson> {
     let mut out = Vec::new();
     for b in &model.flex_bodies {
-        for m in &b.modes {
+        let (q, qdot) = coordinates(b, state, v);
+        for (j, label) in b.labels.iter().enumerate() {
             out.push(ModalJson {
                 body: b.origin.name.clone(),
-                mode: m.label,
-                q: (state.poses[m.part].p - b.rest).dot(b.axis),
-                qdot: v.and_then(|v| v.get(m.part)).map(|(v, _)| v.dot(b.axis)),
+                mode: *label,
+                q: q[j],
+                qdot: qdot.as_ref().map(|d| d[j]),
             });
         }
     }

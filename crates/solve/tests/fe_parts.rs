@@ -3,7 +3,7 @@
 //! cantilever deflection `P·L³/(3·E·I)`, the first bending frequencies of a cantilever
 //! (`1.875104²·√(EI/(ρAL⁴))/2π`) and of a free-free beam (`4.730041²·…`, with six zero
 //! modes), a pure end moment bending the cantilever into a circle of radius `EI/M` (exact
-//! elastica), Rayleigh damping ratios, a hanging 3DCABLE's stretch `ρ·g·L²/(2E)`, and the
+//! elastica), a tip load's large deflection against Mattiasson's elastica, Rayleigh damping ratios, a hanging 3DCABLE's stretch `ρ·g·L²/(2E)`, and the
 //! corpus dataset with its six-node 3DBEAM through verify, ic, static and simulate.
 //!
 //! Beam: steel, L = 1 m, 10 mm square section: E = 2.1e11 Pa, ρ = 7800 kg/m³,
@@ -233,6 +233,45 @@ fn end_moment_bends_the_cantilever_into_a_circle_of_radius_ei_over_m() {
     assert!((x_axis - DVec3::Y).length() < 1e-3, "{x_axis:?}");
 }
 
+/// The elastica of a cantilever under a tip load of fixed direction (normal to the undeformed
+/// beam): tip displacements `(u/L, v/L)` by `k = P·L²/(E·I)`, from K. Mattiasson, "Numerical
+/// results from large deflection beam and frame problems analysed by means of elliptic
+/// integrals", IJNME 17 (1981) 145–153, Table I (checked to 5 digits by shooting on
+/// `θ'' = −k·cos θ`, `θ(0) = 0`, `θ'(1) = 0`).
+const MATTIASSON: [(f64, f64, f64); 4] = [
+    (1.0, 0.05643, 0.30172),
+    (2.0, 0.16064, 0.49346),
+    (5.0, 0.38763, 0.71379),
+    (10.0, 0.55500, 0.81061),
+];
+
+#[test]
+fn tip_loaded_cantilever_follows_mattiassons_elastica() {
+    // 20 elements; the load keeps its ground direction (RM = ground marker 1). The beam's
+    // stretch (P/EA ≤ 1e-4) and the discretisation stay within 1e-3 of the inextensible
+    // elastica's tip displacements (measured: at most 6.3e-4, v/L at PL²/EI = 10).
+    let ei = E * second_moment();
+    for (k, u, v) in MATTIASSON {
+        let p = k * ei / (L * L);
+        let (m, eq) = equilibrium(&cantilever(
+            21,
+            "",
+            &format!(
+                "EQUILIBRIUM/MAXIT = 200\n\
+                 VFORCE/1, I = 11, JFLOAT = 12, RM = 1, FX = 0, FY = {}, FZ = 0",
+                -p
+            ),
+        ));
+        let tip = eq.state.poses[node(&m, 21)].p;
+        let (got_u, got_v) = ((L - tip.x) / L, -tip.y / L);
+        assert!(
+            (got_u / u - 1.0).abs() < 1e-3 && (got_v / v - 1.0).abs() < 1e-3,
+            "PL²/EI = {k}: (u/L, v/L) = ({got_u}, {got_v}) vs ({u}, {v})"
+        );
+        assert!(tip.z.abs() < 1e-9 * L, "out of plane: {}", tip.z);
+    }
+}
+
 #[test]
 fn free_free_beam_has_six_zero_frequency_modes() {
     let lin = linear(&beam(21, "3DBEAM", "", ""));
@@ -435,4 +474,73 @@ fn corpus_beam_clamped_at_node_1_sags_under_gravity() {
         sag > 0.3 * straight && sag < 3.0 * straight,
         "{sag} vs {straight}"
     );
+}
+
+#[test]
+fn saved_deflected_fe_part_reads_back_at_its_equilibrium() {
+    // `static --save`: COORDINATES with the deflected nodes (places and 3-1-3 angles in the
+    // BCS) and the markers on nodes at their new places (QP/REULER, or XP/ZP as given); the
+    // saved dataset assembles with every node where the equilibrium left it.
+    let ei = E * second_moment();
+    let text = cantilever(
+        6,
+        "",
+        &format!(
+            "MARKER/13, FE_PART = 3, NODE_LABEL = 4, QP = 0.6, 0.01, 0, XP = 0.7, 0.01, 0, \
+             ZP = 0.6, 0.01, 1\nEQUILIBRIUM/MAXIT = 100\n\
+             VFORCE/1, I = 11, JFLOAT = 12, RM = 1, FX = 0, FY = {}, FZ = 0",
+            -2.0 * ei / (L * L)
+        ),
+    )
+    .replace(
+        "FE_PART/3,",
+        "FE_PART/3, QG = 0.5, 0.2, 0, REULER = 20D, 10D, 0,",
+    );
+    let ds = linkage_adm::parse_dataset(Arc::from("t.adm"), &text).unwrap();
+    let (m, eq) = equilibrium(&text);
+    let poses: Vec<_> = eq.state.poses.iter().map(|p| (p.p, p.r)).collect();
+    let changes = linkage_model::saved::saved_changes(&ds, &m, &poses);
+    let saved = linkage_adm::writer::write_changes(&ds, &changes.parts, &changes.arguments)
+        .unwrap_or_else(|e| panic!("{e}"));
+    let (m2, d2, f2) = load(&saved);
+    let a = Assembled::new(&m2, &d2, &f2, &Tolerances::default());
+    assert!(a.failure().is_none(), "{:?}", a.failure());
+    for (k, (want, got)) in eq.state.poses.iter().zip(&a.state().poses).enumerate() {
+        let turn = largest_difference(want.r.transpose() * got.r, glam::DMat3::IDENTITY);
+        assert!(
+            (want.p - got.p).length() < 1e-9 && turn < 1e-9,
+            "{}: {got:?} vs {want:?}",
+            m.parts[k].origin.name
+        );
+    }
+    // The markers on nodes are where they were on the deflected beam.
+    for id in [10, 11, 13] {
+        let (k1, k2) = (
+            m.markers.iter().position(|x| x.id == id).unwrap(),
+            m2.markers.iter().position(|x| x.id == id).unwrap(),
+        );
+        let place = |m: &Model, k: usize, poses: &[linkage_solve::state::Pose]| {
+            let mk = &m.markers[k];
+            let linkage_model::bodies::Body::Part(b) = mk.body else {
+                panic!("on ground")
+            };
+            (poses[b].p + poses[b].r * mk.p_bm, poses[b].r * mk.r_bm)
+        };
+        let (p1, r1) = place(&m, k1, &eq.state.poses);
+        let (p2, r2) = place(&m2, k2, &a.state().poses);
+        assert!((p1 - p2).length() < 1e-9, "marker {id}: {p2:?} vs {p1:?}");
+        assert!(largest_difference(r1, r2) < 1e-9, "marker {id}");
+    }
+    // The tip moved by the elastica's order (PL²/EI = 2: v/L ≈ 0.49), so the test is not
+    // passed by an unmoved beam.
+    let tip = node(&m, 6);
+    assert!((eq.state.poses[tip].p - m.parts[tip].p_gb).length() > 0.3 * L);
+}
+
+/// The largest entry of `a − b`.
+fn largest_difference(a: glam::DMat3, b: glam::DMat3) -> f64 {
+    (a - b)
+        .to_cols_array()
+        .iter()
+        .fold(0.0f64, |m, x| m.max(x.abs()))
 }

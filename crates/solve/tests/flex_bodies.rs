@@ -12,6 +12,7 @@
 //! beam: 4.730041, 7.853205, 10.995608 (Blevins, Formulas for Natural Frequency and Mode
 //! Shape, table 8-1).
 
+use glam::DVec3;
 use linkage_model::Model;
 use linkage_solve::constraints::drivers::ExpressionDrivers;
 use linkage_solve::physics::forces::ForceSet;
@@ -44,6 +45,19 @@ fn second_moment() -> f64 {
 /// `√(EI/(ρAL⁴))` (rad/s per unit (βL)²).
 fn beam_scale() -> f64 {
     (E * second_moment() / (RHO * area() * L.powi(4))).sqrt()
+}
+
+/// `∫₀ᴸ φ dx` of a beam mode (cantilever or free-free; zero for a free-free elastic mode).
+fn mode_integral(bl: f64, free: bool) -> f64 {
+    let b = bl / L;
+    let (ch, c, sh, s) = (bl.cosh(), bl.cos(), bl.sinh(), bl.sin());
+    if free {
+        let sigma = (ch - c) / (sh - s);
+        (sh + s - sigma * (ch - c)) / b
+    } else {
+        let sigma = (ch + c) / (sh + s);
+        (sh - s - sigma * (ch + c - 2.0)) / b
+    }
 }
 
 /// A beam mode: `φ(x)` and `φ'(x)` for `βL` (cantilever or free-free).
@@ -81,6 +95,18 @@ fn matrix(out: &mut String, id: u64, name: &str, rows: usize, cols: usize, value
 /// 3 (x = L); markers 10 (node 1), 11 (node 3), 13 (node 2), `flex` appended to the
 /// FLEX_BODY statement, `extra` statements before END.
 fn dataset(bls: &[f64], free: bool, flex: &str, extra: &str) -> String {
+    dataset_in_basis(bls, free, flex, extra, None)
+}
+
+/// [`dataset`] with the modal coordinates of another basis `q = R·q'` (`R` row-major
+/// `nm × nm`): shapes and INVAR3 `·R`, GENSTIFF and INVAR6 `Rᵀ·(·)·R`.
+fn dataset_in_basis(
+    bls: &[f64],
+    free: bool,
+    flex: &str,
+    extra: &str,
+    basis: Option<&[f64]>,
+) -> String {
     let (a, i) = (area(), second_moment());
     let m = RHO * a * L;
     let nodes = [0.0, 0.5 * L, L];
@@ -89,9 +115,11 @@ fn dataset(bls: &[f64], free: bool, flex: &str, extra: &str) -> String {
     let mut r = vec![0.0; 9 * nm];
     let mut k = vec![0.0; nm * nm];
     let mut gm = vec![0.0; nm * nm];
+    let mut i3 = vec![0.0; 3 * nm];
     for (p, bl) in bls.iter().enumerate() {
         for plane in 0..2 {
             let j = 2 * p + plane;
+            i3[(1 + plane) * nm + j] = RHO * a * mode_integral(*bl, free);
             k[j * nm + j] = bl.powi(4) * E * i / L.powi(3);
             gm[j * nm + j] = m;
             for (n, x) in nodes.iter().enumerate() {
@@ -108,11 +136,40 @@ fn dataset(bls: &[f64], free: bool, flex: &str, extra: &str) -> String {
             }
         }
     }
+    if let Some(rb) = basis {
+        let right = |a: &[f64], rows: usize| -> Vec<f64> {
+            (0..rows * nm)
+                .map(|x| {
+                    (0..nm)
+                        .map(|i| a[(x / nm) * nm + i] * rb[i * nm + x % nm])
+                        .sum()
+                })
+                .collect()
+        };
+        let congruent = |a: &[f64]| -> Vec<f64> {
+            let ar = right(a, nm);
+            (0..nm * nm)
+                .map(|x| {
+                    (0..nm)
+                        .map(|i| rb[i * nm + x / nm] * ar[i * nm + x % nm])
+                        .sum()
+                })
+                .collect()
+        };
+        t = right(&t, 9);
+        r = right(&r, 9);
+        i3 = right(&i3, 3);
+        k = congruent(&k);
+        gm = congruent(&gm);
+    }
     let mut s = String::from(
         "flex beam\nUNITS/, FORCE = NEWTON, MASS = KILOGRAM, LENGTH = METER, TIME = SECOND\n\
          PART/1, GROUND\nMARKER/1, PART = 1\nMARKER/12, PART = 1, FLOATING\n",
     );
-    let _ = writeln!(s, "FLEX_BODY/1, MATRICES = 1, 2, 3, 4, 5, 6, 7, 8, 9{flex}");
+    let _ = writeln!(
+        s,
+        "FLEX_BODY/1, MATRICES = 1, 2, 3, 4, 5, 6, 7, 8, 9, 10{flex}"
+    );
     let selmod: Vec<f64> = (1..=nm).map(|x| x as f64).collect();
     matrix(&mut s, 1, "SELMOD", nm, 1, &selmod);
     matrix(
@@ -138,6 +195,7 @@ fn dataset(bls: &[f64], free: bool, flex: &str, extra: &str) -> String {
     );
     matrix(&mut s, 8, "T_MODES", 9, nm, &t);
     matrix(&mut s, 9, "R_MODES", 9, nm, &r);
+    matrix(&mut s, 10, "INVAR3", 3, nm, &i3);
     let _ = write!(
         s,
         "MARKER/10, FLEX_BODY = 1, NODE_ID = 1\nMARKER/11, FLEX_BODY = 1, NODE_ID = 3, QP = {L}, 0, 0\n\
@@ -463,10 +521,188 @@ fn flex_body_input_errors_name_the_element() {
     let e = errors(&base.replace("NODE_ID = 3", "NODE_ID = 7"));
     assert!(e.contains("has no node 7"), "{e}");
     let e = errors(&base.replace("DMODE", "X").replace(
-        "FLEX_BODY/1, MATRICES = 1, 2, 3, 4, 5, 6, 7, 8, 9",
-        "FLEX_BODY/1, MATRICES = 1, 2, 3, 4, 5, 6, 7, 8, 9, DMODE = 1, 2, 3",
+        "FLEX_BODY/1, MATRICES = 1, 2, 3, 4, 5, 6, 7, 8, 9, 10",
+        "FLEX_BODY/1, MATRICES = 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, DMODE = 1, 2, 3",
     ));
     assert!(e.contains("DMODE needs 2 values"), "{e}");
     let e = errors(&base.replace("MATRICES = 1, 2, 3,", "MATRICES = 1, 2,"));
     assert!(e.contains("no matrix named GENSTIFF"), "{e}");
+}
+
+/// The equilibrium's changes written into the dataset (as `static --save` does), read back
+/// and assembled: every body's pose within `1e-9` (length) and `1e-9` rad of the equilibrium.
+fn assert_saved_pose_reads_back(text: &str) -> String {
+    let ds = linkage_adm::parse_dataset(Arc::from("t.adm"), text).unwrap();
+    let (m, eq) = equilibrium(text);
+    let poses: Vec<_> = eq.state.poses.iter().map(|p| (p.p, p.r)).collect();
+    let changes = linkage_model::saved::saved_changes(&ds, &m, &poses);
+    let saved = linkage_adm::writer::write_changes(&ds, &changes.parts, &changes.arguments)
+        .unwrap_or_else(|e| panic!("{e}"));
+    let (m2, d2, f2) = load(&saved);
+    assert_eq!(m2.parts.len(), m.parts.len());
+    let a = Assembled::new(&m2, &d2, &f2, &Tolerances::default());
+    assert!(a.failure().is_none(), "{:?}", a.failure());
+    // Modal coordinates: `(p − rest)·axis` of each mode body (its rest point is the BCS
+    // origin as read, so the mode bodies themselves are elsewhere).
+    let (b, b2) = (&m.flex_bodies[0], &m2.flex_bodies[0]);
+    for (j, (mode, mode2)) in b.modes.iter().zip(&b2.modes).enumerate() {
+        let q = (eq.state.poses[mode.part].p - b.rest).dot(b.axis);
+        let q2 = (a.state().poses[mode2.part].p - b2.rest).dot(b2.axis);
+        assert!(
+            (q - q2).abs() < 1e-9 * q.abs().max(1e-9),
+            "q{}: {q2} vs {q}",
+            j + 1
+        );
+    }
+    for (k, (want, got)) in eq.state.poses.iter().zip(&a.state().poses).enumerate() {
+        if b.modes.iter().any(|mode| mode.part == k) {
+            continue;
+        }
+        let turn = largest_difference(want.r.transpose() * got.r, glam::DMat3::IDENTITY);
+        assert!(
+            (want.p - got.p).length() < 1e-9 && turn < 1e-9,
+            "{}: {:?} vs {:?}",
+            m.parts[k].origin.name,
+            got,
+            want
+        );
+    }
+    saved
+}
+
+#[test]
+fn saved_flex_body_equilibrium_reads_back_with_its_pose_and_dmode() {
+    // Clamped to a ground marker turned 30° about z and moved up 0.1 m: the assembly moves
+    // the reference frame there; a tip load bends the modes. The saved dataset has the
+    // reference frame's QG/REULER and DMODE, and assembles at the equilibrium pose.
+    let text = dataset(
+        &CANTILEVER[..2],
+        false,
+        ", CRATIO = 0",
+        "MARKER/5, PART = 1, QP = 0, 0.1, 0, REULER = 30D, 0, 0\n\
+         JOINT/1, FIXED, I = 10, J = 5\n\
+         VFORCE/1, I = 11, JFLOAT = 12, RM = 1, FX = 0, FY = -0.05, FZ = 0",
+    );
+    let saved = assert_saved_pose_reads_back(&text);
+    let ds = linkage_adm::parse_dataset(Arc::from("t.adm"), &saved).unwrap();
+    let flex = ds
+        .statements
+        .iter()
+        .find(|s| s.keyword == "FLEX_BODY")
+        .unwrap();
+    for key in ["QG", "REULER", "DMODE"] {
+        assert!(flex.arg(key).is_some(), "{key} not written:\n{saved}");
+    }
+}
+
+/// The largest entry of `a − b`.
+fn largest_difference(a: glam::DMat3, b: glam::DMat3) -> f64 {
+    (a - b)
+        .to_cols_array()
+        .iter()
+        .fold(0.0f64, |m, x| m.max(x.abs()))
+}
+
+#[test]
+fn weight_bends_the_cantilever_flex_body_by_rho_a_g_l4_over_8ei() {
+    // The weight's modal load gᵀ·A·I3_j (INVAR3 = ρA∫φ_j): the tip deflects
+    // Σ φ_j(L)·ρAg∫φ_j/k_j, which with the five modes is 1.0000147 of ρ·A·g·L⁴/(8·E·I)
+    // (the series in closed form; the z-plane modes stay unloaded).
+    let g = 9.80665;
+    let (m, eq) = equilibrium(&cantilever(&CANTILEVER, "", "ACCGRAV/, JGRAV = -9.80665"));
+    let tip = eq.state.poses[node_part(&m, 3)].p;
+    let closed = RHO * area() * g * L.powi(4) / (8.0 * E * second_moment());
+    let series: f64 = CANTILEVER
+        .iter()
+        .map(|bl| {
+            let k = bl.powi(4) * E * second_moment() / L.powi(3);
+            mode(*bl, false, L).0 * RHO * area() * g * mode_integral(*bl, false) / k
+        })
+        .sum();
+    assert!(
+        (series / closed - 1.0000147).abs() < 1e-6,
+        "{}",
+        series / closed
+    );
+    assert!(
+        (-tip.y / series - 1.0).abs() < 1e-6,
+        "{} vs {series} ({} of ρAgL⁴/8EI)",
+        -tip.y,
+        -tip.y / closed
+    );
+    assert!(tip.z.abs() < 1e-9 * closed, "{}", tip.z);
+    // Without INVAR3 (INVARIANTS switch 3 off) the weight loads no mode.
+    let off = "T:T:F:T:T:T:T:T:T";
+    let (m, eq) = equilibrium(&cantilever(
+        &CANTILEVER,
+        &format!(", INVARIANTS = {off}"),
+        "ACCGRAV/, JGRAV = -9.80665",
+    ));
+    assert!(eq.state.poses[node_part(&m, 3)].p.y.abs() < 1e-12);
+}
+
+#[test]
+fn full_modal_matrices_of_a_mixed_basis_give_the_same_frequencies_and_deflection() {
+    // Four cantilever modes (y1, z1, y2, z2) written in the basis q = R·q' that mixes y1 with
+    // y2 and z1 with z2 (not orthogonal): GENSTIFF and INVAR6 are full. linkage integrates
+    // the principal basis of (K', M'): the frequencies and a tip deflection are those of the
+    // orthonormal modes (to rounding, 1e-9), and the reported q' are R⁻¹·q.
+    #[rustfmt::skip]
+    let mix = [
+        1.0, 0.0, 0.6, 0.0,
+        0.0, 1.0, 0.0, -0.4,
+        0.3, 0.0, 1.0, 0.0,
+        0.0, 0.5, 0.0, 2.0,
+    ];
+    let plain = cantilever(&CANTILEVER[..2], ", CRATIO = 0", "");
+    let mixed = dataset_in_basis(
+        &CANTILEVER[..2],
+        false,
+        ", CRATIO = 0",
+        "JOINT/1, FIXED, I = 10, J = 1\n",
+        Some(&mix),
+    );
+    let (m, _, _) = load(&mixed);
+    assert!(m.flex_bodies[0].basis.is_some());
+    let freqs = |text: &str| {
+        let mut f: Vec<f64> = linear(text).modes.iter().map(|m| m.frequency).collect();
+        f.sort_by(f64::total_cmp);
+        f
+    };
+    let (a, b) = (freqs(&plain), freqs(&mixed));
+    assert_eq!(a.len(), 4);
+    for (x, y) in a.iter().zip(&b) {
+        assert!((x / y - 1.0).abs() < 1e-9, "{a:?} vs {b:?}");
+    }
+    let load_tip = "VFORCE/1, I = 11, JFLOAT = 12, RM = 1, FX = 0, FY = -0.01, FZ = 0.005";
+    let (m1, e1) = equilibrium(&plain.replace("END\n", &format!("{load_tip}\nEND\n")));
+    let (m2, e2) = equilibrium(&mixed.replace("END\n", &format!("{load_tip}\nEND\n")));
+    let (t1, t2) = (
+        e1.state.poses[node_part(&m1, 3)].p,
+        e2.state.poses[node_part(&m2, 3)].p,
+    );
+    assert!(
+        (t1 - t2).length() < 1e-9 * (t1 - DVec3::new(L, 0.0, 0.0)).length(),
+        "{t1} vs {t2}"
+    );
+    // The dataset's coordinates: q = R·q', so q' = R⁻¹·q; check R·q' = q.
+    let q_of = |m: &Model, e: &Equilibrium| {
+        let b = &m.flex_bodies[0];
+        let eta: Vec<f64> = b
+            .modes
+            .iter()
+            .map(|x| (e.state.poses[x.part].p - b.rest).dot(b.axis))
+            .collect();
+        b.coordinates(&eta)
+    };
+    let (q, q_mixed) = (q_of(&m1, &e1), q_of(&m2, &e2));
+    for i in 0..4 {
+        let back: f64 = (0..4).map(|j| mix[i * 4 + j] * q_mixed[j]).sum();
+        assert!(
+            (back - q[i]).abs() < 1e-9 * q[i].abs().max(1e-12),
+            "q{}: {back} vs {}",
+            i + 1,
+            q[i]
+        );
+    }
 }

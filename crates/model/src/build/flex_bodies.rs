@@ -11,17 +11,26 @@
 //! |---|---|---|
 //! | `SELMOD` | m × 1 or m × 2 | mode numbers (column 1; an optional column 2, the frequency, is not read). Optional: modes 1 … m |
 //! | `SELNOD` | N × 4 | node id, then its undeformed x, y, z in the BCS |
-//! | `GENSTIFF` | m × m | modal stiffness; diagonal (orthonormal modes) |
+//! | `GENSTIFF` | m × m | modal stiffness, symmetric (diagonal for orthogonal modes) |
 //! | `INVAR1` | 1 × 1 | mass |
 //! | `INVAR2` | 3 × 1 | first moment of mass `Σ m_p s_p` (BCS) |
-//! | `INVAR6` | m × m | generalized mass; diagonal |
+//! | `INVAR3` | 3 × m | `Σ m_p Φ_p` (BCS): column j is mode j's first moment of mass. Optional: zero (a warning under gravity) |
+//! | `INVAR6` | m × m | generalized mass, symmetric positive definite (diagonal for orthogonal modes) |
 //! | `INVAR7` | 3 × 3 | inertia tensor about the BCS origin, BCS axes |
 //! | `T_MODES` | 3N × m | translational mode shapes: rows 3k … 3k+2 are node k's x, y, z (SELNOD order) |
 //! | `R_MODES` | 3N × m | rotational mode shapes (small rotations), same rows. Optional: zero |
 //!
-//! INVAR3, 4, 5, 8 and 9 may be listed; they are not used (see the module doc of
-//! [`crate::flex_bodies`]): a warning says so unless `INVARIANTS` switches them off.
-//! A GENSTIFF or INVAR6 with off-diagonal terms is an error (orthonormalize the modes).
+//! INVAR3 gives the modal load of the weight (`INVARIANTS` 3 = F switches it off). INVAR4,
+//! 5, 8 and 9 may be listed; they are not used, nor is INVAR3 in the mass matrix (see the
+//! module doc of [`crate::flex_bodies`]): a warning says so unless `INVARIANTS` switches
+//! them off.
+//!
+//! GENSTIFF and INVAR6 may be full symmetric matrices (INVAR6 positive definite): then the
+//! modes linkage integrates are those of the principal basis `q = V·η` with `K·V = M·V·Λ`,
+//! `Vᵀ·M·V = 1` ([`crate::modal_basis`]): shapes and INVAR3 times V, DMODE/VMODE as
+//! `η = Vᵀ·M·q`, the mode bodies `<name>.mode_<k>` numbered 1 … m by ascending frequency,
+//! CRATIO's FXFREQ and FXMODE theirs; reports and `--save` give the dataset's q = V·η
+//! ([`FlexBody::coordinates`]).
 //!
 //! - A FLEX_BODY whose data is an MNF or MD DB file, or whose MATRIX file is missing or
 //!   unreadable, is left out of the model (its markers stay unmodelled); `coverage` names
@@ -43,6 +52,7 @@ use crate::flex_bodies::{
 };
 use crate::forces::{Bushing, ForceElement, ForceKind};
 use crate::frames::{euler313_to_matrix, exp_so3};
+use crate::modal_basis::principal_basis;
 use crate::model::{Constraint, ConstraintKind, JointInitial};
 use crate::units::Units;
 use glam::{DMat3, DVec3};
@@ -50,7 +60,7 @@ use linkage_adm::flex_body::{type_flex_bodies, FlexBodyStatement};
 use linkage_adm::{Dataset, JointType, MarkerCarrier, MatrixData, Severity, Span};
 use std::collections::HashMap;
 
-/// Relative size of an off-diagonal term of GENSTIFF or INVAR6 that is an error.
+/// Relative size of an off-diagonal term of GENSTIFF or INVAR6 below which it is diagonal.
 const OFF_DIAGONAL_TOLERANCE: f64 = 1e-9;
 
 /// Builds every FLEX_BODY: appends its reference, mode and node bodies to `parts` and
@@ -192,32 +202,6 @@ impl Source<'_> {
         }
         Some(m.clone())
     }
-
-    /// The diagonal of a square `m × m` matrix that must be diagonal.
-    fn diagonal(&self, name: &str, m: usize, cx: &mut Ctx) -> Option<Vec<f64>> {
-        let d = self.sized(name, m, m, cx)?;
-        let diag: Vec<f64> = (0..m).map(|i| d.get(i, i)).collect();
-        let scale = diag.iter().fold(0.0f64, |a, v| a.max(v.abs()));
-        for i in 0..m {
-            for j in 0..m {
-                if i != j && d.get(i, j).abs() > OFF_DIAGONAL_TOLERANCE * scale {
-                    cx.error(
-                        self.span(),
-                        format!(
-                            "{}: {name} is not diagonal (entry ({}, {}) = {}): the modes must be \
-                             orthonormal (as Adams' MNF modes are)",
-                            self.st.header.name,
-                            i + 1,
-                            j + 1,
-                            d.get(i, j)
-                        ),
-                    );
-                    return None;
-                }
-            }
-        }
-        Some(diag)
-    }
 }
 
 fn flex_body(
@@ -238,8 +222,7 @@ fn flex_body(
         return None;
     };
     let m = stiffness;
-    let k = src.diagonal("GENSTIFF", m, cx)?;
-    let gm = src.diagonal("INVAR6", m, cx)?;
+    let (k, gm, basis) = modal_matrices(src, m, cx)?;
     let mass = src.sized("INVAR1", 1, 1, cx)?.get(0, 0);
     let first = src.sized("INVAR2", 3, 1, cx)?;
     let i7 = src.sized("INVAR7", 3, 3, cx)?;
@@ -261,12 +244,12 @@ fn flex_body(
         return None;
     }
     let n_nodes = selnod.rows;
-    let t_modes = src.sized("T_MODES", 3 * n_nodes, m, cx)?;
-    let r_modes = match src.find("R_MODES") {
+    let mut t_modes = src.sized("T_MODES", 3 * n_nodes, m, cx)?;
+    let mut r_modes = match src.find("R_MODES") {
         Some(_) => Some(src.sized("R_MODES", 3 * n_nodes, m, cx)?),
         None => None,
     };
-    let labels: Vec<u64> = match src.find("SELMOD") {
+    let dataset_labels: Vec<u64> = match src.find("SELMOD") {
         Some(s) if s.rows == m && (s.columns == 1 || s.columns == 2) => {
             (0..m).map(|i| s.get(i, 0) as u64).collect()
         }
@@ -308,8 +291,20 @@ fn flex_body(
             None
         }
     };
-    let dmode = per_mode(&st.dmode, "DMODE", cx)?;
-    let vmode = per_mode(&st.vmode, "VMODE", cx)?;
+    let mut dmode = per_mode(&st.dmode, "DMODE", cx)?;
+    let mut vmode = per_mode(&st.vmode, "VMODE", cx)?;
+    // In a principal basis (q = V·η): shapes Φ·V, coordinates η = Vᵀ·M·q; the modes are
+    // numbered 1 … m in ascending frequency.
+    let labels: Vec<u64> = match &basis {
+        None => dataset_labels.clone(),
+        Some(b) => {
+            t_modes = times(&t_modes, &b.v, m);
+            r_modes = r_modes.map(|r| times(&r, &b.v, m));
+            dmode = b.coordinates(&dmode);
+            vmode = b.coordinates(&vmode);
+            (1..=m as u64).collect()
+        }
+    };
     let ratios = damping_ratios(st, &labels, &k, &gm, units, cx)?;
     if !st.invariants[2]
         && !st.invariants[3]
@@ -323,11 +318,31 @@ fn flex_body(
             st.invariants_span.unwrap_or(st.header.span),
             format!(
                 "{name}: the inertia coupling between rigid and modal coordinates \
-                 (invariants 3, 4, 5, 8, 9) and the modal part of the weight are not modelled: \
-                 the modes are coupled to the rigid motion through the node equations only"
+                 (invariants 3, 4, 5, 8, 9 in the mass matrix) is not modelled: the modes are \
+                 coupled to the rigid motion through the node equations only"
             ),
         );
     }
+    // INVAR3 (Σ m_p Φ_p, 3 × m in the BCS): the modal load of the weight.
+    let first_moments: Vec<DVec3> = if !st.invariants[2] {
+        vec![DVec3::ZERO; m]
+    } else if src.find("INVAR3").is_some() {
+        let mut i3 = src.sized("INVAR3", 3, m, cx)?;
+        if let Some(b) = &basis {
+            i3 = times(&i3, &b.v, m);
+        }
+        (0..m)
+            .map(|j| DVec3::new(i3.get(0, j), i3.get(1, j), i3.get(2, j)))
+            .collect()
+    } else {
+        if gravity != DVec3::ZERO {
+            cx.warn(
+                src.span(),
+                format!("{name}: MATRICES has no INVAR3 (Σ m_p Φ_p), so the weight loads no mode"),
+            );
+        }
+        vec![DVec3::ZERO; m]
+    };
     // The BCS, the reference body at the centre of mass.
     let bcs_p = st
         .qg
@@ -381,6 +396,7 @@ fn flex_body(
             stiffness: k[j],
             damping_ratio: ratios[j],
             frequency: (k[j] / gm[j]).sqrt() / std::f64::consts::TAU,
+            first_moment: first_moments[j],
         });
         parts.push(Part {
             origin: o,
@@ -459,7 +475,92 @@ fn flex_body(
         axis,
         rest: bcs_p,
         first_node_constraint: 0,
+        labels: dataset_labels,
+        basis: basis.map(|b| b.v),
     })
+}
+
+/// GENSTIFF and INVAR6 → the modal stiffnesses and generalized masses of the coordinates
+/// linkage integrates: the dataset's own when both are diagonal, else those of the principal
+/// basis ([`principal_basis`]: stiffness `ω_j²`, mass 1) with the basis.
+fn modal_matrices(
+    src: &Source,
+    m: usize,
+    cx: &mut Ctx,
+) -> Option<(Vec<f64>, Vec<f64>, Option<Basis>)> {
+    let k = src.sized("GENSTIFF", m, m, cx)?;
+    let mass = src.sized("INVAR6", m, m, cx)?;
+    let diagonal = |d: &DenseMatrix| {
+        let scale = (0..m).fold(0.0f64, |a, i| a.max(d.get(i, i).abs()));
+        (0..m)
+            .all(|i| (0..m).all(|j| i == j || d.get(i, j).abs() <= OFF_DIAGONAL_TOLERANCE * scale))
+    };
+    if diagonal(&k) && diagonal(&mass) {
+        let diag = |d: &DenseMatrix| (0..m).map(|i| d.get(i, i)).collect();
+        return Some((diag(&k), diag(&mass), None));
+    }
+    match principal_basis(&k.values, &mass.values, m) {
+        Ok((lambda, v)) => {
+            let largest = lambda.iter().fold(0.0f64, |a, l| a.max(l.abs()));
+            // Rounding below zero of a rigid-body mode's ω² is zero.
+            let lambda = lambda
+                .into_iter()
+                .map(|l| {
+                    if l < 0.0 && l > -1e-12 * largest {
+                        0.0
+                    } else {
+                        l
+                    }
+                })
+                .collect();
+            Some((
+                lambda,
+                vec![1.0; m],
+                Some(Basis {
+                    v,
+                    mass: mass.values,
+                    m,
+                }),
+            ))
+        }
+        Err(e) => {
+            cx.error(src.span(), format!("{}: {e}", src.st.header.name));
+            None
+        }
+    }
+}
+
+/// A principal basis `q = V·η` with the generalized mass it is orthonormal in.
+struct Basis {
+    /// `V`, row-major m × m.
+    v: Vec<f64>,
+    /// INVAR6, row-major.
+    mass: Vec<f64>,
+    m: usize,
+}
+
+impl Basis {
+    /// `η = Vᵀ·M·q`.
+    fn coordinates(&self, q: &[f64]) -> Vec<f64> {
+        let m = self.m;
+        let mq: Vec<f64> = (0..m)
+            .map(|i| (0..m).map(|j| self.mass[i * m + j] * q[j]).sum())
+            .collect();
+        (0..m)
+            .map(|j| (0..m).map(|i| self.v[i * m + j] * mq[i]).sum())
+            .collect()
+    }
+}
+
+/// `a·V` for an `r × m` matrix `a` and the m × m row-major `v`.
+fn times(a: &DenseMatrix, v: &[f64], m: usize) -> DenseMatrix {
+    let mut out = DenseMatrix::zeros(a.rows, m);
+    for r in 0..a.rows {
+        for j in 0..m {
+            out.values[r * m + j] = (0..m).map(|i| a.get(r, i) * v[i * m + j]).sum();
+        }
+    }
+    out
 }
 
 /// A ground direction normal to gravity (ground z without gravity): the ground axis least

@@ -9,6 +9,7 @@
 //! | BEAM | [`beam`] | LINEAR as [`six_dof`]; STRING adds the axial force's geometric stiffness; NONLINEAR is [`corotational`] |
 //! | VFORCE, VTORQUE, GFORCE | [`vector`] | expression components along RM's axes, at I |
 //! | FE_PART elements, FE_LOAD | [`fe_beam`] (+ [`corotational`]) | corotational beam between node bodies; Rayleigh damping; lumped loads |
+//! | FLEX_BODY weight on its modes | [`flex_weight`] | `gᵀ·A·I3_j` on mode j, the torque of the deformation's weight on the reference body |
 //! | CONTACT | [`contact`] | IMPACT or POISSON normal force and Coulomb friction per incident |
 //! | FRICTION | [`crate::physics::forces::friction`] | stick-slip friction on a joint, with a state |
 //!
@@ -42,6 +43,7 @@ pub mod contact;
 pub mod corotational;
 pub mod data;
 pub mod fe_beam;
+pub mod flex_weight;
 pub mod friction;
 pub mod scalar;
 pub mod six_dof;
@@ -115,6 +117,7 @@ pub enum Law {
     FeBeam(Box<fe_beam::BeamElementLaw>),
     FeDamping(Box<fe_beam::NodeDampingLaw>),
     FeLoad(Box<fe_beam::NodeLoadLaw>),
+    ModalWeight(Box<flex_weight::ModalWeightLaw>),
     Contact(Box<contact::ContactLaw>),
 }
 
@@ -128,6 +131,7 @@ impl Law {
             Law::FeBeam(l) => l.loads(cx),
             Law::FeDamping(l) => l.loads(cx),
             Law::FeLoad(l) => l.loads(cx),
+            Law::ModalWeight(l) => l.loads(cx),
             Law::Contact(l) => l.loads(cx),
         }
     }
@@ -522,6 +526,26 @@ impl Builder<'_> {
     }
 }
 
+impl Builder<'_> {
+    /// The weight's modal load of every flex body mode with a first moment (INVAR3).
+    fn flex_weights(&mut self, out: &mut Vec<Element>) {
+        let model = self.model;
+        for b in &model.flex_bodies {
+            for mode in &b.modes {
+                let Some(law) =
+                    flex_weight::ModalWeightLaw::new(b, mode, model.gravity, model.ucf())
+                else {
+                    continue;
+                };
+                out.push(Element {
+                    label: format!("{} (weight)", model.parts[mode.part].origin.label()),
+                    law: Law::ModalWeight(Box::new(law)),
+                });
+            }
+        }
+    }
+}
+
 impl ForceSet {
     /// Builds the force set of `model`: every expression parsed once, every reference to a
     /// data element checked. Errors are located in the dataset (see the module docs).
@@ -543,6 +567,7 @@ impl ForceSet {
             }
         }
         b.fe_elements(&mut elements);
+        b.flex_weights(&mut elements);
         let controls = ControlSet::new(model, &mut |f, origin, what| b.expr(f, origin, what));
         // The inputs of linear state elements are used too.
         for e in &model.controls.states {
