@@ -181,6 +181,80 @@ fn return_goes_on_with_the_command_file_and_halt_ends_it() {
 }
 
 #[test]
+fn sensor_dt_sets_the_dynamic_output_interval_from_the_event_on() {
+    // The fall reaches DZ = 2.5 at t* = √(2·2.5/g) = 0.713928 (inside the step to 0.9); from
+    // then on outputs every 0.1: t* + 0.1, …, t* + 0.4 = 1.113928, then the end, 1.2. The
+    // event itself is no output (no PRINT). Event located to |DZ − 2.5| ≤ 1e-6 at 7 m/s:
+    // 1.5e-7 s.
+    let f = fall(
+        "dt",
+        "SENSOR/1, VALUE = 2.5, LE, ERROR = 1E-6, DT = 0.1, FUNCTION = DZ(40, 1)",
+    );
+    let csv = f.with_extension("csv");
+    let (code, v) = json(&[
+        "simulate",
+        s(&f),
+        "--end",
+        "1.2",
+        "--steps",
+        "4",
+        "--format",
+        "json",
+        "--out",
+        s(&csv),
+    ]);
+    assert_eq!(code, 0, "{v}");
+    assert_eq!(v["end_time"], 1.2);
+    assert_eq!(v["sensors"][0]["actions"], serde_json::json!(["DT"]));
+    let t_star = (2.0 * 2.5 / G).sqrt();
+    let event = v["sensors"][0]["time"].as_f64().unwrap();
+    assert!((event - t_star).abs() < 2e-7, "{event} vs {t_star}");
+    let rows = times_and_heights(&csv);
+    let times: Vec<f64> = rows.iter().map(|r| r.0).collect();
+    assert_eq!(times.len(), 3 + 4 + 1, "{times:?}");
+    assert_eq!(&times[..3], &[0.0, 0.3, 0.6]);
+    for (k, t) in times[3..7].iter().enumerate() {
+        let expected = t_star + 0.1 * (k + 1) as f64;
+        assert!((t - expected).abs() < 2e-7, "{times:?}");
+    }
+    assert_eq!(times[7], 1.2);
+    // The motion goes on unchanged through the new outputs.
+    for &(t, z) in &rows {
+        assert!((z - (5.0 - 0.5 * G * t * t)).abs() < 1e-6, "{t} {z}");
+    }
+}
+
+#[test]
+fn sensor_dt_at_an_output_time_keeps_that_output_and_spaces_the_rest() {
+    // TIME ≥ 0.5 fires at the end of the step that lands on the output 0.5: that output is
+    // written, then every 0.2 up to 1.5: 0.7, 0.9, 1.1, 1.3, 1.5.
+    let f = fall(
+        "dt-at-output",
+        "SENSOR/1, VALUE = 0.5, GE, ERROR = 1E-9, DT = 0.2, FUNCTION = TIME",
+    );
+    let csv = f.with_extension("csv");
+    let (code, v) = json(&[
+        "simulate",
+        s(&f),
+        "--end",
+        "1.5",
+        "--steps",
+        "6",
+        "--format",
+        "json",
+        "--out",
+        s(&csv),
+    ]);
+    assert_eq!(code, 0, "{v}");
+    let got: Vec<f64> = times_and_heights(&csv).iter().map(|r| r.0).collect();
+    let expected = [0.0, 0.25, 0.5, 0.7, 0.9, 1.1, 1.3, 1.5];
+    assert_eq!(got.len(), expected.len(), "{got:?}");
+    for (t, e) in got.iter().zip(expected) {
+        assert!((t - e).abs() < 1e-9, "{got:?}");
+    }
+}
+
+#[test]
 fn senval_switches_a_force_on_when_its_sensor_fires() {
     // A 2 kg point mass at rest, no gravity; SENSOR/1 fires at t = 0.5 (TIME ≥ 0.5, to
     // ERROR = 1e-6) and stores EVALUATE = 4·TIME = 2. VFORCE FX = SENVAL(1) (0 before the
