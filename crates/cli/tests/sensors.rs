@@ -177,7 +177,92 @@ fn return_goes_on_with_the_command_file_and_halt_ends_it() {
             )),
             "{msg}"
         );
+        let halted = out.contains("ended by the HALT of SENSOR_1 at time 1.0096375");
+        assert_eq!(halted, action == "HALT", "{out}");
+        let last = *times(&dir.join("o/out.csv")).last().unwrap();
+        let end = if action == "HALT" {
+            (10.0 / G).sqrt()
+        } else {
+            3.0
+        };
+        assert!((last - end).abs() < 1e-6, "{action}: last output {last}");
     }
+}
+
+/// Runs `acf` (beside `f`, naming it) with `linkage run`: exit code, stdout, the message
+/// file and the CSV's times.
+fn run_acf(f: &Path, acf: &str) -> (i32, String, String, Vec<f64>) {
+    let dir = f.parent().unwrap();
+    let path = dir.join("c.acf");
+    std::fs::write(&path, acf).unwrap();
+    let (code, out, err) = run(&["run", s(&path), "--out-dir", s(&dir.join("o"))]);
+    let msg = std::fs::read_to_string(dir.join("o/out.msg")).unwrap_or_else(|_| err.clone());
+    let csv = times(&dir.join("o/out.csv"));
+    (code, out, msg, csv)
+}
+
+#[test]
+fn halt_of_a_quasi_static_series_ends_the_command_file() {
+    // Two quasi-static series; the block's x = 1 + 0.1·t reaches 1.25 at t = 2.5 in the
+    // first, whose HALT ends the file: exit 0 (a complete run), one command carried out, the
+    // outputs 0.4, …, 2.4 and the event (7), none of the second series (to 6).
+    let f = pushed_block(
+        "acf-halt",
+        "SENSOR/1, VALUE = 1.25, GE, ERROR = 1E-8, HALT, FUNCTION = DX(20, 1)",
+    );
+    let (code, out, msg, csv) = run_acf(
+        &f,
+        "block\nout\nsim/static, end = 4, steps = 10\nsim/static, end = 6, steps = 5\nstop\n",
+    );
+    assert_eq!(code, 0, "{out}\n{msg}");
+    assert!(
+        out.contains("1 command(s) carried out, 7 output(s)"),
+        "{out}"
+    );
+    assert!(
+        out.contains("ended by the HALT of SENSOR_1 at time 2.5"),
+        "{out}"
+    );
+    assert_eq!(csv.len(), 7, "{csv:?}");
+    assert!((csv[6] - 2.5).abs() < 1e-7, "{csv:?}");
+    assert!(
+        msg.contains("SENSOR_1 (HALT) ended the quasi-static series at time 2.5")
+            && msg.contains("the command file ends here"),
+        "{msg}"
+    );
+    assert!(
+        msg.contains("Finished: ended by the HALT of SENSOR_1 at time 2.5")
+            && !msg.contains("every command was carried out"),
+        "{msg}"
+    );
+    // The second SIMULATE is never echoed: it was not run.
+    assert!(!msg.contains("end = 6"), "{msg}");
+}
+
+#[test]
+fn halt_of_a_kinematic_run_ends_the_command_file() {
+    // The crank reaches 1 rad at t = √2 in the first kinematic run: the initial conditions,
+    // 0.25, …, 1.25 and the event (7 outputs), and no output of the second run (to 4).
+    let f = crank(
+        "acf-halt",
+        "SENSOR/1, VALUE = 1, GE, ERROR = 1E-7, HALT, FUNCTION = AZ(21, 1)",
+    );
+    let (code, out, msg, csv) = run_acf(
+        &f,
+        "crank\nout\nsim/kin, end = 3, steps = 12\nsim/kin, end = 4, steps = 4\nstop\n",
+    );
+    assert_eq!(code, 0, "{out}\n{msg}");
+    assert!(
+        out.contains("1 command(s) carried out, 7 output(s)"),
+        "{out}"
+    );
+    assert_eq!(csv.len(), 7, "{csv:?}");
+    assert!((csv[6] - 2f64.sqrt()).abs() < 1e-7, "{csv:?}");
+    assert!(
+        msg.contains("SENSOR_1 (HALT) ended the simulation at time 1.41421")
+            && msg.contains("Finished: ended by the HALT of SENSOR_1"),
+        "{msg}"
+    );
 }
 
 #[test]
