@@ -78,6 +78,22 @@ impl FrictionSet {
         !(shared.statics && self.laws[k].friction.inactive_static)
     }
 
+    /// Whether friction `k` acts now ([`FrictionSet::set_static`]).
+    pub fn acts(&self, k: usize) -> bool {
+        self.active(&self.lock(), k)
+    }
+
+    /// The state of friction `k`.
+    pub fn state(&self, k: usize) -> FrictionState {
+        self.lock().states[k]
+    }
+
+    /// Sets the normal load of friction `k` (its anchor unchanged): statics takes it from the
+    /// Newton iterate's multipliers.
+    pub fn set_normal(&self, k: usize, normal: f64) {
+        self.lock().states[k].normal = normal;
+    }
+
     /// Calls `sink` with the loads of every active friction at `cx`.
     pub fn each_load<R: Real>(&self, cx: &Context, mut sink: impl FnMut(Loads<R>)) {
         if self.laws.is_empty() {
