@@ -230,13 +230,13 @@ const RUNAWAY_WINDOW: usize = 3;
 /// This replaced a fixed point (solve with the loads lagged, take the loads from the
 /// reactions, solve again until they settle). Measured (`tests/friction.rs`): the block on
 /// the ramp, 1 solve of 1 iteration either way (its lagged load was already right); the bar
-/// on a pin of radius 0.5 (`a_pin_with_a_large_radius…`), 2 solves of 2 iterations → 1 solve
-/// of 3; SolidWorks' RD3 (12 frictions), 5 solves of 4+3+2+1+1 iterations → 1 solve of 4.
-/// Same equilibria within 1e-9. Not solved by either: the same bar with its centre of mass
-/// at 0.2 (held, a < μs·R = 0.25) — the first iterate's load (least-squares multipliers
-/// here, the initial conditions' reaction before) is about half the weight, so the first
-/// Newton step turns the pin past MAX_STICTION_DEFORMATION, where the stiction spring ends
-/// and nothing holds the bar.
+/// on a pin of radius 0.5 with its centre of mass at 0.1 (`a_pin_with_a_large_radius…`), 2
+/// solves of 2 iterations → 1 solve of 3; SolidWorks' RD3 (12 frictions), 5 solves of
+/// 4+3+2+1+1 iterations → 1 solve of 5; the same equilibria within 1e-9. The bar with its
+/// centre of mass at 0.2 (held: a < μs·R = 0.25) had no equilibrium by the fixed point (a
+/// lagged load of about half the weight turned the pin past MAX_STICTION_DEFORMATION in the
+/// first solve, out of the stiction spring); the Newton step is now also stopped at the edge
+/// of the stiction band once (`friction_load.rs`), and it converges in 4 iterations.
 pub fn equilibrium(
     model: &Model,
     sys: &System,
@@ -280,7 +280,7 @@ fn equilibrium_once(
     let (n, m) = (p.parts(), p.used.len());
     let length = model.characteristic_length;
     let kinematic = m >= 6 * n;
-    let mut w = Workspace::new(&p);
+    let mut w = Workspace::new(&p, start);
     let mut s = start.clone();
     // Control states are at rest in an equilibrium.
     s.controls.xdot.fill(0.0);
@@ -381,6 +381,10 @@ fn equilibrium_once(
                 scale = scale.min(limit_scale((dx, dth)));
                 correction = correction.max(dx.length() / length).max(dth.length());
             }
+        }
+        // Nor does a step carry a sticking friction out of its stiction band.
+        if !cut {
+            scale *= w.stiction_scale(&p, &s, scale);
         }
         // A correction beyond TLIMIT/ALIMIT while the forces are already within IMBALANCE,
         // doing negligible work against them (below ERROR × the largest load × the model

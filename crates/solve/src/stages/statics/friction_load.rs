@@ -27,6 +27,12 @@ use crate::state::State;
 use glam::DVec3;
 use linkage_model::bodies::Body;
 
+/// A Newton step takes a friction from well inside its stiction band (deformation below
+/// MAX_STICTION_DEFORMATION) at most to this fraction of the band: beyond it the stiction
+/// spring ends and the friction is a constant μs·N, so a step that overshoots (its normal
+/// load not yet the final one) would lose the equilibrium the friction holds.
+const STICTION_REACH: f64 = 0.9;
+
 /// One active friction and its joint's rows in the solve.
 struct Coupled {
     /// Index in the force set's frictions.
@@ -40,11 +46,13 @@ struct Coupled {
 /// The frictions of one static solve whose normal loads follow the multipliers.
 pub(super) struct FrictionLoads {
     coupled: Vec<Coupled>,
+    /// The configuration a step would reach (sized once).
+    trial: State,
 }
 
 impl FrictionLoads {
     /// The active frictions of `p` (none inactive in statics); `None` without frictions.
-    pub fn new(p: &Problem) -> Option<FrictionLoads> {
+    pub fn new(p: &Problem, start: &State) -> Option<FrictionLoads> {
         let set = p.forces.joint_frictions()?;
         let coupled = set
             .laws()
@@ -66,7 +74,44 @@ impl FrictionLoads {
                 }
             })
             .collect();
-        Some(FrictionLoads { coupled })
+        Some(FrictionLoads {
+            coupled,
+            trial: start.clone(),
+        })
+    }
+
+    /// The factor (at most 1) on the step `scale·steps` from `s` that stops the frictions
+    /// inside their stiction bands at [`STICTION_REACH`] of them: from the largest deformation
+    /// fractions before (`f₀ < REACH`) and after the step (`f₁ > 1`), `(REACH − f₀)/(f₁ − f₀)`.
+    /// The next step may leave the band (a friction can be stopped once), with the normal
+    /// load of the new reactions.
+    pub fn stiction_scale(
+        &mut self,
+        p: &Problem,
+        s: &State,
+        steps: &[(DVec3, DVec3)],
+        scale: f64,
+        rest: &Velocities,
+    ) -> f64 {
+        let Some(set) = p.forces.joint_frictions() else {
+            return 1.0;
+        };
+        // A friction already at the reach (stopped there by the last step, or held near
+        // its limit) may leave the band: its equilibrium can lie beyond, sliding at μs·N
+        // with other loads taking the rest.
+        let before = set.stiction_fraction(s, rest);
+        if before >= STICTION_REACH {
+            return 1.0;
+        }
+        self.trial.poses.copy_from_slice(&s.poses);
+        for (k, &(dx, dth)) in steps.iter().enumerate() {
+            self.trial.increment(k, dx * scale, dth * scale);
+        }
+        let after = set.stiction_fraction(&self.trial, rest);
+        if after <= 1.0 {
+            return 1.0;
+        }
+        ((STICTION_REACH - before).max(0.0) / (after - before)).clamp(0.0, 1.0)
     }
 
     /// Sets each friction's normal load from the multipliers `lambda` at `s` (the rows'

@@ -112,7 +112,7 @@ pub(super) struct Workspace {
 
 impl Workspace {
     /// Buffers for `p`.
-    pub fn new(p: &Problem) -> Workspace {
+    pub fn new(p: &Problem, start: &State) -> Workspace {
         let (n, m, dim) = (p.parts(), p.used.len(), p.dim());
         let nx = p.controls();
         Workspace {
@@ -135,7 +135,7 @@ impl Workspace {
             newton_factored: false,
             kkt: TripletLu::new(dim),
             kkt_rhs: vec![0.0; dim],
-            frictions: FrictionLoads::new(p),
+            frictions: FrictionLoads::new(p, start),
         }
     }
 
@@ -171,6 +171,15 @@ impl Workspace {
             }
         }
         Ok(load)
+    }
+
+    /// The factor on the step `scale·steps` that keeps the frictions inside their stiction
+    /// bands ([`FrictionLoads::stiction_scale`]); 1 without frictions.
+    pub fn stiction_scale(&mut self, p: &Problem, s: &State, scale: f64) -> f64 {
+        match self.frictions.as_mut() {
+            Some(f) => f.stiction_scale(p, s, &self.steps, scale, &self.rest),
+            None => 1.0,
+        }
     }
 
     /// Whether a Newton matrix has been factorised.

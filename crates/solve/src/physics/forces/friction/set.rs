@@ -88,6 +88,30 @@ impl FrictionSet {
         self.lock().states[k]
     }
 
+    /// The largest stiction deformation of the active frictions at `(s, v)` from their
+    /// anchors, as a fraction of each one's MAX_STICTION_DEFORMATION (0 without any).
+    pub fn stiction_fraction(&self, s: &State, v: &Velocities) -> f64 {
+        let shared = self.lock();
+        let kin = crate::physics::forces::algebra::Kinematics {
+            state: s,
+            velocities: v,
+        };
+        let mut largest: f64 = 0.0;
+        for (k, law) in self.laws.iter().enumerate() {
+            if !self.active(&shared, k) {
+                continue;
+            }
+            let slip = law.slip::<f64>(&kin, &shared.states[k]);
+            let size = slip.deformation[..slip.dims]
+                .iter()
+                .map(|c| c * c)
+                .sum::<f64>()
+                .sqrt();
+            largest = largest.max(size / law.regime.max_deformation);
+        }
+        largest
+    }
+
     /// Sets the normal load of friction `k` (its anchor unchanged): statics takes it from the
     /// Newton iterate's multipliers.
     pub fn set_normal(&self, k: usize, normal: f64) {
