@@ -299,7 +299,8 @@ fn load(py: Python<'_>, path: PathBuf, deactivate: Option<Vec<String>>) -> PyRes
 }
 
 /// `linkage run PATH`: runs the command file, writing its .msg, .req and .csv files (in
-/// `out_dir`, default the working directory); returns {commands, outputs, msg, req, csv}.
+/// `out_dir`, default the working directory); returns {commands, outputs, halted, msg, req, csv}
+/// (`halted`: `SENSOR_1 at time 2.5` when a SENSOR's HALT ended the file, else None).
 #[pyfunction]
 #[pyo3(signature = (path, out_dir=None, model=None, deactivate=None))]
 fn run_acf(
@@ -320,6 +321,7 @@ fn run_acf(
         let d = PyDict::new(py);
         d.set_item("commands", s.commands)?;
         d.set_item("outputs", s.outputs)?;
+        d.set_item("halted", s.halted.as_deref())?;
         d.set_item("msg", s.msg.display().to_string())?;
         d.set_item("req", s.req.as_ref().map(|p| p.display().to_string()))?;
         d.set_item("csv", s.csv.as_ref().map(|p| p.display().to_string()))?;

@@ -167,6 +167,8 @@ def test_run_acf_equals_linkage_run(cli, tmp_path):
     assert out.splitlines()[0] == f"{summary['commands']} command(s) carried out, {summary['outputs']} output(s)"
     for key in ("msg", "req", "csv"):
         assert Path(summary[key]).is_file(), key
+    # No SENSOR's HALT ended the file.
+    assert summary["halted"] is None
     assert Path(summary["csv"]).read_text() == (tmp_path / "cli" / Path(summary["csv"]).name).read_text()
     with pytest.raises(linkage.InputError):
         linkage.run_acf(str(tmp_path / "missing.acf"), out_dir=str(tmp_path))

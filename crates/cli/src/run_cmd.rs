@@ -6,7 +6,9 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 
 /// Runs the command file and prints where its outputs are; exit 0 when every command was
-/// carried out, 1 when an analysis failed, 2 for input errors and commands linkage refuses,
+/// carried out or a SENSOR's HALT ended the file (a complete run: Adams' HALT terminates the
+/// solver; the line `ended by the HALT of SENSOR_1 at time …` says where), 1 when an analysis
+/// failed, 2 for input errors and commands linkage refuses,
 /// 130 when interrupted (Ctrl-C stops the run at its next output; the files keep every output
 /// written and the message file says where it stopped).
 pub fn run(
@@ -35,6 +37,9 @@ pub fn run(
             "{} command(s) carried out, {} output(s)",
             s.commands, s.outputs
         );
+        if let Some(by) = &s.halted {
+            println!("ended by the HALT of {by}; the commands after it were not run");
+        }
         println!("message file: {}", s.msg.display());
         if let (Some(req), Some(csv)) = (&s.req, &s.csv) {
             println!("request file: {}", req.display());
@@ -87,6 +92,7 @@ fn run_page(
         "dataset": dataset.display().to_string(),
         "commands": summary.commands,
         "outputs": summary.outputs,
+        "halted": summary.halted,
         "message_file": summary.msg.display().to_string(),
         "request_file": summary.req.as_ref().map(|p| p.display().to_string()),
         "time_histories": summary.csv.as_ref().map(|p| p.display().to_string()),

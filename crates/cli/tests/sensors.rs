@@ -177,6 +177,165 @@ fn return_goes_on_with_the_command_file_and_halt_ends_it() {
             )),
             "{msg}"
         );
+        let halted = out.contains("ended by the HALT of SENSOR_1 at time 1.0096375");
+        assert_eq!(halted, action == "HALT", "{out}");
+        let last = *times(&dir.join("o/out.csv")).last().unwrap();
+        let end = if action == "HALT" {
+            (10.0 / G).sqrt()
+        } else {
+            3.0
+        };
+        assert!((last - end).abs() < 1e-6, "{action}: last output {last}");
+    }
+}
+
+/// Runs `acf` (beside `f`, naming it) with `linkage run`: exit code, stdout, the message
+/// file and the CSV's times.
+fn run_acf(f: &Path, acf: &str) -> (i32, String, String, Vec<f64>) {
+    let dir = f.parent().unwrap();
+    let path = dir.join("c.acf");
+    std::fs::write(&path, acf).unwrap();
+    let (code, out, err) = run(&["run", s(&path), "--out-dir", s(&dir.join("o"))]);
+    let msg = std::fs::read_to_string(dir.join("o/out.msg")).unwrap_or_else(|_| err.clone());
+    let csv = times(&dir.join("o/out.csv"));
+    (code, out, msg, csv)
+}
+
+#[test]
+fn halt_of_a_quasi_static_series_ends_the_command_file() {
+    // Two quasi-static series; the block's x = 1 + 0.1·t reaches 1.25 at t = 2.5 in the
+    // first, whose HALT ends the file: exit 0 (a complete run), one command carried out, the
+    // outputs 0.4, …, 2.4 and the event (7), none of the second series (to 6).
+    let f = pushed_block(
+        "acf-halt",
+        "SENSOR/1, VALUE = 1.25, GE, ERROR = 1E-8, HALT, FUNCTION = DX(20, 1)",
+    );
+    let (code, out, msg, csv) = run_acf(
+        &f,
+        "block\nout\nsim/static, end = 4, steps = 10\nsim/static, end = 6, steps = 5\nstop\n",
+    );
+    assert_eq!(code, 0, "{out}\n{msg}");
+    assert!(
+        out.contains("1 command(s) carried out, 7 output(s)"),
+        "{out}"
+    );
+    assert!(
+        out.contains("ended by the HALT of SENSOR_1 at time 2.5"),
+        "{out}"
+    );
+    assert_eq!(csv.len(), 7, "{csv:?}");
+    assert!((csv[6] - 2.5).abs() < 1e-7, "{csv:?}");
+    assert!(
+        msg.contains("SENSOR_1 (HALT) ended the quasi-static series at time 2.5")
+            && msg.contains("the command file ends here"),
+        "{msg}"
+    );
+    assert!(
+        msg.contains("Finished: ended by the HALT of SENSOR_1 at time 2.5")
+            && !msg.contains("every command was carried out"),
+        "{msg}"
+    );
+    // The second SIMULATE is never echoed: it was not run.
+    assert!(!msg.contains("end = 6"), "{msg}");
+}
+
+#[test]
+fn halt_of_a_kinematic_run_ends_the_command_file() {
+    // The crank reaches 1 rad at t = √2 in the first kinematic run: the initial conditions,
+    // 0.25, …, 1.25 and the event (7 outputs), and no output of the second run (to 4).
+    let f = crank(
+        "acf-halt",
+        "SENSOR/1, VALUE = 1, GE, ERROR = 1E-7, HALT, FUNCTION = AZ(21, 1)",
+    );
+    let (code, out, msg, csv) = run_acf(
+        &f,
+        "crank\nout\nsim/kin, end = 3, steps = 12\nsim/kin, end = 4, steps = 4\nstop\n",
+    );
+    assert_eq!(code, 0, "{out}\n{msg}");
+    assert!(
+        out.contains("1 command(s) carried out, 7 output(s)"),
+        "{out}"
+    );
+    assert_eq!(csv.len(), 7, "{csv:?}");
+    assert!((csv[6] - 2f64.sqrt()).abs() < 1e-7, "{csv:?}");
+    assert!(
+        msg.contains("SENSOR_1 (HALT) ended the simulation at time 1.41421")
+            && msg.contains("Finished: ended by the HALT of SENSOR_1"),
+        "{msg}"
+    );
+}
+
+#[test]
+fn sensor_dt_sets_the_dynamic_output_interval_from_the_event_on() {
+    // The fall reaches DZ = 2.5 at t* = √(2·2.5/g) = 0.713928 (inside the step to 0.9); from
+    // then on outputs every 0.1: t* + 0.1, …, t* + 0.4 = 1.113928, then the end, 1.2. The
+    // event itself is no output (no PRINT). Event located to |DZ − 2.5| ≤ 1e-6 at 7 m/s:
+    // 1.5e-7 s.
+    let f = fall(
+        "dt",
+        "SENSOR/1, VALUE = 2.5, LE, ERROR = 1E-6, DT = 0.1, FUNCTION = DZ(40, 1)",
+    );
+    let csv = f.with_extension("csv");
+    let (code, v) = json(&[
+        "simulate",
+        s(&f),
+        "--end",
+        "1.2",
+        "--steps",
+        "4",
+        "--format",
+        "json",
+        "--out",
+        s(&csv),
+    ]);
+    assert_eq!(code, 0, "{v}");
+    assert_eq!(v["end_time"], 1.2);
+    assert_eq!(v["sensors"][0]["actions"], serde_json::json!(["DT"]));
+    let t_star = (2.0 * 2.5 / G).sqrt();
+    let event = v["sensors"][0]["time"].as_f64().unwrap();
+    assert!((event - t_star).abs() < 2e-7, "{event} vs {t_star}");
+    let rows = times_and_heights(&csv);
+    let times: Vec<f64> = rows.iter().map(|r| r.0).collect();
+    assert_eq!(times.len(), 3 + 4 + 1, "{times:?}");
+    assert_eq!(&times[..3], &[0.0, 0.3, 0.6]);
+    for (k, t) in times[3..7].iter().enumerate() {
+        let expected = t_star + 0.1 * (k + 1) as f64;
+        assert!((t - expected).abs() < 2e-7, "{times:?}");
+    }
+    assert_eq!(times[7], 1.2);
+    // The motion goes on unchanged through the new outputs.
+    for &(t, z) in &rows {
+        assert!((z - (5.0 - 0.5 * G * t * t)).abs() < 1e-6, "{t} {z}");
+    }
+}
+
+#[test]
+fn sensor_dt_at_an_output_time_keeps_that_output_and_spaces_the_rest() {
+    // TIME ≥ 0.5 fires at the end of the step that lands on the output 0.5: that output is
+    // written, then every 0.2 up to 1.5: 0.7, 0.9, 1.1, 1.3, 1.5.
+    let f = fall(
+        "dt-at-output",
+        "SENSOR/1, VALUE = 0.5, GE, ERROR = 1E-9, DT = 0.2, FUNCTION = TIME",
+    );
+    let csv = f.with_extension("csv");
+    let (code, v) = json(&[
+        "simulate",
+        s(&f),
+        "--end",
+        "1.5",
+        "--steps",
+        "6",
+        "--format",
+        "json",
+        "--out",
+        s(&csv),
+    ]);
+    assert_eq!(code, 0, "{v}");
+    let got: Vec<f64> = times_and_heights(&csv).iter().map(|r| r.0).collect();
+    let expected = [0.0, 0.25, 0.5, 0.7, 0.9, 1.1, 1.3, 1.5];
+    assert_eq!(got.len(), expected.len(), "{got:?}");
+    for (t, e) in got.iter().zip(expected) {
+        assert!((t - e).abs() < 1e-9, "{got:?}");
     }
 }
 

@@ -273,13 +273,46 @@ pub fn statics(
     let Some(o) = last else {
         return Err(place.failed("no static equilibrium was computed"));
     };
+    // A quasi-static series that a SENSOR ended (its events are in the report above).
+    let events = linkage_report::sensors::events_json(&model, &run.sensor_events);
+    let halted = sensor_stop(sinks, run.stopped_by_sensor, &events, "quasi-static series")?;
     let left = Left {
         state: o.state,
         velocities: o.velocities,
     };
     drop(a);
     session.left = Some(left);
+    session.halted = halted;
     Ok(())
+}
+
+/// A SENSOR that ended an analysis (`stop`, by the last of `events`): the message line, and
+/// for HALT what the session keeps as `halted` (`SENSOR_1 at time 2.5`), which ends the
+/// command file: Adams' HALT terminates the solver, so the later commands are not run (the
+/// run is complete, not failed: exit 0), whereas RETURN goes on with the next command. The
+/// same for a dynamic, kinematic or quasi-static run.
+fn sensor_stop(
+    sinks: &mut Sinks,
+    stop: Option<SensorStop>,
+    events: &[linkage_report::sensors::SensorEventJson],
+    what: &str,
+) -> Result<Option<String>, RunError> {
+    let (Some(stop), Some(e)) = (stop, events.last()) else {
+        return Ok(None);
+    };
+    let how = linkage_report::sensors::stop_name(stop);
+    let halt = stop == SensorStop::Halt;
+    sinks.msg.write(&format!(
+        " {} ({how}) ended the {what} at time {}{}",
+        e.name,
+        e.time,
+        if halt {
+            "; the command file ends here"
+        } else {
+            "; the command file goes on"
+        }
+    ))?;
+    Ok(halt.then(|| format!("{} at time {}", e.name, e.time)))
 }
 
 /// `SIMULATE/{DYNAMIC | KINEMATIC | TRANSIENT}` to `end` with outputs at `times` (the current
@@ -384,23 +417,7 @@ pub fn dynamics(
             .msg
             .write(linkage_report::sensors::events_text(&events).trim_end())?;
     }
-    if let (Some(stop), Some(e)) = (sim.stopped_by_sensor, events.last()) {
-        let how = linkage_report::sensors::stop_name(stop);
-        sinks.msg.write(&format!(
-            " {} ({how}) ended the simulation at time {}{}",
-            e.name,
-            e.time,
-            if stop == SensorStop::Halt {
-                "; the command file ends here"
-            } else {
-                "; the command file goes on"
-            }
-        ))?;
-    }
-    let halted = match (sim.stopped_by_sensor, events.last()) {
-        (Some(SensorStop::Halt), Some(e)) => Some(format!("{} at time {}", e.name, e.time)),
-        _ => None,
-    };
+    let halted = sensor_stop(sinks, sim.stopped_by_sensor, &events, "simulation")?;
     let left = last.map(|o| Left {
         state: o.state,
         velocities: o.velocities,

@@ -83,6 +83,9 @@ pub struct RunSummary {
     pub commands: usize,
     /// The dataset the run opened (as the session names it).
     pub dataset: Option<PathBuf>,
+    /// A SENSOR's HALT ended the command file (`SENSOR_1 at time 2.5`): the commands after
+    /// the analysis it stopped were not run.
+    pub halted: Option<String>,
 }
 
 /// A run that stopped: why, and what it wrote up to there.
@@ -152,7 +155,13 @@ pub fn run_command_file(path: &Path, options: &RunOptions) -> Result<RunSummary,
     match result {
         Ok(()) => {
             if let Some(msg) = runner.msg.as_mut() {
-                let _ = msg.write("\n Finished: every command was carried out.");
+                let _ = msg.write(&match summary.as_ref().and_then(|s| s.halted.as_ref()) {
+                    Some(by) => format!(
+                        "\n Finished: ended by the HALT of {by}; the commands after it were not \
+                         run."
+                    ),
+                    None => "\n Finished: every command was carried out.".into(),
+                });
             }
             summary.ok_or_else(|| stop(RunError::Input(linkage_adm::Diagnostics(vec![]))))
         }
@@ -185,6 +194,7 @@ impl Runner {
             outputs: self.records.as_ref().map_or(0, |r| r.written),
             commands: self.commands,
             dataset: self.session.as_ref().map(|s| PathBuf::from(s.file())),
+            halted: self.session.as_ref().and_then(|s| s.halted.clone()),
         })
     }
 

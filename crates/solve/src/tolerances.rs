@@ -70,14 +70,6 @@ pub const STATIC_ROUNDING_IMBALANCE: f64 = 1e-10;
 
 // ---- Statics internals (stages/statics.rs, stages/statics/) ----
 
-/// Statics with joint friction: the equilibrium is solved again with the normal loads of the
-/// last one until no normal load changes by more than this fraction of the largest reaction
-/// force (the friction force of a held joint does not depend on its normal load, only whether
-/// it holds does, so two solves are the rule).
-pub const FRICTION_LOAD_SETTLED: f64 = 1e-6;
-/// … and at most this many solves.
-pub const FRICTION_LOAD_PASSES: usize = 8;
-
 /// Floor of the constraint tolerance of static equilibrium: the rows are held to IC ERROR, but
 /// never tighter than this × L (lengths) or this (angles, dot products): a few units of
 /// rounding of coordinates of order L, below which no Newton step can go.

@@ -386,3 +386,61 @@ fn a_cylindrical_joint_slows_sliding_and_turning_along_the_surface_slip() {
         assert!((w - we).abs() < 1e-4, "t {}: w {w} vs {we}", o.time);
     }
 }
+
+/// A 2 kg bar pinned at one end by a revolute joint of pin radius R = 0.5 with
+/// `INPUTS = REACTION_FORCE` (μs = 0.5, Δmax = 10 mm), its centre of mass a from the pin
+/// (0.1, and 0.2 close to the limit), gravity across the bar. The weight's torque m g a is
+/// below the most the pin holds, μs·R·m g (a < μs R = 0.25): the bar is held by the stiction
+/// torque `R·μs·(R φ/Δmax)·N`, N = m g (the radial reaction: the only load is the weight), so
+/// it turns by φ with `φ = a·cos φ·Δmax/(μs R²)` (the weight's arm shortens as it turns):
+/// 7.99974 and 15.9980 mrad. At the start the normal load is not the final one (the first
+/// iterate's multipliers, or the IC's reaction `m (g − a α)`), so the first Newton step would
+/// turn the a = 0.2 bar past Δmax, out of the stiction band, had it no step limit there.
+#[test]
+fn a_pin_with_a_large_radius_holds_a_bar_by_its_friction_torque() {
+    for (arm, most_iterations) in [(0.1, 4), (0.2, 8)] {
+        let text = format!(
+            "bar on a pin\nUNITS/, FORCE = NEWTON, MASS = KILOGRAM, LENGTH = METER, TIME = SECOND\n\
+PART/1, GROUND\nMARKER/11, PART = 1\n\
+PART/2, MASS = 2, CM = 20, IP = 0.02, 0.05, 0.05\nMARKER/20, PART = 2, QP = {arm}, 0, 0\n\
+MARKER/21, PART = 2\nJOINT/1, REVOLUTE, I = 21, J = 11\n\
+FRICTION/1, JOINT = 1, MU_STATIC = 0.5, MU_DYNAMIC = 0.3, PIN_RADIUS = 0.5, \
+INPUTS = REACTION_FORCE\n\
+ACCGRAV/, JGRAV = -9.80665\nEND\n"
+        );
+        let (m, d, f) = load(&text);
+        let a = Assembled::new(&m, &d, &f, &Tolerances::default());
+        let r = linkage_solve::stages::statics::run(&a, &[0.0]);
+        let eq = r.steps[0].1.as_ref().unwrap_or_else(|e| panic!("{e}"));
+        assert!(eq.converged, "a = {arm}: {:?}", eq.worst);
+        let turned = {
+            let x = eq.state.poses[0].r.col(0);
+            -x.y.atan2(x.x)
+        };
+        let phi0 = arm * 0.01 / (0.5 * 0.5 * 0.5);
+        let expected = (0..8).fold(phi0, |phi: f64, _| phi0 * phi.cos());
+        assert!(
+            (turned - expected).abs() < 1e-9,
+            "a = {arm}: {turned} vs {expected}"
+        );
+        let rest = vec![Default::default(); 1];
+        let v = f.friction_values(&eq.state, &rest);
+        let weight = 2.0 * G;
+        // The normal load is the final reaction, and the friction torque the weight's.
+        assert!((v[0].normal - weight).abs() < 1e-9 * weight, "{:?}", v[0]);
+        let torque = weight * arm * expected.cos();
+        assert!(
+            (v[0].torque.z.abs() - torque).abs() < 1e-9 * torque,
+            "{:?}",
+            v[0]
+        );
+        // One Newton solve with the load of the iterate's reaction (a = 0.1: 3 iterations;
+        // the fixed point on a lagged load took 2 solves of 2 and found nothing for 0.2).
+        assert!(
+            eq.iterations <= most_iterations,
+            "a = {arm}: {} iterations",
+            eq.iterations
+        );
+        eprintln!("a = {arm}: {} iterations", eq.iterations);
+    }
+}

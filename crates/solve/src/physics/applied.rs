@@ -82,6 +82,12 @@ pub trait AppliedForces {
     /// A static analysis starts (`true`) or ends: elements inactive in statics switch off.
     fn set_static(&self, _on: bool) {}
 
+    /// The joint frictions, whose normal loads follow the joints' reactions (statics solves
+    /// them with the multipliers); `None` without frictions.
+    fn joint_frictions(&self) -> Option<&crate::physics::forces::friction::FrictionSet> {
+        None
+    }
+
     /// The values the sensors stored, which `SENVAL` reads in these forces (none for a set
     /// without expressions). A run writes them when a sensor fires.
     fn sensor_values(&self) -> Option<&crate::physics::forces::data::SensorValues> {

@@ -763,6 +763,10 @@ impl AppliedForces for ForceSet {
         self.frictions.set_static(on);
     }
 
+    fn joint_frictions(&self) -> Option<&FrictionSet> {
+        (!self.frictions.is_empty()).then_some(&self.frictions)
+    }
+
     fn friction_values(&self, s: &State, v: &Velocities) -> Vec<FrictionValue> {
         self.frictions.values(s, v)
     }

@@ -19,7 +19,9 @@
 //!   failed); RETURN does the same and, in a command file, returns to the next command (HALT
 //!   ends the command file); PRINT writes an output at `t*`; RESTART and CODGEN restart the
 //!   integrator from `t*` (order 1, a new factorisation and pivot sequence); STEPSIZE sets the
-//!   next trial step; YYDUMP keeps the state at `t*` in the event record for the report.
+//!   next trial step; YYDUMP keeps the state at `t*` in the event record for the report; DT
+//!   sets the output interval from `t*` on (outputs at `t* + k·DT` up to the run's end, in
+//!   place of the requested ones not yet written: [`Fired::reschedule`]).
 //!   EVALUATE (or FUNCTION when there is none) is evaluated at `t*` and stored as the sensor's
 //!   value, which `SENVAL(id)` returns from then on in forces, VARIABLEs and REQUESTs (the
 //!   [`SensorValues`] the force set shares; a changed value restarts the integrator at `t*`).
@@ -88,6 +90,20 @@ pub struct Fired {
     /// DT: the output interval from the event on (the smallest of the sensors that fired).
     pub dt: Option<f64>,
     pub events: Vec<SensorEvent>,
+}
+
+impl Fired {
+    /// DT in a dynamic run: from the event on, the output times are `t* + k·DT` up to `end`
+    /// (the last one `end`), in place of those not written yet, `schedule[next..]`
+    /// ([`outputs_every`], shared with the kinematic and quasi-static runs). `event_written`:
+    /// the event lies on the output `schedule[next]`, which is still written (the step ended
+    /// on it), so it is kept. Nothing changes without a DT.
+    pub fn reschedule(&self, schedule: &mut Vec<f64>, next: usize, event_written: bool, end: f64) {
+        if let Some(dt) = self.dt {
+            let kept = (next + usize::from(event_written)).min(schedule.len());
+            outputs_every(schedule, kept, self.output.time, dt, end);
+        }
+    }
 }
 
 /// The sensors of a run and what they saw last.

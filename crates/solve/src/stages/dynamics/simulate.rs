@@ -97,6 +97,8 @@ pub fn simulate_with(
     }
     let length = p.model.characteristic_length;
     let t_end = times.last().copied().unwrap_or(start.time);
+    // The output times, which a sensor's DT changes from its event on.
+    let mut times = times.to_vec();
     // Consistent accelerations at the start.
     let (mut integ, first) = match Stepper::new(p, start, v0, settings) {
         Ok(x) => x,
@@ -241,6 +243,8 @@ pub fn simulate_with(
                     match w.after_step(p, &mut integ, settings, span) {
                         Ok(None) => {}
                         Ok(Some(fired)) => {
+                            let at_output = hit && !fired.before_step_end;
+                            fired.reschedule(&mut times, next_output, at_output, t_end);
                             sim.sensor_events.extend(fired.events);
                             let at = fired.output.time;
                             if fired.stop.is_some() {

@@ -4,9 +4,9 @@
 //! Two sparse matrices, each a [`TripletLu`] refactorised in place:
 //!
 //! ```text
-//! Newton matrix        [K_T + STABILITY·M   Jᵀ   −∂Q/∂x]      K_T = −∂Q/∂q + Σ_r λ_r ∂²Φ_r/∂q²
-//!                      [J                   0    0     ]
-//!                      [∂r/∂q               0    ∂r/∂x ]      (rows of free control states)
+//! Newton matrix        [K_T + STABILITY·M   Jᵀ − ∂Q/∂λ   −∂Q/∂x]      K_T = −∂Q/∂q + Σ_r λ_r ∂²Φ_r/∂q²
+//!                      [J                   0           0     ]
+//!                      [∂r/∂q               0           ∂r/∂x ]  (rows of free control states)
 //! constraint KKT       [W   Jᵀ]                     W diagonal (per-coordinate weights)
 //!                      [J   0 ]
 //! ```
@@ -19,7 +19,11 @@
 //! Control states (DIFF, LSE, TFSISO) join the Newton unknowns after the multipliers: a free
 //! state solves its equation with zero rate, `r(q, 0, x, ẋ = 0, t) = 0` (explicit: `f = 0`),
 //! a STATIC_HOLD state keeps its value (an identity row). The KKT matrix leaves them out.
+//!
+//! `∂Q/∂λ` is joint friction's: its normal load follows the joint's multipliers
+//! ([`super::friction_load`]).
 
+use super::friction_load::FrictionLoads;
 use super::StaticsError;
 use crate::constraints::hessian::HessianBlocks;
 use crate::constraints::rows::RowGradient;
@@ -102,11 +106,13 @@ pub(super) struct Workspace {
     kkt: TripletLu,
     /// Right-hand side and solution of the KKT solves (6n + m).
     kkt_rhs: Vec<f64>,
+    /// Joint frictions, their normal loads taken from the multipliers of the iterate.
+    frictions: Option<FrictionLoads>,
 }
 
 impl Workspace {
     /// Buffers for `p`.
-    pub fn new(p: &Problem) -> Workspace {
+    pub fn new(p: &Problem, start: &State) -> Workspace {
         let (n, m, dim) = (p.parts(), p.used.len(), p.dim());
         let nx = p.controls();
         Workspace {
@@ -129,14 +135,19 @@ impl Workspace {
             newton_factored: false,
             kkt: TripletLu::new(dim),
             kkt_rhs: vec![0.0; dim],
+            frictions: FrictionLoads::new(p, start),
         }
     }
 
-    /// The residuals at `s`, `λ`: the rows' gradients, `F` and `Φ`. Returns the largest applied
-    /// load component `max |Q + Q_gravity|`.
+    /// The residuals at `s`, `λ`: the rows' gradients, the frictions' normal loads from `λ`
+    /// ([`FrictionLoads::update`]), `F` and `Φ`. Returns the largest applied load component
+    /// `max |Q + Q_gravity|`.
     pub fn residuals(&mut self, p: &Problem, s: &State, lambda: &[f64]) -> Result<f64, ForceError> {
         for (k, (r, _)) in p.used.iter().enumerate() {
             p.sys.gradient(*r, s, &mut self.grads[k]);
+        }
+        if let Some(f) = self.frictions.as_mut() {
+            f.update(p, s, &self.grads, lambda);
         }
         applied(p, s, &self.rest, &mut self.force)?;
         let load = self.force.iter().map(|x| x.abs()).fold(0.0, f64::max);
@@ -160,6 +171,15 @@ impl Workspace {
             }
         }
         Ok(load)
+    }
+
+    /// The factor on the step `scale·steps` that keeps the frictions inside their stiction
+    /// bands ([`FrictionLoads::stiction_scale`]); 1 without frictions.
+    pub fn stiction_scale(&mut self, p: &Problem, s: &State, scale: f64) -> f64 {
+        match self.frictions.as_mut() {
+            Some(f) => f.stiction_scale(p, s, &self.steps, scale, &self.rest),
+            None => 1.0,
+        }
     }
 
     /// Whether a Newton matrix has been factorised.
@@ -198,6 +218,9 @@ impl Workspace {
             &mut second,
             &mut self.newton.entries,
         );
+        if let Some(f) = &self.frictions {
+            f.fill(p, s, &self.rest, &mut self.newton.entries);
+        }
         fill_control_blocks(p, &self.dr, &self.dqx, &mut self.newton.entries);
         self.newton.factor().map_err(StaticsError::Factor)?;
         self.newton_factored = true;

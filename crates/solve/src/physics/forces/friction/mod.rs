@@ -23,15 +23,17 @@
 //! ([`load`]).
 //!
 //! **State and the implicit coupling.** The friction depends on the joint's reaction, which
-//! the analyses solve together with the motion. linkage breaks the loop by lagging the
-//! normal load: `N` and the anchor are a [`FrictionState`] per friction, updated at accepted
+//! the analyses solve together with the motion. Outside statics linkage breaks the loop by
+//! lagging the normal load: `N` and the anchor are a [`FrictionState`] per friction, updated at accepted
 //! states only ([`crate::physics::applied::AppliedForces::accept_state`]):
 //! - the IC sets the anchors at the assembled pose, solves the accelerations and reactions,
 //!   takes `N` from them and solves again (`stages::ic`);
-//! - statics repeats the equilibrium with `N` from the last one until `N` settles (the
-//!   friction in statics is the stiction spring about the anchor at the start: a block on a
-//!   ramp with `tan θ < μs` is held with a deformation below Δmax; `INACTIVE_DURING = STATIC`
-//!   switches the friction off in statics and dynamic settling);
+//! - statics takes `N` from the joint's multipliers at every Newton iterate, with the
+//!   coupling `∂Q/∂λ` in the Newton matrix (`stages/statics/friction_load.rs`), so the
+//!   equilibrium holds with the load of its own reactions (the friction in statics is the
+//!   stiction spring about the anchor at the start: a block on a ramp with `tan θ < μs` is
+//!   held with a deformation below Δmax; `INACTIVE_DURING = STATIC` switches the friction off
+//!   in statics and dynamic settling);
 //! - a dynamic run takes `N` from the consistent output after every accepted step, and each
 //!   step is solved with the friction's exact derivatives in `s` (positions) and `v` in the
 //!   Newton matrix, `N` held at the last accepted step's value. With a normal load that
@@ -240,7 +242,12 @@ impl FrictionLaw {
     /// The friction's loads at `cx`: on I's part at P_i, and the opposite on J's part at the
     /// same point (module docs).
     pub fn loads<R: Real>(&self, cx: &Context, st: &FrictionState) -> Loads<R> {
-        let (g, slip) = self.friction::<R>(&cx.kin, st);
+        self.loads_at(&cx.kin, st)
+    }
+
+    /// [`FrictionLaw::loads`] at the kinematics `kin`.
+    fn loads_at<R: Real>(&self, kin: &Kinematics, st: &FrictionState) -> Loads<R> {
+        let (g, slip) = self.friction::<R>(kin, st);
         let radius = self.friction.radius();
         let [x, y, z] = &slip.axes;
         let zero = V3::zero;
@@ -269,6 +276,45 @@ impl FrictionLaw {
             }),
             Some(reaction),
         ]
+    }
+
+    /// `∂Q/∂N`: the generalised force (force at the CM, torque about it, ground axes) on each
+    /// of the two parts per unit of normal load at `(s, v)` from the anchor of `st` (the
+    /// friction is `μ(s, v)·N`, linear in N); `None` for ground.
+    pub fn per_unit_load(
+        &self,
+        s: &State,
+        v: &Velocities,
+        st: &FrictionState,
+    ) -> [Option<(usize, [f64; 6])>; 2] {
+        let kin = Kinematics {
+            state: s,
+            velocities: v,
+        };
+        let unit = FrictionState { normal: 1.0, ..*st };
+        self.loads_at::<f64>(&kin, &unit).map(|load| {
+            let load = load?;
+            let linkage_model::bodies::Body::Part(k) = load.body else {
+                return None;
+            };
+            let arm = load.point.value() - kin.cm::<f64>(load.body).value();
+            let force = load.force.value();
+            let moment = arm.cross(force) + load.torque.value();
+            Some((k, [force.x, force.y, force.z, moment.x, moment.y, moment.z]))
+        })
+    }
+
+    /// The I marker's body and origin (ground) at `s`: where the joint's reaction that loads
+    /// the friction is taken.
+    pub fn reaction_point(&self, s: &State) -> (linkage_model::bodies::Body, DVec3) {
+        (self.i.body, self.i.eval(s).0)
+    }
+
+    /// The normal load from the joint's reaction on I (`force`, `torque` about I's origin,
+    /// ground axes) at `s`, with its gradient ([`load::normal_load_gradient`]).
+    pub fn normal_gradient(&self, s: &State, force: DVec3, torque: DVec3) -> (f64, DVec3, DVec3) {
+        let (travel, _) = self.relative(s);
+        load::normal_load_gradient(&self.friction, &self.j.eval(s).1, travel, force, torque)
     }
 
     /// The value of the friction at `(s, v)` for the reports (see [`FrictionValue`]).

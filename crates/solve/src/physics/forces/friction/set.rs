@@ -78,6 +78,46 @@ impl FrictionSet {
         !(shared.statics && self.laws[k].friction.inactive_static)
     }
 
+    /// Whether friction `k` acts now ([`FrictionSet::set_static`]).
+    pub fn acts(&self, k: usize) -> bool {
+        self.active(&self.lock(), k)
+    }
+
+    /// The state of friction `k`.
+    pub fn state(&self, k: usize) -> FrictionState {
+        self.lock().states[k]
+    }
+
+    /// The largest stiction deformation of the active frictions at `(s, v)` from their
+    /// anchors, as a fraction of each one's MAX_STICTION_DEFORMATION (0 without any).
+    pub fn stiction_fraction(&self, s: &State, v: &Velocities) -> f64 {
+        let shared = self.lock();
+        let kin = crate::physics::forces::algebra::Kinematics {
+            state: s,
+            velocities: v,
+        };
+        let mut largest: f64 = 0.0;
+        for (k, law) in self.laws.iter().enumerate() {
+            if !self.active(&shared, k) {
+                continue;
+            }
+            let slip = law.slip::<f64>(&kin, &shared.states[k]);
+            let size = slip.deformation[..slip.dims]
+                .iter()
+                .map(|c| c * c)
+                .sum::<f64>()
+                .sqrt();
+            largest = largest.max(size / law.regime.max_deformation);
+        }
+        largest
+    }
+
+    /// Sets the normal load of friction `k` (its anchor unchanged): statics takes it from the
+    /// Newton iterate's multipliers.
+    pub fn set_normal(&self, k: usize, normal: f64) {
+        self.lock().states[k].normal = normal;
+    }
+
     /// Calls `sink` with the loads of every active friction at `cx`.
     pub fn each_load<R: Real>(&self, cx: &Context, mut sink: impl FnMut(Loads<R>)) {
         if self.laws.is_empty() {
