@@ -17,7 +17,6 @@
 //! After convergence, stability is judged from the smallest eigenvalue of the stiffness reduced
 //! to the free motions (`Nᵀ K_T N`, N a basis of the null space of J).
 
-mod friction_load;
 mod newton;
 
 use crate::constraints::drivers::{Drivers, MotionError};
@@ -222,7 +221,7 @@ const RUNAWAY_WINDOW: usize = 3;
 /// Force elements with a state (joint friction, [`crate::physics::forces::friction`]): the
 /// stiction anchors are held where the analysis starts, and each friction's normal load is
 /// taken from its joint's reaction at every Newton iterate, with the coupling `−∂Q/∂λ` in the
-/// Newton matrix (`statics/friction_load.rs`), so one Newton solve gives the equilibrium in
+/// Newton matrix (`statics/newton/friction_load.rs`), so one Newton solve gives the equilibrium in
 /// which the friction acts with the normal load of the final reactions; the elements' state
 /// then takes that equilibrium (`accept_state`: the normal loads, the anchors trailed to
 /// MAX_STICTION_DEFORMATION). Elements inactive in statics are off throughout.

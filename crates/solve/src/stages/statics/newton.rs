@@ -21,9 +21,10 @@
 //! a STATIC_HOLD state keeps its value (an identity row). The KKT matrix leaves them out.
 //!
 //! `∂Q/∂λ` is joint friction's: its normal load follows the joint's multipliers
-//! ([`super::friction_load`]).
+//! ([`friction_load`]).
 
-use super::friction_load::FrictionLoads;
+mod friction_load;
+
 use super::StaticsError;
 use crate::constraints::hessian::HessianBlocks;
 use crate::constraints::rows::RowGradient;
@@ -35,6 +36,7 @@ use crate::physics::applied::{AppliedForces, ForceError};
 use crate::physics::mass::ground_inertia;
 use crate::state::State;
 use crate::tolerances::STATIC_MASS_FLOOR;
+use friction_load::FrictionLoads;
 use glam::DVec3;
 use linkage_model::settings::EquilibriumSettings;
 use linkage_model::Model;

@@ -21,7 +21,7 @@
 //!
 //! Buffers are sized once per solve; an update and a fill allocate nothing.
 
-use super::newton::Problem;
+use super::Problem;
 use crate::constraints::rows::{RowGradient, Velocities};
 use crate::state::State;
 use glam::DVec3;
