@@ -193,16 +193,24 @@ struct Planner<'a> {
     errors: Vec<Diagnostic>,
 }
 
-impl Planner<'_> {
-    fn plan(&mut self, pose: &PartPose) {
+impl<'a> Planner<'a> {
+    /// The statement at `index`, or an error kept for the caller when there is none.
+    fn statement_at(&mut self, index: usize) -> Option<&'a Statement> {
         let ds = self.ds;
-        let Some(st) = ds.statements.get(pose.statement) else {
+        let st = ds.statements.get(index);
+        if st.is_none() {
             let msg = format!(
-                "statement index {} is out of range (the dataset has {} statements)",
-                pose.statement,
+                "statement index {index} is out of range (the dataset has {} statements)",
                 ds.statements.len()
             );
             self.errors.push(error(ds, None, msg));
+        }
+        st
+    }
+
+    fn plan(&mut self, pose: &PartPose) {
+        let ds = self.ds;
+        let Some(st) = self.statement_at(pose.statement) else {
             return;
         };
         let Some(part) = ds

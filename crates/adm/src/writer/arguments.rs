@@ -75,13 +75,7 @@ impl Planner<'_> {
     /// Plans the edits of one argument.
     pub(super) fn plan_argument(&mut self, change: &ArgumentValues) {
         let ds = self.ds;
-        let Some(st) = ds.statements.get(change.statement) else {
-            let msg = format!(
-                "statement index {} is out of range (the dataset has {} statements)",
-                change.statement,
-                ds.statements.len()
-            );
-            self.errors.push(error(ds, None, msg));
+        let Some(st) = self.statement_at(change.statement) else {
             return;
         };
         let label = statement_label(st);
