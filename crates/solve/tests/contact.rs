@@ -421,15 +421,21 @@ const LINE: &str = "MATRIX/4, FULL = RORDER, ROWS = 5, COLUMNS = 3, \
 /// A closed CURVE through 16 points of the circle of radius 1 about the origin (one of them
 /// the bottom point (0, −1)); flipped, its outside is solid: a ring.
 fn ring() -> String {
+    circle(5, 4, 1.0)
+}
+
+/// CURVE/`id` (MATRIX/`matrix`): closed, through 16 points of the circle of `radius` about
+/// the origin of its frame.
+fn circle(id: u32, matrix: u32, radius: f64) -> String {
     let values: Vec<String> = (0..16)
         .map(|k| {
             let a = std::f64::consts::TAU * f64::from(k) / 16.0;
-            format!("{:.17}, {:.17}, 0", a.cos(), a.sin())
+            format!("{:.17}, {:.17}, 0", radius * a.cos(), radius * a.sin())
         })
         .collect();
     format!(
-        "MATRIX/4, FULL = RORDER, ROWS = 16, COLUMNS = 3, VALUES = {}\n\
-         CURVE/5, CLOSED, CURVE_POINTS, MATRIX = 4\n",
+        "MATRIX/{matrix}, FULL = RORDER, ROWS = 16, COLUMNS = 3, VALUES = {}\n\
+         CURVE/{id}, CLOSED, CURVE_POINTS, MATRIX = {matrix}\n",
         values.join(", ")
     )
 }
@@ -479,9 +485,10 @@ fn ball_rests_on_an_open_curve_at_the_impact_penetration() {
 fn ball_inside_a_ring_rests_at_its_bottom_at_the_impact_penetration() {
     // The flipped closed circle: the ball inside rests on the bottom point (0, −1), centre at
     // −1 + r − δ, the contact carrying m g.
-    // The sampled polyline's chords lie within CHORD_TOLERANCE × size (2 m) of the curve,
+    // The sampled polyline's chords lie within CHORD_TOLERANCE × size (the bounding box's
+    // diagonal, 2√2 m) of the curve,
     // inside the circle: that is the tolerance on the height.
-    let sag = linkage_model::contacts::CHORD_TOLERANCE * 2.0;
+    let sag = linkage_model::contacts::CHORD_TOLERANCE * 8f64.sqrt();
     let text = ball_on_curve(-0.901, &ring(), ", JFLIP_GEOMETRY = 2");
     let (y, fc) = ball_statics(&text);
     let want = -1.0 + 0.1 - ball_rest_penetration();
@@ -525,4 +532,30 @@ fn ball_inside_a_ring_rests_at_its_bottom_at_the_impact_penetration() {
         (q[1] - want).abs() < 1.5 * sag / 0.6 * want.abs(),
         "{q:?} vs {want}"
     );
+}
+
+#[test]
+fn wheel_curve_rests_on_a_plane_and_on_a_line_curve_at_the_impact_penetration() {
+    // The ball's sphere replaced by a closed circular CURVE of radius 0.1 about its CM (the
+    // I geometry): on the ground PLANE y = 0 (MARKER/3's z is +y), and on the open LINE
+    // curve. The deepest vertex carries k·δ^e = m·g; the lowest vertex of the sampled
+    // circle is within the chord sag (CHORD_TOLERANCE × 0.2√2 m) of the circle's bottom.
+    let sag = linkage_model::contacts::CHORD_TOLERANCE * 0.08f64.sqrt();
+    let want = 0.1 - ball_rest_penetration();
+    let wheel = |j: &str| {
+        ball_on_curve(0.099, &format!("{LINE}{}", circle(7, 6, 0.1)), "")
+            .replace(
+                "GRAPHICS/1, ELLIPSOID, CM = 20, XSCALE = 0.2, YSCALE = 0.2, ZSCALE = 0.2",
+                "GRAPHICS/1, CURVE, CID = 7, CRM = 20\nGRAPHICS/3, PLANE, RM = 3\n",
+            )
+            .replace("JGEOM = 2", &format!("JGEOM = {j}"))
+    };
+    for j in ["3", "2"] {
+        let (y, fc) = ball_statics(&wheel(j));
+        assert!(
+            (y - want).abs() <= sag,
+            "JGEOM {j}: rest height {y}, want {want}"
+        );
+        assert!((fc.y - G).abs() < 1e-6 * G, "JGEOM {j}: normal force {fc}");
+    }
 }

@@ -17,8 +17,11 @@
 //!   the outward normal there (towards `c`);
 //! - PLANE: each polyline vertex below the plane, depth its distance under it, normal the
 //!   plane's +z; consecutive penetrating vertices are one incident;
-//! - curve A against curve B: each vertex of one inside the other's solid, depth `−s`, normal
-//!   the other's outward normal at its nearest point; consecutive vertices are one incident.
+//! - curve I against curve J: each vertex of I's polyline inside J's solid, depth `−s`, normal
+//!   J's outward normal at its nearest point; consecutive vertices are one incident. Only I's
+//!   vertices are tested (testing J's against I too would count one overlap twice), so both
+//!   curves should be smooth at the sampling scale: a sharp corner of J pressing into I is
+//!   seen through I's vertices around it, not at the corner.
 
 use super::geometry::{Incident, IncidentPoint, Placed, Placement};
 use glam::{DVec2, DVec3};
@@ -175,7 +178,6 @@ pub fn incidents(
     match (&a.curve, &b.curve) {
         (Some(ca), Some(cb)) => {
             runs.extend(vertex_runs(ca, &wa, |v| inside_curve(cb, &wb, v), false));
-            runs.extend(vertex_runs(cb, &wb, |v| inside_curve(ca, &wa, v), true));
         }
         (Some(c), None) => round_or_plane(c, &wa, b, &wb, true, &mut runs),
         (None, Some(c)) => round_or_plane(c, &wb, a, &wa, false, &mut runs),
