@@ -465,4 +465,55 @@ mod tests {
             .iter()
             .any(|w| w.message.contains("surely_absent.xmt_txt")));
     }
+
+    #[test]
+    fn curve_geometries_are_sampled_and_their_errors_named() {
+        let base = "t\nPART/1, GROUND\nMARKER/1, PART = 1\n\
+            PART/2, MASS = 1, IP = 1, 1, 1, CM = 20\nMARKER/20, PART = 2\n\
+            MATRIX/4, FULL = RORDER, ROWS = 4, COLUMNS = 3, VALUES = -1, 0, 0, -0.3, 0, 0, 0.4, 0, 0, 1, 0, 0\n\
+            CURVE/5, OPEN, CURVE_POINTS, MATRIX = 4\n\
+            CURVE/6, FUNCTION = USER(1)\n\
+            GRAPHICS/1, ELLIPSOID, CM = 20, XSCALE = 2, YSCALE = 2, ZSCALE = 2\n\
+            GRAPHICS/2, CURVE, CID = 5, CRM = 1\n\
+            CONTACT/1, IGEOM = 1, JGEOM = 2, JFLIP_GEOMETRY = 2, IMPACT, STIFFNESS = 1, \
+            DAMPING = 0, DMAX = 1, EXPONENT = 1\nEND\n";
+        let build = |text: &str| {
+            let ds = linkage_adm::parse_dataset("c.adm".into(), text).unwrap();
+            crate::build_model(&ds)
+        };
+        let built = build(base).unwrap();
+        let Some(ForceKind::Contact(c)) = built.model.forces.first().map(|f| &f.kind) else {
+            panic!("no contact: {:?}", built.warnings);
+        };
+        let Solid::Curve { polyline, flip } = &c.j_geometries[0].solid else {
+            panic!("{:?}", c.j_geometries[0].solid);
+        };
+        // A straight line: every sample on it, from x = −1 to 1, the flip read.
+        assert!(*flip && !polyline.closed && polyline.points.len() > 2);
+        assert!(polyline
+            .points
+            .iter()
+            .all(|p| p.y.abs() < 1e-12 && p.z == 0.0));
+        assert!((polyline.points[0].x + 1.0).abs() < 1e-12);
+        assert!((polyline.points.last().unwrap().x - 1.0).abs() < 1e-12);
+        let err = |text: String| {
+            build(&text)
+                .err()
+                .map(|e| e.to_string())
+                .unwrap_or_default()
+        };
+        let e = err(base.replace("CID = 5", "CID = 9"));
+        assert!(e.contains("CURVE/9, which does not exist"), "{e}");
+        let e = err(base.replace("JFLIP_GEOMETRY = 2", "JFLIP_GEOMETRY = 1"));
+        assert!(e.contains("JFLIP_GEOMETRY names GRAPHICS/1"), "{e}");
+        let e = err(base.replace("0.4, 0, 0", "0.4, 0, 0.5"));
+        assert!(e.contains("not in its frame's xy plane"), "{e}");
+        // A USER curve: the contact is left out with a warning naming it.
+        let user = build(&base.replace("CID = 5", "CID = 6")).unwrap();
+        assert!(user.model.forces.is_empty());
+        assert!(user
+            .warnings
+            .iter()
+            .any(|w| w.message.contains("CURVE/6 is a USER subroutine")));
+    }
 }
