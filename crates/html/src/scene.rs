@@ -207,7 +207,7 @@ pub fn scene(model: &Model, highlight: &[String]) -> Scene {
                     .map(|(x, y)| DVec3::new(x, y, 0.0));
                 push(on_marker(*rm, mesh::polyline(&corners)), colour, None)
             }
-            Shape::Other { .. } => {}
+            Shape::Curve { .. } | Shape::Other { .. } => {}
         }
     }
     stick_figures(model, &drawn, size, &mut s.items);

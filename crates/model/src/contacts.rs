@@ -13,12 +13,13 @@
 //! | POINT | RM's origin |
 //! | PLANE | the half-space z ≤ 0 of RM: infinite (its XMIN…YMAX only draw it), +z outside |
 //! | EXTERNAL (`.stl` ascii or binary, `.obj`) | the file's triangles, coordinates in RM's frame and the dataset's length unit, the file relative to the dataset's folder |
+//! | CURVE (CID, CRM) | 2-D: the CURVE (which must lie in CRM's xy plane) sampled into a polyline ([`CHORD_TOLERANCE`]) and extruded along CRM's z. A closed curve bounds a solid region (inside is solid); an open curve's solid side is on the right of increasing α (looking down CRM's z), so its outward normal is `z × t`. A GRAPHICS id listed in IFLIP_GEOMETRY / JFLIP_GEOMETRY has its solid side reversed (a flipped closed curve: the outside is solid, a ring). |
 //!
 //! What cannot be a contact geometry, named by [`geometry_problem`] (and so by coverage, which
 //! makes every force analysis refuse the contact until it is deactivated): an EXTERNAL file
 //! that is missing, or in a format linkage does not read (Parasolid `.xmt_txt`/`.x_t`, …);
-//! CURVE geometry (2-D curve contacts belong with the CURVE statement, which linkage does not
-//! read yet); ARC, OUTLINE, LINK, SPDP, FORCE, TORUS (display-only shapes).
+//! a CURVE given by a USER subroutine (`FUNCTION = USER(…)`: it is not built) — named when
+//! the contact is built; ARC, OUTLINE, LINK, SPDP, FORCE, TORUS (display-only shapes).
 
 use glam::DVec3;
 use linkage_adm::contact::{Friction, NormalLaw};
@@ -38,14 +39,103 @@ pub struct Mesh {
 /// The solid of one contact geometry (see the module table).
 #[derive(Clone, Debug, PartialEq)]
 pub enum Solid {
-    Ellipsoid { radii: DVec3 },
-    Box { extent: DVec3 },
-    Cylinder { length: f64, radius: f64 },
-    Frustum { length: f64, bottom: f64, top: f64 },
-    Disc { radius: f64 },
+    Ellipsoid {
+        radii: DVec3,
+    },
+    Box {
+        extent: DVec3,
+    },
+    Cylinder {
+        length: f64,
+        radius: f64,
+    },
+    Frustum {
+        length: f64,
+        bottom: f64,
+        top: f64,
+    },
+    Disc {
+        radius: f64,
+    },
     Point,
     HalfSpace,
     Mesh(Arc<Mesh>),
+    /// A 2-D curve (see the table); `flip` reverses its solid side.
+    Curve {
+        polyline: Arc<Polyline>,
+        flip: bool,
+    },
+}
+
+/// A CURVE sampled into a polyline in its CRM marker's xy plane (z = 0).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Polyline {
+    /// The CURVE id.
+    pub curve: u64,
+    /// Points in increasing α; a closed polyline joins the last to the first.
+    pub points: Vec<DVec3>,
+    pub closed: bool,
+}
+
+/// Largest distance between the sampled polyline and the curve, as a fraction of the
+/// curve's size (the diagonal of its bounding box), checked at every chord's mid-parameter.
+pub const CHORD_TOLERANCE: f64 = 1e-5;
+
+/// Most chords a curve is sampled into.
+const MAX_CHORDS: usize = 1 << 18;
+
+/// The polyline of curve `c` (id `id`): uniform in α, the chord count doubled from 32 per
+/// spline piece until the mid-parameter point of every chord is within [`CHORD_TOLERANCE`]
+/// × size of the chord. Errors: a curve not in its frame's xy plane, or one that needs more
+/// than [`MAX_CHORDS`].
+pub fn sample_curve(id: u64, c: &crate::curves::Curve) -> Result<Polyline, String> {
+    if !c.planar {
+        return Err(format!(
+            "CURVE/{id} is not in its frame's xy plane (every z = 0): a 2-D contact curve must be"
+        ));
+    }
+    let mut n = 32 * c.pieces().max(1);
+    loop {
+        let alpha = |k: usize| -1.0 + 2.0 * k as f64 / n as f64;
+        let count = if c.closed { n } else { n + 1 };
+        let points: Vec<DVec3> = (0..count).map(|k| c.eval(alpha(k))[0]).collect();
+        let (lo, hi) = points.iter().fold(
+            (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)),
+            |(lo, hi), p| (lo.min(*p), hi.max(*p)),
+        );
+        let size = (hi - lo).length();
+        let worst = (0..n)
+            .map(|k| {
+                let (a, b) = (points[k], points[(k + 1) % points.len()]);
+                let m = c.eval(0.5 * (alpha(k) + alpha(k + 1)))[0];
+                segment_distance(m, a, b)
+            })
+            .fold(0.0, f64::max);
+        if worst <= CHORD_TOLERANCE * size {
+            return Ok(Polyline {
+                curve: id,
+                points,
+                closed: c.closed,
+            });
+        }
+        if n >= MAX_CHORDS {
+            return Err(format!(
+                "CURVE/{id} cannot be sampled within the chord tolerance in {MAX_CHORDS} chords"
+            ));
+        }
+        n *= 2;
+    }
+}
+
+/// Distance from `p` to the segment `a b`.
+fn segment_distance(p: DVec3, a: DVec3, b: DVec3) -> f64 {
+    let d = b - a;
+    let t = if d.length_squared() > 0.0 {
+        ((p - a).dot(d) / d.length_squared()).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    (p - (a + d * t)).length()
 }
 
 /// One geometry of a contact side.
@@ -126,7 +216,8 @@ pub fn geometry_problem<M: Copy>(dataset_file: &str, shape: &Shape<M>) -> Option
         | Shape::Frustum { .. }
         | Shape::Circle { .. }
         | Shape::Point { .. }
-        | Shape::Plane { .. } => None,
+        | Shape::Plane { .. }
+        | Shape::Curve { .. } => None,
         Shape::External { file: None, .. } => Some(GeometryProblem::NotModelled(
             "an EXTERNAL geometry without FILE has no shape".to_string(),
         )),
@@ -139,11 +230,6 @@ pub fn geometry_problem<M: Copy>(dataset_file: &str, shape: &Shape<M>) -> Option
                 None
             }
         }
-        Shape::Other { kind } if kind == "CURVE" => Some(GeometryProblem::NotModelled(
-            "a CURVE geometry (2-D curve contact) is not modelled: linkage does not read CURVE \
-             statements"
-                .to_string(),
-        )),
         other => Some(GeometryProblem::NotModelled(format!(
             "a {} is display geometry, not a contact solid",
             other.kind()

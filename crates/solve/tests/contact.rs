@@ -1,7 +1,9 @@
 //! CONTACT against closed forms: a sphere bouncing on a plane with the POISSON law's
 //! restitution, a cube resting on a slab through IMPACT contact (rest height and total normal
 //! force m·g, in statics and at the end of a simulation), a block sliding on a plane and
-//! decelerating at μd·g, and an STL mesh resting like the box it describes.
+//! decelerating at μd·g, an STL mesh resting like the box it describes, and 2-D CURVE
+//! contacts: a ball resting on an open straight curve and inside a flipped closed circle (a
+//! ring) at the IMPACT penetration, with the solid sides' push when flipped.
 
 use linkage_model::Model;
 use linkage_solve::constraints::drivers::ExpressionDrivers;
@@ -383,4 +385,177 @@ fn contact_jacobians_match_finite_differences() {
         glam::DVec3::new(1.0, -2.0, 0.5),
     )];
     check_jacobians(&f, &s, &v);
+}
+
+/// A ball of radius 0.1 m and mass 1 kg (centre height `y0`) on a vertical slider, against the
+/// ground CURVE `curve` (a GRAPHICS CURVE on MARKER/2, whose xy plane is the world's xy
+/// plane), gravity −y, IMPACT k = 1e6 N/m^1.5, e = 1.5, c = 50 N·s/m, dmax = 1e-4 m.
+fn ball_on_curve(y0: f64, curve: &str, flip: &str) -> String {
+    format!(
+        "curve contact\n\
+         UNITS/FORCE = NEWTON, MASS = KILOGRAM, LENGTH = METER, TIME = SECOND\n\
+         PART/1, GROUND\n\
+         MARKER/1, PART = 1\n\
+         MARKER/2, PART = 1\n\
+         MARKER/3, PART = 1, REULER = 0D, -90D, 0D\n\
+         ACCGRAV/JGRAV = -9.81\n\
+         PART/2, MASS = 1, CM = 20, IP = 0.004, 0.004, 0.004, QG = 0, {y0}, 0\n\
+         MARKER/20, PART = 2\n\
+         MARKER/21, PART = 2, REULER = 0D, -90D, 0D\n\
+         JOINT/1, TRANSLATIONAL, I = 21, J = 3\n\
+         GRAPHICS/1, ELLIPSOID, CM = 20, XSCALE = 0.2, YSCALE = 0.2, ZSCALE = 0.2\n\
+         {curve}\
+         GRAPHICS/2, CURVE, CID = 5, CRM = 2\n\
+         CONTACT/1, IGEOM = 1, JGEOM = 2, IMPACT, STIFFNESS = 1E6, DAMPING = 50, \
+         DMAX = 1E-4, EXPONENT = 1.5{flip}\n\
+         END\n"
+    )
+}
+
+/// An open straight CURVE along +x through five points on y = 0: its solid side (right of
+/// increasing α) is y < 0.
+const LINE: &str = "MATRIX/4, FULL = RORDER, ROWS = 5, COLUMNS = 3, \
+    VALUES = -1, 0, 0, -0.5, 0, 0, 0, 0, 0, 0.5, 0, 0, 1, 0, 0\n\
+    CURVE/5, OPEN, CURVE_POINTS, MATRIX = 4\n";
+
+/// A closed CURVE through 16 points of the circle of radius 1 about the origin (one of them
+/// the bottom point (0, −1)); flipped, its outside is solid: a ring.
+fn ring() -> String {
+    circle(5, 4, 1.0)
+}
+
+/// CURVE/`id` (MATRIX/`matrix`): closed, through 16 points of the circle of `radius` about
+/// the origin of its frame.
+fn circle(id: u32, matrix: u32, radius: f64) -> String {
+    let values: Vec<String> = (0..16)
+        .map(|k| {
+            let a = std::f64::consts::TAU * f64::from(k) / 16.0;
+            format!("{:.17}, {:.17}, 0", radius * a.cos(), radius * a.sin())
+        })
+        .collect();
+    format!(
+        "MATRIX/{matrix}, FULL = RORDER, ROWS = 16, COLUMNS = 3, VALUES = {}\n\
+         CURVE/{id}, CLOSED, CURVE_POINTS, MATRIX = {matrix}\n",
+        values.join(", ")
+    )
+}
+
+/// Rest penetration of the 1 kg ball: k·δ^e = m·g.
+fn ball_rest_penetration() -> f64 {
+    (G / 1e6_f64).powf(1.0 / 1.5)
+}
+
+/// Statics of a ball-on-curve model: the rest height of the ball's centre and the contact
+/// force on it (x, y).
+fn ball_statics(text: &str) -> (f64, glam::DVec3) {
+    let (m, d, f) = load_text("c.adm", text);
+    let r = linkage_solve::stages::statics::run(
+        &Assembled::new(&m, &d, &f, &Tolerances::default()),
+        &[0.0],
+    );
+    let eq = r.steps[0].1.as_ref().unwrap();
+    assert!(eq.converged, "{:?}", eq.worst);
+    let v = vec![(glam::DVec3::ZERO, glam::DVec3::ZERO)];
+    let mut q = vec![0.0; 6];
+    f.add_forces(&eq.state, &v, &mut q).unwrap();
+    (eq.state.poses[0].p.y, glam::DVec3::new(q[0], q[1], q[2]))
+}
+
+#[test]
+fn ball_rests_on_an_open_curve_at_the_impact_penetration() {
+    // Straight line y = 0 (the interpolating spline of collinear points is the line): the
+    // centre rests at r − δ, δ = (m g / k)^(1/e), the contact carrying m g along +y.
+    let (y, fc) = ball_statics(&ball_on_curve(0.099, LINE, ""));
+    let want = 0.1 - ball_rest_penetration();
+    assert!((y - want).abs() < 1e-9, "rest height {y}, want {want}");
+    assert!((fc.y - G).abs() < 1e-6 * G, "normal force {fc}");
+    assert!(fc.x.abs() < 1e-9 && fc.z.abs() < 1e-9, "{fc}");
+    // Flipped, the solid is above the line: the centre 0.099 above it is inside, the depth
+    // r + 0.099 = 0.199 and the force k·0.199^1.5 pushes it down (no velocity, no damping).
+    let (m, _, f) = load_text("c.adm", &ball_on_curve(0.099, LINE, ", JFLIP_GEOMETRY = 2"));
+    let st = linkage_solve::state::State::input(&m);
+    let mut q = vec![0.0; 6];
+    f.add_forces(&st, &[(glam::DVec3::ZERO, glam::DVec3::ZERO)], &mut q)
+        .unwrap();
+    let want = -1e6 * 0.199_f64.powf(1.5);
+    assert!((q[1] - want).abs() < 1e-9 * want.abs(), "{q:?} vs {want}");
+}
+
+#[test]
+fn ball_inside_a_ring_rests_at_its_bottom_at_the_impact_penetration() {
+    // The flipped closed circle: the ball inside rests on the bottom point (0, −1), centre at
+    // −1 + r − δ, the contact carrying m g.
+    // The sampled polyline's chords lie within CHORD_TOLERANCE × size (the bounding box's
+    // diagonal, 2√2 m) of the curve,
+    // inside the circle: that is the tolerance on the height.
+    let sag = linkage_model::contacts::CHORD_TOLERANCE * 8f64.sqrt();
+    let text = ball_on_curve(-0.901, &ring(), ", JFLIP_GEOMETRY = 2");
+    let (y, fc) = ball_statics(&text);
+    let want = -1.0 + 0.1 - ball_rest_penetration();
+    assert!((y - want).abs() < sag, "rest height {y}, want {want}");
+    assert!((fc.y - G).abs() < 1e-6 * G, "normal force {fc}");
+    // The normal is that of the chord under the ball, tilted from the circle's by at most
+    // half a chord's angle θ/2 = √(2·sag/R) (sag = R θ²/8); the slider carries the x part.
+    let tilt = (2.0 * sag / 1.0_f64).sqrt();
+    assert!(fc.x.abs() <= G * tilt, "{fc}");
+    // Dropped from the centre of the ring it falls 0.9 m, hits the bottom and stays inside
+    // (centre above −1 + r − δ_max; the peak penetration at the 4.2 m/s impact is a few
+    // mm), settling towards the rest height.
+    let (m, d, f) = load_text(
+        "c.adm",
+        &ball_on_curve(0.0, &ring(), ", JFLIP_GEOMETRY = 2"),
+    );
+    let out = simulate(&m, &d, &f, 1.5, 2e-3);
+    let mut lowest = f64::INFINITY;
+    for o in &out {
+        let y = o.state.poses[0].p.y;
+        assert!(
+            y > -1.0 + 0.1 - 0.02,
+            "left the ring: y = {y} at {}",
+            o.time
+        );
+        lowest = lowest.min(y);
+    }
+    // It did reach the ring (penetrating it).
+    assert!(lowest < -0.9, "never touched: lowest {lowest}");
+    // Unflipped, the disc of the circle is solid: the centre at (0, −0.5) is 0.5 inside it
+    // (the nearest boundary point is the data point (0, −1)), the depth 0.6 and the force
+    // k·0.6^1.5 pushes it down, out through the nearest boundary.
+    let (m, _, f) = load_text("c.adm", &ball_on_curve(-0.5, &ring(), ""));
+    let st = linkage_solve::state::State::input(&m);
+    let mut q = vec![0.0; 6];
+    f.add_forces(&st, &[(glam::DVec3::ZERO, glam::DVec3::ZERO)], &mut q)
+        .unwrap();
+    // The depth is within the chord sag of 0.6: the force within 1.5 × sag / 0.6.
+    let want = -1e6 * 0.6_f64.powf(1.5);
+    assert!(
+        (q[1] - want).abs() < 1.5 * sag / 0.6 * want.abs(),
+        "{q:?} vs {want}"
+    );
+}
+
+#[test]
+fn wheel_curve_rests_on_a_plane_and_on_a_line_curve_at_the_impact_penetration() {
+    // The ball's sphere replaced by a closed circular CURVE of radius 0.1 about its CM (the
+    // I geometry): on the ground PLANE y = 0 (MARKER/3's z is +y), and on the open LINE
+    // curve. The deepest vertex carries k·δ^e = m·g; the lowest vertex of the sampled
+    // circle is within the chord sag (CHORD_TOLERANCE × 0.2√2 m) of the circle's bottom.
+    let sag = linkage_model::contacts::CHORD_TOLERANCE * 0.08f64.sqrt();
+    let want = 0.1 - ball_rest_penetration();
+    let wheel = |j: &str| {
+        ball_on_curve(0.099, &format!("{LINE}{}", circle(7, 6, 0.1)), "")
+            .replace(
+                "GRAPHICS/1, ELLIPSOID, CM = 20, XSCALE = 0.2, YSCALE = 0.2, ZSCALE = 0.2",
+                "GRAPHICS/1, CURVE, CID = 7, CRM = 20\nGRAPHICS/3, PLANE, RM = 3\n",
+            )
+            .replace("JGEOM = 2", &format!("JGEOM = {j}"))
+    };
+    for j in ["3", "2"] {
+        let (y, fc) = ball_statics(&wheel(j));
+        assert!(
+            (y - want).abs() <= sag,
+            "JGEOM {j}: rest height {y}, want {want}"
+        );
+        assert!((fc.y - G).abs() < 1e-6 * G, "JGEOM {j}: normal force {fc}");
+    }
 }

@@ -26,8 +26,9 @@
 //!   [`DEFAULT_NORMAL_TRANSITION_VELOCITY`].
 //! - Warnings: `AUGMENTED_LAGRANGIAN_FORMULATION` (the penalty law is used as written),
 //!   `STICTION = ON` / `MAX_STICTION_DEFORMATION` (the stiction of the friction law is the
-//!   velocity-based one of §1.3, no creep spring), IFLIP/JFLIP_GEOMETRY (normals of 2-D
-//!   curves, which these contacts do not use), an argument CONTACT does not have.
+//!   velocity-based one of §1.3, no creep spring), an argument CONTACT does not have.
+//! - IFLIP_GEOMETRY / JFLIP_GEOMETRY: GRAPHICS ids (of CURVE geometries) whose solid side is
+//!   reversed.
 //! - `TYPE` is informational (the geometries fix the kind) and is not checked.
 
 use super::label;
@@ -137,6 +138,10 @@ pub struct Contact {
     pub igeom: Vec<IdRef>,
     /// GRAPHICS ids of the J side (all on one part).
     pub jgeom: Vec<IdRef>,
+    /// IFLIP_GEOMETRY / JFLIP_GEOMETRY: the I / J GRAPHICS CURVE ids whose solid side is
+    /// reversed (2-D curve contacts; empty when absent).
+    pub iflip: Vec<IdRef>,
+    pub jflip: Vec<IdRef>,
     pub normal: NormalLaw,
     pub friction: Friction,
 }
@@ -308,25 +313,27 @@ impl Reader {
                         ),
                     )
                 }
-                Some(k @ ("IFLIP_GEOMETRY" | "JFLIP_GEOMETRY")) => self.warn(
-                    a.span,
-                    format!(
-                        "{}: {k} reverses the normals of 2-D curves, which 3-D contacts do not \
-                         use; ignored",
-                        label(st)
-                    ),
-                ),
                 _ => {}
             }
         }
         let igeom = self.ids(st, "IGEOM");
         let jgeom = self.ids(st, "JGEOM");
+        let iflip = match Self::arg(st, "IFLIP_GEOMETRY") {
+            Some(_) => self.ids(st, "IFLIP_GEOMETRY"),
+            None => Some(Vec::new()),
+        };
+        let jflip = match Self::arg(st, "JFLIP_GEOMETRY") {
+            Some(_) => self.ids(st, "JFLIP_GEOMETRY"),
+            None => Some(Vec::new()),
+        };
         let normal = self.normal(st);
         let friction = self.friction(st);
         Some(Contact {
             header: super::header(st, index),
             igeom: igeom?,
             jgeom: jgeom?,
+            iflip: iflip?,
+            jflip: jflip?,
             normal: normal?,
             friction: friction?,
         })

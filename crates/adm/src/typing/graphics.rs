@@ -8,7 +8,8 @@
 //!   BOX, ELLIPSOID, CIRCLE, ARC, OUTLINE, LINK, SPDP and EXTERNAL (the last kept as its
 //!   reference marker and file name), and the contact geometries POINT (`RM`: its origin)
 //!   and PLANE (`RM`: its xy plane, `XMIN`…`YMAX` the drawn rectangle; spelling
-//!   [unconfirmed], from the Adams View plane's limits). Other kinds (FORCE, CURVE, TORUS…) are
+//!   [unconfirmed], from the Adams View plane's limits), and CURVE (`CID`: the CURVE id, `CRM`:
+//!   the marker of its frame). Other kinds (FORCE, TORUS…) are
 //!   kept as [`Shape::Other`] with their kind: they are display-only and change no result.
 //! - A shape missing an argument it cannot be drawn without (CYLINDER without `CM`, a BOX
 //!   without `CORNER`, …) or with a value that is not a number gives a *warning* at the
@@ -173,7 +174,9 @@ pub enum Shape<M = IdRef> {
     Point { rm: M },
     /// The xy plane of `rm` (its +z side is outside), drawn over `[xmin, xmax] × [ymin, ymax]`.
     Plane { rm: M, limits: [f64; 4] },
-    /// Another kind (FORCE, CURVE, POINT, PLANE, TORUS, …): kept by name, not drawn.
+    /// The CURVE statement `cid` in `crm`'s frame (a 2-D contact geometry; not drawn).
+    Curve { cid: u64, crm: M },
+    /// Another kind (FORCE, TORUS, …): kept by name, not drawn.
     Other { kind: String },
 }
 
@@ -192,6 +195,7 @@ impl<M: Copy> Shape<M> {
             Shape::External { rm, .. } | Shape::Point { rm } | Shape::Plane { rm, .. } => {
                 vec![*rm]
             }
+            Shape::Curve { crm, .. } => vec![*crm],
             Shape::Other { .. } => Vec::new(),
         }
     }
@@ -211,6 +215,7 @@ impl<M: Copy> Shape<M> {
             Shape::External { .. } => "EXTERNAL",
             Shape::Point { .. } => "POINT",
             Shape::Plane { .. } => "PLANE",
+            Shape::Curve { .. } => "CURVE",
             Shape::Other { kind } => kind,
         }
     }
@@ -304,6 +309,10 @@ impl<M: Copy> Shape<M> {
             Shape::Plane { rm, limits } => Shape::Plane {
                 rm: g(*rm)?,
                 limits: *limits,
+            },
+            Shape::Curve { cid, crm } => Shape::Curve {
+                cid: *cid,
+                crm: g(*crm)?,
             },
             Shape::Other { kind } => Shape::Other { kind: kind.clone() },
         })
@@ -575,6 +584,13 @@ impl Reader<'_> {
                     *l = self.number(st, key).unwrap_or(0.0);
                 }
                 Shape::Plane { rm, limits }
+            }
+            "CURVE" => {
+                let crm = self.marker(st, "CRM");
+                let crm = self.required(st, "CRM", crm)?;
+                let cid = self.marker(st, "CID");
+                let cid = self.required(st, "CID", cid)?;
+                Shape::Curve { cid: cid.id, crm }
             }
             other => Shape::Other {
                 kind: other.to_string(),

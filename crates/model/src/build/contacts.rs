@@ -6,16 +6,21 @@
 //! bodies; both sides on the same body; an STL or OBJ file that cannot be read or holds no
 //! triangle (with the file's name and the reader's message).
 //!
-//! A contact whose geometry [`geometry_problem`] names (a missing or Parasolid file, a CURVE),
-//! or whose law is a USER subroutine, is left out of the model with a warning: coverage
+//! A GRAPHICS CURVE geometry is its CURVE sampled into a polyline ([`sample_curve`]): a CID
+//! naming no CURVE, or a curve not in its frame's xy plane, is an error.
+//!
+//! A contact whose geometry [`geometry_problem`] names (a missing or Parasolid file), whose
+//! CURVE is a USER subroutine, or whose law is a USER subroutine, is left out of the model with a warning: coverage
 //! names it and makes every force analysis refuse the model until it is deactivated, while
 //! verify still runs.
 
 use super::context::{origin, Ctx};
 use crate::bodies::Marker;
 use crate::contacts::{
-    external_path, geometry_problem, mesh_format, Contact, ContactGeometry, Mesh, Solid,
+    external_path, geometry_problem, mesh_format, sample_curve, Contact, ContactGeometry, Mesh,
+    Polyline, Solid,
 };
+use crate::curves::Curve;
 use crate::forces::{ForceElement, ForceKind};
 use crate::graphics::Graphic;
 use glam::DVec3;
@@ -25,11 +30,18 @@ use linkage_adm::{Dataset, IdRef};
 use std::collections::HashMap;
 use std::sync::Arc;
 
+/// The model's CURVEs by id (as `build/curves.rs` made them).
+pub(crate) struct CurveLookup<'a> {
+    pub index: &'a HashMap<u64, usize>,
+    pub curves: &'a [Curve],
+}
+
 /// Every CONTACT of `ds` as a force element, in statement order.
 pub(crate) fn contacts(
     ds: &Dataset,
     graphics: &[Graphic],
     markers: &[Marker],
+    curve_of: &CurveLookup,
     cx: &mut Ctx,
 ) -> Vec<ForceElement> {
     let (typed, diagnostics) = linkage_adm::contact::type_contacts(ds);
@@ -45,6 +57,7 @@ pub(crate) fn contacts(
     }
     let by_id: HashMap<u64, &Graphic> = graphics.iter().map(|g| (g.id, g)).collect();
     let mut meshes: HashMap<String, Arc<Mesh>> = HashMap::new();
+    let mut polylines: HashMap<u64, Arc<Polyline>> = HashMap::new();
     let mut out = Vec::with_capacity(typed.len());
     for c in &typed {
         let label = format!("{} (CONTACT/{})", c.header.name, c.header.id);
@@ -63,7 +76,33 @@ pub(crate) fn contacts(
             continue;
         }
         let mut ok = true;
-        let mut side = |ids: &[IdRef], key: &str, cx: &mut Ctx| -> Option<Vec<ContactGeometry>> {
+        for (flips, geoms, key) in [
+            (&c.iflip, &c.igeom, "IFLIP_GEOMETRY"),
+            (&c.jflip, &c.jgeom, "JFLIP_GEOMETRY"),
+        ] {
+            for f in flips {
+                let is_curve = geoms.iter().any(|g| g.id == f.id)
+                    && by_id
+                        .get(&f.id)
+                        .is_some_and(|g| matches!(g.shape, Shape::Curve { .. }));
+                if !is_curve {
+                    cx.error(
+                        f.span,
+                        format!(
+                            "{label}: {key} names GRAPHICS/{}, which is not a CURVE geometry \
+                             of that side",
+                            f.id
+                        ),
+                    );
+                    ok = false;
+                }
+            }
+        }
+        let mut side = |ids: &[IdRef],
+                        flips: &[IdRef],
+                        key: &str,
+                        cx: &mut Ctx|
+         -> Option<Vec<ContactGeometry>> {
             let mut out = Vec::with_capacity(ids.len());
             for r in ids {
                 let Some(g) = by_id.get(&r.id) else {
@@ -88,7 +127,21 @@ pub(crate) fn contacts(
                     );
                     return None;
                 }
-                match solid(ds, g, &mut meshes) {
+                if let Shape::Curve { cid, .. } = g.shape {
+                    if !curve_of.index.contains_key(&cid) && is_user_curve(ds, cid) {
+                        cx.warn(
+                            r.span,
+                            format!(
+                                "{label}: GRAPHICS/{}'s CURVE/{cid} is a USER subroutine; the \
+                                 contact is not modelled (deactivate it to run without it)",
+                                g.id
+                            ),
+                        );
+                        return None;
+                    }
+                }
+                let flip = flips.iter().any(|f| f.id == g.id);
+                match solid(ds, g, flip, curve_of, &mut meshes, &mut polylines) {
                     Ok((marker, solid)) => out.push(ContactGeometry {
                         graphic: g.id,
                         name: g.name.clone(),
@@ -103,8 +156,10 @@ pub(crate) fn contacts(
             }
             Some(out)
         };
-        let (Some(ig), Some(jg)) = (side(&c.igeom, "IGEOM", cx), side(&c.jgeom, "JGEOM", cx))
-        else {
+        let (Some(ig), Some(jg)) = (
+            side(&c.igeom, &c.iflip, "IGEOM", cx),
+            side(&c.jgeom, &c.jflip, "JGEOM", cx),
+        ) else {
             continue;
         };
         if !ok || ig.is_empty() || jg.is_empty() {
@@ -151,14 +206,38 @@ pub(crate) fn contacts(
     out
 }
 
+/// Whether `CURVE/id` is a statement given by a FUNCTION (USER subroutine).
+fn is_user_curve(ds: &Dataset, id: u64) -> bool {
+    ds.statements
+        .iter()
+        .any(|s| s.keyword == "CURVE" && s.id == Some(id) && s.arg("FUNCTION").is_some())
+}
+
 /// The marker and solid of a usable graphic (see [`crate::contacts`]); an EXTERNAL mesh is
-/// read once per file.
+/// read once per file, a CURVE sampled once; `flip` reverses a curve's solid side.
 fn solid(
     ds: &Dataset,
     g: &Graphic,
+    flip: bool,
+    curve_of: &CurveLookup,
     meshes: &mut HashMap<String, Arc<Mesh>>,
+    polylines: &mut HashMap<u64, Arc<Polyline>>,
 ) -> Result<(usize, Solid), String> {
     Ok(match &g.shape {
+        Shape::Curve { cid, crm } => {
+            let polyline = match polylines.get(cid) {
+                Some(p) => p.clone(),
+                None => {
+                    let Some(&k) = curve_of.index.get(cid) else {
+                        return Err(format!("CID names CURVE/{cid}, which does not exist"));
+                    };
+                    let p = Arc::new(sample_curve(*cid, &curve_of.curves[k])?);
+                    polylines.insert(*cid, p.clone());
+                    p
+                }
+            };
+            (*crm, Solid::Curve { polyline, flip })
+        }
         Shape::Ellipsoid { cm, diameters } => (
             *cm,
             Solid::Ellipsoid {
@@ -385,5 +464,56 @@ mod tests {
             .warnings
             .iter()
             .any(|w| w.message.contains("surely_absent.xmt_txt")));
+    }
+
+    #[test]
+    fn curve_geometries_are_sampled_and_their_errors_named() {
+        let base = "t\nPART/1, GROUND\nMARKER/1, PART = 1\n\
+            PART/2, MASS = 1, IP = 1, 1, 1, CM = 20\nMARKER/20, PART = 2\n\
+            MATRIX/4, FULL = RORDER, ROWS = 4, COLUMNS = 3, VALUES = -1, 0, 0, -0.3, 0, 0, 0.4, 0, 0, 1, 0, 0\n\
+            CURVE/5, OPEN, CURVE_POINTS, MATRIX = 4\n\
+            CURVE/6, FUNCTION = USER(1)\n\
+            GRAPHICS/1, ELLIPSOID, CM = 20, XSCALE = 2, YSCALE = 2, ZSCALE = 2\n\
+            GRAPHICS/2, CURVE, CID = 5, CRM = 1\n\
+            CONTACT/1, IGEOM = 1, JGEOM = 2, JFLIP_GEOMETRY = 2, IMPACT, STIFFNESS = 1, \
+            DAMPING = 0, DMAX = 1, EXPONENT = 1\nEND\n";
+        let build = |text: &str| {
+            let ds = linkage_adm::parse_dataset("c.adm".into(), text).unwrap();
+            crate::build_model(&ds)
+        };
+        let built = build(base).unwrap();
+        let Some(ForceKind::Contact(c)) = built.model.forces.first().map(|f| &f.kind) else {
+            panic!("no contact: {:?}", built.warnings);
+        };
+        let Solid::Curve { polyline, flip } = &c.j_geometries[0].solid else {
+            panic!("{:?}", c.j_geometries[0].solid);
+        };
+        // A straight line: every sample on it, from x = −1 to 1, the flip read.
+        assert!(*flip && !polyline.closed && polyline.points.len() > 2);
+        assert!(polyline
+            .points
+            .iter()
+            .all(|p| p.y.abs() < 1e-12 && p.z == 0.0));
+        assert!((polyline.points[0].x + 1.0).abs() < 1e-12);
+        assert!((polyline.points.last().unwrap().x - 1.0).abs() < 1e-12);
+        let err = |text: String| {
+            build(&text)
+                .err()
+                .map(|e| e.to_string())
+                .unwrap_or_default()
+        };
+        let e = err(base.replace("CID = 5", "CID = 9"));
+        assert!(e.contains("CURVE/9, which does not exist"), "{e}");
+        let e = err(base.replace("JFLIP_GEOMETRY = 2", "JFLIP_GEOMETRY = 1"));
+        assert!(e.contains("JFLIP_GEOMETRY names GRAPHICS/1"), "{e}");
+        let e = err(base.replace("0.4, 0, 0", "0.4, 0, 0.5"));
+        assert!(e.contains("not in its frame's xy plane"), "{e}");
+        // A USER curve: the contact is left out with a warning naming it.
+        let user = build(&base.replace("CID = 5", "CID = 6")).unwrap();
+        assert!(user.model.forces.is_empty());
+        assert!(user
+            .warnings
+            .iter()
+            .any(|w| w.message.contains("CURVE/6 is a USER subroutine")));
     }
 }

@@ -58,7 +58,7 @@ pub(super) fn id_ref(st: &Statement, key: &str, cx: &mut Ctx, name: &str) -> Opt
     }
 }
 
-/// Every matrix CURVE a PTCV or CVCV reads (the others are data nothing uses, which the coverage
+/// Every matrix CURVE a PTCV, CVCV or GRAPHICS CURVE (a contact geometry) reads (the others are data nothing uses, which the coverage
 /// check names): the curves and the index of each CURVE id in them.
 pub(crate) fn curves(
     ds: &Dataset,
@@ -74,6 +74,7 @@ pub(crate) fn curves(
             match s.keyword.as_str() {
                 "PTCV" => vec!["CURVE"],
                 "CVCV" => vec!["ICURVE", "JCURVE"],
+                "GRAPHICS" if s.arg("CURVE").is_some() => vec!["CID"],
                 _ => Vec::new(),
             }
             .into_iter()

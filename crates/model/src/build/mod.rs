@@ -98,7 +98,6 @@ pub fn build_model(ds: &Dataset) -> Result<Built, Diagnostics> {
     let mut constraints = constraints(ds, &table, &mut cx);
     let mut forces = force_elements(ds, &table, &mut cx);
     let graphics = crate::graphics::resolve_graphics(ds, &markers, &mut cx.warnings);
-    forces.extend(contacts::contacts(ds, &graphics, &markers, &mut cx));
     let data = data::data_elements(ds, &mut cx);
     let sensors = sensors::sensors(ds, &mut cx);
     let frictions = friction::frictions(ds, &constraints, &parts, &markers, &mut cx);
@@ -106,6 +105,13 @@ pub fn build_model(ds: &Dataset) -> Result<Built, Diagnostics> {
     let (curves, curve_index) = curves::curves(ds, &controls.matrices, &mut cx);
     curves::ptcvs(ds, &table, &curve_index, &mut cx, &mut constraints);
     cvcvs::cvcvs(ds, &table, &curve_index, &curves, &mut cx, &mut constraints);
+    let curve_of = contacts::CurveLookup {
+        index: &curve_index,
+        curves: &curves,
+    };
+    forces.extend(contacts::contacts(
+        ds, &graphics, &markers, &curve_of, &mut cx,
+    ));
     point_masses::check_translational_use(&parts, &markers, &constraints, &forces, &mut cx);
     point_masses::hold_rotations(&parts, &mut markers, &mut constraints);
     flex_bodies::attach(

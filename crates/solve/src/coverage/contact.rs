@@ -1,7 +1,7 @@
 //! What coverage says about CONTACT statements: a contact is modelled, but a geometry it
 //! names may not be usable (`linkage_model::contacts::geometry_problem`): an EXTERNAL file
-//! that is missing or in a format linkage does not read (Parasolid), a CURVE or a
-//! display-only shape. Each such geometry is a finding at its id in IGEOM/JGEOM, refused by
+//! that is missing or in a format linkage does not read (Parasolid), a CURVE given by a USER
+//! subroutine, or a display-only shape. Each such geometry is a finding at its id in IGEOM/JGEOM, refused by
 //! every force analysis, so the user can `--deactivate` the contact.
 
 use super::Reason;
@@ -15,6 +15,8 @@ use std::collections::HashMap;
 pub(super) struct ContactGeometries {
     contacts: HashMap<usize, Contact>,
     graphics: HashMap<u64, Shape<IdRef>>,
+    /// CURVE ids given by a USER subroutine (`FUNCTION = USER(…)`).
+    user_curves: std::collections::HashSet<u64>,
 }
 
 impl ContactGeometries {
@@ -33,7 +35,17 @@ impl ContactGeometries {
             .into_iter()
             .map(|g| (g.header.id, g.shape))
             .collect();
-        Some(ContactGeometries { contacts, graphics })
+        let user_curves = ds
+            .statements
+            .iter()
+            .filter(|s| s.keyword == "CURVE" && s.arg("FUNCTION").is_some())
+            .filter_map(|s| s.id)
+            .collect();
+        Some(ContactGeometries {
+            contacts,
+            graphics,
+            user_curves,
+        })
     }
 
     /// The unusable geometries of the contact at statement `index`: place, reason, detail.
@@ -46,6 +58,17 @@ impl ContactGeometries {
             let Some(shape) = self.graphics.get(&r.id) else {
                 continue;
             };
+            if let Shape::Curve { cid, .. } = shape {
+                if self.user_curves.contains(cid) {
+                    let detail = format!(
+                        "GRAPHICS/{}'s CURVE/{cid} is a USER subroutine, which linkage cannot \
+                         evaluate; the contact cannot be computed (deactivate it to run without it)",
+                        r.id
+                    );
+                    out.push((r.span, Reason::NotModelled, detail));
+                    continue;
+                }
+            }
             if let Some(p) = geometry_problem(&ds.file, shape) {
                 let reason = match p {
                     GeometryProblem::Missing(_) => Reason::ExternalFileMissing,
@@ -78,17 +101,24 @@ mod tests {
             EXPONENT = 1\n\
             CONTACT/2, IGEOM = 1, JGEOM = 3, IMPACT, STIFFNESS = 1, DAMPING = 0, DMAX = 1, \
             EXPONENT = 1\n\
+            CURVE/1, FUNCTION = USER(1)\n\
             GRAPHICS/4, CURVE, CID = 1, CRM = 1\n\
             CONTACT/3, IGEOM = 4, JGEOM = 3, IMPACT, STIFFNESS = 1, DAMPING = 0, DMAX = 1, \
             EXPONENT = 1\nEND\n";
         let ds = linkage_adm::parse_dataset(Arc::from("t.adm"), text).unwrap();
         let f = findings(&ds);
-        assert_eq!(f.len(), 2, "{f:?}");
-        // A CURVE geometry is named as not modelled, with the reason.
-        assert_eq!(f[1].element, "CONTACT/3");
-        assert_eq!(f[1].reason, Reason::NotModelled);
-        assert!(f[1].detail.contains("CURVE"), "{}", f[1].detail);
-        assert!(f[1].refuses(Analysis::Simulate));
+        // CONTACT/1, the USER CURVE/1 itself (USER-call check), CONTACT/3.
+        assert_eq!(f.len(), 3, "{f:?}");
+        assert_eq!(f[1].element, "CURVE/1");
+        // A CURVE geometry on a USER curve is named as not modelled, with the reason.
+        assert_eq!(f[2].element, "CONTACT/3");
+        assert_eq!(f[2].reason, Reason::NotModelled);
+        assert!(
+            f[2].detail.contains("CURVE/1 is a USER subroutine"),
+            "{}",
+            f[2].detail
+        );
+        assert!(f[2].refuses(Analysis::Simulate));
         assert_eq!(f[0].element, "CONTACT/1");
         assert_eq!(f[0].reason, Reason::ExternalFileMissing);
         assert!(f[0].detail.contains("nowhere.xmt_txt"), "{}", f[0].detail);

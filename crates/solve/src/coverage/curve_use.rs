@@ -1,5 +1,5 @@
-//! CURVE, PTCV and CVCV statements linkage cannot use: a CURVE no PTCV or CVCV reads (data
-//! nothing uses; CURVE contact geometry is not modelled), and a PTCV or CVCV on a curve given by
+//! CURVE, PTCV and CVCV statements linkage cannot use: a CURVE no PTCV, CVCV or GRAPHICS
+//! CURVE (contact geometry) reads (data nothing uses), and a PTCV or CVCV on a curve given by
 //! a USER subroutine (`FUNCTION = USER(…)`), which linkage cannot evaluate. The USER CURVE
 //! itself is named by the USER-call check when a PTCV or CVCV uses it.
 
@@ -7,7 +7,7 @@ use super::{Analysis, Reason, FORCE_ANALYSES};
 use linkage_adm::{Dataset, Statement, Value};
 use std::collections::HashSet;
 
-/// Which CURVE ids PTCVs and CVCVs read, and which CURVEs are USER subroutines.
+/// Which CURVE ids PTCVs, CVCVs and GRAPHICS CURVEs read, and which CURVEs are USER subroutines.
 pub(super) struct CurveUse {
     read: HashSet<u64>,
     user: HashSet<u64>,
@@ -29,6 +29,7 @@ impl CurveUse {
             match st.keyword.as_str() {
                 "PTCV" => read.extend(id_of(st, "CURVE")),
                 "CVCV" => read.extend(["ICURVE", "JCURVE"].iter().filter_map(|k| id_of(st, k))),
+                "GRAPHICS" if st.arg("CURVE").is_some() => read.extend(id_of(st, "CID")),
                 "CURVE" if st.arg("FUNCTION").is_some() => user.extend(st.id),
                 _ => {}
             }
@@ -36,14 +37,13 @@ impl CurveUse {
         CurveUse { read, user }
     }
 
-    /// The finding for statement `st`, if it is a CURVE no PTCV or CVCV reads, or a PTCV or
+    /// The finding for statement `st`, if it is a CURVE nothing reads, or a PTCV or
     /// CVCV on a USER curve: reason, detail, the analyses that refuse it.
     pub(super) fn problem(&self, st: &Statement) -> Option<(Reason, String, &'static [Analysis])> {
         match st.keyword.as_str() {
             "CURVE" if !st.id.is_some_and(|id| self.read.contains(&id)) => Some((
                 Reason::NotUsed,
-                "curve data no PTCV or CVCV reads (CURVE contact geometry is not modelled)"
-                    .to_string(),
+                "curve data no PTCV, CVCV or GRAPHICS CURVE reads".to_string(),
                 &[],
             )),
             "PTCV" | "CVCV" => {

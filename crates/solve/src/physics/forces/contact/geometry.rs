@@ -7,7 +7,8 @@
 //! a frustum the convex hull of its two end circles (48 points each); a disc a `Cylinder` of
 //! zero height; a point a `Ball` of zero radius; a plane a `HalfSpace` with +z outside; a
 //! mesh a `TriMesh` (a surface: penetration is measured from its triangles, so a body wholly
-//! inside a mesh, touching no triangle, is not seen).
+//! inside a mesh, touching no triangle, is not seen); a curve a `Polyline`, whose contacts are
+//! computed in its plane by [`super::curve`] (not by parry).
 //!
 //! Incidents: parry reports *manifolds* (contact points sharing a normal, one per feature pair,
 //! per triangle for meshes) for each pair of geometries. Two manifolds of a pair belong to
@@ -76,6 +77,8 @@ pub struct Placed {
     pub triangles: Option<std::sync::Arc<Vec<[u32; 3]>>>,
     /// The radius of a sphere or point (0): its contact point is `centre ∓ radius·n`.
     pub radius: Option<f64>,
+    /// A 2-D curve geometry's polyline and side (its shape is then only descriptive).
+    pub curve: Option<super::curve::CurveSide>,
 }
 
 impl fmt::Debug for Placed {
@@ -179,6 +182,13 @@ fn shape(solid: &Solid) -> Result<Shaped, String> {
                 .map_err(|e| format!("the mesh '{}' is not usable: {e}", m.file))?;
             (shape, Placement::IDENTITY, Some(m.triangles.clone()))
         }
+        Solid::Curve { polyline, .. } => {
+            if polyline.points.len() < 2 {
+                return Err(format!("CURVE/{} has fewer than 2 points", polyline.curve));
+            }
+            let v: Vec<PVec> = polyline.points.iter().map(|&q| pv(q)).collect();
+            (SharedShape::polyline(v, None), Placement::IDENTITY, None)
+        }
     })
 }
 
@@ -197,6 +207,12 @@ pub fn place(model: &Model, g: &ContactGeometry) -> Result<Placed, String> {
         in_body: marker.then(&local),
         triangles: triangles.map(std::sync::Arc::new),
         radius,
+        curve: match &g.solid {
+            Solid::Curve { polyline, flip } => {
+                Some(super::curve::CurveSide::new(polyline.clone(), *flip))
+            }
+            _ => None,
+        },
     })
 }
 
@@ -228,6 +244,9 @@ pub struct Incident {
 
 /// Whether parry can compute contacts between the two shapes (e.g. not two half-spaces).
 pub fn supported(a: &Placed, b: &Placed) -> bool {
+    if a.curve.is_some() || b.curve.is_some() {
+        return super::curve::supported(a, b);
+    }
     let mut manifolds: Vec<ContactManifold<(), ()>> = Vec::new();
     let pose = PPose::IDENTITY;
     !matches!(
@@ -262,6 +281,10 @@ pub fn incidents(
     merge: f64,
     out: &mut Vec<Incident>,
 ) {
+    if a.curve.is_some() || b.curve.is_some() {
+        super::curve::incidents(a, body_i, b, body_j, out);
+        return;
+    }
     let wa = body_i.then(&a.in_body);
     let wb = body_j.then(&b.in_body);
     let pos12 = wa.to_parry().inverse() * wb.to_parry();
