@@ -19,6 +19,8 @@
 //! each as a material point on each body, with its depth, and the normal of its deepest point.
 //! Cost: one parry manifold query per geometry pair.
 
+pub mod curve;
+
 use glam::{DMat3, DVec3};
 use linkage_model::contacts::{ContactGeometry, Solid};
 use linkage_model::{Body, Model};
@@ -78,7 +80,7 @@ pub struct Placed {
     /// The radius of a sphere or point (0): its contact point is `centre ∓ radius·n`.
     pub radius: Option<f64>,
     /// A 2-D curve geometry's polyline and side (its shape is then only descriptive).
-    pub curve: Option<super::curve::CurveSide>,
+    pub curve: Option<curve::CurveSide>,
 }
 
 impl fmt::Debug for Placed {
@@ -208,9 +210,7 @@ pub fn place(model: &Model, g: &ContactGeometry) -> Result<Placed, String> {
         triangles: triangles.map(std::sync::Arc::new),
         radius,
         curve: match &g.solid {
-            Solid::Curve { polyline, flip } => {
-                Some(super::curve::CurveSide::new(polyline.clone(), *flip))
-            }
+            Solid::Curve { polyline, flip } => Some(curve::CurveSide::new(polyline.clone(), *flip)),
             _ => None,
         },
     })
@@ -245,7 +245,7 @@ pub struct Incident {
 /// Whether parry can compute contacts between the two shapes (e.g. not two half-spaces).
 pub fn supported(a: &Placed, b: &Placed) -> bool {
     if a.curve.is_some() || b.curve.is_some() {
-        return super::curve::supported(a, b);
+        return curve::supported(a, b);
     }
     let mut manifolds: Vec<ContactManifold<(), ()>> = Vec::new();
     let pose = PPose::IDENTITY;
@@ -282,7 +282,7 @@ pub fn incidents(
     out: &mut Vec<Incident>,
 ) {
     if a.curve.is_some() || b.curve.is_some() {
-        super::curve::incidents(a, body_i, b, body_j, out);
+        curve::incidents(a, body_i, b, body_j, out);
         return;
     }
     let wa = body_i.then(&a.in_body);

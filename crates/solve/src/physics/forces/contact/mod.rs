@@ -27,7 +27,6 @@
 //! velocity only, so it is zero in static equilibrium either way; linearization includes its
 //! damping `∂F/∂v` for both.
 
-pub mod curve;
 pub mod geometry;
 pub mod laws;
 

@@ -23,7 +23,7 @@
 //!   curves should be smooth at the sampling scale: a sharp corner of J pressing into I is
 //!   seen through I's vertices around it, not at the corner.
 
-use super::geometry::{Incident, IncidentPoint, Placed, Placement};
+use super::{Incident, IncidentPoint, Placed, Placement};
 use glam::{DVec2, DVec3};
 use linkage_model::contacts::Polyline;
 use std::sync::Arc;
