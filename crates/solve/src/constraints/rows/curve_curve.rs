@@ -415,6 +415,7 @@ impl CurveContact {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::constraints::rows::curve_gap::tests::assert_gradient_matches_differences;
     use crate::state::{ControlValues, Pose};
     use linkage_model::curves::CurveSpec;
     use linkage_model::{Body, Origin};
@@ -509,28 +510,8 @@ mod tests {
             let (row, s) = setup(axis);
             let mut g = RowGradient::default();
             row.gradient(&s, 1.0, &mut g);
-            let h = 1e-6;
-            for k in 0..2 {
-                let block = g.blocks.iter().find(|(b, _)| *b == k).unwrap().1;
-                for c in 0..6 {
-                    let mut e = DVec3::ZERO;
-                    e[c % 3] = 1.0;
-                    let (dx, dth) = if c < 3 {
-                        (e, DVec3::ZERO)
-                    } else {
-                        (DVec3::ZERO, e)
-                    };
-                    let (mut sp, mut sm) = (s.clone(), s.clone());
-                    sp.increment(k, dx * h, dth * h);
-                    sm.increment(k, -dx * h, -dth * h);
-                    let fd = (row.value(&sp) - row.value(&sm)) / (2.0 * h);
-                    assert!(
-                        (fd - block[c]).abs() < 1e-7,
-                        "axis {axis} part {k} coordinate {c}: {fd} vs {}",
-                        block[c]
-                    );
-                }
-            }
+            let what = format!("axis {axis}");
+            assert_gradient_matches_differences(|st| row.value(st), &g, &s, &what);
             let v = [
                 (DVec3::new(0.3, -0.2, 0.5), DVec3::new(0.4, 0.1, -0.3)),
                 (DVec3::new(-0.1, 0.2, 0.1), DVec3::new(0.2, -0.5, 0.3)),

@@ -272,12 +272,44 @@ fn add_block(g: &mut RowGradient, body: linkage_model::Body, c: f64, dx: DVec3, 
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
     use crate::state::{ControlValues, Pose};
     use glam::DMat3;
     use linkage_model::curves::CurveSpec;
     use linkage_model::{Body, Origin};
+
+    /// Asserts that the gradient blocks `g` of parts 0 and 1 match central differences of
+    /// `value` at `s` (step 1e-6, within 1e-7), for the row named `what`.
+    pub(crate) fn assert_gradient_matches_differences(
+        value: impl Fn(&State) -> f64,
+        g: &RowGradient,
+        s: &State,
+        what: &str,
+    ) {
+        let h = 1e-6;
+        for k in 0..2 {
+            let block = g.blocks.iter().find(|(b, _)| *b == k).unwrap().1;
+            for c in 0..6 {
+                let mut e = DVec3::ZERO;
+                e[c % 3] = 1.0;
+                let (dx, dth) = if c < 3 {
+                    (e, DVec3::ZERO)
+                } else {
+                    (DVec3::ZERO, e)
+                };
+                let (mut sp, mut sm) = (s.clone(), s.clone());
+                sp.increment(k, dx * h, dth * h);
+                sm.increment(k, -dx * h, -dth * h);
+                let fd = (value(&sp) - value(&sm)) / (2.0 * h);
+                assert!(
+                    (fd - block[c]).abs() < 1e-7,
+                    "{what} part {k} coordinate {c}: {fd} vs {}",
+                    block[c]
+                );
+            }
+        }
+    }
 
     /// A non-planar open cubic through 6 points, carried by part 1 through a tilted frame; the
     /// point on part 0, off the curve by ~0.1 (the rows are checked off the manifold, where
@@ -344,28 +376,8 @@ mod tests {
             let (gap, s) = setup(axis);
             let mut g = RowGradient::default();
             gap.gradient(&s, 1.0, &mut g);
-            let h = 1e-6;
-            for k in 0..2 {
-                let block = g.blocks.iter().find(|(b, _)| *b == k).unwrap().1;
-                for c in 0..6 {
-                    let mut e = DVec3::ZERO;
-                    e[c % 3] = 1.0;
-                    let (dx, dth) = if c < 3 {
-                        (e, DVec3::ZERO)
-                    } else {
-                        (DVec3::ZERO, e)
-                    };
-                    let (mut sp, mut sm) = (s.clone(), s.clone());
-                    sp.increment(k, dx * h, dth * h);
-                    sm.increment(k, -dx * h, -dth * h);
-                    let fd = (gap.value(&sp) - gap.value(&sm)) / (2.0 * h);
-                    assert!(
-                        (fd - block[c]).abs() < 1e-7,
-                        "axis {axis} part {k} coordinate {c}: {fd} vs {}",
-                        block[c]
-                    );
-                }
-            }
+            let what = format!("axis {axis}");
+            assert_gradient_matches_differences(|st| gap.value(st), &g, &s, &what);
             // Φ̈ along a constant twist (the CM moving by v t, the body turning by ω t about
             // it) against the second difference of Φ along it.
             let v = [
