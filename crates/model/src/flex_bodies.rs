@@ -31,17 +31,27 @@
 //! `(A·I3·q) × g` (the weight of the deformation's first moment), a force element of the
 //! solver (`physics::forces::flex_weight`).
 //!
-//! **What is dropped** [decided, stated by the builder's warning]: the inertia coupling
-//! between rigid and modal coordinates (invariants 3, 4, 5, 8, 9 in the mass matrix: the
-//! modal momentum `Σ m_p Φ_p`, the rotation–mode coupling, and the change of the inertia
-//! tensor with q). The mass matrix is block diagonal:
-//! rigid (invariants 1, 2, 7 at q = 0) and modal (invariant 6). This is exact for a body
-//! whose reference frame is held (a cantilever's modes about a clamped root) and, at the
+//! **The inertia coupling** (`crate::flex_bodies::ModalInertia`, the solver's
+//! `physics::flex_inertia` and `physics::forces::flex_velocity`): the kinetic energy of the
+//! body, with `c` its undeformed centre of mass, `d = I3·q`, `v` the CM velocity and `ω` the
+//! angular velocity in BCS axes,
+//!
+//! ```text
+//! T = ½ I1 |v|² + vᵀ(ω × d + I3 q̇) + ½ ωᵀ J_c(q) ω + ωᵀ K(q) q̇ + ½ q̇ᵀ I6 q̇
+//! J_c(q) = I_cm + [c]×[d]× + [d]×[c]× − Σ_j (I8_j + I8_jᵀ) q_j − Σ_jk I9_jk q_j q_k
+//! K(q)   = I4 − [c]×·I3 + Σ_k q_k I5_k        (column j: I4_j − c × I3_j + Σ_k q_k I5_kj)
+//! ```
+//!
+//! (`I_cm = I7 − I1 [c]×ᵀ[c]×`, the inertia about c at q = 0) gives the mass matrix (its rigid blocks `I1·𝟙`, `I_cm` on the reference body, `I6` on the
+//! mode bodies; the rest is the coupling added by the solver) and the quadratic velocity
+//! terms from Lagrange's equations in the body's axes. Invariants switched off by
+//! `INVARIANTS` (or not listed) are zero; with 3, 4, 5, 8 and 9 off the mass matrix is block
+//! diagonal, which is exact for a body whose reference frame is held and, at the
 //! linearization about rest, for free-free modes orthogonal to the rigid-body motion
 //! (mean-axis modes, for which invariants 3 and 4 vanish).
 
 use crate::bodies::Origin;
-use glam::DVec3;
+use glam::{DMat3, DVec3};
 
 /// Statement keyword of the flex bodies' parts, hidden markers, guides and bushings.
 pub const FLEX_BODY_STATEMENT: &str = "FLEX_BODY";
@@ -100,13 +110,39 @@ pub struct FlexBody {
     pub first_node_constraint: usize,
     /// The dataset's mode numbers (SELMOD), one per modal coordinate q of the dataset.
     pub labels: Vec<u64>,
+    /// The invariants of the inertia coupling beyond INVAR3 ([`FlexMode::first_moment`]).
+    pub inertia: ModalInertia,
     /// The principal basis `V` (row-major m × m, `q = V·η`) when GENSTIFF or INVAR6 is not
     /// diagonal: [`FlexBody::modes`] are then the principal modes η
     /// (`crate::modal_basis`); `None`: the modes are the dataset's.
     pub basis: Option<Vec<f64>>,
 }
 
+/// The inertia invariants 4, 5, 8 and 9 of a flex body (BCS axes, in the order of
+/// [`FlexBody::modes`]); an empty list is zero (switched off or not listed).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct ModalInertia {
+    /// INVAR4 per mode j: `Σ_p m_p s_p × Φ_pj + I_p Φ*_pj` (rotation–mode coupling).
+    pub i4: Vec<DVec3>,
+    /// INVAR5: `i5[k][j] = Σ_p m_p Φ_pk × Φ_pj` (its change with q_k).
+    pub i5: Vec<Vec<DVec3>>,
+    /// INVAR8 per mode j: `Σ_p m_p [s_p]×[Φ_pj]×` (the inertia's first-order change).
+    pub i8: Vec<DMat3>,
+    /// INVAR9: `i9[j][k] = Σ_p m_p [Φ_pj]×[Φ_pk]×` (its second-order change).
+    pub i9: Vec<Vec<DMat3>>,
+}
+
 impl FlexBody {
+    /// Whether the mass matrix couples the rigid and modal coordinates (some invariant 3,
+    /// 4, 5, 8 or 9 is not zero).
+    pub fn coupled(&self) -> bool {
+        self.modes.iter().any(|m| m.first_moment != DVec3::ZERO)
+            || !self.inertia.i4.is_empty()
+            || !self.inertia.i5.is_empty()
+            || !self.inertia.i8.is_empty()
+            || !self.inertia.i9.is_empty()
+    }
+
     /// Degrees of freedom in the Gruebler count: the modes + 6.
     pub fn gruebler_dof(&self) -> usize {
         self.modes.len() + 6

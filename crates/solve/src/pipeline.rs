@@ -212,6 +212,7 @@ impl<'m> Assembled<'m> {
             forces: self.forces,
             damping,
             frozen_time,
+            coupling: crate::physics::flex_inertia::FlexCoupling::new(self.model),
         }
     }
 }

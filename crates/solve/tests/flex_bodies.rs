@@ -12,6 +12,12 @@
 //! beam: 4.730041, 7.853205, 10.995608 (Blevins, Formulas for Natural Frequency and Mode
 //! Shape, table 8-1).
 
+mod common;
+
+use common::beam_modes::{
+    area, beam_scale, matrix, mode, mode_integral, second_moment, B, CANTILEVER, E, FREE_FREE, L,
+    RHO,
+};
 use glam::DVec3;
 use linkage_model::Model;
 use linkage_solve::constraints::drivers::ExpressionDrivers;
@@ -25,70 +31,6 @@ use linkage_solve::tolerances::Tolerances;
 use std::f64::consts::TAU;
 use std::fmt::Write;
 use std::sync::Arc;
-
-const E: f64 = 2.1e11;
-const RHO: f64 = 7800.0;
-const B: f64 = 0.01;
-const L: f64 = 1.0;
-
-const CANTILEVER: [f64; 5] = [1.875104, 4.694091, 7.854757, 10.995541, 14.137168];
-const FREE_FREE: [f64; 3] = [4.730041, 7.853205, 10.995608];
-
-fn area() -> f64 {
-    B * B
-}
-
-fn second_moment() -> f64 {
-    B.powi(4) / 12.0
-}
-
-/// `√(EI/(ρAL⁴))` (rad/s per unit (βL)²).
-fn beam_scale() -> f64 {
-    (E * second_moment() / (RHO * area() * L.powi(4))).sqrt()
-}
-
-/// `∫₀ᴸ φ dx` of a beam mode (cantilever or free-free; zero for a free-free elastic mode).
-fn mode_integral(bl: f64, free: bool) -> f64 {
-    let b = bl / L;
-    let (ch, c, sh, s) = (bl.cosh(), bl.cos(), bl.sinh(), bl.sin());
-    if free {
-        let sigma = (ch - c) / (sh - s);
-        (sh + s - sigma * (ch - c)) / b
-    } else {
-        let sigma = (ch + c) / (sh + s);
-        (sh - s - sigma * (ch + c - 2.0)) / b
-    }
-}
-
-/// A beam mode: `φ(x)` and `φ'(x)` for `βL` (cantilever or free-free).
-fn mode(bl: f64, free: bool, x: f64) -> (f64, f64) {
-    let b = bl / L;
-    let (ch, c, sh, s) = (bl.cosh(), bl.cos(), bl.sinh(), bl.sin());
-    let bx = b * x;
-    if free {
-        let sigma = (ch - c) / (sh - s);
-        (
-            bx.cosh() + bx.cos() - sigma * (bx.sinh() + bx.sin()),
-            b * (bx.sinh() - bx.sin() - sigma * (bx.cosh() + bx.cos())),
-        )
-    } else {
-        let sigma = (ch + c) / (sh + s);
-        (
-            bx.cosh() - bx.cos() - sigma * (bx.sinh() - bx.sin()),
-            b * (bx.sinh() + bx.sin() - sigma * (bx.cosh() - bx.cos())),
-        )
-    }
-}
-
-fn matrix(out: &mut String, id: u64, name: &str, rows: usize, cols: usize, values: &[f64]) {
-    let v: Vec<String> = values.iter().map(|x| format!("{x:e}")).collect();
-    let _ = writeln!(
-        out,
-        "!adams_view_name='FLEX_BODY_1.{name}'\nMATRIX/{id}, FULL = RORDER, ROWS = {rows}, \
-         COLUMNS = {cols}\n, VALUES = {}",
-        v.join(", ")
-    );
-}
 
 /// A FLEX_BODY/1 along ground x from the origin with the beam's first `bls` modes in each
 /// bending plane (mode order: y plane, z plane, alternating), nodes 1 (x = 0), 2 (x = L/2),

@@ -20,10 +20,9 @@
 //! | `T_MODES` | 3N × m | translational mode shapes: rows 3k … 3k+2 are node k's x, y, z (SELNOD order) |
 //! | `R_MODES` | 3N × m | rotational mode shapes (small rotations), same rows. Optional: zero |
 //!
-//! INVAR3 gives the modal load of the weight (`INVARIANTS` 3 = F switches it off). INVAR4,
-//! 5, 8 and 9 may be listed; they are not used, nor is INVAR3 in the mass matrix (see the
-//! module doc of [`crate::flex_bodies`]): a warning says so unless `INVARIANTS` switches
-//! them off.
+//! INVAR3 gives the modal load of the weight and, with INVAR4, 5, 8 and 9 ([`invariants`]),
+//! the inertia coupling of the rigid and modal coordinates (module doc of
+//! [`crate::flex_bodies`]); `INVARIANTS` switches each off.
 //!
 //! GENSTIFF and INVAR6 may be full symmetric matrices (INVAR6 positive definite): then the
 //! modes linkage integrates are those of the principal basis `q = V·η` with `K·V = M·V·Λ`,
@@ -42,6 +41,8 @@
 //! - Markers: `NODE_ID` → on that node's body (an id not in SELNOD is an error), their offset
 //!   from the node's undeformed place and their axes (QP/REULER in the BCS) kept in the node's
 //!   axes; without NODE_ID, on the reference body [decided].
+
+mod invariants;
 
 use super::context::{origin, Ctx};
 use super::markers::MarkerStatements;
@@ -306,23 +307,7 @@ fn flex_body(
         }
     };
     let ratios = damping_ratios(st, &labels, &k, &gm, units, cx)?;
-    if !st.invariants[2]
-        && !st.invariants[3]
-        && !st.invariants[4]
-        && !st.invariants[7]
-        && !st.invariants[8]
-    {
-        // Rigid–modal coupling switched off: what linkage models is what was asked for.
-    } else {
-        cx.warn(
-            st.invariants_span.unwrap_or(st.header.span),
-            format!(
-                "{name}: the inertia coupling between rigid and modal coordinates \
-                 (invariants 3, 4, 5, 8, 9 in the mass matrix) is not modelled: the modes are \
-                 coupled to the rigid motion through the node equations only"
-            ),
-        );
-    }
+    let inertia = invariants::modal_inertia(src, m, basis.as_ref().map(|b| b.v.as_slice()), cx)?;
     // INVAR3 (Σ m_p Φ_p, 3 × m in the BCS): the modal load of the weight.
     let first_moments: Vec<DVec3> = if !st.invariants[2] {
         vec![DVec3::ZERO; m]
@@ -475,6 +460,7 @@ fn flex_body(
         axis,
         rest: bcs_p,
         first_node_constraint: 0,
+        inertia,
         labels: dataset_labels,
         basis: basis.map(|b| b.v),
     })

@@ -10,6 +10,7 @@
 //! | VFORCE, VTORQUE, GFORCE | [`vector`] | expression components along RM's axes, at I |
 //! | FE_PART elements, FE_LOAD | [`fe_beam`] (+ [`corotational`]) | corotational beam between node bodies; Rayleigh damping; lumped loads |
 //! | FLEX_BODY weight on its modes | [`flex_weight`] | `gᵀ·A·I3_j` on mode j, the torque of the deformation's weight on the reference body |
+//! | FLEX_BODY inertia coupling | [`flex_velocity`] | the quadratic velocity terms of the rigid–modal coupling |
 //! | CONTACT | [`contact`] | IMPACT or POISSON normal force and Coulomb friction per incident |
 //! | FRICTION | [`crate::physics::forces::friction`] | stick-slip friction on a joint, with a state |
 //!
@@ -43,6 +44,7 @@ pub mod contact;
 pub mod corotational;
 pub mod data;
 pub mod fe_beam;
+pub mod flex_velocity;
 pub mod flex_weight;
 pub mod friction;
 pub mod scalar;
@@ -118,6 +120,7 @@ pub enum Law {
     FeDamping(Box<fe_beam::NodeDampingLaw>),
     FeLoad(Box<fe_beam::NodeLoadLaw>),
     ModalWeight(Box<flex_weight::ModalWeightLaw>),
+    ModalVelocity(Box<flex_velocity::ModalVelocityLaw>),
     Contact(Box<contact::ContactLaw>),
 }
 
@@ -132,6 +135,7 @@ impl Law {
             Law::FeDamping(l) => l.loads(cx),
             Law::FeLoad(l) => l.loads(cx),
             Law::ModalWeight(l) => l.loads(cx),
+            Law::ModalVelocity(l) => l.loads(cx),
             Law::Contact(l) => l.loads(cx),
         }
     }
@@ -546,6 +550,36 @@ impl Builder<'_> {
     }
 }
 
+impl Builder<'_> {
+    /// The quadratic velocity terms of every coupled flex body: one element on its reference
+    /// body, one per mode.
+    fn flex_velocities(&mut self, out: &mut Vec<Element>) {
+        let model = self.model;
+        for b in &model.flex_bodies {
+            let Some(terms) = crate::physics::flex_inertia::FlexTerms::of(b) else {
+                continue;
+            };
+            let terms = std::sync::Arc::new(terms);
+            let targets = std::iter::once(flex_velocity::Target::Reference)
+                .chain((0..b.modes.len()).map(flex_velocity::Target::Mode));
+            for target in targets {
+                let part = match target {
+                    flex_velocity::Target::Reference => b.reference,
+                    flex_velocity::Target::Mode(j) => b.modes[j].part,
+                };
+                out.push(Element {
+                    label: format!("{} (inertia coupling)", model.parts[part].origin.label()),
+                    law: Law::ModalVelocity(Box::new(flex_velocity::ModalVelocityLaw {
+                        terms: terms.clone(),
+                        target,
+                        per_ucf: 1.0 / model.ucf(),
+                    })),
+                });
+            }
+        }
+    }
+}
+
 impl ForceSet {
     /// Builds the force set of `model`: every expression parsed once, every reference to a
     /// data element checked. Errors are located in the dataset (see the module docs).
@@ -568,6 +602,7 @@ impl ForceSet {
         }
         b.fe_elements(&mut elements);
         b.flex_weights(&mut elements);
+        b.flex_velocities(&mut elements);
         let controls = ControlSet::new(model, &mut |f, origin, what| b.expr(f, origin, what));
         // The inputs of linear state elements are used too.
         for e in &model.controls.states {

@@ -389,6 +389,17 @@ impl<'a> OutputEnv<'a> {
                 .map_err(|m| EvalError::new(EvalErrorKind::Domain, m.to_string()))?;
         }
         let ucf = model.ucf();
+        // The flex bodies' inertia coupling `ΔM·a` (mass × acceleration units).
+        let mut coupled = vec![0.0; 6 * n];
+        let coupling = crate::physics::flex_inertia::FlexCoupling::new(model);
+        if !coupling.is_empty() && o.accelerations.len() == n {
+            let a: Vec<f64> = o
+                .accelerations
+                .iter()
+                .flat_map(|(a, b)| [a.x, a.y, a.z, b.x, b.y, b.z])
+                .collect();
+            coupling.add_product(&o.state, &a, 1.0, &mut coupled);
+        }
         let mut out = Vec::with_capacity(n);
         for (k, part) in model.parts.iter().enumerate() {
             let pose = o.state.poses[k];
@@ -396,8 +407,11 @@ impl<'a> OutputEnv<'a> {
             let (a, al) = self.acceleration(Body::Part(k))?;
             let ig = ground_inertia(part, &pose);
             let q = &applied[6 * k..6 * k + 6];
-            let f = (part.mass * (a - model.gravity)) / ucf - DVec3::new(q[0], q[1], q[2]);
-            let t = (ig * al - gyroscopic(&ig, w)) / ucf - DVec3::new(q[3], q[4], q[5]);
+            let c = &coupled[6 * k..6 * k + 6];
+            let f = (part.mass * (a - model.gravity) + DVec3::new(c[0], c[1], c[2])) / ucf
+                - DVec3::new(q[0], q[1], q[2]);
+            let t = (ig * al - gyroscopic(&ig, w) + DVec3::new(c[3], c[4], c[5])) / ucf
+                - DVec3::new(q[3], q[4], q[5]);
             out.push((f, t));
         }
         for r in &o.reactions {

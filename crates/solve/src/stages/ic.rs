@@ -550,6 +550,7 @@ pub fn acceleration_ic(
         forces,
         damping: None,
         frozen_time: None,
+        coupling: crate::physics::flex_inertia::FlexCoupling::new(model),
     };
     let solved = OutputSolver::exact(&problem, s, v)
         .and_then(|mut solver| solver.solve(&problem, s, &flat(v)))

@@ -350,6 +350,8 @@ pub fn assemble(
             }
         }
     }
+    crate::physics::flex_inertia::FlexCoupling::new(model)
+        .entries(s, |i, j, x| m.push((i, j, x * sc(i) * sc(j))));
     // Stiffness and damping (scaled).
     let mut kmat = Vec::new();
     let mut cmat = Vec::new();

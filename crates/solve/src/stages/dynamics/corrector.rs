@@ -217,6 +217,12 @@ pub(super) fn correct(
                 r1[6 * k + 3 + c] = ang[c];
             }
         }
+        if !p.coupling.is_empty() {
+            p.coupling.add_product(&trial.s, &trial.a, 1.0 + alpha, r1);
+            if alpha != 0.0 {
+                p.coupling.add_product(&cur.s, &trial.a, -alpha, r1);
+            }
+        }
         for ((r, ft), ft0) in r1.iter_mut().zip(&trial.force_term).zip(&cur.force_term) {
             *r += (1.0 + alpha) * ft - alpha * ft0;
         }

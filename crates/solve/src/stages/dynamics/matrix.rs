@@ -38,8 +38,10 @@ pub(super) fn assemble_growing(
 }
 
 /// Adds the mass blocks `m·𝟙` and `I_g = R I Rᵀ` ([`mass::ground_inertia`]) of every part to
-/// `matrix` ([`kkt::add_part_mass_blocks`]); `rotational(k)` is added to the diagonal of part
-/// k's rotational block (regularisation of the projection).
+/// `matrix` ([`kkt::add_part_mass_blocks`]), and the flex bodies' inertia coupling
+/// ([`crate::physics::flex_inertia`], each 3 × 3 block claiming its place even where it is
+/// zero); `rotational(k)` is added to the diagonal of part k's rotational block
+/// (regularisation of the projection).
 pub(super) fn add_mass(
     p: &Problem,
     s: &State,
@@ -50,6 +52,10 @@ pub(super) fn add_mass(
         let ig = mass::ground_inertia(part, &s.poses[k]);
         kkt::add_part_mass_blocks(matrix, k, part.mass, &ig, rotational(k));
     }
+    p.coupling.blocks(s, |r, c, b| {
+        matrix.add_block((r, c), (3, 3), 0.0, |_, _| 1.0);
+        matrix.add_block((r, c), (3, 3), 1.0, |i, j| b.col(j)[i]);
+    });
 }
 
 /// Coefficients of the scaled iteration matrix

@@ -31,17 +31,25 @@ pub struct Output {
 
 impl Output {
     /// Kinetic energy `Σ ½ m v² + ½ ωᵀ I_g ω` ([`mass::kinetic_energy`]) over the moving
-    /// parts, in the model's force × length (divided by the UCF).
+    /// parts, with the flex bodies' inertia coupling `½ vᵀ ΔM v`, in the model's
+    /// force × length (divided by the UCF).
     pub fn kinetic_energy(&self, model: &Model) -> f64 {
-        model
-            .parts
-            .iter()
-            .enumerate()
-            .map(|(k, p)| {
-                let (v, w) = self.velocities[k];
-                mass::kinetic_energy(p, &self.state.poses[k], v, w)
-            })
-            .sum::<f64>()
+        let coupling = crate::physics::flex_inertia::FlexCoupling::new(model);
+        let coupled = if coupling.is_empty() {
+            0.0
+        } else {
+            coupling.kinetic_energy(&self.state, &super::problem::flat(&self.velocities))
+        };
+        (coupled
+            + model
+                .parts
+                .iter()
+                .enumerate()
+                .map(|(k, p)| {
+                    let (v, w) = self.velocities[k];
+                    mass::kinetic_energy(p, &self.state.poses[k], v, w)
+                })
+                .sum::<f64>())
             / model.ucf()
     }
 }
@@ -151,6 +159,7 @@ impl ConsistentSolve {
                 rhs[6 * k + 3 + c] = hw[c];
             }
         }
+        p.coupling.add_product(s, v, 1.0, &mut rhs[..6 * n]);
         let time_rate = p.time_rate();
         let guess = unflat(v);
         for (k, &r) in p.rows.iter().enumerate() {
@@ -299,6 +308,7 @@ mod tests {
             forces: &NoForces,
             damping: None,
             frozen_time: None,
+            coupling: crate::physics::flex_inertia::FlexCoupling::new(&model),
         };
         let s = State::input(&model);
         // A guess that slides the link off its hinge: the projection keeps only the swing.

@@ -8,6 +8,7 @@ use crate::constraints::drivers::MotionError;
 use crate::constraints::rows::{RowGradient, Velocities};
 use crate::constraints::system::System;
 use crate::physics::applied::AppliedForces;
+use crate::physics::flex_inertia::FlexCoupling;
 use crate::physics::mass;
 use crate::state::State;
 use glam::DVec3;
@@ -30,6 +31,8 @@ pub struct Problem<'a> {
     pub damping: Option<ExtraDamping>,
     /// Freeze time at this value (dynamic settling): motions and forces see it.
     pub frozen_time: Option<f64>,
+    /// The flex bodies' rigid–modal inertia coupling, added to every mass matrix.
+    pub coupling: FlexCoupling,
 }
 
 impl Problem<'_> {
