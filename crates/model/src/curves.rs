@@ -139,14 +139,41 @@ pub struct CurveSpec {
     pub through_points: bool,
 }
 
+/// Why a matrix curve cannot be built (each message a sentence the builder prefixes with the
+/// CURVE's name).
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum CurveError {
+    #[error("ORDER = {0} is outside 2..={MAX_ORDER}")]
+    Order(usize),
+    #[error(
+        "{count} {}point(s): an {} curve of ORDER {order} needs at least {need}",
+        if *closed { "distinct " } else { "" },
+        if *closed { "closed" } else { "open" }
+    )]
+    TooFewPoints {
+        count: usize,
+        closed: bool,
+        order: usize,
+        need: usize,
+    },
+    /// Consecutive points (1-based) that coincide on a curve through its points.
+    #[error(
+        "points {0} and {1} coincide: a curve through its points needs distinct consecutive \
+         points"
+    )]
+    Coincident(usize, usize),
+    #[error("the interpolation through the points is singular")]
+    SingularInterpolation,
+}
+
 impl Curve {
-    /// Builds the curve. Errors (a sentence): fewer points than the order needs, an ORDER out
-    /// of 2..=[`MAX_ORDER`], coincident consecutive points of an interpolated curve, a singular
-    /// interpolation.
-    pub fn new(origin: Origin, spec: &CurveSpec) -> Result<Curve, String> {
+    /// Builds the curve. Errors ([`CurveError`]): fewer points than the order needs, an ORDER
+    /// out of 2..=[`MAX_ORDER`], coincident consecutive points of an interpolated curve, a
+    /// singular interpolation.
+    pub fn new(origin: Origin, spec: &CurveSpec) -> Result<Curve, CurveError> {
         let k = spec.order;
         if !(2..=MAX_ORDER).contains(&k) {
-            return Err(format!("ORDER = {k} is outside 2..={MAX_ORDER}"));
+            return Err(CurveError::Order(k));
         }
         let mut pts = spec.points.clone();
         let scale = pts.iter().map(|p| p.length()).fold(0.0, f64::max).max(1.0);
@@ -158,23 +185,18 @@ impl Curve {
         }
         let need = if spec.closed { 3.max(k - 1) } else { k.max(2) };
         if pts.len() < need {
-            return Err(format!(
-                "{} {}point(s): an {} curve of ORDER {k} needs at least {need}",
-                pts.len(),
-                if spec.closed { "distinct " } else { "" },
-                if spec.closed { "closed" } else { "open" }
-            ));
+            return Err(CurveError::TooFewPoints {
+                count: pts.len(),
+                closed: spec.closed,
+                order: k,
+                need,
+            });
         }
         if spec.through_points {
             let n = pts.len() + usize::from(spec.closed);
             for w in 0..n - 1 {
                 if (pts[(w + 1) % pts.len()] - pts[w]).length() <= 1e-12 * scale {
-                    return Err(format!(
-                        "points {} and {} coincide: a curve through its points needs distinct \
-                         consecutive points",
-                        w + 1,
-                        (w + 1) % pts.len() + 1
-                    ));
+                    return Err(CurveError::Coincident(w + 1, (w + 1) % pts.len() + 1));
                 }
             }
         }
@@ -329,7 +351,7 @@ fn solve_dense(mut a: Vec<f64>, mut b: Vec<DVec3>) -> Option<Vec<DVec3>> {
 /// An open curve: clamped knots; through the points with chord-length parameters and knots by
 /// averaging, or on control points with uniform interior knots. Returns the spline and its
 /// parameter range.
-fn clamped(pts: &[DVec3], k: usize, through: bool) -> Result<(BSpline, f64, f64), String> {
+fn clamped(pts: &[DVec3], k: usize, through: bool) -> Result<(BSpline, f64, f64), CurveError> {
     let n = pts.len();
     let p = k - 1;
     let mut knots = vec![0.0; n + k];
@@ -372,15 +394,14 @@ fn clamped(pts: &[DVec3], k: usize, through: bool) -> Result<(BSpline, f64, f64)
             a[i * n + mu + 1 - k + r] += b[r];
         }
     }
-    let ctrl =
-        solve_dense(a, pts.to_vec()).ok_or("the interpolation through the points is singular")?;
+    let ctrl = solve_dense(a, pts.to_vec()).ok_or(CurveError::SingularInterpolation)?;
     Ok((BSpline { ctrl, ..probe }, 0.0, 1.0))
 }
 
 /// A closed curve: a periodic B-spline over the `m` distinct points (uniform integer knots,
 /// control points repeated `k − 1` times around the seam); through the points at `t_i = k − 1
 /// + i`, or on them as control points.
-fn periodic(pts: &[DVec3], k: usize, through: bool) -> Result<(BSpline, f64, f64), String> {
+fn periodic(pts: &[DVec3], k: usize, through: bool) -> Result<(BSpline, f64, f64), CurveError> {
     let m = pts.len();
     let p = k - 1;
     let total = m + p;
@@ -407,8 +428,7 @@ fn periodic(pts: &[DVec3], k: usize, through: bool) -> Result<(BSpline, f64, f64
             a[i * m + (mu + 1 - k + r) % m] += b[r];
         }
     }
-    let base =
-        solve_dense(a, pts.to_vec()).ok_or("the interpolation through the points is singular")?;
+    let base = solve_dense(a, pts.to_vec()).ok_or(CurveError::SingularInterpolation)?;
     Ok((
         BSpline {
             order: k,
@@ -578,9 +598,18 @@ mod tests {
             closed: false,
             through_points: true,
         };
-        assert!(Curve::new(origin(), &spec(3, 4)).is_err());
-        assert!(Curve::new(origin(), &spec(5, 1)).is_err());
-        assert!(Curve::new(origin(), &spec(5, 9)).is_err());
+        assert_eq!(
+            Curve::new(origin(), &spec(3, 4)).unwrap_err().to_string(),
+            "3 point(s): an open curve of ORDER 4 needs at least 4"
+        );
+        assert_eq!(
+            Curve::new(origin(), &spec(5, 1)).unwrap_err(),
+            CurveError::Order(1)
+        );
+        assert_eq!(
+            Curve::new(origin(), &spec(5, 9)).unwrap_err(),
+            CurveError::Order(9)
+        );
         assert!(Curve::new(origin(), &spec(5, 4)).is_ok());
     }
 }

@@ -150,7 +150,9 @@ pub(crate) fn matrices(ds: &Dataset, cx: &mut Ctx) -> (Vec<Matrix>, HashMap<u64,
                 let path = matrix_file_path(&ds.file, name);
                 let read = std::fs::read_to_string(&path)
                     .map_err(|e| format!("the file '{name}' cannot be read ({e})"))
-                    .and_then(|text| read_adamsmat(&text, matrix.as_deref()));
+                    .and_then(|text| {
+                        read_adamsmat(&text, matrix.as_deref()).map_err(|e| e.to_string())
+                    });
                 match read {
                     Ok(d) => d,
                     Err(e) => {
@@ -192,32 +194,24 @@ fn full(order: MatrixOrder, rows: usize, columns: usize, values: &[f64]) -> Dens
 /// are separated by blanks or commas. `SPARSE` matrices list `i j value` triples (an
 /// [unconfirmed] layout). `wanted` picks a matrix by name (case-insensitive); without it the
 /// file's first matrix.
-pub fn read_adamsmat(text: &str, wanted: Option<&str>) -> Result<DenseMatrix, String> {
+pub fn read_adamsmat(text: &str, wanted: Option<&str>) -> Result<DenseMatrix, MatrixFileError> {
     let mut lines = text.lines();
     let head = lines.next().unwrap_or("");
     if !head.starts_with("ADAMSMAT") {
-        let format: String = head.chars().take(8).collect();
-        return Err(format!(
-            "the matrix file's header '{format}' is not ADAMSMAT (the Adams text format, the \
-             one linkage reads)"
-        ));
+        return Err(MatrixFileError::NotAdamsmat(head.chars().take(8).collect()));
     }
     let count: usize = lines
         .next()
         .and_then(|l| l.trim().parse().ok())
-        .ok_or("the matrix file's second line is not the number of matrices")?;
+        .ok_or(MatrixFileError::NoCount)?;
     let mut names = Vec::new();
     while names.len() < count {
-        let line = lines
-            .next()
-            .ok_or("the matrix file ends in its list of names")?;
+        let line = lines.next().ok_or(MatrixFileError::EndsInNames)?;
         names.extend(line.split_whitespace().map(str::to_string));
     }
     for _ in 0..count {
         let header = loop {
-            let l = lines
-                .next()
-                .ok_or("the matrix file ends before a matrix header")?;
+            let l = lines.next().ok_or(MatrixFileError::EndsBeforeHeader)?;
             if !l.trim().is_empty() {
                 break l;
             }
@@ -227,10 +221,10 @@ pub fn read_adamsmat(text: &str, wanted: Option<&str>) -> Result<DenseMatrix, St
             None => (header, None),
         };
         let f: Vec<&str> = fields.split_whitespace().collect();
-        let bad = || format!("cannot read the matrix header '{}'", header.trim());
+        let bad = || MatrixFileError::Header(header.trim().to_string());
         let (name, kind) = (f.first().ok_or_else(bad)?, f.get(1).ok_or_else(bad)?);
         let sparse = kind.eq_ignore_ascii_case("SPARSE");
-        let num = |k: usize| -> Result<usize, String> {
+        let num = |k: usize| -> Result<usize, MatrixFileError> {
             f.get(k).and_then(|x| x.parse().ok()).ok_or_else(bad)
         };
         let (order, rows, columns, n) = if sparse {
@@ -245,8 +239,12 @@ pub fn read_adamsmat(text: &str, wanted: Option<&str>) -> Result<DenseMatrix, St
         };
         let wanted_here = wanted.is_none_or(|w| w.eq_ignore_ascii_case(name));
         let per_value = if sparse { 3 } else { 1 };
-        let values = read_values(&mut lines, n * per_value, format)
-            .map_err(|e| format!("matrix {name}: {e}"))?;
+        let values = read_values(&mut lines, n * per_value, format).map_err(|cause| {
+            MatrixFileError::Values {
+                matrix: name.to_string(),
+                cause,
+            }
+        })?;
         if !wanted_here {
             continue;
         }
@@ -255,23 +253,72 @@ pub fn read_adamsmat(text: &str, wanted: Option<&str>) -> Result<DenseMatrix, St
             for t in values.chunks_exact(3) {
                 let (i, j) = (t[0] as usize, t[1] as usize);
                 if i == 0 || j == 0 || i > rows || j > columns {
-                    return Err(format!("matrix {name}: entry ({i}, {j}) is outside it"));
+                    return Err(MatrixFileError::Outside {
+                        matrix: name.to_string(),
+                        i,
+                        j,
+                    });
                 }
                 d.set(i - 1, j - 1, t[2]);
             }
             return Ok(d);
         }
         if n != rows * columns {
-            return Err(format!(
-                "matrix {name}: {n} values for a {rows} × {columns} matrix"
-            ));
+            return Err(MatrixFileError::Count {
+                matrix: name.to_string(),
+                n,
+                rows,
+                columns,
+            });
         }
         return Ok(full(order, rows, columns, &values));
     }
     Err(match wanted {
-        Some(w) => format!("the matrix file has no matrix named {w}"),
-        None => "the matrix file holds no matrix".into(),
+        Some(w) => MatrixFileError::NoMatrixNamed(w.to_string()),
+        None => MatrixFileError::Empty,
     })
+}
+
+/// Why an ADAMSMAT file cannot be read ([`read_adamsmat`]; the caller names the file).
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum MatrixFileError {
+    #[error(
+        "the matrix file's header '{0}' is not ADAMSMAT (the Adams text format, the one \
+         linkage reads)"
+    )]
+    NotAdamsmat(String),
+    #[error("the matrix file's second line is not the number of matrices")]
+    NoCount,
+    #[error("the matrix file ends in its list of names")]
+    EndsInNames,
+    #[error("the matrix file ends before a matrix header")]
+    EndsBeforeHeader,
+    #[error("cannot read the matrix header '{0}'")]
+    Header(String),
+    #[error("matrix {matrix}: {cause}")]
+    Values { matrix: String, cause: ValuesError },
+    #[error("matrix {matrix}: entry ({i}, {j}) is outside it")]
+    Outside { matrix: String, i: usize, j: usize },
+    #[error("matrix {matrix}: {n} values for a {rows} × {columns} matrix")]
+    Count {
+        matrix: String,
+        n: usize,
+        rows: usize,
+        columns: usize,
+    },
+    #[error("the matrix file has no matrix named {0}")]
+    NoMatrixNamed(String),
+    #[error("the matrix file holds no matrix")]
+    Empty,
+}
+
+/// Why a matrix's values cannot be read.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum ValuesError {
+    #[error("'{0}' is not a number")]
+    NotANumber(String),
+    #[error("{found} of {wanted} values found before the file ends")]
+    EndsEarly { found: usize, wanted: usize },
 }
 
 /// The field width of a Fortran format `( nFw.d )` (also E, D, G), if it is one.
@@ -292,18 +339,19 @@ fn read_values<'a>(
     lines: &mut impl Iterator<Item = &'a str>,
     n: usize,
     format: Option<&str>,
-) -> Result<Vec<f64>, String> {
+) -> Result<Vec<f64>, ValuesError> {
     let width = format.and_then(field_width);
-    let parse = |s: &str| -> Result<f64, String> {
+    let parse = |s: &str| -> Result<f64, ValuesError> {
         let t = s.trim().replace(['D', 'd'], "E");
         t.parse::<f64>()
-            .map_err(|_| format!("'{}' is not a number", s.trim()))
+            .map_err(|_| ValuesError::NotANumber(s.trim().to_string()))
     };
     let mut out = Vec::with_capacity(n);
     while out.len() < n {
-        let line = lines
-            .next()
-            .ok_or_else(|| format!("{} of {n} values found before the file ends", out.len()))?;
+        let line = lines.next().ok_or(ValuesError::EndsEarly {
+            found: out.len(),
+            wanted: n,
+        })?;
         match width {
             Some(w) => {
                 let chars: Vec<char> = line.trim_end().chars().collect();
@@ -591,12 +639,14 @@ mod tests {
         assert_eq!(m.values, vec![0.0, 1.5, -3.44, 2.0]);
         let m = read_adamsmat(text, None).unwrap_or_else(|e| panic!("{e}"));
         assert_eq!(m.values, vec![1.0, 2.0, 3.0, 4.0]);
-        assert!(read_adamsmat(text, Some("NONE"))
-            .unwrap_err()
-            .contains("no matrix named NONE"));
-        assert!(read_adamsmat("MATRIXx\n", None)
-            .unwrap_err()
-            .contains("not ADAMSMAT"));
+        assert_eq!(
+            read_adamsmat(text, Some("NONE")).unwrap_err(),
+            MatrixFileError::NoMatrixNamed("NONE".into())
+        );
+        assert_eq!(
+            read_adamsmat("MATRIXx\n", None).unwrap_err(),
+            MatrixFileError::NotAdamsmat("MATRIXx".into())
+        );
     }
 
     #[test]

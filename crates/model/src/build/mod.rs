@@ -18,7 +18,7 @@ mod cvcvs;
 mod data;
 pub mod fe_parts;
 pub mod flex_bodies;
-pub use controls::read_adamsmat;
+pub use controls::{read_adamsmat, MatrixFileError, ValuesError};
 mod forces;
 mod friction;
 mod joints;

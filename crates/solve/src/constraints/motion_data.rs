@@ -24,30 +24,75 @@ fn literal(e: Option<&Expr>) -> Option<u64> {
     }
 }
 
+/// Why a MOTION function's data references cannot be made a function of time.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum MotionDataError {
+    #[error("VARIABLE/{0} does not exist")]
+    NoVariable(u64),
+    #[error("VARIABLE/{0} has no FUNCTION")]
+    NoFunction(u64),
+    #[error("VARIABLE/{id} ({name}) is a USER subroutine, which linkage cannot run")]
+    UserVariable { id: u64, name: String },
+    #[error("VARIABLE/{id} ({name}): {message}")]
+    Syntax {
+        id: u64,
+        name: String,
+        message: String,
+    },
+    #[error("{0} with a computed id cannot be resolved")]
+    ComputedId(&'static str),
+    #[error("{name}({id}, …): the index must be a whole number ≥ 1")]
+    Index { name: &'static str, id: u64 },
+    #[error("PINPUT/{0} does not exist")]
+    NoPinput(u64),
+    #[error("PINVAL({id}, {k}): out of range")]
+    PinvalRange { id: u64, k: usize },
+    #[error("ARRAY/{0} does not exist")]
+    NoArray(u64),
+    #[error("ARYVAL({id}, {k}): ARRAY/{id} has {len} values")]
+    AryvalRange { id: u64, k: usize, len: usize },
+    #[error("ARYVAL({0}, …) reads control states or outputs, which change with the model's state")]
+    StateArray(u64),
+    #[error("VARIABLE/{0} refers to itself through VARVAL")]
+    Cycle(u64),
+    #[error("in VARIABLE/{variable}: {cause}")]
+    Within {
+        variable: u64,
+        cause: Box<MotionDataError>,
+    },
+    #[error("it uses a USER subroutine, which linkage cannot run")]
+    User,
+    #[error(
+        "it depends on the model's state (a measure, a force or a control state) through the \
+         data elements it uses, while a motion is a function of time"
+    )]
+    State,
+}
+
 /// The expression of VARIABLE `id` of `model`.
-fn variable(model: &Model, id: u64) -> Result<Expr, String> {
+fn variable(model: &Model, id: u64) -> Result<Expr, MotionDataError> {
     let v = model
         .variables
         .iter()
         .find(|v| v.origin.id == id)
-        .ok_or_else(|| format!("VARIABLE/{id} does not exist"))?;
-    let f = v
-        .function
-        .as_ref()
-        .ok_or_else(|| format!("VARIABLE/{id} has no FUNCTION"))?;
+        .ok_or(MotionDataError::NoVariable(id))?;
+    let f = v.function.as_ref().ok_or(MotionDataError::NoFunction(id))?;
     if f.value.user {
-        return Err(format!(
-            "VARIABLE/{id} ({}) is a USER subroutine, which linkage cannot run",
-            v.origin.name
-        ));
+        return Err(MotionDataError::UserVariable {
+            id,
+            name: v.origin.name.clone(),
+        });
     }
-    parse(&f.value.expr.text)
-        .map_err(|e| format!("VARIABLE/{id} ({}): {}", v.origin.name, e.message))
+    parse(&f.value.expr.text).map_err(|e| MotionDataError::Syntax {
+        id,
+        name: v.origin.name.clone(),
+        message: e.message,
+    })
 }
 
 /// `e` with its data references replaced (module docs); `active` holds the VARIABLEs being
 /// expanded (cycle detection).
-fn expand(model: &Model, e: &Expr, active: &mut Vec<u64>) -> Result<Expr, String> {
+fn expand(model: &Model, e: &Expr, active: &mut Vec<u64>) -> Result<Expr, MotionDataError> {
     let go = |x: &Expr, active: &mut Vec<u64>| expand(model, x, active).map(Box::new);
     Ok(match e {
         Expr::Number(_) | Expr::Degrees(_) | Expr::Constant(_) | Expr::User(_) => e.clone(),
@@ -77,15 +122,12 @@ fn expand(model: &Model, e: &Expr, active: &mut Vec<u64>) -> Result<Expr, String
             args,
         } => {
             let name = kind.name();
-            let id = literal(args.first())
-                .ok_or_else(|| format!("{name} with a computed id cannot be resolved"))?;
+            let id = literal(args.first()).ok_or(MotionDataError::ComputedId(name))?;
             let k = match kind {
                 StateKind::Varval => 0,
                 _ => literal(args.get(1))
                     .and_then(|k| (k as usize).checked_sub(1))
-                    .ok_or_else(|| {
-                        format!("{name}({id}, …): the index must be a whole number ≥ 1")
-                    })?,
+                    .ok_or(MotionDataError::Index { name, id })?,
             };
             let target = match kind {
                 StateKind::Varval => id,
@@ -95,11 +137,11 @@ fn expand(model: &Model, e: &Expr, active: &mut Vec<u64>) -> Result<Expr, String
                         .pinputs
                         .iter()
                         .find(|l| l.origin.id == id)
-                        .ok_or_else(|| format!("PINPUT/{id} does not exist"))?;
+                        .ok_or(MotionDataError::NoPinput(id))?;
                     let v = list
                         .variables
                         .get(k)
-                        .ok_or_else(|| format!("PINVAL({id}, {}): out of range", k + 1))?;
+                        .ok_or(MotionDataError::PinvalRange { id, k: k + 1 })?;
                     model.variables[*v].origin.id
                 }
                 _ => {
@@ -107,42 +149,39 @@ fn expand(model: &Model, e: &Expr, active: &mut Vec<u64>) -> Result<Expr, String
                         .arrays
                         .iter()
                         .find(|a| a.origin.id == id)
-                        .ok_or_else(|| format!("ARRAY/{id} does not exist"))?;
+                        .ok_or(MotionDataError::NoArray(id))?;
                     match &a.values {
                         ArrayValues::Numbers(v) => {
-                            return v.get(k).map(|x| Expr::Number(*x)).ok_or_else(|| {
-                                format!(
-                                    "ARYVAL({id}, {}): ARRAY/{id} has {} values",
-                                    k + 1,
-                                    v.len()
-                                )
-                            })
+                            return v.get(k).map(|x| Expr::Number(*x)).ok_or(
+                                MotionDataError::AryvalRange {
+                                    id,
+                                    k: k + 1,
+                                    len: v.len(),
+                                },
+                            )
                         }
                         ArrayValues::Variables(v) => {
-                            let var = v.get(k).ok_or_else(|| {
-                                format!(
-                                    "ARYVAL({id}, {}): ARRAY/{id} has {} values",
-                                    k + 1,
-                                    v.len()
-                                )
+                            let var = v.get(k).ok_or(MotionDataError::AryvalRange {
+                                id,
+                                k: k + 1,
+                                len: v.len(),
                             })?;
                             model.variables[*var].origin.id
                         }
-                        ArrayValues::States => {
-                            return Err(format!(
-                                "ARYVAL({id}, …) reads control states or outputs, which change \
-                                 with the model's state"
-                            ))
-                        }
+                        ArrayValues::States => return Err(MotionDataError::StateArray(id)),
                     }
                 }
             };
             if active.contains(&target) {
-                return Err(format!("VARIABLE/{target} refers to itself through VARVAL"));
+                return Err(MotionDataError::Cycle(target));
             }
             active.push(target);
-            let inner = expand(model, &variable(model, target)?, active)
-                .map_err(|e| format!("in VARIABLE/{target}: {e}"))?;
+            let inner = expand(model, &variable(model, target)?, active).map_err(|e| {
+                MotionDataError::Within {
+                    variable: target,
+                    cause: Box::new(e),
+                }
+            })?;
             active.pop();
             inner
         }
@@ -158,7 +197,7 @@ fn expand(model: &Model, e: &Expr, active: &mut Vec<u64>) -> Result<Expr, String
 
 /// `e` with every VARVAL, ARYVAL and PINVAL replaced by its definition (module docs), or why
 /// it cannot be a function of time.
-pub fn inline_data(model: &Model, e: &Expr) -> Result<Expr, String> {
+pub fn inline_data(model: &Model, e: &Expr) -> Result<Expr, MotionDataError> {
     let mentions = e.any(&mut |x| {
         matches!(
             x,
@@ -173,14 +212,10 @@ pub fn inline_data(model: &Model, e: &Expr) -> Result<Expr, String> {
     }
     let out = expand(model, e, &mut Vec::new())?;
     if out.contains_user() {
-        return Err("it uses a USER subroutine, which linkage cannot run".into());
+        return Err(MotionDataError::User);
     }
     if out.uses_state() {
-        return Err(
-            "it depends on the model's state (a measure, a force or a control state) through \
-             the data elements it uses, while a motion is a function of time"
-                .into(),
-        );
+        return Err(MotionDataError::State);
     }
     Ok(out)
 }

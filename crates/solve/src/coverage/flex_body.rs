@@ -23,8 +23,8 @@ pub(super) fn problems(ds: &Dataset, st: &FlexBodyStatement) -> Vec<(Span, Reaso
                     Reason::NotModelled,
                     format!(
                         "its modal data are in the file '{}' ({key}), a format linkage does not \
-                         read: give them as MATRIX data (SELNOD, GENSTIFF, INVAR1, INVAR2, INVAR6, \
-                         INVAR7, T_MODES, R_MODES)",
+                         read: give them as MATRIX data (SELNOD, GENSTIFF, INVAR1 … INVAR9, \
+                         T_MODES, R_MODES)",
                         f.value
                     ),
                 )
