@@ -10,17 +10,15 @@
 //! A = 1e-4 m², I = b⁴/12, J = 0.1406·b⁴ (Roark's square-section torsion constant).
 
 mod common;
+
+use common::analyses::{equilibrium, linear, load};
 use common::corpus;
 use glam::DVec3;
 use linkage_model::fe_parts::ChapterCount;
 use linkage_model::Model;
-use linkage_solve::constraints::drivers::ExpressionDrivers;
-use linkage_solve::physics::forces::ForceSet;
 use linkage_solve::pipeline::Assembled;
 use linkage_solve::stages::dynamics::{run, IntegratorSettings, Start};
 use linkage_solve::stages::fe_modes::fe_modes;
-use linkage_solve::stages::linearize::{EigenMethod, LinearOptions, Linearization};
-use linkage_solve::stages::statics::Equilibrium;
 use linkage_solve::stages::verify::verify;
 use linkage_solve::tolerances::Tolerances;
 use std::f64::consts::{PI, TAU};
@@ -80,41 +78,6 @@ fn cantilever(n: usize, damping: &str, extra: &str) -> String {
         damping,
         &format!("JOINT/1, FIXED, I = 10, J = 1\n{extra}"),
     )
-}
-
-fn load(text: &str) -> (Model, ExpressionDrivers, ForceSet) {
-    let ds = linkage_adm::parse_dataset(Arc::from("t.adm"), text).unwrap_or_else(|e| panic!("{e}"));
-    let m = linkage_model::build_model(&ds)
-        .unwrap_or_else(|e| panic!("{e}"))
-        .model;
-    let d = ExpressionDrivers::new(&m).unwrap();
-    let f = ForceSet::new(&m).unwrap_or_else(|e| panic!("{e}"));
-    (m, d, f)
-}
-
-fn equilibrium(text: &str) -> (Model, Equilibrium) {
-    let (m, d, f) = load(text);
-    let r = linkage_solve::stages::statics::run(
-        &Assembled::new(&m, &d, &f, &Tolerances::default()),
-        &[0.0],
-    );
-    let eq = r.steps[0].1.clone().unwrap_or_else(|e| panic!("{e}"));
-    assert!(eq.converged, "{:?}", eq.worst);
-    (m, eq)
-}
-
-fn linear(text: &str) -> Linearization {
-    let (m, d, f) = load(text);
-    let run = linkage_solve::stages::linearize::run(
-        &Assembled::new(&m, &d, &f, &Tolerances::default()),
-        false,
-        LinearOptions {
-            damping: true,
-            vectors: false,
-            method: EigenMethod::Dense,
-        },
-    );
-    run.result.unwrap_or_else(|e| panic!("{e}"))
 }
 
 fn node(m: &Model, label: u64) -> usize {

@@ -14,17 +14,16 @@
 
 mod common;
 
+use common::analyses::{equilibrium, linear, load};
+
 use common::beam_modes::{
     area, beam_scale, matrix, mode, mode_integral, second_moment, B, CANTILEVER, E, FREE_FREE, L,
     RHO,
 };
 use glam::DVec3;
 use linkage_model::Model;
-use linkage_solve::constraints::drivers::ExpressionDrivers;
-use linkage_solve::physics::forces::ForceSet;
 use linkage_solve::pipeline::Assembled;
 use linkage_solve::stages::dynamics::{run, IntegratorSettings, Start};
-use linkage_solve::stages::linearize::{EigenMethod, LinearOptions, Linearization};
 use linkage_solve::stages::statics::Equilibrium;
 use linkage_solve::stages::verify::verify;
 use linkage_solve::tolerances::Tolerances;
@@ -156,41 +155,6 @@ fn cantilever(bls: &[f64], flex: &str, extra: &str) -> String {
         flex,
         &format!("JOINT/1, FIXED, I = 10, J = 1\n{extra}"),
     )
-}
-
-fn load(text: &str) -> (Model, ExpressionDrivers, ForceSet) {
-    let ds = linkage_adm::parse_dataset(Arc::from("t.adm"), text).unwrap_or_else(|e| panic!("{e}"));
-    let m = linkage_model::build_model(&ds)
-        .unwrap_or_else(|e| panic!("{e}"))
-        .model;
-    let d = ExpressionDrivers::new(&m).unwrap();
-    let f = ForceSet::new(&m).unwrap_or_else(|e| panic!("{e}"));
-    (m, d, f)
-}
-
-fn linear(text: &str) -> Linearization {
-    let (m, d, f) = load(text);
-    let run = linkage_solve::stages::linearize::run(
-        &Assembled::new(&m, &d, &f, &Tolerances::default()),
-        false,
-        LinearOptions {
-            damping: true,
-            vectors: false,
-            method: EigenMethod::Dense,
-        },
-    );
-    run.result.unwrap_or_else(|e| panic!("{e}"))
-}
-
-fn equilibrium(text: &str) -> (Model, Equilibrium) {
-    let (m, d, f) = load(text);
-    let r = linkage_solve::stages::statics::run(
-        &Assembled::new(&m, &d, &f, &Tolerances::default()),
-        &[0.0],
-    );
-    let eq = r.steps[0].1.clone().unwrap_or_else(|e| panic!("{e}"));
-    assert!(eq.converged, "{:?}", eq.worst);
-    (m, eq)
 }
 
 fn node_part(m: &Model, id: u64) -> usize {

@@ -1,6 +1,7 @@
 //! What the solver's integration tests share.
 #![allow(dead_code)]
 
+pub mod analyses;
 pub mod beam_modes;
 
 use std::path::{Path, PathBuf};

@@ -16,6 +16,7 @@ use super::{Ctx, Source};
 use crate::controls::DenseMatrix;
 use crate::flex_bodies::ModalInertia;
 use glam::{DMat3, DVec3};
+use std::ops::{Add, Mul};
 
 /// Reads the invariants `switched` on (INVARIANTS 4, 5, 8, 9) for `m` modes; `basis` is the
 /// principal basis (row-major m × m) when there is one. `None` after an error (a listed
@@ -81,64 +82,51 @@ pub(super) fn modal_inertia(
 
 /// The invariants of the modes `η` of `q = V·η` (`v` row-major m × m).
 fn in_basis(i: ModalInertia, v: &[f64], m: usize) -> ModalInertia {
-    let single = |x: &[DVec3]| -> Vec<DVec3> {
-        (0..m)
-            .map(|l| (0..m).map(|j| x[j] * v[j * m + l]).sum())
-            .collect()
-    };
-    let single_m = |x: &[DMat3]| -> Vec<DMat3> {
-        (0..m)
-            .map(|l| (0..m).fold(DMat3::ZERO, |acc, j| acc + x[j] * v[j * m + l]))
-            .collect()
-    };
-    let double = |x: &[Vec<DVec3>]| -> Vec<Vec<DVec3>> {
-        (0..m)
-            .map(|l| {
-                (0..m)
-                    .map(|n| {
-                        let mut s = DVec3::ZERO;
-                        for (a, row) in x.iter().enumerate() {
-                            for (b, e) in row.iter().enumerate() {
-                                s += *e * (v[a * m + l] * v[b * m + n]);
-                            }
-                        }
-                        s
-                    })
-                    .collect()
-            })
-            .collect()
-    };
-    let double_m = |x: &[Vec<DMat3>]| -> Vec<Vec<DMat3>> {
-        (0..m)
-            .map(|l| {
-                (0..m)
-                    .map(|n| {
-                        let mut s = DMat3::ZERO;
-                        for (a, row) in x.iter().enumerate() {
-                            for (b, e) in row.iter().enumerate() {
-                                s += *e * (v[a * m + l] * v[b * m + n]);
-                            }
-                        }
-                        s
-                    })
-                    .collect()
-            })
-            .collect()
-    };
     ModalInertia {
-        i4: if i.i4.is_empty() { i.i4 } else { single(&i.i4) },
-        i5: if i.i5.is_empty() { i.i5 } else { double(&i.i5) },
-        i8: if i.i8.is_empty() {
-            i.i8
-        } else {
-            single_m(&i.i8)
-        },
-        i9: if i.i9.is_empty() {
-            i.i9
-        } else {
-            double_m(&i.i9)
-        },
+        i4: single(&i.i4, v, m),
+        i5: double(&i.i5, v, m),
+        i8: single(&i.i8, v, m),
+        i9: double(&i.i9, v, m),
     }
+}
+
+/// `x'_l = Σ_j x_j V_jl` (empty stays empty).
+fn single<T>(x: &[T], v: &[f64], m: usize) -> Vec<T>
+where
+    T: Copy + Add<Output = T> + Mul<f64, Output = T>,
+{
+    if x.is_empty() {
+        return Vec::new();
+    }
+    (0..m)
+        .map(|l| (0..m).fold(x[0] * 0.0, |acc, j| acc + x[j] * v[j * m + l]))
+        .collect()
+}
+
+/// `x'_ln = Σ_ab V_al V_bn x_ab` (empty stays empty).
+fn double<T>(x: &[Vec<T>], v: &[f64], m: usize) -> Vec<Vec<T>>
+where
+    T: Copy + Add<Output = T> + Mul<f64, Output = T>,
+{
+    if x.is_empty() {
+        return Vec::new();
+    }
+    (0..m)
+        .map(|l| {
+            (0..m)
+                .map(|n| {
+                    // Zero of T (glam's default matrix is the identity).
+                    let mut s = x[0][0] * 0.0;
+                    for (a, row) in x.iter().enumerate() {
+                        for (b, e) in row.iter().enumerate() {
+                            s = s + *e * (v[a * m + l] * v[b * m + n]);
+                        }
+                    }
+                    s
+                })
+                .collect()
+        })
+        .collect()
 }
 
 #[cfg(test)]
