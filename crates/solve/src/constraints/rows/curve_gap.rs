@@ -311,6 +311,43 @@ pub(crate) mod tests {
         }
     }
 
+    /// A constant twist of parts 0 and 1 (CM velocity, angular velocity) for rate checks.
+    pub(crate) const TWIST: [(DVec3, DVec3); 2] = [
+        (DVec3::new(0.3, -0.2, 0.5), DVec3::new(0.4, 0.1, -0.3)),
+        (DVec3::new(-0.1, 0.2, 0.1), DVec3::new(0.2, -0.5, 0.3)),
+    ];
+
+    /// Asserts that the series `[Φ, Φ̇, Φ̈]` of a row along the constant twist `v` (the CM
+    /// moving by v t, the body turning by ω t about it) matches `value` at `s` and its central
+    /// first and second differences (step 1e-4: within 1e-7 and 1e-5), and that `Φ̇ = ∇Φ·v`
+    /// with the gradient `g` (within 1e-12).
+    pub(crate) fn assert_series_matches_differences(
+        value: impl Fn(&State) -> f64,
+        [q, qd, qdd]: [f64; 3],
+        g: &RowGradient,
+        s: &State,
+        v: &[(DVec3, DVec3)],
+        what: &str,
+    ) {
+        let along = |t: f64| {
+            let mut st = s.clone();
+            for (k, (vx, w)) in v.iter().enumerate() {
+                st.increment(k, *vx * t, *w * t);
+            }
+            st
+        };
+        let h = 1e-4;
+        let (qp, qm) = (value(&along(h)), value(&along(-h)));
+        assert!((q - value(s)).abs() < 1e-15, "{what} value");
+        assert!((qd - (qp - qm) / (2.0 * h)).abs() < 1e-7, "{what} rate");
+        assert!(
+            (qdd - (qp - 2.0 * q + qm) / (h * h)).abs() < 1e-5,
+            "{what}: {qdd} vs {}",
+            (qp - 2.0 * q + qm) / (h * h)
+        );
+        assert!((qd - g.rate(v)).abs() < 1e-12, "{what}: rate = ∇Φ·v");
+    }
+
     /// A non-planar open cubic through 6 points, carried by part 1 through a tilted frame; the
     /// point on part 0, off the curve by ~0.1 (the rows are checked off the manifold, where
     /// the contact parameter's own rates matter).
@@ -378,33 +415,9 @@ pub(crate) mod tests {
             gap.gradient(&s, 1.0, &mut g);
             let what = format!("axis {axis}");
             assert_gradient_matches_differences(|st| gap.value(st), &g, &s, &what);
-            // Φ̈ along a constant twist (the CM moving by v t, the body turning by ω t about
-            // it) against the second difference of Φ along it.
-            let v = [
-                (DVec3::new(0.3, -0.2, 0.5), DVec3::new(0.4, 0.1, -0.3)),
-                (DVec3::new(-0.1, 0.2, 0.1), DVec3::new(0.2, -0.5, 0.3)),
-            ];
-            let [q, qd, qdd] = gap.series(&s, &v, None);
-            let along = |t: f64| {
-                let mut st = s.clone();
-                for (k, (vx, w)) in v.iter().enumerate() {
-                    st.increment(k, *vx * t, *w * t);
-                }
-                st
-            };
-            let h = 1e-4;
-            let (qp, qm) = (gap.value(&along(h)), gap.value(&along(-h)));
-            assert!((q - gap.value(&s)).abs() < 1e-15);
-            assert!(
-                (qd - (qp - qm) / (2.0 * h)).abs() < 1e-7,
-                "axis {axis} rate"
-            );
-            assert!(
-                (qdd - (qp - 2.0 * q + qm) / (h * h)).abs() < 1e-5,
-                "axis {axis}: {qdd} vs {}",
-                (qp - 2.0 * q + qm) / (h * h)
-            );
-            assert!((qd - g.rate(&v)).abs() < 1e-12, "rate = ∇Φ·v");
+            // Φ̈ along a constant twist against the second difference of Φ along it.
+            let series = gap.series(&s, &TWIST, None);
+            assert_series_matches_differences(|st| gap.value(st), series, &g, &s, &TWIST, &what);
         }
     }
 }
