@@ -3,6 +3,7 @@
 # so that a refactoring can show it changes no result:
 #
 #   tools/golden.sh BINARY OUTDIR          # record (BINARY: a built `linkage`)
+#   GOLDEN_ONLY=acf tools/golden.sh …      # only the command files (`linkage run`)
 #   tools/golden_compare.py OLD NEW        # compare two recordings up to rounding
 #
 # Each run leaves OUTDIR/<dataset>/<case>.{out,err,rc} (and .csv for runs that write one).
@@ -50,9 +51,34 @@ run_one() {
 }
 export -f run_one
 
+[ "${GOLDEN_ONLY:-}" = acf ] && models=()
 for model in "${models[@]}"; do
   while IFS='|' read -r name args; do
     printf '%s\0%s\0%s\0%s\0%s\0%s\0' "$bin" "$out" "$limit" "$model" "$name" "$args"
   done <<<"$cases"
 done | xargs -0 -n 6 -P "$jobs" bash -c 'run_one "$@"' _
+# Command files: `linkage run` of every bundled and corpus .acf; the message file (CPU times and
+# the date of the request file removed) as the case's text, its CSV as the case's CSV.
+run_acf() {
+  local bin=$1 out=$2 limit=$3 acf=$4
+  local dir="$out/acf__$(basename "$acf" .acf)"
+  mkdir -p "$dir/files"
+  (cd "$dir/files" && timeout "$limit" "$bin" run "$acf" --out-dir "$dir/files" >"$dir/run.err" 2>&1; rc=$?
+   if [ $rc -eq 124 ]; then echo timeout; else echo $rc; fi >"$dir/run.rc")
+  local msg; msg=$(ls "$dir"/files/*.msg 2>/dev/null | head -1)
+  if [ -n "$msg" ]; then
+    sed -E 's/, [0-9.]+ s CPU//; s#'"$(dirname "$acf")"'/##g; s#'"$dir"'/files/##g; /^ linkage [0-9]/d' "$msg" >"$dir/run.out"
+  fi
+  local csv; csv=$(ls "$dir"/files/*.csv 2>/dev/null | head -1)
+  if [ -n "$csv" ]; then cp "$csv" "$dir/run.csv"; fi
+  sed -i "s#$(dirname "$acf")/##g; s#$dir/files/##g" "$dir/run.err"
+  rm -rf "$dir/files"
+}
+export -f run_acf
+acfs=("$here"/examples/*.acf)
+if [ -d "$corpus" ]; then acfs+=("$corpus"/*.acf); fi
+for acf in "${acfs[@]}"; do
+  printf '%s\0%s\0%s\0%s\0' "$bin" "$out" "$limit" "$acf"
+done | xargs -0 -n 4 -P "$jobs" bash -c 'run_acf "$@"' _
+
 echo "recorded $(find "$out" -name '*.rc' | wc -l) runs in $out"

@@ -302,19 +302,21 @@ fn load(py: Python<'_>, path: PathBuf, deactivate: Option<Vec<String>>) -> PyRes
 /// `out_dir`, default the working directory); returns {commands, outputs, halted, msg, req, csv}
 /// (`halted`: `SENSOR_1 at time 2.5` when a SENSOR's HALT ended the file, else None).
 #[pyfunction]
-#[pyo3(signature = (path, out_dir=None, model=None, deactivate=None))]
+#[pyo3(signature = (path, out_dir=None, model=None, deactivate=None, allow_unstable=false))]
 fn run_acf(
     py: Python<'_>,
     path: PathBuf,
     out_dir: Option<PathBuf>,
     model: Option<PathBuf>,
     deactivate: Option<Vec<String>>,
+    allow_unstable: bool,
 ) -> PyResult<PyObject> {
     let options = linkage_run::RunOptions {
         out_dir,
         model,
         interrupt: None,
         deactivate: deactivate.unwrap_or_default(),
+        allow_unstable,
     };
     let result = py.allow_threads(|| linkage_run::run_command_file(&path, &options));
     let summary = |s: &linkage_run::RunSummary| -> PyResult<PyObject> {

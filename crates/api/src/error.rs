@@ -3,6 +3,17 @@
 
 use linkage_adm::Diagnostics;
 
+/// An argument of an analysis (not of the dataset) that cannot be.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum ArgumentError {
+    /// `--shift` (Python's and a sweep's `shift`) is infinite or NaN.
+    #[error("--shift must be a finite frequency")]
+    ShiftNotFinite,
+    /// A quasi-static series with only one of its end time and step count.
+    #[error("a quasi-static series needs both end and steps")]
+    IncompleteSeries,
+}
+
 /// Why an analysis produced no report.
 #[derive(Debug, thiserror::Error)]
 pub enum Error {
@@ -13,11 +24,18 @@ pub enum Error {
     #[error("{0}")]
     Times(#[from] crate::times::OutputTimesError),
     /// An argument of the analysis itself (not of the dataset) that cannot be.
-    #[error("{0}")]
-    Argument(String),
+    #[error(transparent)]
+    Argument(#[from] ArgumentError),
     /// An output file that could not be opened (`cannot write FILE: why`).
     #[error("{0}")]
     Output(String),
+    /// An output that could not be handed on (a file that cannot be written, a REQUEST that
+    /// cannot be evaluated where every value is needed): the analysis stopped there.
+    #[error(transparent)]
+    Sink(#[from] crate::sink::SinkError),
+    /// The analysis ran and failed (no operating point, no state matrices).
+    #[error("{0}")]
+    Failed(String),
 }
 
 impl From<Diagnostics> for Error {
@@ -31,7 +49,7 @@ impl Error {
     pub fn exit_code(&self) -> u8 {
         match self {
             Error::Input(_) | Error::Times(_) | Error::Argument(_) => 2,
-            Error::Output(_) => 1,
+            Error::Output(_) | Error::Sink(_) | Error::Failed(_) => 1,
         }
     }
 

@@ -7,6 +7,7 @@ use crate::simulate::CsvTarget;
 use crate::source::Loaded;
 use linkage_solve::coverage::Analysis;
 use linkage_solve::stages::dynamics::Start;
+
 use linkage_solve::stages::linearize::LinearOptions;
 
 /// An analysis and its arguments, named as the CLI's options (`kind = "linear"`,
@@ -110,11 +111,11 @@ impl Job {
                 time_limit,
             } => {
                 let series = match (end, steps) {
-                    (Some(e), Some(s)) => Some((*e, *s)),
+                    (Some(e), Some(s)) => Some(crate::times::output_times(*e, Some(*s), None)?),
                     (None, None) => None,
                     _ => {
                         return Err(Error::Argument(
-                            "a quasi-static series needs both end and steps".into(),
+                            crate::error::ArgumentError::IncompleteSeries,
                         ))
                     }
                 };
@@ -141,8 +142,7 @@ impl Job {
                 shift,
                 allow_unstable,
             } => {
-                let method =
-                    crate::linear::eigen_method(*modes, *shift).map_err(Error::Argument)?;
+                let method = crate::linear::eigen_method(*modes, *shift)?;
                 let args = crate::linear::LinearArgs {
                     static_first: *static_first,
                     options: LinearOptions {

@@ -18,12 +18,18 @@ pub mod ic;
 pub mod job;
 pub mod linear;
 pub mod simulate;
+pub mod sink;
 pub mod source;
+pub mod start;
 pub mod statics;
 pub mod sweep;
 pub mod times;
 pub mod verify;
 
 pub use error::Error;
-pub use source::{applied_forces, coverage_json, load, load_model, ArgValue, Loaded, Source};
-pub use times::{output_times, OutputTimesError, INTERVAL_COUNT_SLACK, MAX_OUTPUT_TIMES};
+pub use sink::{CsvSink, NoSink, OutputSink, SinkError};
+pub use source::{load, load_model, ArgValue, Loaded, Refusal, Source};
+pub use start::{Left, Start};
+pub use times::{
+    output_times, output_times_after, OutputTimesError, INTERVAL_COUNT_SLACK, MAX_OUTPUT_TIMES,
+};

@@ -1,13 +1,16 @@
 //! Linearization of a loaded model and its report.
 
-use crate::source::{applied_forces, coverage_json, Loaded};
-use linkage_adm::Diagnostics;
+use crate::error::Error;
+use crate::sink::OutputSink;
+use crate::source::Loaded;
+use crate::start::{assemble, input_model, Left, Start};
 use linkage_report::linear::LinearJson;
 use linkage_solve::coverage::Analysis;
-use linkage_solve::pipeline::Assembled;
-use linkage_solve::stages::linearize::{run, EigenMethod, LinearOptions, LinearRun, DEFAULT_MODES};
+use linkage_solve::stages::linearize::{
+    self, EigenMethod, LinearOptions, LinearRun, StateMatrix, DEFAULT_MODES,
+};
+use linkage_solve::stages::plant::Plant;
 use linkage_solve::state::State;
-use linkage_solve::tolerances::Tolerances;
 
 /// What `linkage linear` asks for.
 #[derive(Clone, Copy, Debug)]
@@ -23,9 +26,12 @@ pub struct LinearArgs {
 /// The eigen method of `--modes K` and `--shift F` (F in cycles per time unit): every mode
 /// (dense for small models) when neither is given, else the K (default [`DEFAULT_MODES`])
 /// modes nearest F by shift-invert. An infinite or NaN shift is an input error.
-pub fn eigen_method(modes: Option<usize>, shift: Option<f64>) -> Result<EigenMethod, String> {
+pub fn eigen_method(
+    modes: Option<usize>,
+    shift: Option<f64>,
+) -> Result<EigenMethod, crate::error::ArgumentError> {
     if shift.is_some_and(|f| !f.is_finite()) {
-        return Err("--shift must be a finite frequency".into());
+        return Err(crate::error::ArgumentError::ShiftNotFinite);
     }
     Ok(match (modes, shift) {
         (None, None) => EigenMethod::Auto,
@@ -55,34 +61,151 @@ fn unstable_operating_point(run: &LinearRun) -> Option<String> {
 
 /// `linkage linear --format json` of `loaded`: eigenvalues, frequencies, damping ratios and
 /// mode shapes; its `errors` are the verdict.
-pub fn linear(loaded: &Loaded, args: &LinearArgs) -> Result<LinearJson, Diagnostics> {
+pub fn linear(loaded: &Loaded, args: &LinearArgs) -> Result<LinearJson, Error> {
     linear_at(loaded, args).map(|(report, _)| report)
 }
 
 /// [`linear`] and its operating point: the static equilibrium (with `static_first`, when
 /// found) or the assembled configuration.
-pub fn linear_at(loaded: &Loaded, args: &LinearArgs) -> Result<(LinearJson, State), Diagnostics> {
-    let forces = applied_forces(loaded, Analysis::Linear)?;
-    let assembled = Assembled::new(
-        &loaded.model,
-        &loaded.drivers,
-        forces.as_ref(),
-        &Tolerances::default(),
-    );
-    let result = run(&assembled, args.static_first, args.options);
+pub fn linear_at(loaded: &Loaded, args: &LinearArgs) -> Result<(LinearJson, State), Error> {
+    let run = run(loaded, Start::Input, args, &mut crate::sink::NoSink)?;
+    Ok((run.report, run.operating_point))
+}
+
+/// What a linearization gave.
+pub struct Linearized {
+    /// `linkage linear --format json`.
+    pub report: LinearJson,
+    /// The configuration linearized about.
+    pub operating_point: State,
+    /// Where the model is left: where it started (a linearization moves nothing), on the
+    /// assembly made for it.
+    pub left: Option<Left>,
+}
+
+/// Returns `start`'s state and velocities on the assembly `a` (a linearization leaves the
+/// model where it found it).
+fn left_as_found(
+    found: Option<(State, crate::start::Velocities)>,
+    a: linkage_solve::pipeline::Assembled,
+) -> Option<Left> {
+    found.map(|(state, velocities)| Left {
+        state,
+        velocities,
+        assembly: Some(a.into_assembly()),
+    })
+}
+
+/// The start's state and velocities, and the start with its assembly dropped: a
+/// linearization assembles at the state it starts from, for the accelerations and forces
+/// there.
+fn reassembled(start: Start) -> (Start, Option<(State, crate::start::Velocities)>) {
+    match start {
+        Start::Input => (Start::Input, None),
+        Start::Left(l) => {
+            let found = (l.state.clone(), l.velocities.clone());
+            (
+                Start::Left(Box::new(Left {
+                    assembly: None,
+                    ..*l
+                })),
+                Some(found),
+            )
+        }
+    }
+}
+
+/// The linearization of `loaded` from `start` (see [`linear`]); `sink` is told of the
+/// assembly (a linearization has no outputs).
+pub fn run(
+    loaded: &Loaded,
+    start: Start,
+    args: &LinearArgs,
+    sink: &mut dyn OutputSink,
+) -> Result<Linearized, Error> {
+    let (start, found) = reassembled(start);
+    let time = start.time();
+    let model = input_model(loaded, &start);
+    let begun = assemble(loaded, model.as_ref(), start, Analysis::Linear)?;
+    let assembled = begun.assembled;
+    if assembled.failure().is_none() {
+        sink.assembled(&assembled, true)?;
+    }
+    let result = linearize::run(&assembled, args.static_first, args.options);
     let mut report = linkage_report::linear::to_json(
-        &loaded.model,
+        assembled.model,
         &result,
         args.static_first,
         &loaded.warnings,
     );
-    (report.left_out, report.runs_without) = coverage_json(loaded, Analysis::Linear);
+    (report.left_out, report.runs_without) = loaded.coverage(Analysis::Linear);
+    report.time = time;
+    if found.is_some() {
+        report.operating_point = "the state the previous analysis left, assembled at its time";
+    }
     if !args.allow_unstable && report.errors.is_empty() {
         report.errors.extend(unstable_operating_point(&result));
     }
-    let at = match &result.equilibrium {
+    let operating_point = match &result.equilibrium {
         Some(Ok(eq)) => eq.state.clone(),
         _ => assembled.ic.assembly.state.clone(),
     };
-    Ok((report, at))
+    Ok(Linearized {
+        report,
+        operating_point,
+        left: left_as_found(found, assembled),
+    })
+}
+
+/// The state matrices `ẋ = A x + B u`, `y = C x + D u` of `loaded` about the configuration
+/// `start` gives (assembled there), with the VARIABLE ids `inputs` as u and `outputs` as y
+/// (`LINEAR/STATEMAT`; [`linkage_solve::stages::plant`]).
+pub struct StateMatrices {
+    pub matrix: StateMatrix,
+    pub plant: Plant,
+    /// The time of the operating point.
+    pub time: f64,
+    /// Where the model is left: where it started.
+    pub left: Option<Left>,
+}
+
+/// [`StateMatrices`] of `loaded` from `start` (`sink` is told of the assembly). A failure of
+/// the operating point or of the matrices is the analysis's failure ([`Error::Failed`]).
+pub fn state_matrices(
+    loaded: &Loaded,
+    start: Start,
+    inputs: &[u32],
+    outputs: &[u32],
+    sink: &mut dyn OutputSink,
+) -> Result<StateMatrices, Error> {
+    let (start, found) = reassembled(start);
+    let time = start.time();
+    let forces = loaded.forces(Analysis::Linear)?;
+    let model = input_model(loaded, &start);
+    let a = assemble(loaded, model.as_ref(), start, Analysis::Linear)?.assembled;
+    if let Some(why) = a.failure() {
+        return Err(Error::Failed(why.to_string()));
+    }
+    sink.assembled(&a, true)?;
+    let (Some(v), Some(Ok(acc))) = (&a.ic.velocity, &a.ic.acceleration) else {
+        return Err(Error::Failed(
+            "the operating point has no accelerations and forces".into(),
+        ));
+    };
+    let op = linearize::OperatingPoint {
+        state: a.state(),
+        velocities: &v.velocities,
+        multipliers: &acc.multipliers,
+    };
+    let eq = linearize::assemble(a.model, &a.system, &a.kept, a.forces, op, true)
+        .map_err(|e| Error::Failed(e.to_string()))?;
+    let matrix = linearize::state_matrix(&eq).map_err(|e| Error::Failed(e.to_string()))?;
+    let plant = linkage_solve::stages::plant::plant(a.model, forces, op, &matrix, inputs, outputs)
+        .map_err(|e| Error::Failed(e.to_string()))?;
+    Ok(StateMatrices {
+        matrix,
+        plant,
+        time,
+        left: left_as_found(found, a),
+    })
 }

@@ -2,17 +2,17 @@
 //! as CSV (part states, reactions, then the dataset's REQUEST outputs) row by row.
 
 use crate::error::Error;
-use crate::source::{applied_forces, coverage_json, Loaded};
-use linkage_report::element_columns;
-use linkage_report::simulate::{CsvHistory, SimulateJson};
+use crate::sink::{CsvSink, Feed, NoSink, OutputSink, RequestFailure, RequestValues, SinkError};
+use crate::source::Loaded;
+use crate::start::{assemble, input_model, Left, Start};
+use linkage_report::simulate::SimulateJson;
 use linkage_solve::coverage::Analysis;
-use linkage_solve::physics::applied::AppliedForces;
 use linkage_solve::physics::requests::RequestSet;
 use linkage_solve::pipeline::Assembled;
 use linkage_solve::stages::dynamics::{
-    run_streamed, AfterOutput, Output, RunProgress, Start, Stream, UnstableStart,
+    continue_streamed, run_streamed, AfterOutput, Continue, IntegrationError, Output, RunProgress,
+    Stream, UnstableStart,
 };
-use linkage_solve::tolerances::Tolerances;
 use std::io::Write;
 use std::time::{Duration, Instant};
 
@@ -33,7 +33,7 @@ pub type Observer<'o> = dyn FnMut(&Output, &[f64]) + 'o;
 /// What `linkage simulate` asks for (the output times already from `--end`/`--steps`/`--dtout`).
 pub struct SimulateArgs<'a> {
     pub times: &'a [f64],
-    pub start: Start,
+    pub start: linkage_solve::stages::dynamics::Start,
     /// Start from an unstable equilibrium rather than stop (with an equilibrium start).
     pub allow_unstable: bool,
     /// Wall-clock seconds after which the run stops (after the step it is in).
@@ -49,59 +49,62 @@ pub struct SimulateArgs<'a> {
     pub observe: Option<&'a mut Observer<'a>>,
 }
 
-/// The CSV of `--out`, written row by row as the outputs come (bounded memory whatever their
-/// number; each row flushed, so a run that stops keeps whole rows). REQUEST columns follow the
-/// part and reaction columns; an output where a request cannot be evaluated gets NaN in every
-/// request column, and the first such error is reported (the run then has an error).
-struct CsvStream<'r> {
-    csv: CsvHistory<Box<dyn Write>>,
-    path: String,
-    requests: Option<&'r RequestSet>,
-    /// The forces, for the FRICTION columns after the requests'.
-    forces: &'r dyn AppliedForces,
-    /// How many of `names` are REQUEST columns (the element columns follow).
-    request_columns: usize,
-    /// The request columns (once: they do not change during the run).
-    names: Vec<String>,
-    request_failures: usize,
-    errors: Vec<String>,
+/// The CSV of `--out`: opened when the analysis has its assembly (input errors first), then
+/// written row by row ([`CsvSink`]: NaN request columns where a request cannot be evaluated).
+struct CsvFile<'m> {
+    target: Option<CsvTarget>,
+    model: &'m linkage_model::Model,
+    requests: Option<&'m RequestSet>,
+    sink: Option<CsvSink<Box<dyn Write>>>,
 }
 
-impl CsvStream<'_> {
-    fn write(&mut self, assembled: &Assembled, o: &Output) -> std::io::Result<()> {
-        let names = &self.names;
-        let requests = self.request_columns;
-        let mut values = match self.requests {
-            None => Vec::new(),
-            Some(r) => match r.evaluate(assembled.model, &assembled.system, o) {
-                Ok(v) => v,
-                Err(e) => {
-                    if self.request_failures == 0 {
-                        self.errors.push(e.to_string());
-                    }
-                    self.request_failures += 1;
-                    vec![f64::NAN; requests]
-                }
-            },
+impl OutputSink for CsvFile<'_> {
+    fn wants_requests(&self) -> bool {
+        self.requests.is_some()
+    }
+
+    fn assembled(&mut self, _: &Assembled, _: bool) -> Result<(), SinkError> {
+        if let Some(target) = self.target.take() {
+            let out = (target.open)().map_err(|cause| SinkError::Write {
+                path: target.name.clone(),
+                cause,
+            })?;
+            self.sink = Some(CsvSink::new(
+                out,
+                target.name,
+                self.model,
+                self.requests,
+                RequestFailure::Nan,
+            ));
+        }
+        Ok(())
+    }
+
+    fn output(&mut self, a: &Assembled, o: &Output, r: RequestValues) -> Result<(), SinkError> {
+        match self.sink.as_mut() {
+            Some(s) => s.output(a, o, r),
+            None => Ok(()),
+        }
+    }
+}
+
+/// The observer of [`SimulateArgs::observe`] as a sink.
+struct Observed<'o, 'a> {
+    observe: &'o mut Observer<'a>,
+}
+
+impl OutputSink for Observed<'_, '_> {
+    fn wants_requests(&self) -> bool {
+        true
+    }
+
+    fn output(&mut self, _: &Assembled, o: &Output, r: RequestValues) -> Result<(), SinkError> {
+        let values = match r {
+            Some(Ok(v)) => v.as_slice(),
+            _ => &[],
         };
-        let frictions = if assembled.model.frictions.is_empty() {
-            Vec::new()
-        } else {
-            self.forces.friction_values(&o.state, &o.velocities)
-        };
-        let contacts = linkage_solve::constraints::curve_contacts::curve_contacts(
-            assembled.model,
-            &assembled.system,
-            &o.state,
-        );
-        element_columns::values(
-            assembled.model,
-            &frictions,
-            &contacts,
-            &o.state,
-            &mut values,
-        );
-        self.csv.write(assembled.model, o, names, &values)
+        (self.observe)(o, values);
+        Ok(())
     }
 }
 
@@ -136,10 +139,53 @@ pub fn check_hmax(loaded: &Loaded, end: f64) -> Result<(), Error> {
     Err(Error::Input(linkage_adm::Diagnostics(vec![d])))
 }
 
-/// `linkage simulate --format json` of `loaded`, the time histories streamed to `args.csv`.
-/// The summary's `errors` are the verdict.
+/// `linkage simulate --format json` of `loaded` from its input, the time histories streamed to
+/// `args.csv`. The summary's `errors` are the verdict.
 pub fn simulate(loaded: &Loaded, args: SimulateArgs) -> Result<SimulateJson, Error> {
-    let forces = applied_forces(loaded, Analysis::Simulate)?;
+    run(loaded, Start::Input, args, &mut NoSink).map(|r| r.report)
+}
+
+/// What a simulation gave.
+pub struct SimulateRun {
+    /// `linkage simulate --format json`.
+    pub report: SimulateJson,
+    /// Where the run leaves the model: its last output (`None` when it wrote none).
+    pub left: Option<Left>,
+    /// The run was stopped by `args.interrupted` (Ctrl-C) or the time limit.
+    pub interrupted: bool,
+    /// An output could not be written to `sink`: the run stopped there.
+    pub sink_error: Option<SinkError>,
+    /// The integrator's work (`None` when nothing was integrated).
+    pub statistics: Option<Statistics>,
+}
+
+/// What a simulation's integrator did.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Statistics {
+    /// Kinematic analysis (no degrees of freedom) rather than integration.
+    pub kinematic: bool,
+    pub steps: usize,
+    pub rejected: usize,
+    pub corrector_iterations: usize,
+    pub factorisations: usize,
+    /// Outputs handed on.
+    pub outputs: usize,
+    /// Wall-clock seconds of the run.
+    pub seconds: f64,
+}
+
+/// A simulation of `loaded` from `start` to the last of `args.times` (the start's own time
+/// among them gives an output there), every output handed to `sink` (and to `args.csv` and
+/// `args.observe`). From the input, or a state left on a changed model, the model is
+/// assembled first; from a state left on the same assembly the run continues from it.
+pub fn run(
+    loaded: &Loaded,
+    start: Start,
+    args: SimulateArgs,
+    sink: &mut dyn OutputSink,
+) -> Result<SimulateRun, Error> {
+    // The refusals first, all at once.
+    loaded.forces(Analysis::Simulate)?;
     // REQUESTs only shape the CSV: they are resolved (and their errors reported) only when
     // one is written.
     let requests = match (&args.csv, &args.observe) {
@@ -150,53 +196,38 @@ pub fn simulate(loaded: &Loaded, args: SimulateArgs) -> Result<SimulateJson, Err
     // INTEGRATOR settings, resolved by the model (GSTIFF/WSTIFF run the BDF, HHT/NEWMARK
     // HHT-α, the other Adams names the BDF with a note); the report carries its notes.
     let integrator = &loaded.model.integrator;
-    check_hmax(loaded, end)?;
-    let assembled = Assembled::new(
-        &loaded.model,
-        &loaded.drivers,
-        forces.as_ref(),
-        &Tolerances::default(),
-    );
+    check_hmax(loaded, end - start.time())?;
     let deadline = args
         .time_limit
         .map(|secs| Instant::now() + Duration::from_secs_f64(secs));
-    let mut csv = match args.csv {
-        None => None,
-        Some(target) => {
-            let sink = (target.open)()
-                .map_err(|e| Error::Output(format!("cannot write {}: {e}", target.name)))?;
-            let requests = requests.as_ref().filter(|r| !r.is_empty());
-            let mut names = requests.map(RequestSet::columns).unwrap_or_default();
-            let request_columns = names.len();
-            names.extend(element_columns::names(&loaded.model));
-            Some(CsvStream {
-                csv: CsvHistory::new(sink),
-                path: target.name,
-                requests,
-                forces: forces.as_ref(),
-                request_columns,
-                names,
-                request_failures: 0,
-                errors: Vec::new(),
-            })
-        }
+    let mut csv = CsvFile {
+        target: args.csv,
+        model: &loaded.model,
+        requests: requests.as_ref().filter(|r| !r.is_empty()),
+        sink: None,
     };
-    let mut write_error: Option<String> = None;
     let mut observe = args.observe;
-    let observed_requests = requests.as_ref().filter(|r| !r.is_empty());
+    let mut observed = observe.as_mut().map(|o| Observed { observe: &mut **o });
+    let mut sinks: Vec<&mut dyn OutputSink> = vec![sink, &mut csv];
+    if let Some(o) = observed.as_mut() {
+        sinks.push(o);
+    }
+    let mut tee = crate::sink::Tee(sinks);
+    let mut feed = Feed::new(&loaded.model, &mut tee)?;
+    let model = input_model(loaded, &start);
+    let begun = assemble(loaded, model.as_ref(), start, Analysis::Simulate)?;
+    let assembled_now = begun.assembled_now();
+    let from = begun.from;
+    let assembled = begun.assembled;
+    let mut sink_error = feed.assembled(&assembled, assembled_now).err();
+    let unopened = sink_error.is_some();
+    let mut last: Option<Output> = None;
     let mut on_output = |o: &Output| {
-        if let Some(f) = observe.as_mut() {
-            let values = observed_requests
-                .and_then(|r| r.evaluate(assembled.model, &assembled.system, o).ok())
-                .unwrap_or_default();
-            f(o, &values);
+        if let Err(e) = feed.output(&assembled, o) {
+            sink_error = Some(e);
+            return AfterOutput::Stop;
         }
-        if let Some(c) = csv.as_mut() {
-            if let Err(e) = c.write(&assembled, o) {
-                write_error = Some(format!("cannot write {}: {e}", c.path));
-                return AfterOutput::Stop;
-            }
-        }
+        last = Some(o.clone());
         AfterOutput::Continue
     };
     let unstable = if args.allow_unstable {
@@ -205,21 +236,50 @@ pub fn simulate(loaded: &Loaded, args: SimulateArgs) -> Result<SimulateJson, Err
         UnstableStart::Refuse
     };
     let interrupted = args.interrupted;
-    let result = run_streamed(
-        &assembled,
-        args.times,
-        &integrator.settings,
-        args.start,
-        unstable,
-        args.progress,
-        Stream {
-            on_output: &mut on_output,
-            stop: &|| interrupted() || deadline.is_some_and(|d| Instant::now() >= d),
+    let clock = Instant::now();
+    let stream = Stream {
+        on_output: &mut on_output,
+        stop: &|| interrupted() || deadline.is_some_and(|d| Instant::now() >= d),
+    };
+    let result = match (&from, unopened) {
+        (_, true) => linkage_solve::stages::dynamics::DynamicRun {
+            equilibrium: None,
+            simulation: None,
+            error: None,
         },
-    );
+        (Some((state, velocities)), false) => continue_streamed(
+            &assembled,
+            args.times,
+            &integrator.settings,
+            Continue { state, velocities },
+            args.progress,
+            stream,
+        ),
+        (None, false) => run_streamed(
+            &assembled,
+            args.times,
+            &integrator.settings,
+            args.start,
+            unstable,
+            args.progress,
+            stream,
+        ),
+    };
+    let seconds = clock.elapsed().as_secs_f64();
+    let statistics = result.simulation.as_ref().map(|sim| Statistics {
+        kinematic: sim.kinematic,
+        steps: sim.steps,
+        rejected: sim.rejected,
+        corrector_iterations: sim.newton_iterations,
+        factorisations: sim.factorisations,
+        outputs: sim.output_count,
+        seconds,
+    });
     let mut report = linkage_report::simulate::summary(&assembled, &result, &loaded.warnings);
     if let Some(last) = result.simulation.as_ref().and_then(|s| s.outputs.last()) {
-        let values = forces.friction_values(&last.state, &last.velocities);
+        let values = assembled
+            .forces
+            .friction_values(&last.state, &last.velocities);
         report.frictions = linkage_report::friction::frictions_json(&loaded.model, &values);
         let contacts = linkage_solve::constraints::curve_contacts::curve_contacts(
             &loaded.model,
@@ -229,8 +289,8 @@ pub fn simulate(loaded: &Loaded, args: SimulateArgs) -> Result<SimulateJson, Err
         report.curve_contacts =
             linkage_report::curve_contacts::curve_contacts_json(&loaded.model, &contacts);
     }
-    (report.left_out, report.runs_without) = coverage_json(loaded, Analysis::Simulate);
-    if let Some(c) = csv.as_mut() {
+    (report.left_out, report.runs_without) = loaded.coverage(Analysis::Simulate);
+    if let Some(c) = csv.sink.as_mut() {
         report.errors.append(&mut c.errors);
         if c.request_failures > 1 {
             report.errors.push(format!(
@@ -239,31 +299,41 @@ pub fn simulate(loaded: &Loaded, args: SimulateArgs) -> Result<SimulateJson, Err
                 result.simulation.as_ref().map_or(0, |s| s.output_count)
             ));
         }
-        if result
-            .simulation
-            .as_ref()
-            .is_some_and(|s| s.output_count == 0)
-        {
+        if c.written == 0 {
             // No output at all: the header alone, so the file says which columns it lacks.
-            if let Err(e) = c.csv.finish_empty(&loaded.model) {
+            if let Err(e) = c.finish_empty(&loaded.model) {
                 report.errors.push(format!("cannot write {}: {e}", c.path));
             }
         }
     }
-    if let Some(e) = write_error {
-        report.errors.push(e);
+    if let Some(e) = &sink_error {
+        report.errors.push(e.to_string());
     }
-    if let (Some(secs), Some(d)) = (args.time_limit, deadline) {
-        if Instant::now() >= d
-            && result
-                .simulation
-                .as_ref()
-                .is_some_and(|s| s.failure.is_some())
-        {
-            report.errors.push(format!(
-                "the time limit of {secs} s was reached; the outputs up to it are written"
-            ));
-        }
+    let stopped = result
+        .simulation
+        .as_ref()
+        .and_then(|s| s.failure.as_ref())
+        .is_some_and(|f| matches!(f.cause, IntegrationError::Stopped));
+    let out_of_time = deadline.is_some_and(|d| Instant::now() >= d);
+    if let (Some(secs), true, true) = (args.time_limit, out_of_time, stopped) {
+        report.errors.push(format!(
+            "the time limit of {secs} s was reached; the outputs up to it are written"
+        ));
     }
-    Ok(report)
+    let left = last.map(|o| Left {
+        state: o.state,
+        velocities: o.velocities,
+        assembly: None,
+    });
+    let left = left.map(|mut l| {
+        l.assembly = Some(assembled.into_assembly());
+        l
+    });
+    Ok(SimulateRun {
+        report,
+        left,
+        interrupted: stopped && !out_of_time,
+        sink_error,
+        statistics,
+    })
 }

@@ -6,16 +6,18 @@
 //! "K", 4000.0)` means exactly what `SPRINGDAMPER/1, K = 4000` means in a command file; an
 //! error in the changed statement is reported at the statement's file:line:column.
 
-use linkage_adm::amend::Selected;
+use linkage_adm::amend::{Redefined, Selected};
 use linkage_adm::statement::{Argument, ExprText, Statement, Value};
 use linkage_adm::{Dataset, Diagnostic, Diagnostics, Span};
 use linkage_model::Model;
 use linkage_solve::constraints::drivers::ExpressionDrivers;
 use linkage_solve::coverage::{self, Analysis, Finding};
+use linkage_solve::physics::forces::ForceSet;
 use std::collections::BTreeSet;
 use std::path::Path;
 
-/// A dataset read, built and with its functions parsed.
+/// A dataset read, built and with its functions parsed: the one loaded-model type of every
+/// front end (CLI, command files, Python, sweeps).
 pub struct Loaded {
     /// The dataset without the statements left out on request.
     pub dataset: Dataset,
@@ -23,10 +25,72 @@ pub struct Loaded {
     pub drivers: ExpressionDrivers,
     /// Dataset, model and function warnings.
     pub warnings: Vec<Diagnostic>,
-    /// The statements left out on request (`--deactivate`).
+    /// The statements left out on request (`--deactivate`, DEACTIVATE).
     pub left_out: Vec<Selected>,
     /// Every statement of the dataset some analysis refuses or runs without.
     pub findings: Vec<Finding>,
+    /// The applied force elements, built once when the model is loaded for an analysis
+    /// (`None` for verify, and when some statement makes every analysis refuse the model).
+    forces: Option<ForceSet>,
+    /// How a refusal tells the user to leave a statement out (the front end's way).
+    pub refusal: Refusal,
+}
+
+impl Loaded {
+    /// The applied force elements for `analysis` (gravity is applied by the analyses), or its
+    /// input errors: every statement it refuses, all at once, each saying how to leave it out
+    /// ([`Loaded::refusal`]).
+    pub fn forces(&self, analysis: Analysis) -> Result<&ForceSet, Diagnostics> {
+        let refused = self.refusals(analysis);
+        if !refused.is_empty() {
+            return Err(Diagnostics(refused));
+        }
+        match &self.forces {
+            Some(f) => Ok(f),
+            // Built on demand only for a model loaded for verify (no analysis named).
+            None => Err(Diagnostics(vec![Diagnostic::error(
+                self.dataset.file.clone(),
+                None,
+                "the model was loaded for verify only: its forces were not built".to_string(),
+            )])),
+        }
+    }
+
+    /// Every statement `analysis` refuses, as an input error with the way of leaving it out;
+    /// empty when `analysis` can run.
+    pub fn refusals(&self, analysis: Analysis) -> Vec<Diagnostic> {
+        self.findings
+            .iter()
+            .filter(|f| f.refuses(analysis))
+            .map(|f| refusal(f, self.refusal))
+            .collect()
+    }
+
+    /// What a report of `analysis` says about the statements left out and those it ran
+    /// without.
+    pub fn coverage(
+        &self,
+        analysis: Analysis,
+    ) -> (
+        Vec<linkage_report::coverage::LeftOutJson>,
+        Vec<linkage_report::coverage::FindingJson>,
+    ) {
+        (
+            linkage_report::coverage::left_out_json(&self.left_out),
+            linkage_report::coverage::runs_without_json(&self.findings, analysis),
+        )
+    }
+}
+
+/// How a front end leaves a refused statement out, for the hint of a refusal.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Refusal {
+    /// `--deactivate NAME` (the CLI, Python's `deactivate=`, a sweep's `deactivate`).
+    #[default]
+    Option,
+    /// A command file: `DEACTIVATE/KEYWORD, ID = id` where the statement is one a command
+    /// can deactivate, or `linkage run --deactivate NAME`.
+    CommandFile,
 }
 
 /// The value given to a statement argument by [`Source::set`].
@@ -61,6 +125,9 @@ pub struct Source {
     /// The statements with the changes made; `None` until [`Source::set`] changes one (the
     /// dataset's own statements then stand, without a second copy of them).
     amended: Option<Vec<Statement>>,
+    /// Statements left out by a command (DEACTIVATE) or by [`Source::leave_out`], as
+    /// `(keyword, id)`.
+    inactive: BTreeSet<(String, u64)>,
 }
 
 impl Source {
@@ -73,7 +140,87 @@ impl Source {
         Source {
             read,
             amended: None,
+            inactive: BTreeSet::new(),
         }
+    }
+
+    /// The dataset as read.
+    pub fn dataset(&self) -> &Dataset {
+        &self.read
+    }
+
+    /// The amended statement `keyword/id` (active or not).
+    pub fn statement(&self, keyword: &str, id: u64) -> Option<&Statement> {
+        self.statements()
+            .iter()
+            .find(|s| s.keyword == keyword && s.id == Some(id))
+    }
+
+    /// Leaves out the statements `names` selects ([`linkage_adm::amend::select`]: `SENSOR/3`,
+    /// a statement kind, an element's name) from every model loaded from here on.
+    pub fn leave_out(&mut self, names: &[String]) -> Result<(), Diagnostics> {
+        if names.is_empty() {
+            return Ok(());
+        }
+        let selected = linkage_adm::amend::select(self.statements(), names)
+            .map_err(|e| Diagnostics(vec![Diagnostic::error(self.read.file.clone(), None, e)]))?;
+        self.inactive
+            .extend(selected.into_iter().map(|s| (s.keyword, s.id)));
+        Ok(())
+    }
+
+    /// Applies a whole statement given as a command (`VARIABLE/9105, FUNCTION = …`,
+    /// `EQUILIBRIUM/STABILITY = 1e-3`; [`linkage_adm::amend::redefine`]). The changed
+    /// statements are typed again; on an error the source is left unchanged.
+    pub fn redefine(&mut self, change: &Statement) -> Result<Redefined, Diagnostics> {
+        let mut statements = self.statements().to_vec();
+        let done = linkage_adm::amend::redefine(&mut statements, change).map_err(|e| {
+            Diagnostics(vec![Diagnostic::error(
+                self.read.file.clone(),
+                None,
+                e.to_string(),
+            )])
+        })?;
+        linkage_adm::amend::retype(&self.read, &statements, &self.inactive)?;
+        self.amended = Some(statements);
+        Ok(done)
+    }
+
+    /// Deactivates (or with `active`, activates again) the `keyword` statements whose ids
+    /// `selects` accepts (DEACTIVATE/ACTIVATE). Selecting none is an error.
+    pub fn set_active(
+        &mut self,
+        keyword: &str,
+        selects: impl Fn(u64) -> bool,
+        active: bool,
+    ) -> Result<(), Diagnostics> {
+        let ids: Vec<u64> = self
+            .statements()
+            .iter()
+            .filter(|s| s.keyword == keyword)
+            .filter_map(|s| s.id)
+            .filter(|&id| selects(id))
+            .collect();
+        if ids.is_empty() {
+            return Err(Diagnostics(vec![Diagnostic::error(
+                self.read.file.clone(),
+                None,
+                format!("the dataset has no {keyword} with the ids given"),
+            )]));
+        }
+        for id in ids {
+            if active {
+                self.inactive.remove(&(keyword.to_string(), id));
+            } else {
+                self.inactive.insert((keyword.to_string(), id));
+            }
+        }
+        Ok(())
+    }
+
+    /// How many statements are inactive.
+    pub fn inactive_count(&self) -> usize {
+        self.inactive.len()
     }
 
     /// The statements with every change made so far.
@@ -104,8 +251,10 @@ impl Source {
                 message,
             )])
         };
-        let (keyword, id) = parse_element(statement).map_err(error)?;
-        let keyword = self.resolve_keyword(&keyword, id).map_err(error)?;
+        let (keyword, id) = parse_element(statement).map_err(|e| error(e.to_string()))?;
+        let keyword = self
+            .resolve_keyword(&keyword, id)
+            .map_err(|e| error(e.to_string()))?;
         let key = argument.trim().to_ascii_uppercase();
         if key.is_empty() || !key.chars().all(|c| c.is_ascii_alphanumeric() || c == '_') {
             return Err(error(format!("`{argument}` is not an argument keyword")));
@@ -166,7 +315,7 @@ impl Source {
 
     /// The statement keyword `keyword` stands for: one of the dataset's statement keywords
     /// that it names in full or abbreviates (at least three letters, as the language allows).
-    fn resolve_keyword(&self, keyword: &str, id: Option<u64>) -> Result<String, String> {
+    fn resolve_keyword(&self, keyword: &str, id: Option<u64>) -> Result<String, ElementError> {
         let mut kinds: Vec<&str> = self
             .statements()
             .iter()
@@ -178,15 +327,15 @@ impl Source {
         match kinds.as_slice() {
             [k] => Ok((*k).to_string()),
             [] if id.is_none() => Ok(keyword.to_string()),
-            [] => Err(format!(
-                "the dataset has no {keyword}/{}: only a statement of the dataset can be changed",
-                id.unwrap_or(0)
-            )),
+            [] => Err(ElementError::NoSuchStatement {
+                keyword: keyword.to_string(),
+                id: id.unwrap_or(0),
+            }),
             many if many.contains(&keyword) => Ok(keyword.to_string()),
-            many => Err(format!(
-                "{keyword} is ambiguous: it could be {}",
-                many.join(", ")
-            )),
+            many => Err(ElementError::Ambiguous {
+                keyword: keyword.to_string(),
+                candidates: many.iter().map(|k| k.to_string()).collect(),
+            }),
         }
     }
 
@@ -252,20 +401,41 @@ impl Source {
         &self,
         deactivate: &[String],
     ) -> Result<Option<(Dataset, Vec<Selected>)>, Diagnostics> {
-        let left_out = if deactivate.is_empty() {
-            Vec::new()
-        } else {
-            linkage_adm::amend::select(self.statements(), deactivate).map_err(|e| {
+        let mut inactive = self.inactive.clone();
+        if !deactivate.is_empty() {
+            let named = linkage_adm::amend::select(self.statements(), deactivate).map_err(|e| {
                 Diagnostics(vec![Diagnostic::error(self.read.file.clone(), None, e)])
-            })?
-        };
-        if left_out.is_empty() && self.amended.is_none() {
+            })?;
+            inactive.extend(named.into_iter().map(|s| (s.keyword, s.id)));
+        }
+        if inactive.is_empty() && self.amended.is_none() {
             return Ok(None);
         }
-        let inactive: BTreeSet<(String, u64)> =
-            left_out.iter().map(|s| (s.keyword.clone(), s.id)).collect();
         let dataset = linkage_adm::amend::retype(&self.read, self.statements(), &inactive)?;
-        Ok(Some((dataset, left_out)))
+        Ok(Some((dataset, self.selected(&inactive))))
+    }
+}
+
+impl Source {
+    /// The statements of `inactive`, in dataset order.
+    fn selected(&self, inactive: &BTreeSet<(String, u64)>) -> Vec<Selected> {
+        self.statements()
+            .iter()
+            .filter_map(|st| {
+                let id = st.id?;
+                inactive
+                    .contains(&(st.keyword.clone(), id))
+                    .then(|| Selected {
+                        keyword: st.keyword.clone(),
+                        id,
+                        name: st
+                            .view_name
+                            .clone()
+                            .unwrap_or_else(|| format!("{}_{id}", st.keyword)),
+                        line: st.span.line,
+                    })
+            })
+            .collect()
     }
 }
 
@@ -278,25 +448,41 @@ fn number(value: f64, span: Span) -> Value {
 }
 
 /// `KEYWORD/id` (or `KEYWORD` for a settings statement) upper-cased, or why it is not one.
-fn parse_element(element: &str) -> Result<(String, Option<u64>), String> {
+fn parse_element(element: &str) -> Result<(String, Option<u64>), ElementError> {
     let text = element.trim();
     let (keyword, id) = match text.split_once('/') {
         Some((k, "")) => (k, None),
         Some((k, id)) => (
             k,
-            Some(id.trim().parse::<u64>().map_err(|_| {
-                format!("`{element}`: the id after the slash must be a whole number")
-            })?),
+            Some(
+                id.trim()
+                    .parse::<u64>()
+                    .map_err(|_| ElementError::IdNotWhole(element.to_string()))?,
+            ),
         ),
         None => (text, None),
     };
     let keyword = keyword.trim().to_ascii_uppercase();
     if keyword.is_empty() || !keyword.chars().all(|c| c.is_ascii_alphabetic() || c == '_') {
-        return Err(format!(
-            "`{element}` is not a statement (KEYWORD/id, e.g. SPRINGDAMPER/1)"
-        ));
+        return Err(ElementError::NotAStatement(element.to_string()));
     }
     Ok((keyword, id))
+}
+
+/// Why [`Source::set`] cannot find the statement it names.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum ElementError {
+    #[error("`{0}`: the id after the slash must be a whole number")]
+    IdNotWhole(String),
+    #[error("`{0}` is not a statement (KEYWORD/id, e.g. SPRINGDAMPER/1)")]
+    NotAStatement(String),
+    #[error("the dataset has no {keyword}/{id}: only a statement of the dataset can be changed")]
+    NoSuchStatement { keyword: String, id: u64 },
+    #[error("{keyword} is ambiguous: it could be {}", .candidates.join(", "))]
+    Ambiguous {
+        keyword: String,
+        candidates: Vec<String>,
+    },
 }
 
 /// Reads the dataset at `path`, leaves out the statements `deactivate` names, builds it and
@@ -347,6 +533,12 @@ fn build_found(
     };
     let mut warnings = built.warnings;
     warnings.extend(drivers.warnings().iter().cloned());
+    // The forces of a model some statement of which every analysis refuses are not built
+    // (their elements may be what is refused); each analysis then names the statements.
+    let forces = match analysis {
+        Some(a) if !findings.iter().any(|f| f.refuses(a)) => Some(ForceSet::new(&built.model)?),
+        _ => None,
+    };
     Ok(Loaded {
         dataset,
         model: built.model,
@@ -354,6 +546,8 @@ fn build_found(
         warnings,
         left_out,
         findings,
+        forces,
+        refusal: Refusal::Option,
     })
 }
 
@@ -377,7 +571,7 @@ fn refused_as_diagnostics(
                 .any(|d| d.span.is_some_and(|s| s.line == f.span.line))
         })
         .map(|f| {
-            let mut d = refusal(f);
+            let mut d = refusal(f, Refusal::Option);
             if analysis.is_none() {
                 d.severity = linkage_adm::Severity::Note;
             }
@@ -386,45 +580,27 @@ fn refused_as_diagnostics(
         .collect()
 }
 
-/// The input error of an analysis refusing `f`, with the option that runs without it.
-fn refusal(f: &Finding) -> Diagnostic {
-    f.error().with_hint(format!(
-        "--deactivate {} runs the rest of the model without it",
-        f.element
-    ))
-}
-
-/// The applied force elements of a loaded model (gravity is applied by the analyses), or the
-/// input errors of `analysis`: every statement it refuses, all at once.
-pub fn applied_forces(
-    loaded: &Loaded,
-    analysis: Analysis,
-) -> Result<Box<dyn linkage_solve::physics::applied::AppliedForces>, Diagnostics> {
-    let refused: Vec<Diagnostic> = loaded
-        .findings
+/// The input error of an analysis refusing `f`, with the way that runs without it.
+fn refusal(f: &Finding, hint: Refusal) -> Diagnostic {
+    let command = linkage_adm::commands::ElementType::ALL
         .iter()
-        .filter(|f| f.refuses(analysis))
-        .map(refusal)
-        .collect();
-    if !refused.is_empty() {
-        return Err(Diagnostics(refused));
-    }
-    let forces = linkage_solve::physics::forces::ForceSet::new(&loaded.model)?;
-    Ok(Box::new(forces))
-}
-
-/// What a report of `analysis` says about the statements left out and those it ran without.
-pub fn coverage_json(
-    loaded: &Loaded,
-    analysis: Analysis,
-) -> (
-    Vec<linkage_report::coverage::LeftOutJson>,
-    Vec<linkage_report::coverage::FindingJson>,
-) {
-    (
-        linkage_report::coverage::left_out_json(&loaded.left_out),
-        linkage_report::coverage::runs_without_json(&loaded.findings, analysis),
-    )
+        .any(|e| e.keyword() == f.keyword);
+    let hint = match (hint, f.id) {
+        (Refusal::CommandFile, Some(id)) if command => format!(
+            "DEACTIVATE/{}, ID = {id} (or `linkage run --deactivate {}`) runs the rest of the \
+             model",
+            f.keyword, f.element
+        ),
+        (Refusal::CommandFile, _) => format!(
+            "`linkage run --deactivate {}` runs the rest of the model",
+            f.element
+        ),
+        (Refusal::Option, _) => format!(
+            "--deactivate {} runs the rest of the model without it",
+            f.element
+        ),
+    };
+    f.error().with_hint(hint)
 }
 
 #[cfg(test)]

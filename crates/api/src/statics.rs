@@ -2,23 +2,26 @@
 //! its report.
 
 use crate::error::Error;
-use crate::source::{applied_forces, coverage_json, Loaded};
+use crate::sink::{Feed, NoSink, OutputSink};
+use crate::source::Loaded;
+use crate::start::{assemble, input_model, Left, Start};
 use linkage_report::statics::StaticJson;
 use linkage_solve::coverage::Analysis;
 use linkage_solve::pipeline::Assembled;
+use linkage_solve::stages::dynamics::Output;
+use linkage_solve::stages::statics::Equilibrium;
 use linkage_solve::state::State;
-use linkage_solve::tolerances::Tolerances;
 use std::time::{Duration, Instant};
 
 /// Wall-clock seconds after which damped settling stops when no time limit is given (the
-/// CLI's `static --settle` default).
+/// CLI's `static --settle` default, and a command file's EQUILIBRIUM/DYNAMIC).
 pub const DEFAULT_SETTLE_TIME_LIMIT: f64 = 600.0;
 
-/// What `linkage static` asks for.
-#[derive(Clone, Copy, Debug, Default)]
+/// What a static analysis asks for.
+#[derive(Clone, Debug, Default)]
 pub struct StaticArgs {
-    /// `(end time, steps)` of a quasi-static series.
-    pub series: Option<(f64, usize)>,
+    /// The output times of a quasi-static series (its first equilibrium at the first time).
+    pub series: Option<Vec<f64>>,
     /// Find the equilibrium by damped dynamics (also when the dataset says
     /// EQUILIBRIUM/DYNAMIC and there is no series).
     pub settle: bool,
@@ -44,6 +47,8 @@ pub struct StaticRun {
     pub csv: Option<String>,
     /// Newton statics of one equilibrium: the largest force imbalance of each iteration.
     pub imbalance_history: Vec<f64>,
+    /// Where the analysis leaves the model: the last equilibrium accepted, at rest.
+    pub left: Option<Left>,
 }
 
 /// The analysis of `args`: quasi-static for a series, static otherwise.
@@ -66,28 +71,56 @@ fn judge_stability(report: &mut StaticJson, allow: bool) {
     }
 }
 
-/// The static equilibrium of `loaded` (see [`StaticArgs`]); `settling(elapsed, limit)` is
-/// told how far damped settling has come.
+/// The output of an equilibrium `eq` of `a` at time `time`: at rest, with its reactions.
+fn at_rest(a: &Assembled, time: f64, eq: &Equilibrium) -> Output {
+    Output {
+        time,
+        state: eq.state.clone(),
+        velocities: a.rest(),
+        accelerations: a.rest(),
+        reactions: eq.reactions.clone(),
+    }
+}
+
+/// The static equilibrium of `loaded` from its input (see [`StaticArgs`]);
+/// `settling(elapsed, limit)` is told how far damped settling has come.
 pub fn statics(
     loaded: &Loaded,
     args: &StaticArgs,
     settling: &dyn Fn(f64, f64),
 ) -> Result<StaticRun, Error> {
+    run(loaded, Start::Input, args, settling, &mut NoSink)
+}
+
+/// The static equilibrium of `loaded` from `start`: one equilibrium at the start time (by
+/// Newton, or by damped settling with `args.settle` or the dataset's EQUILIBRIUM/DYNAMIC), or
+/// a quasi-static series at `args.series`; each equilibrium accepted is handed to `sink`.
+pub fn run(
+    loaded: &Loaded,
+    start: Start,
+    args: &StaticArgs,
+    settling: &dyn Fn(f64, f64),
+    sink: &mut dyn OutputSink,
+) -> Result<StaticRun, Error> {
     let analysis = analysis(args);
-    let applied = applied_forces(loaded, analysis)?;
-    let assemble = || {
-        Assembled::new(
-            &loaded.model,
-            &loaded.drivers,
-            applied.as_ref(),
-            &Tolerances::default(),
-        )
-    };
-    if args.settle || (loaded.model.equilibrium.dynamic && args.series.is_none()) {
-        let assembled = assemble();
+    let settle = args.settle || (loaded.model.equilibrium.dynamic && args.series.is_none());
+    let mut start = start;
+    if let (Start::Left(left), true) = (&mut start, settle) {
+        // Settling integrates from the assembled configuration: assembled at the left state.
+        left.assembly = None;
+    }
+    let mut feed = Feed::new(&loaded.model, sink)?;
+    let model = input_model(loaded, &start);
+    let begun = assemble(loaded, model.as_ref(), start, analysis)?;
+    if begun.assembled.failure().is_none() {
+        feed.assembled(&begun.assembled, begun.assembled_now())
+            .map_err(Error::from)?;
+    }
+    if settle {
+        let assembled = begun.assembled;
         let limit = loaded.model.equilibrium.settling_time;
         // Damped settling cannot bound its own wall-clock time: without a time limit, the
-        // CLI's default guard stops it.
+        // default guard stops it.
         let limit_secs = args.time_limit.unwrap_or(DEFAULT_SETTLE_TIME_LIMIT);
         let deadline = Instant::now() + Duration::from_secs_f64(limit_secs);
         let out_of_time = || Instant::now() >= deadline;
@@ -96,14 +129,14 @@ pub fn statics(
             |elapsed| settling(elapsed, limit),
             &out_of_time,
         );
-        let state = settled
+        let found = settled
             .as_ref()
             .ok()
             .and_then(|o| o.settled_equilibrium())
-            .map(|e| e.state.clone());
+            .cloned();
         let mut report =
             linkage_report::statics::settling_json(&assembled, settled, &loaded.warnings);
-        (report.left_out, report.runs_without) = coverage_json(loaded, analysis);
+        (report.left_out, report.runs_without) = loaded.coverage(analysis);
         judge_stability(&mut report, args.allow_unstable);
         if out_of_time() && !report.errors.is_empty() {
             report.errors.push(match args.time_limit {
@@ -115,28 +148,40 @@ pub fn statics(
             });
         }
         let ok = report.converged && report.errors.is_empty();
+        let mut left = None;
+        if let (Some(eq), true) = (&found, ok) {
+            let o = at_rest(&assembled, assembled.state().time, eq);
+            feed.output(&assembled, &o).map_err(Error::from)?;
+            left = Some(Left {
+                state: o.state,
+                velocities: o.velocities,
+                assembly: None,
+            });
+        }
+        if let Some(l) = left.as_mut() {
+            l.assembly = Some(assembled.into_assembly());
+        }
         return Ok(StaticRun {
             report,
             ok,
             settled: true,
-            state,
+            state: found.map(|e| e.state),
             csv: None,
             imbalance_history: Vec::new(),
+            left,
         });
     }
-    let times = match args.series {
-        Some((end, steps)) => crate::times::output_times(end, Some(steps), None)?,
-        None => vec![0.0],
-    };
-    let assembled = assemble();
-    let result = linkage_solve::stages::statics::run(&assembled, &times);
+    let from = begun.state().clone();
+    let assembled = begun.assembled;
+    let times = args.series.clone().unwrap_or_else(|| vec![from.time]);
+    let result = linkage_solve::stages::statics::run_from(&assembled, &from, &times);
     let mut report = linkage_report::statics::to_json(&assembled, &result, &loaded.warnings);
     if let [(_, Ok(eq))] = result.steps.as_slice() {
         // The friction as the equilibrium had it (those inactive in statics off).
         let rest = assembled.rest();
-        applied.set_static(true);
-        let values = applied.friction_values(&eq.state, &rest);
-        applied.set_static(false);
+        assembled.forces.set_static(true);
+        let values = assembled.forces.friction_values(&eq.state, &rest);
+        assembled.forces.set_static(false);
         report.frictions = linkage_report::friction::frictions_json(&loaded.model, &values);
         let contacts = linkage_solve::constraints::curve_contacts::curve_contacts(
             &loaded.model,
@@ -146,9 +191,22 @@ pub fn statics(
         report.curve_contacts =
             linkage_report::curve_contacts::curve_contacts_json(&loaded.model, &contacts);
     }
-    (report.left_out, report.runs_without) = coverage_json(loaded, analysis);
+    (report.left_out, report.runs_without) = loaded.coverage(analysis);
     judge_stability(&mut report, args.allow_unstable);
     let ok = result.converged() && report.errors.is_empty();
+    // Every equilibrium accepted goes to the sink, up to the first that failed.
+    let mut last = None;
+    if assembled.failure().is_none() {
+        for (t, step) in &result.steps {
+            let Ok(eq) = step else { break };
+            if !eq.converged {
+                break;
+            }
+            let o = at_rest(&assembled, *t, eq);
+            feed.output(&assembled, &o).map_err(Error::from)?;
+            last = Some(o);
+        }
+    }
     let state = match result.steps.last() {
         Some((_, Ok(eq))) if ok => Some(eq.state.clone()),
         _ => None,
@@ -160,6 +218,14 @@ pub fn statics(
         [(_, Ok(eq))] => eq.imbalance_history.clone(),
         _ => Vec::new(),
     };
+    let left = match last {
+        Some(o) if ok => Some(Left {
+            state: o.state,
+            velocities: o.velocities,
+            assembly: Some(assembled.into_assembly()),
+        }),
+        _ => None,
+    };
     Ok(StaticRun {
         report,
         ok,
@@ -167,5 +233,6 @@ pub fn statics(
         state,
         csv,
         imbalance_history,
+        left,
     })
 }

@@ -32,24 +32,46 @@ pub enum OutputTimesError {
     TooManySteps { steps: usize },
 }
 
-/// Output times from 0 to `end`: `steps` equal intervals, or every `dtout` (the last one
-/// shortened to land on `end`); 100 intervals when neither is given. An input error (for
-/// exit code 2) when `end` or `dtout` is not a positive finite time, `steps` is 0, or the run
-/// would have more than [`MAX_OUTPUT_TIMES`] outputs.
+/// Output times from 0 to `end`, 0 included: `steps` equal intervals, or every `dtout` (the
+/// last one shortened to land on `end`); 100 intervals when neither is given (the CLI's
+/// default). See [`output_times_after`].
 pub fn output_times(
     end: f64,
     steps: Option<usize>,
     dtout: Option<f64>,
 ) -> Result<Vec<f64>, OutputTimesError> {
-    if !(end > 0.0 && end.is_finite()) {
+    let steps = match (steps, dtout) {
+        (None, None) => Some(100),
+        _ => steps,
+    };
+    let mut times = vec![0.0];
+    times.extend(output_times_after(0.0, end, steps, dtout)?);
+    Ok(times)
+}
+
+/// Output times after `t0` up to `end` (`t0` excluded): `steps` equal intervals, or every
+/// `dtout` from `t0` (the last one shortened to land on `end`; `steps` wins when both are
+/// given), one interval when neither is given (a command file's SIMULATE without STEPS or
+/// DTOUT). The one definition of output times: the CLI, command files, Python and sweeps
+/// all use it. An input error (for exit code 2) when `end` is not a finite time after `t0`,
+/// `dtout` is not a positive finite time, `steps` is 0, or the run would have more than
+/// [`MAX_OUTPUT_TIMES`] outputs.
+pub fn output_times_after(
+    t0: f64,
+    end: f64,
+    steps: Option<usize>,
+    dtout: Option<f64>,
+) -> Result<Vec<f64>, OutputTimesError> {
+    let span = end - t0;
+    if !(span > 0.0 && end.is_finite() && span.is_finite()) {
         return Err(OutputTimesError::EndNotPositive { end });
     }
     let intervals = match (steps, dtout) {
-        (_, Some(dtout)) => {
+        (None, Some(dtout)) => {
             if !(dtout > 0.0 && dtout.is_finite()) {
                 return Err(OutputTimesError::DtoutNotPositive { dtout });
             }
-            let n = (end / dtout - INTERVAL_COUNT_SLACK).ceil().max(1.0);
+            let n = (span / dtout - INTERVAL_COUNT_SLACK).ceil().max(1.0);
             if n > MAX_OUTPUT_TIMES as f64 {
                 return Err(OutputTimesError::TooManyIntervals {
                     dtout,
@@ -57,16 +79,18 @@ pub fn output_times(
                     count: n,
                 });
             }
-            return Ok((0..=n as usize)
-                .map(|k| (k as f64 * dtout).min(end))
+            return Ok((1..=n as usize)
+                .map(|k| (t0 + k as f64 * dtout).min(end))
                 .collect());
         }
-        (Some(0), None) => return Err(OutputTimesError::NoSteps),
-        (Some(n), None) => n,
-        (None, None) => 100,
+        (Some(0), _) => return Err(OutputTimesError::NoSteps),
+        (Some(n), _) => n,
+        (None, None) => 1,
     };
     if intervals > MAX_OUTPUT_TIMES {
         return Err(OutputTimesError::TooManySteps { steps: intervals });
     }
-    Ok(linkage_solve::stages::statics::output_times(end, intervals))
+    Ok((1..=intervals)
+        .map(|k| t0 + span * k as f64 / intervals as f64)
+        .collect())
 }

@@ -28,6 +28,18 @@ pub fn input_error(d: &Diagnostics, format: Format) -> ExitCode {
     ExitCode::from(2)
 }
 
+/// The exit of an analysis that gave no report: input errors as [`input_error`], any other
+/// error on standard error with its exit code.
+pub fn analysis_error(e: &linkage_api::Error, format: Format) -> ExitCode {
+    match e {
+        linkage_api::Error::Input(d) => input_error(d, format),
+        other => {
+            eprintln!("error: {other}");
+            ExitCode::from(other.exit_code())
+        }
+    }
+}
+
 /// Whether standard output is a terminal (where a report shows its errors to the user).
 pub fn stdout_is_terminal() -> bool {
     use std::io::IsTerminal;

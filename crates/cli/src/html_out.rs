@@ -43,7 +43,18 @@ pub fn frames_of_states<'s>(label: &str, states: impl Iterator<Item = &'s State>
     f
 }
 
+/// A page that could not be written.
+#[derive(Debug, thiserror::Error)]
+#[error("cannot write {path}: {cause}")]
+pub struct PageError {
+    pub path: String,
+    pub cause: std::io::Error,
+}
+
 /// Writes `page` to `out`; the error as the report states it.
-pub fn write(page: &Page, out: &Path) -> Result<(), String> {
-    linkage_html::write_page(page, out).map_err(|e| format!("cannot write {}: {e}", out.display()))
+pub fn write(page: &Page, out: &Path) -> Result<(), PageError> {
+    linkage_html::write_page(page, out).map_err(|cause| PageError {
+        path: out.display().to_string(),
+        cause,
+    })
 }

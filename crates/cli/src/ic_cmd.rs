@@ -21,7 +21,7 @@ pub fn run(
     };
     let run = match linkage_api::ic::ic(&loaded) {
         Ok(r) => r,
-        Err(d) => return input_error(&d, format),
+        Err(e) => return crate::common::analysis_error(&e, format),
     };
     let (mut report, mut failed) = (run.report, run.failed);
     if let Some(out) = html {
@@ -33,7 +33,7 @@ pub fn run(
             states.iter(),
         ));
         if let Err(e) = crate::html_out::write(&page, out) {
-            report.errors.push(e);
+            report.errors.push(e.to_string());
             failed = true;
         }
     }

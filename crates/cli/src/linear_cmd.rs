@@ -52,7 +52,7 @@ pub fn run_linear(args: &LinearArgs) -> ExitCode {
     };
     let (mut report, at) = match linkage_api::linear::linear_at(&loaded, &linear) {
         Ok(r) => r,
-        Err(d) => return input_error(&d, args.format),
+        Err(e) => return crate::common::analysis_error(&e, args.format),
     };
     if let Some(out) = args.html {
         let mut page = crate::html_out::page(&loaded.model, "linear", &report, &[]);
@@ -82,7 +82,7 @@ pub fn run_linear(args: &LinearArgs) -> ExitCode {
             ));
         }
         if let Err(e) = crate::html_out::write(&page, out) {
-            report.errors.push(e);
+            report.errors.push(e.to_string());
         }
     }
     match args.format {

@@ -178,6 +178,10 @@ enum Command {
         /// file that names none).
         #[arg(long, value_name = "MODEL.adm")]
         model: Option<PathBuf>,
+        /// Accept an unstable static equilibrium (SIMULATE/STATIC); otherwise it stops the
+        /// run, as `linkage static` refuses it.
+        #[arg(long)]
+        allow_unstable: bool,
     },
     /// Dynamic simulation to --end with output every --dtout or in --steps intervals.
     Simulate {
@@ -355,12 +359,16 @@ fn main() -> ExitCode {
             model,
             deactivate,
             html,
+            allow_unstable,
         } => run_cmd::run(
             &command_file,
-            out_dir.as_deref(),
-            model.as_deref(),
+            run_cmd::Paths {
+                out_dir: out_dir.as_deref(),
+                model: model.as_deref(),
+                html: html.as_deref(),
+            },
             &deactivate,
-            html.as_deref(),
+            allow_unstable,
         ),
         Command::Plot { file, columns, out } => plot_cmd::run(&file, &columns, &out),
         Command::Verify {

@@ -5,6 +5,16 @@ use std::process::ExitCode;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 
+/// The files of `linkage run` besides the command file.
+pub struct Paths<'p> {
+    /// `--out-dir`.
+    pub out_dir: Option<&'p Path>,
+    /// `--model`: the dataset in place of the one the command file names.
+    pub model: Option<&'p Path>,
+    /// `--html`.
+    pub html: Option<&'p Path>,
+}
+
 /// Runs the command file and prints where its outputs are; exit 0 when every command was
 /// carried out or a SENSOR's HALT ended the file (a complete run: Adams' HALT terminates the
 /// solver; the line `ended by the HALT of SENSOR_1 at time …` says where), 1 when an analysis
@@ -13,11 +23,15 @@ use std::sync::Arc;
 /// written and the message file says where it stopped).
 pub fn run(
     command_file: &Path,
-    out_dir: Option<&Path>,
-    model: Option<&Path>,
+    paths: Paths,
     deactivate: &[String],
-    html: Option<&Path>,
+    allow_unstable: bool,
 ) -> ExitCode {
+    let Paths {
+        out_dir,
+        model,
+        html,
+    } = paths;
     let interrupt = Arc::new(AtomicBool::new(false));
     let flag = Arc::clone(&interrupt);
     // Without a handler (another one is installed) Ctrl-C ends the process as usual.
@@ -27,6 +41,7 @@ pub fn run(
         model: model.map(Path::to_path_buf),
         interrupt: Some(interrupt),
         deactivate: deactivate.to_vec(),
+        allow_unstable,
     };
     let (summary, error) = match linkage_run::run_command_file(command_file, &options) {
         Ok(s) => (Some(s), None),
@@ -72,6 +87,18 @@ pub fn run(
     code
 }
 
+/// Why a command-file run has no page.
+#[derive(Debug, thiserror::Error)]
+enum RunPageError {
+    #[error("the run stopped before it opened its dataset")]
+    NotOpened,
+    #[error("the command file names no dataset")]
+    NoDataset,
+    /// The dataset or the run's CSV does not read.
+    #[error("{0}")]
+    Input(linkage_adm::Diagnostics),
+}
+
 /// The page of a command-file run: the model of its dataset, animated and plotted from the
 /// time histories the run wrote (its `.csv`: `PART.x … PART.phi`, reactions, REQUESTs).
 fn run_page(
@@ -79,13 +106,10 @@ fn run_page(
     summary: Option<&linkage_run::RunSummary>,
     deactivate: &[String],
     errors: Vec<String>,
-) -> Result<linkage_html::Page, String> {
-    let summary = summary.ok_or("the run stopped before it opened its dataset")?;
-    let dataset = summary
-        .dataset
-        .as_ref()
-        .ok_or("the command file names no dataset")?;
-    let loaded = crate::common::load(dataset, deactivate, None).map_err(|d| d.to_string())?;
+) -> Result<linkage_html::Page, RunPageError> {
+    let summary = summary.ok_or(RunPageError::NotOpened)?;
+    let dataset = summary.dataset.as_ref().ok_or(RunPageError::NoDataset)?;
+    let loaded = crate::common::load(dataset, deactivate, None).map_err(RunPageError::Input)?;
     let report = serde_json::json!({
         "file": command_file.display().to_string(),
         "title": loaded.model.title,
@@ -106,7 +130,7 @@ fn run_page(
     let mut page = crate::html_out::page(&loaded.model, "run", &report, &[]);
     let history = match &summary.csv {
         Some(csv) if summary.outputs > 0 => {
-            Some(crate::compare_cmd::load(csv).map_err(|d| d.to_string())?)
+            Some(crate::compare_cmd::load(csv).map_err(RunPageError::Input)?)
         }
         _ => None,
     };

@@ -126,7 +126,7 @@ pub fn run_simulate(args: &SimulateArgs) -> ExitCode {
         page.notes.extend(h.plots_note(&loaded.model));
         page.animations.push(h.frames.clone());
         if let Err(e) = crate::html_out::write(&page, out) {
-            report.errors.push(e);
+            report.errors.push(e.to_string());
         }
     }
     // With `--out -` the time histories are standard output: the summary goes to stderr.

@@ -1,6 +1,6 @@
 //! `linkage static`: one static equilibrium at the start time, or a quasi-static series.
 
-use crate::common::{input_error, load, print_json};
+use crate::common::{input_error, load, output_times, print_json};
 use crate::ic_cmd::save_configuration;
 use clap::ValueEnum;
 use linkage_solve::state::State;
@@ -39,8 +39,18 @@ pub fn run_static(args: &StaticArgs) -> ExitCode {
     } else {
         crate::common::Format::Text
     };
+    let series = match args.series {
+        Some((end, steps)) => match output_times(end, Some(steps), None) {
+            Ok(t) => Some(t),
+            Err(e) => {
+                eprintln!("error: {e}");
+                return ExitCode::from(2);
+            }
+        },
+        None => None,
+    };
     let api_args = linkage_api::statics::StaticArgs {
-        series: args.series,
+        series,
         settle: args.settle,
         allow_unstable: args.allow_unstable,
         time_limit: args.time_limit,
@@ -114,7 +124,7 @@ pub fn run_static(args: &StaticArgs) -> ExitCode {
             }
         }
         if let Err(e) = crate::html_out::write(&page, out) {
-            report.errors.push(e);
+            report.errors.push(e.to_string());
         }
     }
     match args.format {

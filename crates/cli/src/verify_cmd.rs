@@ -87,7 +87,7 @@ fn verify_one(args: &VerifyArgs, model: &Path) -> Verified {
             [State::input(&loaded.model)].iter(),
         ));
         if let Err(e) = crate::html_out::write(&page, out) {
-            report.errors.push(e);
+            report.errors.push(e.to_string());
         }
     }
     let code = u8::from(!report.errors.is_empty());

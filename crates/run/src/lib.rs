@@ -19,7 +19,7 @@
 //! and `<name>.csv`. A command linkage does not carry out stops the run with an error naming
 //! it; nothing is skipped silently.
 
-pub mod analyses;
+pub mod commands;
 pub mod error;
 pub mod listing;
 pub mod msg;
@@ -28,7 +28,7 @@ pub mod session;
 
 pub use error::RunError;
 
-use analyses::{Place, Sinks};
+use commands::{Place, Sinks};
 use linkage_adm::commands::{Command, CommandEntry, Linear, SimulateKind, TypedCommandFile};
 use linkage_adm::{CommandFile, Statement};
 use msg::MessageFile;
@@ -37,10 +37,6 @@ use session::Session;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
-
-/// Slack on the number of DTOUT intervals in a run (a count, so relative to one interval): an
-/// END that is a multiple of DTOUT up to rounding gets no extra sliver interval.
-pub const INTERVAL_SLACK: f64 = 1e-9;
 
 /// Deepest nesting of `FILE/COMMAND` (a command file that reads itself is an error, not a
 /// loop).
@@ -60,6 +56,9 @@ pub struct RunOptions {
     /// Statements to leave out of the dataset (`--deactivate`, as [`linkage_adm::amend::select`]
     /// reads them), as if the command file deactivated them first.
     pub deactivate: Vec<String>,
+    /// Accept an unstable static equilibrium (`--allow-unstable`); otherwise it stops the run,
+    /// as `linkage static` refuses it.
+    pub allow_unstable: bool,
 }
 
 impl RunOptions {
@@ -86,6 +85,9 @@ pub struct RunSummary {
     /// A SENSOR's HALT ended the command file (`SENSOR_1 at time 2.5`): the commands after
     /// the analysis it stopped were not run.
     pub halted: Option<String>,
+    /// How many times the analyses compiled and assembled a model (an analysis that continues
+    /// on the last one's assembly does not).
+    pub assemblies: usize,
 }
 
 /// A run that stopped: why, and what it wrote up to there.
@@ -107,6 +109,8 @@ struct Runner {
     /// DOF and redundant equations at the last model summary.
     counts: Option<(i64, usize)>,
     commands: usize,
+    /// Assemblies of the models closed before the current one.
+    assemblies: usize,
 }
 
 fn with_extension(name: &str, ext: &str) -> String {
@@ -139,6 +143,7 @@ pub fn run_command_file(path: &Path, options: &RunOptions) -> Result<RunSummary,
         changed: true,
         counts: None,
         commands: 0,
+        assemblies: 0,
     };
     let result = runner
         .start(path, &typed)
@@ -148,7 +153,8 @@ pub fn run_command_file(path: &Path, options: &RunOptions) -> Result<RunSummary,
         let _ = msg.write(&format!("\n ---- ERROR ----\n {e}"));
     }
     if let Some(records) = runner.records.take() {
-        if let Err(e) = records.finish() {
+        let model = runner.session.as_ref().map(|s| &s.loaded.model);
+        if let Err(e) = records.finish(model) {
             return Err(Box::new(Stopped { error: e, summary }));
         }
     }
@@ -194,7 +200,11 @@ impl Runner {
             outputs: self.records.as_ref().map_or(0, |r| r.written),
             commands: self.commands,
             dataset: self.session.as_ref().map(|s| PathBuf::from(s.file())),
-            halted: self.session.as_ref().and_then(|s| s.halted.clone()),
+            halted: self
+                .session
+                .as_ref()
+                .and_then(|s| s.progress.halted.clone()),
+            assemblies: self.assemblies,
         })
     }
 
@@ -248,7 +258,7 @@ impl Runner {
         }
         let session = Session::open(dataset, &self.options.deactivate)?;
         let stem = self.out_path("stem");
-        let records = Records::create(&stem, session.dataset(), &session.built.model)?;
+        let records = Records::create(&stem, &session.loaded.dataset, &session.loaded.model)?;
         self.session = Some(session);
         self.records = Some(records);
         self.changed = true;
@@ -302,7 +312,7 @@ impl Runner {
                             // Another model: its own request and CSV files (OUTPUT_PREFIX, or
                             // the dataset's name), the same message file.
                             if let Some(records) = self.records.take() {
-                                records.finish()?;
+                                records.finish(self.session.as_ref().map(|s| &s.loaded.model))?;
                             }
                             self.session = None;
                             self.out_name =
@@ -348,7 +358,9 @@ impl Runner {
 
     /// Whether a SENSOR's HALT ended the last simulation.
     fn halted(&self) -> bool {
-        self.session.as_ref().is_some_and(|s| s.halted.is_some())
+        self.session
+            .as_ref()
+            .is_some_and(|s| s.progress.halted.is_some())
     }
 
     fn command(
@@ -368,83 +380,18 @@ impl Runner {
                  give one with --model",
             ));
         };
-        let mut sinks = Sinks {
-            msg,
-            records,
-            counts: &mut self.counts,
-            interrupt: self.options.interrupt.clone(),
-        };
-        let summary = self.changed;
         match &entry.command {
-            Command::Simulate(sim) => {
-                let t0 = session.time();
-                let end = sim.end.or(sim.duration.map(|d| t0 + d));
-                match sim.kind {
-                    SimulateKind::InitialConditions(_) => {
-                        analyses::initial_conditions(session, &mut sinks, place, summary)?
-                    }
-                    SimulateKind::Static => {
-                        let times = end
-                            .filter(|e| *e > t0)
-                            .map(|e| analyses::output_times(t0, e, sim.steps, sim.dtout));
-                        analyses::statics(session, &mut sinks, place, summary, times)?
-                    }
-                    kind => {
-                        let Some(end) = end.filter(|e| *e > t0) else {
-                            return Err(refused(
-                                place,
-                                format!("END (or DURATION) must lie after the current time {t0}"),
-                            ));
-                        };
-                        let times = analyses::output_times(t0, end, sim.steps, sim.dtout);
-                        analyses::dynamics(session, &mut sinks, place, summary, kind, &times)?
-                    }
-                }
+            Command::Simulate(_) | Command::Linear(_) => {
+                let changed = self.changed;
+                let result = analysis(
+                    session,
+                    (msg, records),
+                    (&mut self.counts, &mut self.assemblies),
+                    &self.options,
+                    (entry, place, changed),
+                );
                 self.changed = false;
-            }
-            Command::Linear(Linear::Eigensol(e)) => {
-                let opts = linkage_solve::stages::linearize::LinearOptions {
-                    damping: !e.nodamping,
-                    vectors: !e.novector,
-                    method: linkage_solve::stages::linearize::EigenMethod::Auto,
-                };
-                analyses::eigensolution(session, &mut sinks, place, summary, opts)?;
-                self.changed = false;
-            }
-            Command::Linear(Linear::Statemat(m)) => {
-                if m.pstate.is_some() {
-                    return Err(refused(
-                        place,
-                        "PSTATE (user-chosen states) is not modelled by linkage: the states are \
-                         the independent coordinates and their rates",
-                    ));
-                }
-                if m.format == Some(linkage_adm::commands::MatrixFormat::Matrixx) {
-                    return Err(refused(
-                        place,
-                        "FORMAT = MATRIXX is not written by linkage; FORMAT = MATLAB writes \
-                         plain text matrices",
-                    ));
-                }
-                let io = analyses::PlantIo {
-                    inputs: plant_variables(session, "PINPUT", m.pinput)
-                        .map_err(|why| refused(place, why))?,
-                    outputs: plant_variables(session, "POUTPUT", m.poutput)
-                        .map_err(|why| refused(place, why))?,
-                };
-                let file = match &self.options.out_dir {
-                    Some(d) => d.join(&m.file),
-                    None => PathBuf::from(&m.file),
-                };
-                analyses::state_matrices(session, &mut sinks, place, summary, &file, &io)?;
-                self.changed = false;
-            }
-            Command::Linear(Linear::Mkb(_)) => {
-                return Err(refused(
-                    place,
-                    "linkage does not export mass, stiffness and damping matrices; \
-                     LINEAR/STATEMAT writes the state matrix, LINEAR/EIGENSOL the modes",
-                ))
+                return result;
             }
             Command::Integrator(_)
             | Command::Equilibrium(_)
@@ -454,54 +401,15 @@ impl Runner {
                 let Some(st) = generic else {
                     return Err(refused(place, "the command's arguments could not be found"));
                 };
-                let mut st = st.clone();
-                let listed = st.args.iter().any(|a| a.key == "LIST");
-                st.args.retain(|a| a.key != "LIST");
-                if !st.args.is_empty() {
-                    session.redefine(&st).map_err(|d| failed_build(place, &d))?;
-                }
-                if listed {
-                    sinks
-                        .msg
-                        .write(&listing::settings(&st.keyword, &session.built.model))?;
-                }
-                if st.keyword == "KINEMATICS" {
-                    sinks.msg.write(&format!(
-                        " Note: KINEMATICS settings are accepted and change nothing: linkage's \
-                         kinematic analysis solves the positions to {} of the model's size \
-                         (lengths) or radians, tighter than Adams' default ERROR.",
-                        linkage_report::num::general(
-                            linkage_solve::tolerances::KINEMATIC_POSITION,
-                            6
-                        )
-                    ))?;
-                }
-                if st.keyword == "INTEGRATOR" && !st.args.is_empty() {
-                    for note in &session.built.model.integrator.notes {
-                        sinks.msg.write(&format!(" Note: {note}"))?;
-                    }
-                    for issue in &session.built.model.integrator.warnings {
-                        sinks.msg.write(&format!(" Warning: {issue}"))?;
-                    }
-                }
+                commands::settings::settings(session, msg, place, st)?;
             }
             Command::Redefine(r) => {
-                session
-                    .redefine(&r.statement)
-                    .map_err(|d| failed_build(place, &d))?;
+                commands::settings::redefine(session, place, &r.statement)?;
                 self.changed = true;
             }
             Command::Activate(a) | Command::Deactivate(a) => {
                 let active = matches!(entry.command, Command::Activate(_));
-                let keyword = a.element.keyword();
-                session
-                    .set_active(keyword, |id| a.selects(id), active)
-                    .map_err(|d| failed_build(place, &d))?;
-                sinks.msg.write(&format!(
-                    " {} {keyword}: {} element(s) of the dataset are now inactive",
-                    if active { "Activated" } else { "Deactivated" },
-                    session.inactive()
-                ))?;
+                commands::settings::activation(session, msg, place, a, active)?;
                 self.changed = true;
             }
             Command::Output(_)
@@ -510,7 +418,7 @@ impl Runner {
             | Command::Lsolver(_)
             | Command::Environment(_)
             | Command::Information(_) => {
-                sinks.msg.write(&format!(
+                msg.write(&format!(
                     " Note: {} is accepted and changes nothing in linkage (outputs are always \
                      the .msg, .req and .csv files; one linear solver).",
                     place.command
@@ -533,6 +441,130 @@ impl Runner {
         }
         Ok(())
     }
+}
+
+/// An analysis command (`SIMULATE`, `LINEAR`) of `entry` at `place`, on the session's model;
+/// `changed`: the model changed since the last model summary (one is written when the
+/// analysis assembles).
+fn analysis(
+    session: &mut Session,
+    (msg, records): (&mut MessageFile, &mut Records),
+    (counts, assemblies): (&mut Option<(i64, usize)>, &mut usize),
+    options: &RunOptions,
+    (entry, place, changed): (&CommandEntry, &Place, bool),
+) -> Result<(), RunError> {
+    let t0 = session.time();
+    // The plant inputs and outputs of LINEAR/STATEMAT, from the amended statements.
+    let io = match &entry.command {
+        Command::Linear(Linear::Statemat(m)) => Some(commands::linear::PlantIo {
+            inputs: commands::linear::plant_variables(session, "PINPUT", m.pinput)
+                .map_err(|why| refused(place, why.to_string()))?,
+            outputs: commands::linear::plant_variables(session, "POUTPUT", m.poutput)
+                .map_err(|why| refused(place, why.to_string()))?,
+        }),
+        _ => None,
+    };
+    // The times first: an error in them is the command's, before anything runs.
+    let times = match &entry.command {
+        Command::Simulate(sim) => {
+            let end = sim.end.or(sim.duration.map(|d| t0 + d));
+            let steps = sim.steps.map(|n| n as usize);
+            match sim.kind {
+                SimulateKind::InitialConditions(_) => None,
+                SimulateKind::Static => match end.filter(|e| *e > t0) {
+                    None => None,
+                    Some(e) => Some(
+                        linkage_api::output_times_after(t0, e, steps, sim.dtout)
+                            .map_err(|e| refused(place, e.to_string()))?,
+                    ),
+                },
+                _ => {
+                    let Some(end) = end.filter(|e| *e > t0) else {
+                        return Err(refused(
+                            place,
+                            format!("END (or DURATION) must lie after the current time {t0}"),
+                        ));
+                    };
+                    Some(
+                        linkage_api::output_times_after(t0, end, steps, sim.dtout)
+                            .map_err(|e| refused(place, e.to_string()))?,
+                    )
+                }
+            }
+        }
+        _ => None,
+    };
+    let Session {
+        loaded, progress, ..
+    } = session;
+    let mut sinks = Sinks {
+        msg,
+        records,
+        counts,
+        interrupt: options.interrupt.clone(),
+        summary: changed,
+        loaded,
+        assembled: false,
+        failed_write: None,
+        need_kinematic: false,
+        refusal: None,
+    };
+    let sinks = &mut sinks;
+    let result = match &entry.command {
+        Command::Simulate(sim) => match sim.kind {
+            SimulateKind::InitialConditions(_) => {
+                commands::simulate::initial_conditions(progress, sinks, place)
+            }
+            SimulateKind::Static => {
+                commands::simulate::statics(progress, sinks, place, times, options.allow_unstable)
+            }
+            kind => commands::simulate::dynamics(
+                progress,
+                sinks,
+                place,
+                kind,
+                times.as_deref().unwrap_or_default(),
+            ),
+        },
+        Command::Linear(Linear::Eigensol(e)) => {
+            let opts = linkage_solve::stages::linearize::LinearOptions {
+                damping: !e.nodamping,
+                vectors: !e.novector,
+                method: linkage_solve::stages::linearize::EigenMethod::Auto,
+            };
+            commands::linear::eigensolution(progress, sinks, place, opts)
+        }
+        Command::Linear(Linear::Statemat(m)) => {
+            if m.pstate.is_some() {
+                return Err(refused(
+                    place,
+                    "PSTATE (user-chosen states) is not modelled by linkage: the states are \
+                     the independent coordinates and their rates",
+                ));
+            }
+            if m.format == Some(linkage_adm::commands::MatrixFormat::Matrixx) {
+                return Err(refused(
+                    place,
+                    "FORMAT = MATRIXX is not written by linkage; FORMAT = MATLAB writes plain \
+                     text matrices",
+                ));
+            }
+            let io = io.unwrap_or_default();
+            let file = match &options.out_dir {
+                Some(d) => d.join(&m.file),
+                None => PathBuf::from(&m.file),
+            };
+            commands::linear::state_matrices(progress, sinks, place, &file, &io)
+        }
+        Command::Linear(Linear::Mkb(_)) => Err(refused(
+            place,
+            "linkage does not export mass, stiffness and damping matrices; LINEAR/STATEMAT \
+             writes the state matrix, LINEAR/EIGENSOL the modes",
+        )),
+        _ => Ok(()),
+    };
+    *assemblies += usize::from(sinks.assembled);
+    result
 }
 
 /// The file name of a dataset named in a command file, without folders (also those of another
@@ -578,45 +610,10 @@ fn dataset_path(path: &Path, name: &str) -> PathBuf {
     }
 }
 
-/// The VARIABLE ids of the dataset's `keyword/id` statement (PINPUT or POUTPUT:
-/// `VARIABLES = id, id, …`); none when `id` is `None`.
-fn plant_variables(session: &Session, keyword: &str, id: Option<u64>) -> Result<Vec<u32>, String> {
-    let Some(id) = id else {
-        return Ok(Vec::new());
-    };
-    let st = session
-        .statement(keyword, id)
-        .ok_or_else(|| format!("the dataset has no {keyword}/{id}"))?;
-    let arg = st
-        .args
-        .iter()
-        .find(|a| a.key.len() >= 3 && "VARIABLES".starts_with(a.key.as_str()))
-        .ok_or_else(|| format!("{keyword}/{id} has no VARIABLES = list"))?;
-    arg.values
-        .iter()
-        .map(|v| match v {
-            linkage_adm::Value::Number { value, .. }
-                if *value >= 0.0 && value.fract() == 0.0 && *value <= f64::from(u32::MAX) =>
-            {
-                Ok(*value as u32)
-            }
-            other => Err(format!(
-                "{keyword}/{id}: VARIABLES must list VARIABLE ids, not {other:?}"
-            )),
-        })
-        .collect()
-}
-
 fn refused(place: &Place, why: impl Into<String>) -> RunError {
     RunError::Refused {
         place: place.at.clone(),
         command: place.command.to_string(),
         why: why.into(),
     }
-}
-
-/// A command that leaves a model that does not build: the command's place, then every
-/// problem found.
-fn failed_build(place: &Place, d: &linkage_adm::Diagnostics) -> RunError {
-    refused(place, format!("the model no longer builds:\n{d}"))
 }

@@ -11,15 +11,12 @@
 //!   leaves complete rows and blocks.
 
 use crate::error::RunError;
-use linkage_adm::reqfile::VALUES_PER_REQUEST;
 use linkage_adm::reqwriter::{Precision, RequestDescription, RequestFileHeader, RequestFileWriter};
 use linkage_adm::Dataset;
+use linkage_api::sink::{CsvSink, OutputSink, RequestFailure, RequestValues, SinkError};
 use linkage_model::Model;
-use linkage_report::element_columns;
-use linkage_report::simulate::CsvHistory;
-use linkage_solve::constraints::system::System;
-use linkage_solve::physics::applied::AppliedForces;
 use linkage_solve::physics::requests::RequestSet;
+use linkage_solve::pipeline::Assembled;
 use linkage_solve::stages::dynamics::Output;
 use std::fs::File;
 use std::io::BufWriter;
@@ -91,25 +88,13 @@ fn descriptions(ds: &Dataset) -> Vec<RequestDescription> {
         .collect()
 }
 
-/// Why an output could not be recorded.
-#[derive(Debug, thiserror::Error)]
-pub enum RecordError {
-    /// A REQUEST cannot be evaluated at the output.
-    #[error(transparent)]
-    Request(#[from] linkage_solve::physics::requests::RequestError),
-    /// A file cannot be written.
-    #[error("cannot write {path}: {cause}")]
-    Write { path: String, cause: String },
-}
-
 /// The streams of a run's time histories.
 pub struct Records {
-    csv_path: PathBuf,
-    csv: CsvHistory<BufWriter<File>>,
+    csv: CsvSink<BufWriter<File>>,
     req_path: PathBuf,
     req: RequestFileWriter<BufWriter<File>>,
-    /// The request columns of the CSV (fixed at the first output, as its other columns).
-    names: Option<Vec<String>>,
+    /// The REQUESTs of the model the file was opened for (the layout of its blocks).
+    requests: RequestSet,
     /// Outputs written.
     pub written: usize,
 }
@@ -125,6 +110,7 @@ impl Records {
     /// Creates `<stem>.csv` and `<stem>.req` and writes the request-file header for the
     /// REQUESTs of `ds`, built into `model`.
     pub fn create(stem: &Path, ds: &Dataset, model: &Model) -> Result<Records, RunError> {
+        let requests = RequestSet::new(model).map_err(RunError::Input)?;
         let csv_path = stem.with_extension("csv");
         let req_path = stem.with_extension("req");
         let csv = File::create(&csv_path).map_err(write_error(&csv_path))?;
@@ -142,67 +128,29 @@ impl Records {
             cause: std::io::Error::other(e.to_string()),
         })?;
         Ok(Records {
-            csv_path,
-            csv: CsvHistory::new(BufWriter::new(csv)),
+            csv: CsvSink::new(
+                BufWriter::new(csv),
+                csv_path.display().to_string(),
+                model,
+                Some(&requests),
+                RequestFailure::Stop,
+            ),
             req_path,
             req,
-            names: None,
+            requests,
             written: 0,
         })
     }
 
-    /// Writes one output of a run of `model` (compiled constraints `sys`, forces `forces`):
-    /// a CSV row (the REQUEST columns, then each FRICTION's and control state's,
-    /// [`linkage_report::element_columns`]) and a request-file block. A request that cannot
-    /// be evaluated is an error naming it.
-    pub fn write(
-        &mut self,
-        model: &Model,
-        sys: &System,
-        requests: &RequestSet,
-        forces: &dyn AppliedForces,
-        o: &Output,
-    ) -> Result<(), RecordError> {
-        let values = requests.evaluate(model, sys, o)?;
-        let mut columns = values.clone();
-        let frictions = if model.frictions.is_empty() {
-            Vec::new()
-        } else {
-            forces.friction_values(&o.state, &o.velocities)
-        };
-        let contacts =
-            linkage_solve::constraints::curve_contacts::curve_contacts(model, sys, &o.state);
-        element_columns::values(model, &frictions, &contacts, &o.state, &mut columns);
-        self.csv
-            .write(
-                model,
-                o,
-                self.names.get_or_insert_with(|| {
-                    let mut names = requests.columns();
-                    names.extend(element_columns::names(model));
-                    names
-                }),
-                &columns,
-            )
-            .map_err(|e| RecordError::Write {
-                path: self.csv_path.display().to_string(),
-                cause: e.to_string(),
-            })?;
-        let six = requests.stored_values(&values);
-        self.req
-            .write_output(o.time, &six)
-            .map_err(|e| RecordError::Write {
-                path: self.req_path.display().to_string(),
-                cause: e.to_string(),
-            })?;
-        self.written += 1;
-        Ok(())
-    }
-
-    /// Flushes both files.
-    pub fn finish(self) -> Result<(), RunError> {
+    /// Flushes both files; a CSV without rows gets the header of `model` alone, so that it
+    /// says which columns it lacks (as `linkage simulate --out` writes it).
+    pub fn finish(self, model: Option<&Model>) -> Result<(), RunError> {
         let mut csv = self.csv;
-        csv.flush().map_err(write_error(&self.csv_path))?;
+        let path = PathBuf::from(&csv.path);
+        if let (0, Some(model)) = (self.written, model) {
+            csv.finish_empty(model).map_err(write_error(&path))?;
+        }
+        csv.flush().map_err(write_error(&path))?;
         self.req.finish().map_err(|e| RunError::Write {
             path: self.req_path.display().to_string(),
             cause: std::io::Error::other(e.to_string()),
@@ -211,5 +159,29 @@ impl Records {
     }
 }
 
-/// Six stored values per request, as [`RequestSet::stored_values`] gives them.
-pub type Stored = Vec<[f64; VALUES_PER_REQUEST]>;
+impl OutputSink for Records {
+    fn wants_requests(&self) -> bool {
+        true
+    }
+
+    /// One output: a CSV row (the REQUEST columns, then each FRICTION's, curve contact's and
+    /// control state's, [`linkage_api::sink::row_values`]) and a request-file block. A
+    /// request that cannot be evaluated stops the analysis, naming it.
+    fn output(&mut self, a: &Assembled, o: &Output, r: RequestValues) -> Result<(), SinkError> {
+        let values = match r {
+            Some(Ok(v)) => v.as_slice(),
+            Some(Err(e)) => return Err(SinkError::Request(e.clone())),
+            None => &[],
+        };
+        self.csv.output(a, o, r)?;
+        let six = self.requests.stored_values(values);
+        self.req
+            .write_output(o.time, &six)
+            .map_err(|e| SinkError::Write {
+                path: self.req_path.display().to_string(),
+                cause: std::io::Error::other(e.to_string()),
+            })?;
+        self.written += 1;
+        Ok(())
+    }
+}

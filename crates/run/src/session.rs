@@ -1,293 +1,175 @@
-//! The model a command file works on: the dataset as read, its statements as the commands have
-//! amended them (redefinitions, deactivated elements), the model built from them, and the state
-//! the last analysis left.
+//! The model a command file works on: the dataset as the commands have amended it
+//! ([`linkage_api::Source`]: redefinitions, deactivated elements), the model loaded from it
+//! ([`linkage_api::Loaded`]), and where the last analysis left it ([`linkage_api::Left`]).
 //!
 //! Contract:
-//! - [`Session::open`] reads and builds the dataset; every input error comes back at once.
-//! - [`Session::redefine`], [`Session::deactivate`] and [`Session::activate`] change the
-//!   statements and rebuild the model right away, so that an error names the command that
-//!   caused it; the state the last analysis left is kept.
-//! - [`Session::input_model`] is the model every analysis assembles: before the first analysis
-//!   the dataset's own input (joint IC, EXACT, part velocities as given); afterwards the
-//!   parts placed and moving as the last analysis left them (all velocities given, joint ICs
-//!   and EXACT spent, as in Adams, where they apply to the first assembly only).
+//! - [`Session::open`] reads and loads the dataset; every input error comes back at once.
+//! - [`Session::redefine`] and [`Session::set_active`] change the statements and load the
+//!   model again right away, so that an error names the command that caused it; the state
+//!   the last analysis left is kept, its assembly is not (the next analysis assembles again).
+//! - [`Session::settings`] changes settings assembly does not read (INTEGRATOR, EQUILIBRIUM,
+//!   KINEMATICS, ACCGRAV): the loaded model takes the new settings and keeps its assembly, so
+//!   the next analysis continues on it without assembling again. IC settings are read by the
+//!   assembly: they drop it.
+//! - [`Progress::start`] is where the next analysis starts: the input before the first
+//!   analysis, afterwards the state the last one left (on its assembly while it holds).
 
 use crate::error::RunError;
-use glam::DVec3;
-use linkage_adm::amend::{self, Redefined};
-use linkage_adm::{Dataset, Diagnostic, Diagnostics, Statement};
-use linkage_model::{ConstraintKind, Model};
-use linkage_solve::constraints::drivers::ExpressionDrivers;
-use linkage_solve::coverage::{self, Analysis, Finding};
-use linkage_solve::physics::forces::ForceSet;
-use linkage_solve::physics::requests::RequestSet;
-use linkage_solve::state::State;
-use std::collections::BTreeSet;
+use linkage_adm::amend::Redefined;
+use linkage_adm::{Diagnostic, Diagnostics, Statement};
+use linkage_api::{Left, Loaded, Refusal, Source, Start};
+use linkage_solve::coverage::Analysis;
 use std::path::Path;
 
-/// Velocities of every part: CM velocity and angular velocity, ground axes.
-pub type Velocities = Vec<(DVec3, DVec3)>;
-
-/// A model built from the session's statements, with what every analysis needs.
-pub struct Built {
-    pub model: Model,
-    pub drivers: ExpressionDrivers,
-    /// `None` when some statement makes every force analysis refuse the model (the
-    /// analyses then say which, [`Session::refusals`]).
-    pub forces: Option<ForceSet>,
-    /// Every statement some analysis refuses or runs without (of the active statements).
-    pub findings: Vec<Finding>,
-    pub requests: RequestSet,
-    /// Dataset, model and function warnings.
-    pub warnings: Vec<Diagnostic>,
-}
-
-/// Where the last analysis left the model.
-#[derive(Clone, Debug)]
-pub struct Left {
-    pub state: State,
-    pub velocities: Velocities,
-}
-
-/// The dataset, its amendments and the model built from them.
+/// The dataset, its amendments, the model loaded from them and where it was left.
 pub struct Session {
-    dataset: Dataset,
-    statements: Vec<Statement>,
-    inactive: BTreeSet<(String, u64)>,
-    pub built: Built,
+    source: Source,
+    pub loaded: Loaded,
+    pub progress: Progress,
+}
+
+/// Where the analyses have left the model.
+#[derive(Default)]
+pub struct Progress {
     /// `None` before the first analysis.
-    pub left: Option<Left>,
+    left: Option<Left>,
     /// A SENSOR's HALT ended the last simulation: the command file ends there (`SENSOR_1 at
     /// time 1.0`).
     pub halted: Option<String>,
 }
 
-/// Builds the model of a typed dataset with its drivers, forces and requests.
-fn build(ds: &Dataset) -> Result<Built, Diagnostics> {
-    let built = linkage_model::build_model(ds)?;
-    let drivers = ExpressionDrivers::new(&built.model)?;
-    let findings = coverage::findings(ds);
-    let forces = if findings.iter().any(|f| f.refuses(Analysis::Ic)) {
-        None
-    } else {
-        Some(ForceSet::new(&built.model)?)
-    };
-    let requests = RequestSet::new(&built.model)?;
-    let mut warnings = built.warnings;
-    warnings.extend(drivers.warnings().iter().cloned());
-    Ok(Built {
-        model: built.model,
-        drivers,
-        forces,
-        findings,
-        requests,
-        warnings,
-    })
-}
-
-impl Session {
-    /// Reads the dataset at `path` and builds it without the statements `deactivate` names
-    /// (see [`linkage_adm::amend::select`]).
-    pub fn open(path: &Path, deactivate: &[String]) -> Result<Session, RunError> {
-        let dataset = linkage_adm::read_dataset(path).map_err(RunError::Input)?;
-        let left_out =
-            linkage_adm::amend::select(&dataset.statements, deactivate).map_err(|e| {
-                RunError::Input(Diagnostics(vec![Diagnostic::error(
-                    dataset.file.clone(),
-                    None,
-                    e,
-                )]))
-            })?;
-        let inactive: BTreeSet<(String, u64)> =
-            left_out.into_iter().map(|s| (s.keyword, s.id)).collect();
-        let active = if inactive.is_empty() {
-            dataset.clone()
-        } else {
-            amend::retype(&dataset, &dataset.statements, &inactive).map_err(RunError::Input)?
-        };
-        let built = build(&active).map_err(RunError::Input)?;
-        Ok(Session {
-            statements: dataset.statements.clone(),
-            dataset,
-            inactive,
-            built,
-            left: None,
-            halted: None,
-        })
-    }
-
-    /// The dataset's file name.
-    pub fn file(&self) -> &str {
-        &self.dataset.file
-    }
-
+impl Progress {
     /// The time the last analysis left the model at (0 before the first).
     pub fn time(&self) -> f64 {
         self.left.as_ref().map_or(0.0, |l| l.state.time)
     }
 
-    /// Rebuilds the model from the amended statements, keeping the old one when that fails.
-    fn rebuild(
-        &mut self,
-        statements: Vec<Statement>,
-        inactive: BTreeSet<(String, u64)>,
-    ) -> Result<(), Diagnostics> {
-        let ds = amend::retype(&self.dataset, &statements, &inactive)?;
-        let built = build(&ds)?;
-        if built.model.parts.len() != self.built.model.parts.len() {
+    /// Where the next analysis starts (the session holds no state until [`Progress::leave`]
+    /// gives it the one the analysis ends at).
+    pub fn start(&mut self) -> Start {
+        match self.left.take() {
+            Some(left) => Start::Left(Box::new(left)),
+            None => Start::Input,
+        }
+    }
+
+    /// The analysis that started from [`Progress::start`] left the model at `left` (`None`:
+    /// where it started, which was the input: a linearization of the input).
+    pub fn leave(&mut self, left: Option<Left>) {
+        self.left = left;
+    }
+
+    /// The state left loses its assembly: the next analysis assembles again.
+    fn drop_assembly(&mut self) {
+        if let Some(left) = self.left.as_mut() {
+            left.assembly = None;
+        }
+    }
+}
+
+/// Loads `source` for a command file's analyses.
+fn load(source: &Source) -> Result<Loaded, Diagnostics> {
+    let mut loaded = source.load(&[], Some(Analysis::Ic))?;
+    loaded.refusal = Refusal::CommandFile;
+    Ok(loaded)
+}
+
+impl Session {
+    /// Reads the dataset at `path` and loads it without the statements `deactivate` names
+    /// (see [`linkage_adm::amend::select`]).
+    pub fn open(path: &Path, deactivate: &[String]) -> Result<Session, RunError> {
+        let mut source = Source::read(path).map_err(RunError::Input)?;
+        source.leave_out(deactivate).map_err(RunError::Input)?;
+        let loaded = load(&source).map_err(RunError::Input)?;
+        Ok(Session {
+            source,
+            loaded,
+            progress: Progress::default(),
+        })
+    }
+
+    /// The dataset's file name.
+    pub fn file(&self) -> &str {
+        self.source.file()
+    }
+
+    /// The dataset as read.
+    pub fn dataset(&self) -> &linkage_adm::Dataset {
+        self.source.dataset()
+    }
+
+    /// The time the last analysis left the model at (0 before the first).
+    pub fn time(&self) -> f64 {
+        self.progress.time()
+    }
+
+    /// Loads the model again from the amended statements, keeping the old one when that fails
+    /// or when it would add or remove parts. The assembly the last analysis left is dropped.
+    fn reload(&mut self, source: Source) -> Result<(), Diagnostics> {
+        let loaded = load(&source)?;
+        if loaded.model.parts.len() != self.loaded.model.parts.len() {
             return Err(Diagnostics(vec![Diagnostic::error(
-                self.dataset.file.clone(),
+                self.source.dataset().file.clone(),
                 None,
                 "a command may not add or remove parts".to_string(),
             )]));
         }
-        self.statements = statements;
-        self.inactive = inactive;
-        self.built = built;
+        self.source = source;
+        self.loaded = loaded;
+        self.progress.drop_assembly();
         Ok(())
     }
 
-    /// Applies a statement given as a command (`VARIABLE/9105, FUNCTION = …`,
-    /// `EQUILIBRIUM/STABILITY = 1e-3`) and rebuilds the model.
+    /// Applies a statement given as a command (`VARIABLE/9105, FUNCTION = …`) and loads the
+    /// model again.
     pub fn redefine(&mut self, change: &Statement) -> Result<Redefined, Diagnostics> {
-        let mut statements = self.statements.clone();
-        let done = amend::redefine(&mut statements, change).map_err(|e| {
-            Diagnostics(vec![Diagnostic::error(
-                self.dataset.file.clone(),
-                None,
-                e.to_string(),
-            )])
-        })?;
-        self.rebuild(statements, self.inactive.clone())?;
+        let mut source = self.source.clone();
+        let done = source.redefine(change)?;
+        self.reload(source)?;
         Ok(done)
     }
 
+    /// Applies a settings command (`INTEGRATOR/ERROR = 1e-5`, `EQUILIBRIUM/…`, `IC/…`,
+    /// `KINEMATICS/…`, `ACCGRAV/…`). Settings assembly does not read are taken into the
+    /// loaded model as they are, so that the next analysis continues on the last assembly;
+    /// IC settings drop it.
+    pub fn settings(&mut self, change: &Statement) -> Result<(), Diagnostics> {
+        let mut source = self.source.clone();
+        source.redefine(change)?;
+        let loaded = load(&source)?;
+        self.source = source;
+        let model = &mut self.loaded.model;
+        model.integrator = loaded.model.integrator;
+        model.equilibrium = loaded.model.equilibrium;
+        model.gravity = loaded.model.gravity;
+        if model.ic != loaded.model.ic {
+            model.ic = loaded.model.ic;
+            self.progress.drop_assembly();
+        }
+        self.loaded.dataset = loaded.dataset;
+        Ok(())
+    }
+
     /// Deactivates (or with `active`, activates again) the `keyword` statements whose ids
-    /// `selects` accepts, and rebuilds the model. Selecting none is an error.
+    /// `selects` accepts, and loads the model again. Selecting none is an error.
     pub fn set_active(
         &mut self,
         keyword: &str,
         selects: impl Fn(u64) -> bool,
         active: bool,
     ) -> Result<(), Diagnostics> {
-        let mut inactive = self.inactive.clone();
-        let mut found = 0;
-        for id in self
-            .statements
-            .iter()
-            .filter(|s| s.keyword == keyword)
-            .filter_map(|s| s.id)
-            .filter(|&id| selects(id))
-        {
-            found += 1;
-            if active {
-                inactive.remove(&(keyword.to_string(), id));
-            } else {
-                inactive.insert((keyword.to_string(), id));
-            }
-        }
-        if found == 0 {
-            return Err(Diagnostics(vec![Diagnostic::error(
-                self.dataset.file.clone(),
-                None,
-                format!("the dataset has no {keyword} with the ids given"),
-            )]));
-        }
-        self.rebuild(self.statements.clone(), inactive)
+        let mut source = self.source.clone();
+        source.set_active(keyword, selects, active)?;
+        self.reload(source)
     }
 
     /// The amended statement `keyword/id` (active or not).
     pub fn statement(&self, keyword: &str, id: u64) -> Option<&Statement> {
-        self.statements
-            .iter()
-            .find(|s| s.keyword == keyword && s.id == Some(id))
-    }
-
-    /// The statements of the model that analysis `a` refuses, one line each (`file:line:col:
-    /// error: …`) with the command that leaves it out; empty when `a` can run.
-    pub fn refusals(&self, a: Analysis) -> Vec<String> {
-        self.built
-            .findings
-            .iter()
-            .filter(|f| f.refuses(a))
-            .map(|f| {
-                let command = linkage_adm::commands::ElementType::ALL
-                    .iter()
-                    .any(|e| e.keyword() == f.keyword);
-                let hint = match f.id {
-                    Some(id) if command => format!(
-                        "DEACTIVATE/{}, ID = {id} (or `linkage run --deactivate {}`) runs the \
-                         rest of the model",
-                        f.keyword, f.element
-                    ),
-                    _ => format!(
-                        "`linkage run --deactivate {}` runs the rest of the model",
-                        f.element
-                    ),
-                };
-                f.error().with_hint(hint).to_string()
-            })
-            .collect()
-    }
-
-    /// The dataset as read.
-    pub fn dataset(&self) -> &Dataset {
-        &self.dataset
-    }
-
-    /// The inactive statements, in dataset order (DEACTIVATE).
-    pub fn left_out(&self) -> Vec<linkage_adm::amend::Selected> {
-        self.statements
-            .iter()
-            .filter_map(|st| {
-                let id = st.id?;
-                self.inactive.contains(&(st.keyword.clone(), id)).then(|| {
-                    linkage_adm::amend::Selected {
-                        keyword: st.keyword.clone(),
-                        id,
-                        name: st
-                            .view_name
-                            .clone()
-                            .unwrap_or_else(|| format!("{}_{id}", st.keyword)),
-                        line: st.span.line,
-                    }
-                })
-            })
-            .collect()
+        self.source.statement(keyword, id)
     }
 
     /// How many statements are inactive.
     pub fn inactive(&self) -> usize {
-        self.inactive.len()
+        self.source.inactive_count()
     }
-
-    /// The model the next analysis assembles (see the module documentation).
-    pub fn input_model(&self) -> Model {
-        match &self.left {
-            None => self.built.model.clone(),
-            Some(left) => placed(&self.built.model, left),
-        }
-    }
-}
-
-/// `model` with its parts where `left` has them and moving as it has them, every velocity
-/// given, and the joint initial conditions and EXACT coordinates spent.
-pub fn placed(model: &Model, left: &Left) -> Model {
-    let mut m = model.clone();
-    for (k, p) in m.parts.iter_mut().enumerate() {
-        let pose = left.state.poses[k];
-        p.p_gb = pose.p;
-        p.r_gb = pose.r;
-        let (v, w) = left.velocities[k];
-        let w_cm = (pose.r * p.r_b_cm).transpose() * w;
-        p.velocity = [v.x, v.y, v.z, w_cm.x, w_cm.y, w_cm.z].map(Some);
-        p.exact.clear();
-    }
-    for c in &mut m.constraints {
-        if let ConstraintKind::Joint { initial, .. } = &mut c.kind {
-            initial.translation = (None, None);
-            initial.rotation = (None, None);
-        }
-    }
-    m
 }

@@ -113,6 +113,23 @@ impl NotAssembled {
     }
 }
 
+/// Whether `rows` kept constraint rows on `parts` moving parts with `controls` control states
+/// leave no degree of freedom to integrate: a simulation of such a model is kinematic.
+pub fn kinematic(rows: usize, parts: usize, controls: usize) -> bool {
+    parts > 0 && rows >= 6 * parts && controls == 0
+}
+
+/// What an [`Assembled`] owns, without the model and forces it borrows (see
+/// [`Assembled::into_assembly`]).
+pub struct Assembly {
+    system: System,
+    ic: InitialConditions,
+    kept: Vec<usize>,
+    removed: Vec<usize>,
+    drivers: ExpressionDrivers,
+    failure: Option<NotAssembled>,
+}
+
 /// The assembled problem every analysis starts from (see the module documentation).
 pub struct Assembled<'m> {
     pub model: &'m Model,
@@ -173,6 +190,51 @@ impl<'m> Assembled<'m> {
             drivers: anchored,
             failure,
         }
+    }
+
+    /// The owned parts of this assembly, to keep between analyses of a command file while the
+    /// model it borrows is amended in ways assembly does not depend on (an INTEGRATOR or
+    /// EQUILIBRIUM setting): [`Assembled::from_assembly`] gives the same assembly back
+    /// without compiling, ranking or assembling again.
+    pub fn into_assembly(self) -> Assembly {
+        Assembly {
+            system: self.system,
+            ic: self.ic,
+            kept: self.kept,
+            removed: self.removed,
+            drivers: self.drivers,
+            failure: self.failure,
+        }
+    }
+
+    /// The assembly `parts` on `model` (the model it was assembled from, or one that differs
+    /// from it only in settings assembly does not read) with the applied forces `forces`.
+    pub fn from_assembly(
+        model: &'m Model,
+        forces: &'m dyn AppliedForces,
+        parts: Assembly,
+    ) -> Assembled<'m> {
+        Assembled {
+            model,
+            forces,
+            system: parts.system,
+            ic: parts.ic,
+            kept: parts.kept,
+            removed: parts.removed,
+            drivers: parts.drivers,
+            failure: parts.failure,
+        }
+    }
+
+    /// Whether the kept rows fix every coordinate, so that a simulation is a kinematic
+    /// analysis (positions from the constraints at each output; no control states to
+    /// integrate). The one definition of the rule, shared with the dynamic stage.
+    pub fn is_kinematic(&self) -> bool {
+        kinematic(
+            self.kept.len(),
+            self.model.parts.len(),
+            self.forces.control_count(),
+        )
     }
 
     /// Why no analysis can start from here (`None` when the model is assembled).

@@ -640,6 +640,12 @@ pub fn output_times(end: f64, steps: usize) -> Vec<f64> {
 /// output interval from the event on (`t* + k·DT` up to the last time), and `SENVAL` takes
 /// the stored value from then on; RESTART, CODGEN and STEPSIZE have no integrator to act on.
 pub fn run(a: &Assembled, times: &[f64]) -> StaticRun {
+    run_from(a, a.state(), times)
+}
+
+/// [`run`] from the configuration `start` (a state the last analysis of a command file left on
+/// the same assembly) rather than the assembled one: the first equilibrium is sought from it.
+pub fn run_from(a: &Assembled, start: &State, times: &[f64]) -> StaticRun {
     let mut out = StaticRun {
         steps: Vec::new(),
         sensor_events: Vec::new(),
@@ -669,7 +675,7 @@ pub fn run(a: &Assembled, times: &[f64]) -> StaticRun {
     while k < schedule.len() {
         let t = schedule[k];
         let mut start = match history.as_slice() {
-            [] => a.state().clone(),
+            [] => start.clone(),
             [only] => only.clone(),
             [.., a, b] => extrapolate(a, b),
         };

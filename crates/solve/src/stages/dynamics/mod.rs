@@ -72,8 +72,8 @@ pub use problem::{flat, ExtraDamping, Problem};
 pub(crate) use redundant::redundant_violation;
 pub use results::{Failure, Simulation};
 pub use run::{
-    run, run_from, run_streamed, DynamicRun, RunError, RunProgress, Start, StartingEquilibrium,
-    Stream, UnstableStart,
+    continue_streamed, run, run_from, run_streamed, Continue, DynamicRun, RunError, RunProgress,
+    Start, StartingEquilibrium, Stream, UnstableStart,
 };
 pub use sensors::{outputs_every, SensorEvent, SensorStop, SensorWatch};
 pub use simulate::{simulate, simulate_with, AfterOutput};

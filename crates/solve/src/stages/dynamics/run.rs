@@ -4,6 +4,8 @@
 use super::{simulate, simulate_with, AfterOutput, IntegratorSettings, Output, Simulation};
 use crate::constraints::system::System;
 use crate::pipeline::{Assembled, NotAssembled};
+use crate::state::State;
+use glam::DVec3;
 use linkage_model::Model;
 
 /// How far a [`run`] has got.
@@ -112,11 +114,27 @@ pub fn run(
         a,
         times,
         settings,
-        start,
-        UnstableStart::Accept,
+        Begin::Start(start, UnstableStart::Accept),
         progress,
         None,
     )
+}
+
+/// A state a dynamic run continues from: where the last analysis of a command file left the
+/// model, on the same assembly (positions and velocities consistent with its kept rows).
+#[derive(Clone, Copy, Debug)]
+pub struct Continue<'s> {
+    pub state: &'s State,
+    /// CM velocity and angular velocity of every part, ground axes.
+    pub velocities: &'s [(DVec3, DVec3)],
+}
+
+/// Where [`run_inner`] starts.
+enum Begin<'s> {
+    /// From the assembly (initial conditions or equilibrium).
+    Start(Start, UnstableStart),
+    /// From a given state.
+    From(Continue<'s>),
 }
 
 /// [`run`], with the choice of whether an unstable starting equilibrium stops the run before
@@ -129,7 +147,14 @@ pub fn run_from(
     unstable: UnstableStart,
     progress: impl FnMut(RunProgress),
 ) -> DynamicRun {
-    run_inner(a, times, settings, start, unstable, progress, None)
+    run_inner(
+        a,
+        times,
+        settings,
+        Begin::Start(start, unstable),
+        progress,
+        None,
+    )
 }
 
 /// Where a streamed run's outputs go, and when it must stop.
@@ -154,15 +179,41 @@ pub fn run_streamed(
     progress: impl FnMut(RunProgress),
     stream: Stream<'_>,
 ) -> DynamicRun {
-    run_inner(a, times, settings, start, unstable, progress, Some(stream))
+    run_inner(
+        a,
+        times,
+        settings,
+        Begin::Start(start, unstable),
+        progress,
+        Some(stream),
+    )
+}
+
+/// [`run_streamed`] continuing from `from` (no equilibrium first): how a command file's
+/// simulation goes on from where the last analysis left the model, on the same assembly.
+pub fn continue_streamed(
+    a: &Assembled,
+    times: &[f64],
+    settings: &IntegratorSettings,
+    from: Continue<'_>,
+    progress: impl FnMut(RunProgress),
+    stream: Stream<'_>,
+) -> DynamicRun {
+    run_inner(
+        a,
+        times,
+        settings,
+        Begin::From(from),
+        progress,
+        Some(stream),
+    )
 }
 
 fn run_inner(
     a: &Assembled,
     times: &[f64],
     settings: &IntegratorSettings,
-    start: Start,
-    unstable: UnstableStart,
+    begin: Begin<'_>,
     mut progress: impl FnMut(RunProgress),
     stream: Option<Stream<'_>>,
 ) -> DynamicRun {
@@ -175,13 +226,17 @@ fn run_inner(
     if let Some(why) = a.failure() {
         return fail(None, why.clone().into());
     }
-    let settle = match start {
-        Start::InitialConditions => None,
-        Start::Equilibrium => Some(model.equilibrium.dynamic),
-        Start::SettledEquilibrium => Some(true),
+    let (settle, unstable) = match begin {
+        Begin::From(_) => (None, UnstableStart::Accept),
+        Begin::Start(Start::InitialConditions, u) => (None, u),
+        Begin::Start(Start::Equilibrium, u) => (Some(model.equilibrium.dynamic), u),
+        Begin::Start(Start::SettledEquilibrium, u) => (Some(true), u),
     };
     let (equilibrium, state, v0) = match settle {
-        None => (None, a.state().clone(), a.velocities()),
+        None => match begin {
+            Begin::From(from) => (None, from.state.clone(), from.velocities.to_vec()),
+            Begin::Start(..) => (None, a.state().clone(), a.velocities()),
+        },
         Some(settle) => {
             let found = if settle {
                 let limit = model.equilibrium.settling_time;

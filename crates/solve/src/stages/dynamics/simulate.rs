@@ -83,7 +83,7 @@ pub fn simulate_with(
 ) -> Simulation {
     let n = p.n();
     let m = p.rows.len();
-    let mut sim = Simulation::empty(m >= 6 * n && n > 0 && p.controls() == 0);
+    let mut sim = Simulation::empty(crate::pipeline::kinematic(m, n, p.controls()));
     if sim.kinematic {
         let mut run = crate::stages::kinematics::run(p, start, v0, times, |t| {
             let _ = progress(t);
