@@ -81,6 +81,25 @@ pub struct Polyline {
 /// curve's size (the diagonal of its bounding box), checked at every chord's mid-parameter.
 pub const CHORD_TOLERANCE: f64 = 1e-5;
 
+/// Why a GRAPHICS statement cannot be a contact solid.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum GeometryError {
+    #[error(
+        "CURVE/{id} is not in its frame's xy plane (every z = 0): a 2-D contact curve must be"
+    )]
+    CurveNotPlanar { id: u64 },
+    #[error("CURVE/{id} cannot be sampled within the chord tolerance in {chords} chords")]
+    CurveTooFine { id: u64, chords: usize },
+    #[error("CID names CURVE/{cid}, which does not exist")]
+    MissingCurve { cid: u64 },
+    /// A graphic of a kind no contact uses (`kind`: its statement's kind).
+    #[error("a {kind} is not a contact solid")]
+    NotASolid { kind: String },
+    /// An EXTERNAL mesh that cannot be read (`why`: the reader's reason).
+    #[error("cannot read the mesh '{name}': {why}")]
+    Mesh { name: String, why: String },
+}
+
 /// Most chords a curve is sampled into.
 const MAX_CHORDS: usize = 1 << 18;
 
@@ -88,11 +107,9 @@ const MAX_CHORDS: usize = 1 << 18;
 /// spline piece until the mid-parameter point of every chord is within [`CHORD_TOLERANCE`]
 /// × size of the chord. Errors: a curve not in its frame's xy plane, or one that needs more
 /// than [`MAX_CHORDS`].
-pub fn sample_curve(id: u64, c: &crate::curves::Curve) -> Result<Polyline, String> {
+pub fn sample_curve(id: u64, c: &crate::curves::Curve) -> Result<Polyline, GeometryError> {
     if !c.planar {
-        return Err(format!(
-            "CURVE/{id} is not in its frame's xy plane (every z = 0): a 2-D contact curve must be"
-        ));
+        return Err(GeometryError::CurveNotPlanar { id });
     }
     let mut n = 32 * c.pieces().max(1);
     loop {
@@ -119,9 +136,10 @@ pub fn sample_curve(id: u64, c: &crate::curves::Curve) -> Result<Polyline, Strin
             });
         }
         if n >= MAX_CHORDS {
-            return Err(format!(
-                "CURVE/{id} cannot be sampled within the chord tolerance in {MAX_CHORDS} chords"
-            ));
+            return Err(GeometryError::CurveTooFine {
+                id,
+                chords: MAX_CHORDS,
+            });
         }
         n *= 2;
     }

@@ -17,8 +17,8 @@
 use super::context::{origin, Ctx};
 use crate::bodies::Marker;
 use crate::contacts::{
-    external_path, geometry_problem, mesh_format, sample_curve, Contact, ContactGeometry, Mesh,
-    Polyline, Solid,
+    external_path, geometry_problem, mesh_format, sample_curve, Contact, ContactGeometry,
+    GeometryError, Mesh, Polyline, Solid,
 };
 use crate::curves::Curve;
 use crate::forces::{ForceElement, ForceKind};
@@ -222,14 +222,14 @@ fn solid(
     curve_of: &CurveLookup,
     meshes: &mut HashMap<String, Arc<Mesh>>,
     polylines: &mut HashMap<u64, Arc<Polyline>>,
-) -> Result<(usize, Solid), String> {
+) -> Result<(usize, Solid), GeometryError> {
     Ok(match &g.shape {
         Shape::Curve { cid, crm } => {
             let polyline = match polylines.get(cid) {
                 Some(p) => p.clone(),
                 None => {
                     let Some(&k) = curve_of.index.get(cid) else {
-                        return Err(format!("CID names CURVE/{cid}, which does not exist"));
+                        return Err(GeometryError::MissingCurve { cid: *cid });
                     };
                     let p = Arc::new(sample_curve(*cid, &curve_of.curves[k])?);
                     polylines.insert(*cid, p.clone());
@@ -292,14 +292,21 @@ fn solid(
             };
             (*rm, Solid::Mesh(mesh))
         }
-        other => return Err(format!("a {} is not a contact solid", other.kind())),
+        other => {
+            return Err(GeometryError::NotASolid {
+                kind: other.kind().to_string(),
+            })
+        }
     })
 }
 
 /// Reads an STL (ascii or binary) or OBJ mesh named `name` relative to the dataset's folder.
-pub(crate) fn read_mesh(dataset_file: &str, name: &str) -> Result<Mesh, String> {
+pub(crate) fn read_mesh(dataset_file: &str, name: &str) -> Result<Mesh, GeometryError> {
     let path = external_path(dataset_file, name);
-    let fail = |why: String| format!("cannot read the mesh '{name}': {why}");
+    let fail = |why: String| GeometryError::Mesh {
+        name: name.to_string(),
+        why,
+    };
     let (vertices, triangles) = match mesh_format(name) {
         Some("stl") => {
             let mut f = std::fs::File::open(&path).map_err(|e| fail(e.to_string()))?;
@@ -416,7 +423,7 @@ mod tests {
         // The quad is triangulated into two triangles over its four vertices.
         let c = read_mesh(ds, "quad.obj").unwrap();
         assert_eq!((c.vertices.len(), c.triangles.len()), (4, 2));
-        let e = read_mesh(ds, "absent.stl").unwrap_err();
+        let e = read_mesh(ds, "absent.stl").unwrap_err().to_string();
         assert!(e.contains("absent.stl"), "{e}");
         let _ = std::fs::remove_dir_all(&d);
     }

@@ -90,24 +90,23 @@ pub fn statics(
     Ok(())
 }
 
-/// A SENSOR that ended an analysis (`how`: HALT or RETURN, by the last of `events`): the
-/// message line, and for HALT what the session keeps as `halted` (`SENSOR_1 at time 2.5`),
+/// A SENSOR that ended an analysis (`ended`: the report's `SENSOR_1 (HALT)` or
+/// `SENSOR_1 (RETURN)`, the last of `events`): the message line, and for HALT what the session keeps as `halted` (`SENSOR_1 at time 2.5`),
 /// which ends the command file: Adams' HALT terminates the solver, so the later commands are
 /// not run (the run is complete, not failed: exit 0), whereas RETURN goes on with the next
 /// command.
 fn sensor_stop(
     sinks: &mut Sinks,
-    how: Option<&str>,
+    ended: Option<&str>,
     events: &[SensorEventJson],
     what: &str,
 ) -> Result<Option<String>, RunError> {
-    let (Some(how), Some(e)) = (how, events.last()) else {
+    let (Some(ended), Some(e)) = (ended, events.last()) else {
         return Ok(None);
     };
-    let halt = how == "HALT";
+    let halt = ended.ends_with("(HALT)");
     sinks.msg.write(&format!(
-        " {} ({how}) ended the {what} at time {}{}",
-        e.name,
+        " {ended} ended the {what} at time {}{}",
         e.time,
         if halt {
             "; the command file ends here"

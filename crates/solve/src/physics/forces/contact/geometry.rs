@@ -93,18 +93,40 @@ impl fmt::Debug for Placed {
     }
 }
 
-fn hull(points: &[DVec3]) -> Result<SharedShape, String> {
+/// Why a contact solid has no shape the geometry library can collide.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum ShapeError {
+    #[error("its convex hull is degenerate (a zero dimension?)")]
+    DegenerateHull,
+    #[error("an ellipsoid needs positive XSCALE, YSCALE, ZSCALE")]
+    Ellipsoid,
+    #[error("a BOX needs non-zero X, Y and Z")]
+    Box,
+    #[error("a CYLINDER needs a non-zero LENGTH and RADIUS")]
+    Cylinder,
+    #[error("a FRUSTUM needs a non-zero LENGTH and a radius")]
+    Frustum,
+    #[error("a CIRCLE needs a positive RADIUS")]
+    Circle,
+    /// The mesh library's reason (`why`).
+    #[error("the mesh '{file}' is not usable: {why}")]
+    Mesh { file: String, why: String },
+    #[error("CURVE/{0} has fewer than 2 points")]
+    ShortCurve(u64),
+}
+
+fn hull(points: &[DVec3]) -> Result<SharedShape, ShapeError> {
     let p: Vec<PVec> = points.iter().map(|&q| pv(q)).collect();
     ConvexPolyhedron::from_convex_hull(&p)
         .map(SharedShape::new)
-        .ok_or_else(|| "its convex hull is degenerate (a zero dimension?)".to_string())
+        .ok_or(ShapeError::DegenerateHull)
 }
 
 /// A parry shape, its placement in the solid's (marker) frame and, for a mesh, its triangles.
 type Shaped = (SharedShape, Placement, Option<Vec<[u32; 3]>>);
 
 /// The parry shape of a solid and its placement in the solid's (marker) frame.
-fn shape(solid: &Solid) -> Result<Shaped, String> {
+fn shape(solid: &Solid) -> Result<Shaped, ShapeError> {
     let at = |p: DVec3| Placement {
         p,
         r: DMat3::IDENTITY,
@@ -117,7 +139,7 @@ fn shape(solid: &Solid) -> Result<Shaped, String> {
     Ok(match solid {
         Solid::Ellipsoid { radii } => {
             if radii.min_element() <= 0.0 {
-                return Err("an ellipsoid needs positive XSCALE, YSCALE, ZSCALE".to_string());
+                return Err(ShapeError::Ellipsoid);
             }
             if (radii.max_element() - radii.min_element()) <= 1e-12 * radii.max_element() {
                 (SharedShape::ball(radii.x), Placement::IDENTITY, None)
@@ -138,14 +160,14 @@ fn shape(solid: &Solid) -> Result<Shaped, String> {
         }
         Solid::Box { extent } => {
             if extent.abs().min_element() <= 0.0 {
-                return Err("a BOX needs non-zero X, Y and Z".to_string());
+                return Err(ShapeError::Box);
             }
             let h = extent.abs() * 0.5;
             (SharedShape::cuboid(h.x, h.y, h.z), at(*extent * 0.5), None)
         }
         Solid::Cylinder { length, radius } => {
             if *radius <= 0.0 || *length == 0.0 {
-                return Err("a CYLINDER needs a non-zero LENGTH and RADIUS".to_string());
+                return Err(ShapeError::Cylinder);
             }
             (
                 SharedShape::cylinder(0.5 * length.abs(), *radius),
@@ -166,13 +188,13 @@ fn shape(solid: &Solid) -> Result<Shaped, String> {
                 }
             }
             if *length == 0.0 || bottom.max(*top) <= 0.0 {
-                return Err("a FRUSTUM needs a non-zero LENGTH and a radius".to_string());
+                return Err(ShapeError::Frustum);
             }
             (hull(&pts)?, Placement::IDENTITY, None)
         }
         Solid::Disc { radius } => {
             if *radius <= 0.0 {
-                return Err("a CIRCLE needs a positive RADIUS".to_string());
+                return Err(ShapeError::Circle);
             }
             (SharedShape::cylinder(0.0, *radius), y_to_z(0.0), None)
         }
@@ -180,13 +202,16 @@ fn shape(solid: &Solid) -> Result<Shaped, String> {
         Solid::HalfSpace => (SharedShape::halfspace(PVec::Z), Placement::IDENTITY, None),
         Solid::Mesh(m) => {
             let v: Vec<PVec> = m.vertices.iter().map(|&q| pv(q)).collect();
-            let shape = SharedShape::trimesh(v, m.triangles.clone())
-                .map_err(|e| format!("the mesh '{}' is not usable: {e}", m.file))?;
+            let shape =
+                SharedShape::trimesh(v, m.triangles.clone()).map_err(|e| ShapeError::Mesh {
+                    file: m.file.clone(),
+                    why: e.to_string(),
+                })?;
             (shape, Placement::IDENTITY, Some(m.triangles.clone()))
         }
         Solid::Curve { polyline, .. } => {
             if polyline.points.len() < 2 {
-                return Err(format!("CURVE/{} has fewer than 2 points", polyline.curve));
+                return Err(ShapeError::ShortCurve(polyline.curve));
             }
             let v: Vec<PVec> = polyline.points.iter().map(|&q| pv(q)).collect();
             (SharedShape::polyline(v, None), Placement::IDENTITY, None)
@@ -195,7 +220,7 @@ fn shape(solid: &Solid) -> Result<Shaped, String> {
 }
 
 /// A geometry of the model as a placed parry shape.
-pub fn place(model: &Model, g: &ContactGeometry) -> Result<Placed, String> {
+pub fn place(model: &Model, g: &ContactGeometry) -> Result<Placed, ShapeError> {
     let (shape, local, triangles) = shape(&g.solid)?;
     let radius = shape.as_ball().map(|b| b.radius);
     let mk = &model.markers[g.marker];

@@ -56,12 +56,36 @@ pub struct ContactLaw {
     pub merge: f64,
 }
 
+/// Why a CONTACT has no law.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum ContactError {
+    /// A geometry the geometry library cannot shape.
+    #[error("GRAPHICS/{graphic}: {why}")]
+    Shape {
+        graphic: u64,
+        why: geometry::ShapeError,
+    },
+    /// A pair of shapes the geometry library cannot collide (two planes).
+    #[error(
+        "GRAPHICS/{} and GRAPHICS/{}: contact between a {} and a {} is not computed by the \
+         geometry library",
+        .graphics.0, .graphics.1, .shapes.0, .shapes.1
+    )]
+    Unsupported {
+        graphics: (u64, u64),
+        shapes: (String, String),
+    },
+}
+
 impl ContactLaw {
     /// The law of contact `c` of `model`; an error names a geometry parry cannot shape or a
     /// pair of geometries it cannot collide (two planes).
-    pub fn new(model: &Model, c: &Contact) -> Result<ContactLaw, String> {
+    pub fn new(model: &Model, c: &Contact) -> Result<ContactLaw, ContactError> {
         let place = |g: &linkage_model::contacts::ContactGeometry| {
-            geometry::place(model, g).map_err(|why| format!("GRAPHICS/{}: {why}", g.graphic))
+            geometry::place(model, g).map_err(|why| ContactError::Shape {
+                graphic: g.graphic,
+                why,
+            })
         };
         let i = c
             .i_geometries
@@ -76,14 +100,13 @@ impl ContactLaw {
         for a in &i {
             for b in &j {
                 if !geometry::supported(a, b) {
-                    return Err(format!(
-                        "GRAPHICS/{} and GRAPHICS/{}: contact between a {:?} and a {:?} is not \
-                         computed by the geometry library",
-                        a.graphic,
-                        b.graphic,
-                        a.shape.shape_type(),
-                        b.shape.shape_type()
-                    ));
+                    return Err(ContactError::Unsupported {
+                        graphics: (a.graphic, b.graphic),
+                        shapes: (
+                            format!("{:?}", a.shape.shape_type()),
+                            format!("{:?}", b.shape.shape_type()),
+                        ),
+                    });
                 }
             }
         }
