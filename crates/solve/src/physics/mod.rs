@@ -4,6 +4,7 @@
 pub mod applied;
 pub mod control_states;
 pub mod controls;
+pub mod fe_modes;
 pub mod flex_inertia;
 pub mod forces;
 pub mod mass;

@@ -43,12 +43,12 @@
 
 use crate::constraints::rows::{BodyFrame, RowGradient};
 use crate::constraints::system::System;
+use crate::kernel::Output;
 use crate::physics::applied::AppliedForces;
 use crate::physics::forces::data::DataElements;
 use crate::physics::forces::ForceSet;
 use crate::physics::mass::{ground_inertia, gyroscopic};
 use crate::physics::measures::{MarkerFrames, StateEnv};
-use crate::stages::dynamics::Output;
 use glam::{DMat3, DVec3};
 use linkage_adm::{Diagnostics, RequestKind};
 use linkage_expr::{

@@ -39,8 +39,8 @@ use crate::linalg::eigs::{zero_eigenvectors, ConstrainedPencil, EigenError, Spar
 use crate::linalg::kkt::{jacobian_entries, null_space, CoordinateScale, Zeros};
 use crate::physics::applied::{AppliedForces, ForceError};
 use crate::physics::mass::{ground_inertia, MasslessSubstitute};
+use crate::pipeline::ic::AccelerationError;
 use crate::pipeline::{Assembled, NotAssembled};
-use crate::stages::ic::AccelerationError;
 use crate::stages::statics::{Equilibrium, StaticsError};
 use crate::state::State;
 use crate::tolerances::UNDERFLOW_FLOOR;

@@ -11,8 +11,9 @@
 //! start.
 
 use crate::constraints::system::System;
+use crate::kernel::ExtraDamping;
 use crate::pipeline::{Assembled, NotAssembled};
-use crate::stages::dynamics::{simulate_with, AfterOutput, ExtraDamping, IntegratorSettings};
+use crate::stages::dynamics::{simulate_with, AfterOutput, IntegratorSettings};
 use crate::stages::statics::{equilibrium, Equilibrium, StaticsError};
 use crate::state::State;
 use crate::tolerances::SETTLING_INTEGRATOR_ERROR;

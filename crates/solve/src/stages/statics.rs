@@ -23,13 +23,13 @@ use crate::constraints::drivers::{Drivers, MotionError};
 use crate::constraints::hessian::HessianBlocks;
 use crate::constraints::rows::RowGradient;
 use crate::constraints::system::{RowUnit, System};
+use crate::kernel::{
+    outputs_every, IntegrationError, Output, SensorEvent, SensorStop, SensorWatch,
+};
 use crate::linalg::linear::LinearError;
 use crate::physics::applied::{AppliedForces, ForceError};
 use crate::physics::reactions::{element_reactions, Reaction};
 use crate::pipeline::Assembled;
-use crate::stages::dynamics::{
-    outputs_every, IntegrationError, Output, SensorEvent, SensorStop, SensorWatch,
-};
 use crate::state::State;
 use crate::tolerances::{
     STABILITY_EIGENVALUE, STABILITY_RANK, STATIC_CONSTRAINT_FLOOR, STATIC_CUT_PROJECTION,

@@ -52,11 +52,11 @@
 //! ([`crate::physics::controls::consistent_rates`]).
 
 use super::corrector::{correct, reciprocal_length_weight, Scheme, Step, Workspace};
-use super::error::IntegrationError;
-use super::matrix::MatrixCoefficients;
-use super::output::Output;
-use super::problem::{flat, padded, Problem};
 use crate::constraints::rows::Velocities;
+use crate::kernel::error::IntegrationError;
+use crate::kernel::matrix::MatrixCoefficients;
+use crate::kernel::output::Output;
+use crate::kernel::problem::{flat, padded, Problem};
 use crate::state::{Pose, State};
 use glam::{DMat3, DVec3};
 use linkage_model::frames::{exp_so3, log_so3, skew};

@@ -5,11 +5,11 @@
 use super::corrector::{
     correct, project_velocities, reciprocal_length_weight, Scheme, Step, Workspace,
 };
-use super::error::IntegrationError;
 use super::hht::Hht;
-use super::output::Output;
-use super::problem::{flat, padded, Problem};
 use crate::constraints::rows::Velocities;
+use crate::kernel::error::IntegrationError;
+use crate::kernel::output::Output;
+use crate::kernel::problem::{flat, padded, Problem};
 use crate::state::State;
 use glam::DVec3;
 use linkage_model::settings::IntegratorSettings;

@@ -1,15 +1,16 @@
 //! The simulate loop: step-size control on the local error estimate, output times hit exactly,
 //! consistent outputs, redundant rows checked after every step, sensors evaluated after every
-//! step ([`super::sensors`]). A model without degrees of freedom is handed to the kinematic
+//! step ([`crate::kernel::sensors`], events located by [`super::events`]). A model without degrees of freedom is handed to the kinematic
 //! run.
 
-use super::error::IntegrationError;
-use super::output::Output;
-use super::problem::Problem;
-use super::redundant::{redundant_tolerance, redundant_violation};
-use super::results::{Failure, Simulation};
-use super::sensors::SensorWatch;
+use super::events;
 use super::stepper::Stepper;
+use crate::kernel::error::IntegrationError;
+use crate::kernel::output::Output;
+use crate::kernel::problem::Problem;
+use crate::kernel::redundant::{redundant_tolerance, redundant_violation};
+use crate::kernel::results::{Failure, Simulation};
+use crate::kernel::sensors::SensorWatch;
 use crate::state::State;
 use crate::tolerances::{
     AT_MIN_STEP, LOCAL_ERROR_FLOOR, LOCAL_ERROR_ROUNDING, OUTPUT_AT_START, OUTPUT_HIT, SPAN_FLOOR,
@@ -240,7 +241,7 @@ pub fn simulate_with(
                 );
                 // Sensors: an event inside the step continues the run from its time.
                 if let Some(w) = sensors.as_mut() {
-                    match w.after_step(p, &mut integ, settings, span) {
+                    match events::after_step(w, p, &mut integ, settings, span) {
                         Ok(None) => {}
                         Ok(Some(fired)) => {
                             let at_output = hit && !fired.before_step_end;

@@ -1,11 +1,11 @@
 //! The integrator a run steps with: HHT-α or BDF, behind one interface for the simulate loop.
 
 use super::bdf::Bdf;
-use super::error::IntegrationError;
 use super::integrator::Integrator;
-use super::output::Output;
-use super::problem::Problem;
 use crate::constraints::rows::Velocities;
+use crate::kernel::error::IntegrationError;
+use crate::kernel::output::Output;
+use crate::kernel::problem::Problem;
 use crate::state::State;
 use linkage_model::settings::{IntegratorMethod, IntegratorSettings};
 

@@ -2,7 +2,7 @@
 //! acceleration and force, with the redundancy classified at the assembled configuration.
 //!
 //! 1. Displacement: rank analysis at the input (broken joints as intended), least-change
-//!    assembly of the independent rows and hard conditions ([`crate::stages::assemble`]), then the rank
+//!    assembly of the independent rows and hard conditions ([`crate::pipeline::assemble`]), then the rank
 //!    analysis again at the assembled configuration; if it admits a row the assembly did not
 //!    satisfy, assemble once more with the new set.
 //! 2. Velocity: `min ½(v − v₀)ᵀW(v − v₀)` subject to `J v = ḟ(t) − ∂Φ/∂t` (motions, and
@@ -13,15 +13,16 @@
 //!    included ([`System::acceleration_bias`]); reactions `−Jᵀμ / UCF` on each element's I
 //!    marker. Redundant rows are not in J, so their reactions are zero, as in Adams.
 
+use super::assemble::{assemble, hard_rows, Assembly, HardKind, HardRow};
+use super::verify::{verify_at, Verification};
 use crate::constraints::drivers::{Drivers, ExpressionDrivers, MotionError};
+use crate::constraints::residuals::{report_residual, residuals};
 use crate::constraints::rows::RowGradient;
 use crate::constraints::system::System;
+use crate::kernel::{flat, IntegrationError, OutputSolver, Problem, SingularSolve};
 use crate::linalg::kkt::{SaddlePoint, Zeros};
 use crate::physics::applied::{AppliedForces, ForceError};
 use crate::physics::reactions::Reaction;
-use crate::stages::assemble::{assemble, hard_rows, Assembly, HardKind, HardRow};
-use crate::stages::dynamics::{flat, IntegrationError, OutputSolver, Problem, SingularSolve};
-use crate::stages::verify::{report_residual, residuals, verify_at, Verification};
 use crate::state::State;
 use crate::tolerances::{Tolerances, ACCELERATION_IC_FLOOR, UNGIVEN_VELOCITY_WEIGHT};
 use glam::DVec3;
@@ -278,8 +279,14 @@ fn analysis_repairs(
             continue;
         };
         let unit = sys.rows[r].unit;
-        let holds =
-            |x| crate::stages::verify::within_tolerance(unit, x, tol, model.characteristic_length);
+        let holds = |x| {
+            crate::constraints::residuals::within_tolerance(
+                unit,
+                x,
+                tol,
+                model.characteristic_length,
+            )
+        };
         // Only real repairs: broken at the input and holding after the assembly (a redundant
         // equation that still does not hold is reported as inconsistent, not as repaired).
         if !holds(b) && holds(a) {

@@ -1,4 +1,7 @@
-//! The assembled problem: built once per dataset, consumed by every analysis.
+//! The assembled problem: built once per dataset, consumed by every analysis. This layer owns
+//! the initial-conditions solve: [`verify`] (rank analysis at the input), [`assemble`]
+//! (least-change assembly) and [`ic`] (re-verification at the assembled pose, velocity and
+//! acceleration/force IC), on the shared [`crate::kernel`]; it imports no stage.
 //!
 //! ```text
 //! Model ──Assembled::new──▶ Assembled ──▶ statics::run      (equilibrium, quasi-statics)
@@ -16,15 +19,19 @@
 //! `q(t) = q(0) + ∫f`), and the applied forces. Each stage takes `&Assembled` (or the state a
 //! previous stage left) and returns its own result type.
 
+pub mod assemble;
+pub mod ic;
+pub mod verify;
+
 use crate::constraints::drivers::ExpressionDrivers;
+use crate::constraints::residuals::report_unit_suffix;
 use crate::constraints::system::System;
+use crate::kernel::{ExtraDamping, Problem};
 use crate::physics::applied::AppliedForces;
-use crate::stages::dynamics::{ExtraDamping, Problem};
-use crate::stages::ic::{initial_conditions_at, InitialConditions};
-use crate::stages::verify::report_unit_suffix;
 use crate::state::State;
 use crate::tolerances::Tolerances;
 use glam::DVec3;
+use ic::{initial_conditions_at, InitialConditions};
 use linkage_model::Model;
 
 /// A redundant equation that the assembled configuration cannot satisfy.
