@@ -31,7 +31,11 @@ pub fn ic(loaded: &Loaded) -> Result<IcRun, Diagnostics> {
     let ic = &assembled.ic;
     let mut report = linkage_report::ic::to_json(&loaded.model, ic, &loaded.warnings);
     if let Some(v) = &ic.velocity {
-        let values = forces.friction_values(&ic.assembly.state, &v.velocities);
+        let values = forces.friction_values(
+            linkage_solve::physics::applied::Regime::Dynamic,
+            &ic.assembly.state,
+            &v.velocities,
+        );
         report.frictions = linkage_report::friction::frictions_json(&loaded.model, &values);
     }
     if !matches!(

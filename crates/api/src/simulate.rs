@@ -6,7 +6,7 @@ use crate::source::{applied_forces, coverage_json, Loaded};
 use linkage_report::element_columns;
 use linkage_report::simulate::{CsvHistory, SimulateJson};
 use linkage_solve::coverage::Analysis;
-use linkage_solve::physics::applied::AppliedForces;
+use linkage_solve::physics::applied::{AppliedForces, Regime};
 use linkage_solve::physics::requests::RequestSet;
 use linkage_solve::pipeline::Assembled;
 use linkage_solve::stages::dynamics::{
@@ -87,7 +87,8 @@ impl CsvStream<'_> {
         let frictions = if assembled.model.frictions.is_empty() {
             Vec::new()
         } else {
-            self.forces.friction_values(&o.state, &o.velocities)
+            self.forces
+                .friction_values(Regime::Dynamic, &o.state, &o.velocities)
         };
         let contacts = linkage_solve::constraints::curve_contacts::curve_contacts(
             assembled.model,
@@ -219,7 +220,7 @@ pub fn simulate(loaded: &Loaded, args: SimulateArgs) -> Result<SimulateJson, Err
     );
     let mut report = linkage_report::simulate::summary(&assembled, &result, &loaded.warnings);
     if let Some(last) = result.simulation.as_ref().and_then(|s| s.outputs.last()) {
-        let values = forces.friction_values(&last.state, &last.velocities);
+        let values = forces.friction_values(Regime::Dynamic, &last.state, &last.velocities);
         report.frictions = linkage_report::friction::frictions_json(&loaded.model, &values);
         let contacts = linkage_solve::constraints::curve_contacts::curve_contacts(
             &loaded.model,

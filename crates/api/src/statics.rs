@@ -134,9 +134,11 @@ pub fn statics(
     if let [(_, Ok(eq))] = result.steps.as_slice() {
         // The friction as the equilibrium had it (those inactive in statics off).
         let rest = assembled.rest();
-        applied.set_static(true);
-        let values = applied.friction_values(&eq.state, &rest);
-        applied.set_static(false);
+        let values = applied.friction_values(
+            linkage_solve::physics::applied::Regime::Static,
+            &eq.state,
+            &rest,
+        );
         report.frictions = linkage_report::friction::frictions_json(&loaded.model, &values);
         let contacts = linkage_solve::constraints::curve_contacts::curve_contacts(
             &loaded.model,

@@ -18,7 +18,7 @@ use linkage_model::Model;
 use linkage_report::element_columns;
 use linkage_report::simulate::CsvHistory;
 use linkage_solve::constraints::system::System;
-use linkage_solve::physics::applied::AppliedForces;
+use linkage_solve::physics::applied::{AppliedForces, Regime};
 use linkage_solve::physics::requests::RequestSet;
 use linkage_solve::stages::dynamics::Output;
 use std::fs::File;
@@ -168,7 +168,7 @@ impl Records {
         let frictions = if model.frictions.is_empty() {
             Vec::new()
         } else {
-            forces.friction_values(&o.state, &o.velocities)
+            forces.friction_values(Regime::Dynamic, &o.state, &o.velocities)
         };
         let contacts =
             linkage_solve::constraints::curve_contacts::curve_contacts(model, sys, &o.state);

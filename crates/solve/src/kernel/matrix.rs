@@ -141,6 +141,7 @@ impl IterationMatrix {
         self.dq.clear();
         self.dv.clear();
         p.forces.add_jacobians(
+            p.regime,
             p.force_state(s, &mut self.force_state),
             at.v,
             &mut self.dq,
@@ -153,7 +154,7 @@ impl IterationMatrix {
             let fs = p.force_state(s, &mut self.force_state);
             p.forces.control_jacobian(fs, at.v, &mut self.dr)?;
             p.forces
-                .add_control_force_jacobian(fs, at.v, &mut self.dqx)?;
+                .add_control_force_jacobian(p.regime, fs, at.v, &mut self.dqx)?;
         }
         let base = 6 * n + p.rows.len();
         let (to_q, to_v) = (kq / c.multiplier, kv / c.multiplier);

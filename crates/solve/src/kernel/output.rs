@@ -315,6 +315,7 @@ mod tests {
             forces: &NoForces,
             damping: None,
             frozen_time: None,
+            regime: crate::physics::applied::Regime::Dynamic,
             coupling: crate::physics::flex_inertia::FlexCoupling::new(&model),
         };
         let s = State::input(&model);

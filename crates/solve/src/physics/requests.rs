@@ -44,7 +44,7 @@
 use crate::constraints::rows::{BodyFrame, RowGradient};
 use crate::constraints::system::System;
 use crate::kernel::Output;
-use crate::physics::applied::AppliedForces;
+use crate::physics::applied::{AppliedForces, Regime};
 use crate::physics::forces::data::DataElements;
 use crate::physics::forces::ForceSet;
 use crate::physics::mass::{ground_inertia, gyroscopic};
@@ -385,7 +385,7 @@ impl<'a> OutputEnv<'a> {
         let n = model.parts.len();
         let mut applied = vec![0.0; 6 * n];
         if let Some(fs) = self.applied_forces()? {
-            fs.add_forces(&o.state, &o.velocities, &mut applied)
+            fs.add_forces(Regime::Dynamic, &o.state, &o.velocities, &mut applied)
                 .map_err(|m| EvalError::new(EvalErrorKind::Domain, m.to_string()))?;
         }
         let ucf = model.ucf();

@@ -21,7 +21,7 @@ use crate::constraints::rows::RowGradient;
 use crate::constraints::system::System;
 use crate::kernel::{flat, IntegrationError, OutputSolver, Problem, SingularSolve};
 use crate::linalg::kkt::{SaddlePoint, Zeros};
-use crate::physics::applied::{AppliedForces, ForceError};
+use crate::physics::applied::{AppliedForces, ForceError, Regime};
 use crate::physics::reactions::Reaction;
 use crate::state::State;
 use crate::tolerances::{Tolerances, ACCELERATION_IC_FLOOR, UNGIVEN_VELOCITY_WEIGHT};
@@ -515,7 +515,7 @@ pub fn acceleration_ic(
 ) -> Result<AccelerationIc, AccelerationError> {
     let n = model.parts.len();
     let mut applied = vec![0.0; 6 * n];
-    forces.add_forces(s, v, &mut applied)?;
+    forces.add_forces(Regime::Dynamic, s, v, &mut applied)?;
     // The acceleration equations `∇Φ·a = f̈ − γ` of the rows, to measure the solution by.
     let mut g = RowGradient::default();
     let mut eqs: Vec<(RowGradient, f64)> = Vec::with_capacity(rows.len());
@@ -557,6 +557,7 @@ pub fn acceleration_ic(
         forces,
         damping: None,
         frozen_time: None,
+        regime: Regime::Dynamic,
         coupling: crate::physics::flex_inertia::FlexCoupling::new(model),
     };
     let solved = OutputSolver::exact(&problem, s, v)

@@ -27,7 +27,7 @@ use crate::constraints::drivers::ExpressionDrivers;
 use crate::constraints::residuals::report_unit_suffix;
 use crate::constraints::system::System;
 use crate::kernel::{ExtraDamping, Problem};
-use crate::physics::applied::AppliedForces;
+use crate::physics::applied::{AppliedForces, Regime};
 use crate::state::State;
 use crate::tolerances::Tolerances;
 use glam::DVec3;
@@ -219,6 +219,7 @@ impl<'m> Assembled<'m> {
             forces: self.forces,
             damping,
             frozen_time,
+            regime: Regime::Dynamic,
             coupling: crate::physics::flex_inertia::FlexCoupling::new(self.model),
         }
     }

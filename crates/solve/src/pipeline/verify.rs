@@ -6,8 +6,8 @@
 
 use crate::constraints::graph::{topology, Topology};
 use crate::constraints::rank::{greedy_rank, RankSettings, SparseRows};
-use crate::constraints::rows::RowGradient;
 use crate::constraints::residuals::{report_residual, residuals, within_tolerance};
+use crate::constraints::rows::RowGradient;
 use crate::constraints::system::{System, Tier};
 use crate::state::State;
 use crate::tolerances::{Tolerances, DEPENDENCY_COEFFICIENT};

@@ -27,7 +27,7 @@ use crate::kernel::{
     outputs_every, IntegrationError, Output, SensorEvent, SensorStop, SensorWatch,
 };
 use crate::linalg::linear::LinearError;
-use crate::physics::applied::{AppliedForces, ForceError};
+use crate::physics::applied::{AppliedForces, ForceError, Regime};
 use crate::physics::reactions::{element_reactions, Reaction};
 use crate::pipeline::Assembled;
 use crate::state::State;
@@ -248,13 +248,11 @@ pub fn equilibrium(
     if !forces.has_state() {
         return equilibrium_once(model, sys, rows, drivers, forces, start, settings);
     }
-    forces.set_static(true);
     let result = equilibrium_once(model, sys, rows, drivers, forces, start, settings);
     if let Some(eq) = result.as_ref().ok().filter(|e| e.converged) {
         let rest = vec![(DVec3::ZERO, DVec3::ZERO); model.parts.len()];
         forces.accept_state(&eq.state, &rest, &eq.reactions);
     }
-    forces.set_static(false);
     result
 }
 
@@ -558,7 +556,9 @@ fn reduced_stability(
     let mut kt = faer::Mat::<f64>::zeros(dim, dim);
     let mut dq = Vec::new();
     let rest = vec![(DVec3::ZERO, DVec3::ZERO); n];
-    forces.add_jacobians(s, &rest, &mut dq, None).ok()?;
+    forces
+        .add_jacobians(Regime::Static, s, &rest, &mut dq, None)
+        .ok()?;
     for (i, j, v) in dq {
         kt[(i, j)] -= v * scale(i) * scale(j);
     }

@@ -3,6 +3,7 @@
 
 use super::{FrictionLaw, FrictionState, FrictionValue};
 use crate::constraints::rows::Velocities;
+use crate::physics::applied::Regime;
 use crate::physics::forces::algebra::Real;
 use crate::physics::forces::{marker_frame, Context, Loads};
 use crate::physics::reactions::Reaction;
@@ -10,12 +11,10 @@ use crate::state::State;
 use linkage_model::Model;
 use std::sync::{Mutex, MutexGuard};
 
-/// What the analyses change: the states, and whether a static analysis is running (the
-/// frictions with `INACTIVE_DURING = STATIC` are then off).
+/// What the analyses change: the states.
 #[derive(Clone, Debug, Default)]
 struct Shared {
     states: Vec<FrictionState>,
-    statics: bool,
 }
 
 /// The model's frictions and their states.
@@ -47,10 +46,7 @@ impl FrictionSet {
         let states = laws.iter().map(|l| l.start(&input)).collect();
         FrictionSet {
             laws,
-            shared: Mutex::new(Shared {
-                states,
-                statics: false,
-            }),
+            shared: Mutex::new(Shared { states }),
         }
     }
 
@@ -73,14 +69,9 @@ impl FrictionSet {
         self.lock().states.clone()
     }
 
-    /// Whether friction `k` acts now (not in a static analysis when INACTIVE_DURING=STATIC).
-    fn active(&self, shared: &Shared, k: usize) -> bool {
-        !(shared.statics && self.laws[k].friction.inactive_static)
-    }
-
-    /// Whether friction `k` acts now ([`FrictionSet::set_static`]).
-    pub fn acts(&self, k: usize) -> bool {
-        self.active(&self.lock(), k)
+    /// Whether friction `k` acts in `regime` (not in statics when INACTIVE_DURING=STATIC).
+    pub fn acts(&self, regime: Regime, k: usize) -> bool {
+        !(regime == Regime::Static && self.laws[k].friction.inactive_static)
     }
 
     /// The state of friction `k`.
@@ -88,9 +79,9 @@ impl FrictionSet {
         self.lock().states[k]
     }
 
-    /// The largest stiction deformation of the active frictions at `(s, v)` from their
-    /// anchors, as a fraction of each one's MAX_STICTION_DEFORMATION (0 without any).
-    pub fn stiction_fraction(&self, s: &State, v: &Velocities) -> f64 {
+    /// The largest stiction deformation of the frictions active in `regime` at `(s, v)` from
+    /// their anchors, as a fraction of each one's MAX_STICTION_DEFORMATION (0 without any).
+    pub fn stiction_fraction(&self, regime: Regime, s: &State, v: &Velocities) -> f64 {
         let shared = self.lock();
         let kin = crate::physics::forces::algebra::Kinematics {
             state: s,
@@ -98,7 +89,7 @@ impl FrictionSet {
         };
         let mut largest: f64 = 0.0;
         for (k, law) in self.laws.iter().enumerate() {
-            if !self.active(&shared, k) {
+            if !self.acts(regime, k) {
                 continue;
             }
             let slip = law.slip::<f64>(&kin, &shared.states[k]);
@@ -118,14 +109,14 @@ impl FrictionSet {
         self.lock().states[k].normal = normal;
     }
 
-    /// Calls `sink` with the loads of every active friction at `cx`.
-    pub fn each_load<R: Real>(&self, cx: &Context, mut sink: impl FnMut(Loads<R>)) {
+    /// Calls `sink` with the loads of every friction active in `regime` at `cx`.
+    pub fn each_load<R: Real>(&self, regime: Regime, cx: &Context, mut sink: impl FnMut(Loads<R>)) {
         if self.laws.is_empty() {
             return;
         }
         let shared = self.lock();
         for (k, law) in self.laws.iter().enumerate() {
-            if self.active(&shared, k) {
+            if self.acts(regime, k) {
                 sink(law.loads::<R>(cx, &shared.states[k]));
             }
         }
@@ -150,18 +141,13 @@ impl FrictionSet {
         change
     }
 
-    /// Static analyses on or off.
-    pub fn set_static(&self, on: bool) {
-        self.lock().statics = on;
-    }
-
-    /// The value of each friction at `(s, v)` (zero when it is off).
-    pub fn values(&self, s: &State, v: &Velocities) -> Vec<FrictionValue> {
+    /// The value of each friction at `(s, v)` in `regime` (zero when it is off there).
+    pub fn values(&self, regime: Regime, s: &State, v: &Velocities) -> Vec<FrictionValue> {
         let shared = self.lock();
         self.laws
             .iter()
             .enumerate()
-            .map(|(k, l)| l.value(s, v, &shared.states[k], self.active(&shared, k)))
+            .map(|(k, l)| l.value(s, v, &shared.states[k], self.acts(regime, k)))
             .collect()
     }
 

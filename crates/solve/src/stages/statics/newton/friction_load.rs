@@ -23,6 +23,7 @@
 
 use super::Problem;
 use crate::constraints::rows::{RowGradient, Velocities};
+use crate::physics::applied::Regime;
 use crate::state::State;
 use glam::DVec3;
 use linkage_model::bodies::Body;
@@ -58,7 +59,7 @@ impl FrictionLoads {
             .laws()
             .iter()
             .enumerate()
-            .filter(|(k, _)| set.acts(*k))
+            .filter(|(k, _)| set.acts(Regime::Static, *k))
             .map(|(k, law)| {
                 let rows: Vec<usize> = p
                     .used
@@ -99,7 +100,7 @@ impl FrictionLoads {
         // A friction already at the reach (stopped there by the last step, or held near
         // its limit) may leave the band: its equilibrium can lie beyond, sliding at μs·N
         // with other loads taking the rest.
-        let before = set.stiction_fraction(s, rest);
+        let before = set.stiction_fraction(Regime::Static, s, rest);
         if before >= STICTION_REACH {
             return 1.0;
         }
@@ -107,7 +108,7 @@ impl FrictionLoads {
         for (k, &(dx, dth)) in steps.iter().enumerate() {
             self.trial.increment(k, dx * scale, dth * scale);
         }
-        let after = set.stiction_fraction(&self.trial, rest);
+        let after = set.stiction_fraction(Regime::Static, &self.trial, rest);
         if after <= 1.0 {
             return 1.0;
         }
