@@ -80,6 +80,7 @@ impl Problem<'_> {
             Some(t) => {
                 buf.poses.clone_from(&s.poses);
                 buf.controls.clone_from(&s.controls);
+                buf.elements.clone_from(&s.elements);
                 buf.time = t;
                 buf
             }

@@ -83,18 +83,20 @@ pub trait AppliedForces {
 
     /// Whether some element carries a state of its own from one accepted state to the next
     /// (joint friction: its stiction anchor and normal load, [`crate::physics::forces::friction`]).
-    /// The analyses call the three methods below only then.
+    /// That state is data of the run's [`State`] (`State::elements`), never of the set; the
+    /// analyses call the two methods below only then.
     fn has_state(&self) -> bool {
         false
     }
 
-    /// Starts the elements' state at `s` (the IC: stiction anchors at the assembled pose).
-    fn start_state(&self, _s: &State) {}
+    /// Starts the elements' state in `s` at its configuration (the IC: stiction anchors at the
+    /// assembled pose).
+    fn start_state(&self, _s: &mut State) {}
 
-    /// Updates the elements' state after an accepted state `(s, v)` whose constraint
+    /// Updates the elements' state in `s` after the accepted state `(s, v)` whose constraint
     /// reactions are `reactions`; returns the largest change of a load the state holds
     /// (model force units), which a static analysis iterates to zero.
-    fn accept_state(&self, _s: &State, _v: &Velocities, _reactions: &[Reaction]) -> f64 {
+    fn accept_state(&self, _s: &mut State, _v: &Velocities, _reactions: &[Reaction]) -> f64 {
         0.0
     }
 
@@ -110,7 +112,7 @@ pub trait AppliedForces {
         None
     }
 
-    /// The friction of every FRICTION at `(s, v)` in `regime` with the current state, in
+    /// The friction of every FRICTION at `(s, v)` in `regime` with the state `s` carries, in
     /// model order, for the reports (none without frictions).
     fn friction_values(&self, _regime: Regime, _s: &State, _v: &Velocities) -> Vec<FrictionValue> {
         Vec::new()

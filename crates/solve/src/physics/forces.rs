@@ -787,11 +787,11 @@ impl AppliedForces for ForceSet {
         !self.frictions.is_empty()
     }
 
-    fn start_state(&self, s: &State) {
+    fn start_state(&self, s: &mut State) {
         self.frictions.start(s);
     }
 
-    fn accept_state(&self, s: &State, v: &Velocities, reactions: &[Reaction]) -> f64 {
+    fn accept_state(&self, s: &mut State, v: &Velocities, reactions: &[Reaction]) -> f64 {
         self.frictions.accept(s, v, reactions)
     }
 

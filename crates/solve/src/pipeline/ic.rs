@@ -206,31 +206,22 @@ pub fn initial_conditions_at(
     let (velocity, acceleration) = if asm.converged {
         let rows = admitted_rows(&analysis);
         let vel = velocity_ic(model, sys, &rows, &hard, drivers, &asm.state);
-        let solve = || {
-            acceleration_ic(
-                model,
-                sys,
-                &rows,
-                drivers,
-                forces,
-                &asm.state,
-                &vel.velocities,
-            )
-        };
+        let solve =
+            |s: &State| acceleration_ic(model, sys, &rows, drivers, forces, s, &vel.velocities);
         // Elements with a state (joint friction): anchored at the assembled pose; their
         // normal loads from the reactions of a first solve, then solved again with them.
         let acc = if forces.has_state() {
-            forces.start_state(&asm.state);
-            let first = solve();
+            forces.start_state(&mut asm.state);
+            let first = solve(&asm.state);
             match &first {
                 Ok(a) => {
-                    forces.accept_state(&asm.state, &vel.velocities, &a.reactions);
-                    solve()
+                    forces.accept_state(&mut asm.state, &vel.velocities, &a.reactions);
+                    solve(&asm.state)
                 }
                 Err(_) => first,
             }
         } else {
-            solve()
+            solve(&asm.state)
         };
         let acc = acc.map_err(|e| match e {
             AccelerationError::Singular { free } if free.is_empty() => {

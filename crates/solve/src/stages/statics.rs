@@ -248,10 +248,10 @@ pub fn equilibrium(
     if !forces.has_state() {
         return equilibrium_once(model, sys, rows, drivers, forces, start, settings);
     }
-    let result = equilibrium_once(model, sys, rows, drivers, forces, start, settings);
-    if let Some(eq) = result.as_ref().ok().filter(|e| e.converged) {
+    let mut result = equilibrium_once(model, sys, rows, drivers, forces, start, settings);
+    if let Some(eq) = result.as_mut().ok().filter(|e| e.converged) {
         let rest = vec![(DVec3::ZERO, DVec3::ZERO); model.parts.len()];
-        forces.accept_state(&eq.state, &rest, &eq.reactions);
+        forces.accept_state(&mut eq.state, &rest, &eq.reactions);
     }
     result
 }
@@ -299,7 +299,7 @@ fn equilibrium_once(
     let mut history = [0.0; RUNAWAY_WINDOW];
     let mut recorded = 0usize;
     loop {
-        let load = w.residuals(&p, &s, &lambda)?;
+        let load = w.residuals(&p, &mut s, &lambda)?;
         if w.force.iter().chain(&w.phi).any(|x| !x.is_finite()) {
             return Err(StaticsError::NotFinite {
                 iteration: iterations,

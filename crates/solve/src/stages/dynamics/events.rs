@@ -23,8 +23,17 @@ pub(super) fn after_step(
     span: f64,
 ) -> Result<Option<Fired>, IntegrationError> {
     let o1 = integ.output()?;
+    // Trial times are re-stepped with the force elements' state the run has now (that of
+    // the accepted step, as the running integrator's next step would be).
+    let elements = &o1.state.elements.clone();
     watch.after_point(p.model, o1, &mut |from, t| {
-        integrate_to(p, from, t, settings, span)
+        if from.state.elements == *elements {
+            integrate_to(p, from, t, settings, span)
+        } else {
+            let mut start = from.clone();
+            start.state.elements.clone_from(elements);
+            integrate_to(p, &start, t, settings, span)
+        }
     })
 }
 

@@ -10,7 +10,7 @@ use crate::constraints::rows::Velocities;
 use crate::kernel::error::IntegrationError;
 use crate::kernel::output::Output;
 use crate::kernel::problem::{flat, padded, Problem};
-use crate::state::State;
+use crate::state::{ElementState, State};
 use glam::DVec3;
 use linkage_model::settings::IntegratorSettings;
 
@@ -146,6 +146,13 @@ impl<'p, 'a> Integrator<'p, 'a> {
     /// Positions at the current step.
     pub fn state(&self) -> &State {
         &self.cur.s
+    }
+
+    /// Replaces the force elements' state the next steps are solved with (joint friction
+    /// after an accepted step: [`crate::physics::applied::AppliedForces::accept_state`]).
+    pub fn set_elements(&mut self, elements: &ElementState) {
+        self.cur.s.elements.clone_from(elements);
+        self.trial.s.elements.clone_from(elements);
     }
 
     /// Velocities at the current step, 6 per part (CM velocity, angular velocity; ground).

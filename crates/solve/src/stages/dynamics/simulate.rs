@@ -202,11 +202,14 @@ pub fn simulate_with(
                 sim.steps += 1;
                 let (err, order) = integ.accept(err, tol);
                 let now = integ.time();
-                // Force elements with a state (joint friction) take the accepted step.
+                // Force elements with a state (joint friction) take the accepted step; the
+                // next steps are solved with the state that gives.
                 if p.forces.has_state() {
                     match integ.output() {
-                        Ok(o) => {
-                            p.forces.accept_state(&o.state, &o.velocities, &o.reactions);
+                        Ok(mut o) => {
+                            p.forces
+                                .accept_state(&mut o.state, &o.velocities, &o.reactions);
+                            integ.set_elements(&o.state.elements);
                         }
                         Err(e) => {
                             sim.failure = Some(Failure::new(now, e));

@@ -142,15 +142,21 @@ impl Workspace {
     }
 
     /// The residuals at `s`, `λ`: the rows' gradients, the frictions' normal loads from `λ`
-    /// ([`FrictionLoads::update`]), `F` and `Φ`. Returns the largest applied load component
-    /// `max |Q + Q_gravity|`.
-    pub fn residuals(&mut self, p: &Problem, s: &State, lambda: &[f64]) -> Result<f64, ForceError> {
+    /// (set in `s` by [`FrictionLoads::update`]), `F` and `Φ`. Returns the largest applied
+    /// load component `max |Q + Q_gravity|`.
+    pub fn residuals(
+        &mut self,
+        p: &Problem,
+        s: &mut State,
+        lambda: &[f64],
+    ) -> Result<f64, ForceError> {
         for (k, (r, _)) in p.used.iter().enumerate() {
             p.sys.gradient(*r, s, &mut self.grads[k]);
         }
         if let Some(f) = self.frictions.as_mut() {
             f.update(p, s, &self.grads, lambda);
         }
+        let s: &State = s;
         applied(p, s, &self.rest, &mut self.force)?;
         let load = self.force.iter().map(|x| x.abs()).fold(0.0, f64::max);
         for (k, g) in self.grads.iter().enumerate() {

@@ -105,6 +105,7 @@ impl FrictionLoads {
             return 1.0;
         }
         self.trial.poses.copy_from_slice(&s.poses);
+        self.trial.elements.clone_from(&s.elements);
         for (k, &(dx, dth)) in steps.iter().enumerate() {
             self.trial.increment(k, dx * scale, dth * scale);
         }
@@ -115,9 +116,9 @@ impl FrictionLoads {
         ((STICTION_REACH - before).max(0.0) / (after - before)).clamp(0.0, 1.0)
     }
 
-    /// Sets each friction's normal load from the multipliers `lambda` at `s` (the rows'
+    /// Sets each friction's normal load in `s` from the multipliers `lambda` there (the rows'
     /// gradients `grads` there) and keeps `∂N/∂λ` for the Newton matrix.
-    pub fn update(&mut self, p: &Problem, s: &State, grads: &[RowGradient], lambda: &[f64]) {
+    pub fn update(&mut self, p: &Problem, s: &mut State, grads: &[RowGradient], lambda: &[f64]) {
         let Some(set) = p.forces.joint_frictions() else {
             return;
         };
@@ -135,7 +136,7 @@ impl FrictionLoads {
                 let (f, t) = unit_reaction(body, p_i, s, &grads[row]);
                 *dn = dn_f.dot(f) + dn_t.dot(t);
             }
-            set.set_normal(c.friction, normal);
+            set.set_normal(s, c.friction, normal);
         }
     }
 
@@ -154,7 +155,7 @@ impl FrictionLoads {
         let n6 = 6 * p.parts();
         for c in &self.coupled {
             let law = &set.laws()[c.friction];
-            let per_unit = law.per_unit_load(s, rest, &set.state(c.friction));
+            let per_unit = law.per_unit_load(s, rest, &set.state(s, c.friction));
             for (part, dq) in per_unit.into_iter().flatten() {
                 for (component, d) in dq.iter().enumerate() {
                     for (dn, &row) in c.dn.iter().zip(&c.rows) {
