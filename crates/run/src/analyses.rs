@@ -101,12 +101,15 @@ fn assemble<'m>(
     let Some(forces) = session.built.forces.as_ref() else {
         return Err(place.refused("the model's forces cannot be evaluated"));
     };
-    let a = Assembled::at_time(
+    // The values the sensors stored (SENVAL) carry on from the last analysis.
+    let carried = session.left.as_ref().map(|l| &l.state.elements);
+    let a = Assembled::continuing(
         model,
         &session.built.drivers,
         forces,
         &Tolerances::default(),
         session.time(),
+        carried.unwrap_or(&Default::default()),
     );
     if let Some(why) = a.failure() {
         return Err(place.failed(why.to_string()));

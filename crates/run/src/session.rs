@@ -144,6 +144,10 @@ impl Session {
         self.statements = statements;
         self.inactive = inactive;
         self.built = built;
+        // The rebuilt forces start the sensors' stored values (SENVAL) at 0 again.
+        if let Some(left) = self.left.as_mut() {
+            left.state.elements.sensors.clear();
+        }
         Ok(())
     }
 

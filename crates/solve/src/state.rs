@@ -25,13 +25,17 @@ pub struct State {
     pub elements: ElementState,
 }
 
-/// What force elements carry from one accepted state to the next, owned by the run with the
-/// positions: each joint FRICTION's stiction anchor and normal load, in model order. Empty
-/// until the initial conditions start it (`AppliedForces::start_state`); an empty one reads
-/// as every friction anchored at the dataset's input configuration with its preload.
+/// What elements carry from one accepted state to the next, owned by the run with the
+/// positions (the model and the force set stay read-only).
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct ElementState {
+    /// Each joint FRICTION's stiction anchor and normal load, in model order. Empty until
+    /// the initial conditions start them (`AppliedForces::start_state`); empty reads as every
+    /// friction anchored at the dataset's input configuration with its preload.
     pub frictions: Vec<FrictionState>,
+    /// The value each SENSOR stored when it last fired, which `SENVAL` reads, in model order
+    /// (written by the run's `kernel::sensors::SensorWatch`); a missing one reads 0.
+    pub sensors: Vec<f64>,
 }
 
 /// What a friction carries from one accepted state to the next

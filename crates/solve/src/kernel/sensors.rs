@@ -25,17 +25,20 @@
 //!   sets the output interval from `t*` on (outputs at `t* + k·DT` up to the run's end, in
 //!   place of the requested ones not yet written: [`Fired::reschedule`]).
 //!   EVALUATE (or FUNCTION when there is none) is evaluated at `t*` and stored as the sensor's
-//!   value, which `SENVAL(id)` returns from then on in forces, VARIABLEs and REQUESTs (the
-//!   [`SensorValues`] the force set shares; a changed value restarts the integrator at `t*`).
+//!   value, which `SENVAL(id)` returns from then on in forces, VARIABLEs and REQUESTs. The
+//!   values are data of the run: the watch holds them and writes them into the event's
+//!   output state (`State::elements.sensors`), from which the run continues ([`SensorWatch::carry`]
+//!   for the states it continues from otherwise); a changed value restarts the integrator at
+//!   `t*`.
 //!
 //! Cost: one consistent-output solve per accepted step when the model has sensors (none
 //! otherwise); an event costs a few short re-integrations from the step's start.
 
 use super::error::IntegrationError;
 use super::output::Output;
-use crate::physics::applied::AppliedForces;
-use crate::physics::forces::data::{DataElements, SensorValues};
+use crate::physics::forces::data::DataElements;
 use crate::physics::measures::{MarkerFrames, StateEnv};
+use crate::state::State;
 use linkage_expr::Expr;
 use linkage_model::Model;
 
@@ -112,9 +115,9 @@ pub struct SensorWatch {
     active: Vec<bool>,
     /// The last accepted point and `g` of every sensor there.
     last: Option<(Output, Vec<f64>)>,
-    /// Per sensor: its stored value (`SENVAL`), 0 before it first fires; shared with the
-    /// forces, which read it through `SENVAL`.
-    pub stored: SensorValues,
+    /// Per sensor: its stored value (`SENVAL`), 0 before it first fires (or as the run's
+    /// start state carries it); the states the run continues from carry it to the forces.
+    stored: Vec<f64>,
 }
 
 fn function(model: &Model, s: usize) -> Result<&Expr, IntegrationError> {
@@ -130,23 +133,23 @@ fn function(model: &Model, s: usize) -> Result<&Expr, IntegrationError> {
 
 impl SensorWatch {
     /// The watch over `model`'s sensors; `None` when it has none (the run pays nothing).
-    /// The stored values are those `forces` read (`SENVAL`), so a firing changes the forces
-    /// from then on.
-    pub fn new(model: &Model, forces: &dyn AppliedForces) -> Option<SensorWatch> {
+    /// The stored values start as the run's first state carries them ([`SensorWatch::start`]).
+    pub fn new(model: &Model) -> Option<SensorWatch> {
         if model.sensors.is_empty() {
             return None;
         }
-        let mut data = DataElements::new(model).0;
-        if let Some(v) = forces.sensor_values() {
-            data.sensor_values = v.clone();
-        }
         Some(SensorWatch {
             frames: MarkerFrames::new(model),
-            stored: data.sensor_values.clone(),
-            data,
+            data: DataElements::new(model).0,
             active: vec![false; model.sensors.len()],
             last: None,
+            stored: vec![0.0; model.sensors.len()],
         })
+    }
+
+    /// Writes the stored values (`SENVAL`) into `s`, a state the run continues from.
+    pub fn carry(&self, s: &mut State) {
+        s.elements.sensors.clone_from(&self.stored);
     }
 
     /// `expr` at output `o`.
@@ -175,6 +178,9 @@ impl SensorWatch {
     /// true there are armed only once they have been false (a run that continues after a
     /// RETURN does not stop again at once).
     pub fn start(&mut self, model: &Model, first: &Output) -> Result<(), IntegrationError> {
+        for (k, v) in self.stored.iter_mut().enumerate() {
+            *v = first.state.elements.sensors.get(k).copied().unwrap_or(0.0);
+        }
         let g = self.gaps(model, first)?;
         for (s, sensor) in model.sensors.iter().enumerate() {
             self.active[s] = sensor.holds(g[s]);
@@ -325,10 +331,11 @@ impl SensorWatch {
             };
             // A new stored value changes the forces that read SENVAL: the integrator
             // restarts from the event.
-            if self.stored.get(s) != stored {
+            if self.stored[s] != stored {
                 fired.restart = true;
             }
-            self.stored.set(s, stored);
+            self.stored[s] = stored;
+            self.carry(&mut fired.output.state);
             let a = &sensor.actions;
             if a.halt {
                 fired.stop = Some(SensorStop::Halt);

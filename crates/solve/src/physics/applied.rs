@@ -106,12 +106,6 @@ pub trait AppliedForces {
         None
     }
 
-    /// The values the sensors stored, which `SENVAL` reads in these forces (none for a set
-    /// without expressions). A run writes them when a sensor fires.
-    fn sensor_values(&self) -> Option<&crate::physics::forces::data::SensorValues> {
-        None
-    }
-
     /// The friction of every FRICTION at `(s, v)` in `regime` with the state `s` carries, in
     /// model order, for the reports (none without frictions).
     fn friction_values(&self, _regime: Regime, _s: &State, _v: &Velocities) -> Vec<FrictionValue> {

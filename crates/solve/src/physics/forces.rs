@@ -803,10 +803,6 @@ impl AppliedForces for ForceSet {
         self.frictions.values(regime, s, v)
     }
 
-    fn sensor_values(&self) -> Option<&data::SensorValues> {
-        Some(&self.data.sensor_values)
-    }
-
     fn add_forces(
         &self,
         regime: Regime,

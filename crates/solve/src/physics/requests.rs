@@ -293,7 +293,8 @@ type Wrench = (DVec3, DVec3);
 /// A load of a force element: point of application, force, torque (ground).
 type PointLoad = (DVec3, DVec3, DVec3);
 
-/// Memory of VARVAL evaluations in one [`OutputEnv`].
+/// Memory of VARVAL evaluations in one [`OutputEnv`]: a pure cache of values at its one
+/// output (and the guard against cycles), dropped with the environment.
 #[derive(Default)]
 struct Memo {
     active: Vec<u32>,
@@ -334,7 +335,7 @@ pub struct OutputEnv<'a> {
     inner: StateEnv<'a>,
     memo: RefCell<Memo>,
     /// Per moving part, the constraint wrench the output's reactions do not explain (force at
-    /// the CM, torque about it), computed on first use.
+    /// the CM, torque about it), computed on first use: a cache of a function of the output.
     remainder: RefCell<Option<Result<Vec<Wrench>, EvalError>>>,
 }
 

@@ -23,7 +23,7 @@ use crate::kernel::{flat, IntegrationError, OutputSolver, Problem, SingularSolve
 use crate::linalg::kkt::{SaddlePoint, Zeros};
 use crate::physics::applied::{AppliedForces, ForceError, Regime};
 use crate::physics::reactions::Reaction;
-use crate::state::State;
+use crate::state::{ElementState, State};
 use crate::tolerances::{Tolerances, ACCELERATION_IC_FLOOR, UNGIVEN_VELOCITY_WEIGHT};
 use glam::DVec3;
 use linkage_model::{ConstraintKind, Model};
@@ -130,12 +130,21 @@ pub fn initial_conditions(
     forces: &dyn AppliedForces,
     tol: &Tolerances,
 ) -> InitialConditions {
-    initial_conditions_at(model, sys, drivers, forces, tol, 0.0)
+    initial_conditions_at(
+        model,
+        sys,
+        drivers,
+        forces,
+        tol,
+        0.0,
+        &ElementState::default(),
+    )
 }
 
 /// [`initial_conditions`] at time `time` (motions and time-dependent constraints are
 /// evaluated there): a command file's analysis that continues a run assembles the model at
-/// the time the previous analysis left it.
+/// the time the previous analysis left it, with the values its sensors stored (`carried`'s
+/// `sensors`, which `SENVAL` reads; the frictions are started again at the assembled pose).
 pub fn initial_conditions_at(
     model: &Model,
     sys: &System,
@@ -143,9 +152,13 @@ pub fn initial_conditions_at(
     forces: &dyn AppliedForces,
     tol: &Tolerances,
     time: f64,
+    carried: &ElementState,
 ) -> InitialConditions {
     let mut input = State::input(model);
     input.time = time;
+    if carried.sensors.len() == model.sensors.len() {
+        input.elements.sensors.clone_from(&carried.sensors);
+    }
     let hard = hard_rows(model);
     let mut analysis = verify_at(model, sys, &input, drivers, tol);
     let before = residuals(sys, &input, drivers);

@@ -28,7 +28,7 @@ use crate::constraints::residuals::report_unit_suffix;
 use crate::constraints::system::System;
 use crate::kernel::{ExtraDamping, Problem};
 use crate::physics::applied::{AppliedForces, Regime};
-use crate::state::State;
+use crate::state::{ElementState, State};
 use crate::tolerances::Tolerances;
 use glam::DVec3;
 use ic::{initial_conditions_at, InitialConditions};
@@ -159,8 +159,22 @@ impl<'m> Assembled<'m> {
         tol: &Tolerances,
         time: f64,
     ) -> Assembled<'m> {
+        Assembled::continuing(model, drivers, forces, tol, time, &ElementState::default())
+    }
+
+    /// [`Assembled::at_time`] continuing the element state `carried` the previous analysis
+    /// left (a command file): the values its sensors stored carry on into `SENVAL`; the
+    /// frictions are started again at the assembled pose, as every IC does.
+    pub fn continuing(
+        model: &'m Model,
+        drivers: &ExpressionDrivers,
+        forces: &'m dyn AppliedForces,
+        tol: &Tolerances,
+        time: f64,
+        carried: &ElementState,
+    ) -> Assembled<'m> {
         let system = System::new(model);
-        let mut ic = initial_conditions_at(model, &system, drivers, forces, tol, time);
+        let mut ic = initial_conditions_at(model, &system, drivers, forces, tol, time, carried);
         // The control states' rates consistent with their equations at the initial
         // conditions (a law that cannot be evaluated is reported by the analysis that needs
         // it).

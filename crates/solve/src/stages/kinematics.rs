@@ -64,7 +64,7 @@ pub(crate) fn run(
             return sim;
         }
     };
-    let mut sensors = SensorWatch::new(p.model, p.forces);
+    let mut sensors = SensorWatch::new(p.model);
     let end = times.last().copied().unwrap_or(start.time);
     let mut schedule = times.to_vec();
     let v0 = flat(v0);
@@ -134,6 +134,10 @@ pub(crate) fn run(
                 sim.outputs.push(output);
                 k += 1;
             }
+        }
+        // The next positions are solved with the values the sensors stored (SENVAL).
+        if let Some(o) = previous.as_mut() {
+            w.carry(&mut o.state);
         }
         progress(at.max(t));
     }

@@ -649,7 +649,7 @@ pub fn run(a: &Assembled, times: &[f64]) -> StaticRun {
         return out;
     }
     let mut watch = (times.len() > 1)
-        .then(|| SensorWatch::new(a.model, a.forces))
+        .then(|| SensorWatch::new(a.model))
         .flatten();
     let end = times.last().copied().unwrap_or(0.0);
     let mut schedule = times.to_vec();
@@ -777,6 +777,10 @@ pub fn run(a: &Assembled, times: &[f64]) -> StaticRun {
                 out.steps.push((t, Ok(eq)));
                 k += 1;
             }
+        }
+        // The next equilibria start with the values the sensors stored (SENVAL).
+        if let Some(s) = history.last_mut() {
+            w.carry(s);
         }
     }
     out

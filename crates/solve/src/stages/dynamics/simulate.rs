@@ -110,7 +110,7 @@ pub fn simulate_with(
     };
     let mut next_output = 0;
     // Sensors (not while settling at a frozen time), armed at the start.
-    let mut sensors = SensorWatch::new(p.model, p.forces).filter(|_| p.frozen_time.is_none());
+    let mut sensors = SensorWatch::new(p.model).filter(|_| p.frozen_time.is_none());
     if let Some(Err(e)) = sensors.as_mut().map(|w| w.start(p.model, &first)) {
         sim.failure = Some(Failure::new(start.time, e));
         return sim;
