@@ -1,5 +1,8 @@
-//! The analyses, each consuming the previous stage's result: verify → assemble → ic → statics /
-//! settle → linearize / dynamics (kinematics for zero-DOF models); explain reads verify.
+//! The analyses on a [`crate::pipeline::Assembled`] (verify → assemble → ic are the pipeline's
+//! rungs): statics / settle → linearize (+ plant) / dynamics (kinematics for zero-DOF models);
+//! explain reads verify. Stages share the [`crate::kernel`]; one stage calls another only
+//! through its public entry (a run from equilibrium calls statics and settle, settling calls
+//! the dynamic simulate, the zero-DOF simulate calls kinematics, plant reads linearize).
 
 pub mod dynamics;
 pub mod explain;
