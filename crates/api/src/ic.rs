@@ -6,6 +6,7 @@ use crate::source::Loaded;
 use crate::start::{assemble, input_model, Left, Start};
 use linkage_report::ic::IcJson;
 use linkage_solve::coverage::Analysis;
+use linkage_solve::physics::applied::Regime;
 use linkage_solve::pipeline::{Assembled, NotAssembled};
 use linkage_solve::stages::dynamics::Output;
 use linkage_solve::state::State;
@@ -55,7 +56,9 @@ pub fn run(loaded: &Loaded, start: Start, sink: &mut dyn OutputSink) -> Result<I
     let ic = &a.ic;
     let mut report = linkage_report::ic::to_json(a.model, ic, &loaded.warnings);
     if let Some(v) = &ic.velocity {
-        let values = a.forces.friction_values(&ic.assembly.state, &v.velocities);
+        let values = a
+            .forces
+            .friction_values(Regime::Dynamic, &ic.assembly.state, &v.velocities);
         report.frictions = linkage_report::friction::frictions_json(a.model, &values);
     }
     if !matches!(a.failure(), Some(NotAssembled::DidNotConverge { .. })) {

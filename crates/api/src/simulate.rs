@@ -7,6 +7,7 @@ use crate::source::Loaded;
 use crate::start::{assemble, input_model, Left, Start};
 use linkage_report::simulate::SimulateJson;
 use linkage_solve::coverage::Analysis;
+use linkage_solve::physics::applied::Regime;
 use linkage_solve::physics::requests::RequestSet;
 use linkage_solve::pipeline::Assembled;
 use linkage_solve::stages::dynamics::{
@@ -277,9 +278,10 @@ pub fn run(
     });
     let mut report = linkage_report::simulate::summary(&assembled, &result, &loaded.warnings);
     if let Some(last) = result.simulation.as_ref().and_then(|s| s.outputs.last()) {
-        let values = assembled
-            .forces
-            .friction_values(&last.state, &last.velocities);
+        let values =
+            assembled
+                .forces
+                .friction_values(Regime::Dynamic, &last.state, &last.velocities);
         report.frictions = linkage_report::friction::frictions_json(&loaded.model, &values);
         let contacts = linkage_solve::constraints::curve_contacts::curve_contacts(
             &loaded.model,

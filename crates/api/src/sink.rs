@@ -15,6 +15,7 @@
 use linkage_model::Model;
 use linkage_report::element_columns;
 use linkage_report::simulate::CsvHistory;
+use linkage_solve::physics::applied::Regime;
 use linkage_solve::physics::requests::{RequestError, RequestSet};
 use linkage_solve::pipeline::Assembled;
 use linkage_solve::stages::dynamics::Output;
@@ -103,7 +104,8 @@ pub fn row_values(a: &Assembled, o: &Output, requests: &[f64]) -> Vec<f64> {
     let frictions = if a.model.frictions.is_empty() {
         Vec::new()
     } else {
-        a.forces.friction_values(&o.state, &o.velocities)
+        a.forces
+            .friction_values(Regime::Dynamic, &o.state, &o.velocities)
     };
     let contacts =
         linkage_solve::constraints::curve_contacts::curve_contacts(a.model, &a.system, &o.state);

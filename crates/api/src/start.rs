@@ -123,12 +123,19 @@ pub fn assemble<'m>(
         },
         Start::Input => Start::Input,
     };
-    let assembled = Assembled::at_time(
+    // The element state the last analysis left (the values its sensors stored, SENVAL)
+    // carries on; the frictions start again at the assembled pose, as every IC does.
+    let carried = match &start {
+        Start::Left(left) => left.state.elements.clone(),
+        Start::Input => Default::default(),
+    };
+    let assembled = Assembled::continuing(
         model.unwrap_or(&loaded.model),
         &loaded.drivers,
         forces,
         &Tolerances::default(),
         start.time(),
+        &carried,
     );
     Ok(Begun {
         assembled,

@@ -7,6 +7,7 @@ use crate::source::Loaded;
 use crate::start::{assemble, input_model, Left, Start};
 use linkage_report::statics::StaticJson;
 use linkage_solve::coverage::Analysis;
+use linkage_solve::physics::applied::Regime;
 use linkage_solve::pipeline::Assembled;
 use linkage_solve::stages::dynamics::Output;
 use linkage_solve::stages::statics::Equilibrium;
@@ -179,9 +180,9 @@ pub fn run(
     if let [(_, Ok(eq))] = result.steps.as_slice() {
         // The friction as the equilibrium had it (those inactive in statics off).
         let rest = assembled.rest();
-        assembled.forces.set_static(true);
-        let values = assembled.forces.friction_values(&eq.state, &rest);
-        assembled.forces.set_static(false);
+        let values = assembled
+            .forces
+            .friction_values(Regime::Static, &eq.state, &rest);
         report.frictions = linkage_report::friction::frictions_json(&loaded.model, &values);
         let contacts = linkage_solve::constraints::curve_contacts::curve_contacts(
             &loaded.model,

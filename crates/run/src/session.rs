@@ -117,6 +117,10 @@ impl Session {
         self.source = source;
         self.loaded = loaded;
         self.progress.drop_assembly();
+        // The model loaded again starts the sensors' stored values (SENVAL) at 0.
+        if let Some(left) = self.progress.left.as_mut() {
+            left.state.elements.sensors.clear();
+        }
         Ok(())
     }
 

@@ -1,4 +1,6 @@
-//! The mutable state analyses work on: part poses (and later velocities, multipliers, time).
+//! The mutable state analyses work on: part poses, time, the control states and what force
+//! elements carry from one accepted state to the next ([`ElementState`]). A run owns its
+//! states; the model and the force set are read-only (MuJoCo's mjModel/mjData split).
 
 use glam::{DMat3, DVec3};
 use linkage_model::{Body, Model};
@@ -18,6 +20,34 @@ pub struct State {
     /// The first-order states of DIFF, LSE and TFSISO elements and their rates
     /// (`linkage_model::controls`; empty without them).
     pub controls: ControlValues,
+    /// The force elements' own state (joint friction), carried by the run from one accepted
+    /// state to the next.
+    pub elements: ElementState,
+}
+
+/// What elements carry from one accepted state to the next, owned by the run with the
+/// positions (the model and the force set stay read-only).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct ElementState {
+    /// Each joint FRICTION's stiction anchor and normal load, in model order. Empty until
+    /// the initial conditions start them (`AppliedForces::start_state`); empty reads as every
+    /// friction anchored at the dataset's input configuration with its preload.
+    pub frictions: Vec<FrictionState>,
+    /// The value each SENSOR stored when it last fired, which `SENVAL` reads, in model order
+    /// (written by the run's `kernel::sensors::SensorWatch`); a missing one reads 0.
+    pub sensors: Vec<f64>,
+}
+
+/// What a friction carries from one accepted state to the next
+/// (`crate::physics::forces::friction`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FrictionState {
+    /// The travel `(P_i − P_j)·z_j` where the axial deformation is zero.
+    pub anchor_travel: f64,
+    /// `R_jᵀR_i` where the rotational deformation is zero.
+    pub anchor_rotation: DMat3,
+    /// The normal load N (force at the slip surface, model force units).
+    pub normal: f64,
 }
 
 /// Values `x` of the control states and their rates `ẋ` (the layout of
@@ -57,6 +87,7 @@ impl State {
                 let (x, xdot) = model.controls.initial();
                 ControlValues { x, xdot }
             },
+            elements: ElementState::default(),
         }
     }
 

@@ -6,7 +6,7 @@
 use linkage_model::settings::IntegratorMethod;
 use linkage_model::Model;
 use linkage_solve::constraints::drivers::ExpressionDrivers;
-use linkage_solve::physics::applied::{AppliedForces, NoForces};
+use linkage_solve::physics::applied::{AppliedForces, NoForces, Regime};
 use linkage_solve::pipeline::Assembled;
 use linkage_solve::stages::dynamics::{IntegratorSettings, Stepper};
 use linkage_solve::tolerances::Tolerances;
@@ -177,7 +177,9 @@ fn spring_damper_and_bushing_forces_evaluate_without_allocating() {
     let before = allocations();
     for _ in 0..10 {
         q.fill(0.0);
-        forces.add_forces(&s, &v, &mut q).expect("forces evaluate");
+        forces
+            .add_forces(Regime::Dynamic, &s, &v, &mut q)
+            .expect("forces evaluate");
     }
     assert_eq!(allocations() - before, 0);
     // Their Jacobians (matrix refreshes) reuse the dual numbers' gradient vectors once warm.
@@ -186,7 +188,7 @@ fn spring_damper_and_bushing_forces_evaluate_without_allocating() {
         dq.clear();
         dv.clear();
         forces
-            .add_jacobians(&s, &v, &mut dq, Some(&mut dv))
+            .add_jacobians(Regime::Dynamic, &s, &v, &mut dq, Some(&mut dv))
             .expect("Jacobians evaluate");
     };
     jacobians();
@@ -224,11 +226,13 @@ fn expression_forces_evaluate_without_allocating() {
     let (mut dq, mut dv) = (Vec::with_capacity(1000), Vec::with_capacity(1000));
     let mut evaluate = |q: &mut Vec<f64>| {
         q.fill(0.0);
-        forces.add_forces(&s, &v, q).expect("forces evaluate");
+        forces
+            .add_forces(Regime::Dynamic, &s, &v, q)
+            .expect("forces evaluate");
         dq.clear();
         dv.clear();
         forces
-            .add_jacobians(&s, &v, &mut dq, Some(&mut dv))
+            .add_jacobians(Regime::Dynamic, &s, &v, &mut dq, Some(&mut dv))
             .expect("Jacobians evaluate");
     };
     evaluate(&mut q);

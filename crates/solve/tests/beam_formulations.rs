@@ -13,7 +13,7 @@
 use glam::{DMat3, DVec3};
 use linkage_model::Model;
 use linkage_solve::constraints::drivers::ExpressionDrivers;
-use linkage_solve::physics::applied::AppliedForces;
+use linkage_solve::physics::applied::{AppliedForces, Regime};
 use linkage_solve::physics::forces::ForceSet;
 use linkage_solve::pipeline::Assembled;
 use linkage_solve::stages::statics::Equilibrium;
@@ -162,8 +162,13 @@ fn loads(m: &Model) -> Vec<f64> {
     let f = ForceSet::new(m).unwrap_or_else(|e| panic!("{e}"));
     let s = State::input(m);
     let mut out = vec![0.0; 12];
-    f.add_forces(&s, &[(DVec3::ZERO, DVec3::ZERO); 2], &mut out)
-        .unwrap_or_else(|e| panic!("{e}"));
+    f.add_forces(
+        Regime::Dynamic,
+        &s,
+        &[(DVec3::ZERO, DVec3::ZERO); 2],
+        &mut out,
+    )
+    .unwrap_or_else(|e| panic!("{e}"));
     out
 }
 
@@ -212,8 +217,14 @@ fn tangents(m: &Model) -> (Vec<Vec<f64>>, Vec<Vec<f64>>) {
     let f = ForceSet::new(m).unwrap_or_else(|e| panic!("{e}"));
     let s = State::input(m);
     let (mut tq, mut tv) = (Vec::new(), Vec::new());
-    f.add_jacobians(&s, &[(DVec3::ZERO, DVec3::ZERO); 2], &mut tq, Some(&mut tv))
-        .unwrap_or_else(|e| panic!("{e}"));
+    f.add_jacobians(
+        Regime::Dynamic,
+        &s,
+        &[(DVec3::ZERO, DVec3::ZERO); 2],
+        &mut tq,
+        Some(&mut tv),
+    )
+    .unwrap_or_else(|e| panic!("{e}"));
     let dense = |t: &[(usize, usize, f64)]| {
         let mut d = vec![vec![0.0; 12]; 12];
         for &(r, c, x) in t {

@@ -7,7 +7,7 @@
 
 use linkage_model::Model;
 use linkage_solve::constraints::drivers::ExpressionDrivers;
-use linkage_solve::physics::applied::AppliedForces;
+use linkage_solve::physics::applied::{AppliedForces, Regime};
 use linkage_solve::physics::forces::ForceSet;
 use linkage_solve::pipeline::Assembled;
 use linkage_solve::stages::dynamics::{run, IntegratorSettings, Output, Start};
@@ -59,7 +59,8 @@ fn simulate(m: &Model, d: &ExpressionDrivers, f: &ForceSet, end: f64, dt: f64) -
 /// The generalised force of the force set on part 0 (force at its CM) at an output.
 fn contact_force(f: &ForceSet, o: &Output) -> glam::DVec3 {
     let mut q = vec![0.0; 6 * o.state.poses.len()];
-    f.add_forces(&o.state, &o.velocities, &mut q).unwrap();
+    f.add_forces(Regime::Dynamic, &o.state, &o.velocities, &mut q)
+        .unwrap();
     glam::DVec3::new(q[0], q[1], q[2])
 }
 
@@ -148,7 +149,8 @@ fn cube_rests_on_a_slab_at_the_impact_penetration_in_statics() {
     assert!((z - want).abs() < 1e-9, "rest height {z}, want {want}");
     let v = vec![(glam::DVec3::ZERO, glam::DVec3::ZERO)];
     let mut q = vec![0.0; 6];
-    f.add_forces(&eq.state, &v, &mut q).unwrap();
+    f.add_forces(Regime::Dynamic, &eq.state, &v, &mut q)
+        .unwrap();
     assert!(
         (q[2] - 10.0 * G).abs() < 1e-6 * 10.0 * G,
         "normal force {}",
@@ -290,11 +292,12 @@ fn check_jacobians(
 ) {
     let q = |s: &linkage_solve::state::State, v: &[(glam::DVec3, glam::DVec3)]| {
         let mut out = vec![0.0; 6];
-        f.add_forces(s, v, &mut out).unwrap();
+        f.add_forces(Regime::Dynamic, s, v, &mut out).unwrap();
         out
     };
     let (mut dq, mut dv) = (Vec::new(), Vec::new());
-    f.add_jacobians(s, v, &mut dq, Some(&mut dv)).unwrap();
+    f.add_jacobians(Regime::Dynamic, s, v, &mut dq, Some(&mut dv))
+        .unwrap();
     let dense = |t: &[(usize, usize, f64)]| {
         let mut m = [[0.0; 6]; 6];
         for &(r, c, x) in t {
@@ -370,7 +373,7 @@ fn contact_jacobians_match_finite_differences() {
         glam::DVec3::new(0.5, 1.0, 2.0),
     )];
     let mut q = vec![0.0; 6];
-    f.add_forces(&s, &v, &mut q).unwrap();
+    f.add_forces(Regime::Dynamic, &s, &v, &mut q).unwrap();
     assert!(q[2] > 0.0, "the corner is in contact: {q:?}");
     check_jacobians(&f, &s, &v);
 
@@ -457,7 +460,8 @@ fn ball_statics(text: &str) -> (f64, glam::DVec3) {
     assert!(eq.converged, "{:?}", eq.worst);
     let v = vec![(glam::DVec3::ZERO, glam::DVec3::ZERO)];
     let mut q = vec![0.0; 6];
-    f.add_forces(&eq.state, &v, &mut q).unwrap();
+    f.add_forces(Regime::Dynamic, &eq.state, &v, &mut q)
+        .unwrap();
     (eq.state.poses[0].p.y, glam::DVec3::new(q[0], q[1], q[2]))
 }
 
@@ -475,8 +479,13 @@ fn ball_rests_on_an_open_curve_at_the_impact_penetration() {
     let (m, _, f) = load_text("c.adm", &ball_on_curve(0.099, LINE, ", JFLIP_GEOMETRY = 2"));
     let st = linkage_solve::state::State::input(&m);
     let mut q = vec![0.0; 6];
-    f.add_forces(&st, &[(glam::DVec3::ZERO, glam::DVec3::ZERO)], &mut q)
-        .unwrap();
+    f.add_forces(
+        Regime::Dynamic,
+        &st,
+        &[(glam::DVec3::ZERO, glam::DVec3::ZERO)],
+        &mut q,
+    )
+    .unwrap();
     let want = -1e6 * 0.199_f64.powf(1.5);
     assert!((q[1] - want).abs() < 1e-9 * want.abs(), "{q:?} vs {want}");
 }
@@ -524,8 +533,13 @@ fn ball_inside_a_ring_rests_at_its_bottom_at_the_impact_penetration() {
     let (m, _, f) = load_text("c.adm", &ball_on_curve(-0.5, &ring(), ""));
     let st = linkage_solve::state::State::input(&m);
     let mut q = vec![0.0; 6];
-    f.add_forces(&st, &[(glam::DVec3::ZERO, glam::DVec3::ZERO)], &mut q)
-        .unwrap();
+    f.add_forces(
+        Regime::Dynamic,
+        &st,
+        &[(glam::DVec3::ZERO, glam::DVec3::ZERO)],
+        &mut q,
+    )
+    .unwrap();
     // The depth is within the chord sag of 0.6: the force within 1.5 × sag / 0.6.
     let want = -1e6 * 0.6_f64.powf(1.5);
     assert!(

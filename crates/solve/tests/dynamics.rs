@@ -141,6 +141,7 @@ fn damping_makes_the_energy_decrease_monotonically() {
         forces: &NoForces,
         damping: Some(ExtraDamping(0.5)),
         frozen_time: None,
+        regime: linkage_solve::physics::applied::Regime::Dynamic,
         coupling: linkage_solve::physics::flex_inertia::FlexCoupling::new(&m),
     };
     let times: Vec<f64> = (0..=200).map(|k| k as f64 * 0.025).collect();
@@ -450,6 +451,7 @@ fn missing_initial_velocities_start_the_pendulum_at_rest() {
         forces: &NoForces,
         damping: None,
         frozen_time: None,
+        regime: linkage_solve::physics::applied::Regime::Dynamic,
         coupling: linkage_solve::physics::flex_inertia::FlexCoupling::new(&m),
     };
     // No velocities given (an initial-conditions result without a velocity stage): the

@@ -4,7 +4,7 @@
 use glam::{DMat3, DVec3};
 use linkage_expr::{evaluate_with_gradient, parse, Env, SplineData, SplineMethod};
 use linkage_model::Model;
-use linkage_solve::physics::applied::{AppliedForces, LawError};
+use linkage_solve::physics::applied::{AppliedForces, LawError, Regime};
 use linkage_solve::physics::forces::data::DataElements;
 use linkage_solve::physics::forces::ForceSet;
 use linkage_solve::physics::measures::{MarkerFrames, StateEnv};
@@ -77,7 +77,7 @@ fn state(m: &Model) -> State {
 
 fn q(f: &ForceSet, s: &State, v: &Twist) -> Vec<f64> {
     let mut out = vec![0.0; 6 * s.poses.len()];
-    f.add_forces(s, v, &mut out)
+    f.add_forces(Regime::Dynamic, s, v, &mut out)
         .unwrap_or_else(|e| panic!("{e}"));
     out
 }
@@ -219,7 +219,7 @@ fn every_element_jacobian_matches_finite_differences() {
         let (s, v) = (state(&m), velocities());
         let n = 6 * m.parts.len();
         let (mut tq, mut tv) = (Vec::new(), Vec::new());
-        f.add_jacobians(&s, &v, &mut tq, Some(&mut tv))
+        f.add_jacobians(Regime::Dynamic, &s, &v, &mut tq, Some(&mut tv))
             .unwrap_or_else(|e| panic!("{name}: {e}"));
         let (nq, nv) = finite_differences(&f, &s, &v);
         assert_close(&format!("{name} ∂Q/∂q"), &dense(n, &tq), &nq);
@@ -230,7 +230,7 @@ fn every_element_jacobian_matches_finite_differences() {
         );
         // Without dv only dq is produced.
         let mut only = Vec::new();
-        f.add_jacobians(&s, &v, &mut only, None)
+        f.add_jacobians(Regime::Dynamic, &s, &v, &mut only, None)
             .unwrap_or_else(|e| panic!("{name}: {e}"));
         assert_eq!(dense(n, &only), dense(n, &tq), "{name}");
     }
@@ -288,7 +288,8 @@ fn action_only_sforce_loads_i_only_along_z_j() {
     assert_vec(&out[0..3], force, 1e-12);
     assert_vec(&out[3..6], torque, 1e-12);
     let (mut tq, mut tv) = (Vec::new(), Vec::new());
-    f.add_jacobians(&s, &v, &mut tq, Some(&mut tv)).unwrap();
+    f.add_jacobians(Regime::Dynamic, &s, &v, &mut tq, Some(&mut tv))
+        .unwrap();
     let (nq, nv) = finite_differences(&f, &s, &v);
     assert_close("actiononly ∂Q/∂q", &dense(12, &tq), &nq);
     assert_close("actiononly ∂Q/∂v", &dense(12, &tv), &nv);
@@ -543,7 +544,8 @@ fn varval_aryval_and_akispl_feed_a_force_expression() {
     let magnitude = 2.0 * dm + vx + 11.0 + 3.0 * vx + akima;
     assert_vec(&out[0..3], d.normalize() * magnitude, 1e-12);
     let (mut tq, mut tv) = (Vec::new(), Vec::new());
-    f.add_jacobians(&s, &v, &mut tq, Some(&mut tv)).unwrap();
+    f.add_jacobians(Regime::Dynamic, &s, &v, &mut tq, Some(&mut tv))
+        .unwrap();
     let (nq, nv) = finite_differences(&f, &s, &v);
     assert_close("data ∂Q/∂q", &dense(12, &tq), &nq);
     assert_close("data ∂Q/∂v", &dense(12, &tv), &nv);
@@ -555,7 +557,9 @@ fn varval_cycle_is_an_evaluation_error_naming_the_cycle() {
     let f = force_set(&m);
     let s = state(&m);
     let mut out = vec![0.0; 12];
-    let err = f.add_forces(&s, &velocities(), &mut out).unwrap_err();
+    let err = f
+        .add_forces(Regime::Dynamic, &s, &velocities(), &mut out)
+        .unwrap_err();
     assert_eq!(err.element, "SFORCE_1 (SFORCE/1, line 16)");
     assert_eq!(err.time, s.time);
     let LawError::Expression { argument, cause } = &err.cause else {
@@ -575,7 +579,7 @@ fn accelerations_and_element_forces_are_unavailable() {
         let f = force_set(&m);
         let mut out = vec![0.0; 12];
         let err = f
-            .add_forces(&state(&m), &velocities(), &mut out)
+            .add_forces(Regime::Dynamic, &state(&m), &velocities(), &mut out)
             .unwrap_err();
         let cause = err.cause.to_string();
         assert!(cause.contains(name) && cause.contains("not"), "{err}");
@@ -672,7 +676,7 @@ fn coincident_points_with_a_non_zero_force_are_an_error() {
     let f = force_set(&m);
     let mut out = vec![0.0; 12];
     let err = f
-        .add_forces(&state(&m), &velocities(), &mut out)
+        .add_forces(Regime::Dynamic, &state(&m), &velocities(), &mut out)
         .unwrap_err();
     assert!(err.element.starts_with("SFORCE_1"), "{err}");
     assert_eq!(err.cause, LawError::CoincidentPoints { force: 5.0 });

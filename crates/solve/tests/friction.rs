@@ -6,7 +6,7 @@ mod common;
 use common::corpus;
 use linkage_model::Model;
 use linkage_solve::constraints::drivers::ExpressionDrivers;
-use linkage_solve::physics::applied::AppliedForces;
+use linkage_solve::physics::applied::{AppliedForces, Regime};
 use linkage_solve::physics::forces::ForceSet;
 use linkage_solve::pipeline::Assembled;
 use linkage_solve::stages::dynamics::{run, IntegratorSettings, Output, Start};
@@ -100,8 +100,9 @@ fn a_block_on_a_ramp_above_the_friction_angle_slides_at_the_dynamic_rate() {
     assert!((b.accelerations[0].0.z + expected).abs() < 1e-4 * expected);
     // The friction at the end, as the reports give it (J axes: along +z, against the slip).
     let (_, _, f) = load(&text);
-    f.accept_state(&b.state, &b.velocities, &b.reactions);
-    let v = f.friction_values(&b.state, &b.velocities);
+    let mut s = b.state.clone();
+    f.accept_state(&mut s, &b.velocities, &b.reactions);
+    let v = f.friction_values(Regime::Dynamic, &s, &b.velocities);
     let normal = 2.0 * G * c;
     assert!((v[0].normal - normal).abs() < 1e-6 * normal, "{:?}", v[0]);
     assert!(
@@ -213,7 +214,7 @@ fn a_block_on_a_ramp_is_held_in_static_equilibrium() {
     let dz = z0 - eq.state.poses[0].p.z;
     assert!((dz - held).abs() < 1e-9, "{dz} vs {held}");
     let rest = vec![Default::default(); 1];
-    let v = f.friction_values(&eq.state, &rest);
+    let v = f.friction_values(Regime::Dynamic, &eq.state, &rest);
     let along = 2.0 * G * 20f64.to_radians().sin();
     assert!((v[0].force.z - along).abs() < 1e-6 * along, "{:?}", v[0]);
     assert!(v[0].sticking);
@@ -424,7 +425,7 @@ ACCGRAV/, JGRAV = -9.80665\nEND\n"
             "a = {arm}: {turned} vs {expected}"
         );
         let rest = vec![Default::default(); 1];
-        let v = f.friction_values(&eq.state, &rest);
+        let v = f.friction_values(Regime::Dynamic, &eq.state, &rest);
         let weight = 2.0 * G;
         // The normal load is the final reaction, and the friction torque the weight's.
         assert!((v[0].normal - weight).abs() < 1e-9 * weight, "{:?}", v[0]);

@@ -104,6 +104,7 @@ fn output(m: &Model) -> Output {
             poses: vec![part2, part3],
             time: 0.0,
             controls: Default::default(),
+            elements: Default::default(),
         },
         velocities: vec![(DVec3::ZERO, DVec3::ZERO); 2],
         accelerations: vec![(DVec3::ZERO, DVec3::ZERO); 2],

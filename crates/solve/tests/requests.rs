@@ -86,6 +86,7 @@ fn output(model: &Model) -> Output {
             ],
             time: T,
             controls: Default::default(),
+            elements: Default::default(),
         },
         velocities: vec![(DVec3::ZERO, DVec3::new(0.0, 0.0, w)), (v, W3)],
         accelerations: vec![(DVec3::ZERO, DVec3::new(0.0, 0.0, al)), (a, AL3)],

@@ -7,5 +7,6 @@ pub mod graph;
 pub mod hessian;
 pub mod motion_data;
 pub mod rank;
+pub mod residuals;
 pub mod rows;
 pub mod system;

@@ -46,16 +46,35 @@ pub enum LawError {
     CoincidentPoints { force: f64 },
 }
 
+/// Which analysis the forces are evaluated for: elements inactive in statics
+/// (`INACTIVE_DURING = STATIC` frictions) act only in the dynamic regime. An argument of every
+/// evaluation, so that one force set serves a static and a dynamic analysis without a switch.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Regime {
+    /// Dynamics, the initial conditions, linearization, kinematics, the reports' outputs.
+    #[default]
+    Dynamic,
+    /// Static equilibrium, quasi-statics and dynamic settling.
+    Static,
+}
+
 /// A set of applied force elements.
 pub trait AppliedForces {
-    /// Adds the generalised forces at positions `s`, velocities `v` and time `s.time` to
-    /// `out` (length 6n). An error names the element, the time and the cause (e.g. a domain
-    /// error in its expression).
-    fn add_forces(&self, s: &State, v: &Velocities, out: &mut [f64]) -> Result<(), ForceError>;
+    /// Adds the generalised forces in `regime` at positions `s`, velocities `v` and time
+    /// `s.time` to `out` (length 6n). An error names the element, the time and the cause
+    /// (e.g. a domain error in its expression).
+    fn add_forces(
+        &self,
+        regime: Regime,
+        s: &State,
+        v: &Velocities,
+        out: &mut [f64],
+    ) -> Result<(), ForceError>;
 
-    /// Adds `∂Q/∂q` to `dq` and, when given, `∂Q/∂v` to `dv`.
+    /// Adds `∂Q/∂q` to `dq` and, when given, `∂Q/∂v` to `dv` (in `regime`).
     fn add_jacobians(
         &self,
+        regime: Regime,
         s: &State,
         v: &Velocities,
         dq: &mut Vec<(usize, usize, f64)>,
@@ -64,23 +83,22 @@ pub trait AppliedForces {
 
     /// Whether some element carries a state of its own from one accepted state to the next
     /// (joint friction: its stiction anchor and normal load, [`crate::physics::forces::friction`]).
-    /// The analyses call the three methods below only then.
+    /// That state is data of the run's [`State`] (`State::elements`), never of the set; the
+    /// analyses call the two methods below only then.
     fn has_state(&self) -> bool {
         false
     }
 
-    /// Starts the elements' state at `s` (the IC: stiction anchors at the assembled pose).
-    fn start_state(&self, _s: &State) {}
+    /// Starts the elements' state in `s` at its configuration (the IC: stiction anchors at the
+    /// assembled pose).
+    fn start_state(&self, _s: &mut State) {}
 
-    /// Updates the elements' state after an accepted state `(s, v)` whose constraint
+    /// Updates the elements' state in `s` after the accepted state `(s, v)` whose constraint
     /// reactions are `reactions`; returns the largest change of a load the state holds
     /// (model force units), which a static analysis iterates to zero.
-    fn accept_state(&self, _s: &State, _v: &Velocities, _reactions: &[Reaction]) -> f64 {
+    fn accept_state(&self, _s: &mut State, _v: &Velocities, _reactions: &[Reaction]) -> f64 {
         0.0
     }
-
-    /// A static analysis starts (`true`) or ends: elements inactive in statics switch off.
-    fn set_static(&self, _on: bool) {}
 
     /// The joint frictions, whose normal loads follow the joints' reactions (statics solves
     /// them with the multipliers); `None` without frictions.
@@ -88,15 +106,9 @@ pub trait AppliedForces {
         None
     }
 
-    /// The values the sensors stored, which `SENVAL` reads in these forces (none for a set
-    /// without expressions). A run writes them when a sensor fires.
-    fn sensor_values(&self) -> Option<&crate::physics::forces::data::SensorValues> {
-        None
-    }
-
-    /// The friction of every FRICTION at `(s, v)` with the current state, in model order,
-    /// for the reports (none without frictions).
-    fn friction_values(&self, _s: &State, _v: &Velocities) -> Vec<FrictionValue> {
+    /// The friction of every FRICTION at `(s, v)` in `regime` with the state `s` carries, in
+    /// model order, for the reports (none without frictions).
+    fn friction_values(&self, _regime: Regime, _s: &State, _v: &Velocities) -> Vec<FrictionValue> {
         Vec::new()
     }
 
@@ -131,15 +143,16 @@ pub trait AppliedForces {
         Ok(())
     }
 
-    /// `∂Q/∂x` and `∂Q/∂ẋ` as `(row of Q, column, value)` triplets, column `i` for state i
-    /// and `nx + i` for its rate.
+    /// `∂Q/∂x` and `∂Q/∂ẋ` (in `regime`) as `(row of Q, column, value)` triplets, column `i`
+    /// for state i and `nx + i` for its rate.
     fn add_control_force_jacobian(
         &self,
+        regime: Regime,
         s: &State,
         v: &Velocities,
         out: &mut Vec<(usize, usize, f64)>,
     ) -> Result<(), ForceError> {
-        let _ = (s, v, out);
+        let _ = (regime, s, v, out);
         Ok(())
     }
 }
@@ -148,11 +161,18 @@ pub trait AppliedForces {
 pub struct NoForces;
 
 impl AppliedForces for NoForces {
-    fn add_forces(&self, _: &State, _: &Velocities, _: &mut [f64]) -> Result<(), ForceError> {
+    fn add_forces(
+        &self,
+        _: Regime,
+        _: &State,
+        _: &Velocities,
+        _: &mut [f64],
+    ) -> Result<(), ForceError> {
         Ok(())
     }
     fn add_jacobians(
         &self,
+        _: Regime,
         _: &State,
         _: &Velocities,
         _: &mut Vec<(usize, usize, f64)>,

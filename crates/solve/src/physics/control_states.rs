@@ -54,7 +54,10 @@ pub fn read_state(
             let k = *data.sensors.get(&id).ok_or_else(|| {
                 EvalError::unknown_reference(format!("SENSOR/{id} does not exist"))
             })?;
-            Ok(Dual::constant(data.sensor_values.get(k)))
+            // The value the run stored when the sensor last fired (0 before).
+            Ok(Dual::constant(
+                s.elements.sensors.get(k).copied().unwrap_or(0.0),
+            ))
         }
         StateRef::Dif(id) | StateRef::Dif1(id) => {
             let i = *data

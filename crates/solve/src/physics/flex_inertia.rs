@@ -228,6 +228,7 @@ mod tests {
                 },
             ],
             controls: Default::default(),
+            elements: Default::default(),
         };
         let coupling = FlexCoupling {
             bodies: vec![terms.clone()],

@@ -52,7 +52,7 @@ pub mod six_dof;
 pub mod vector;
 
 use crate::constraints::rows::{BodyFrame, Velocities};
-use crate::physics::applied::{AppliedForces, ForceError, LawError};
+use crate::physics::applied::{AppliedForces, ForceError, LawError, Regime};
 use crate::physics::controls::ControlSet;
 use crate::physics::forces::friction::{FrictionSet, FrictionValue};
 use crate::physics::measures::{MarkerFrames, StateEnv};
@@ -753,6 +753,7 @@ impl ForceSet {
     /// element, so a VARIABLE is evaluated once per call.
     fn generalised<R: Real>(
         &self,
+        regime: Regime,
         s: &State,
         v: &Velocities,
         mut sink: impl FnMut(usize, [R; 6]),
@@ -774,7 +775,7 @@ impl ForceSet {
                 apply(load);
             }
         }
-        self.frictions.each_load::<R>(&cx, |loads| {
+        self.frictions.each_load::<R>(regime, &cx, |loads| {
             loads.into_iter().flatten().for_each(&mut apply)
         });
         Ok(())
@@ -786,32 +787,30 @@ impl AppliedForces for ForceSet {
         !self.frictions.is_empty()
     }
 
-    fn start_state(&self, s: &State) {
+    fn start_state(&self, s: &mut State) {
         self.frictions.start(s);
     }
 
-    fn accept_state(&self, s: &State, v: &Velocities, reactions: &[Reaction]) -> f64 {
+    fn accept_state(&self, s: &mut State, v: &Velocities, reactions: &[Reaction]) -> f64 {
         self.frictions.accept(s, v, reactions)
-    }
-
-    fn set_static(&self, on: bool) {
-        self.frictions.set_static(on);
     }
 
     fn joint_frictions(&self) -> Option<&FrictionSet> {
         (!self.frictions.is_empty()).then_some(&self.frictions)
     }
 
-    fn friction_values(&self, s: &State, v: &Velocities) -> Vec<FrictionValue> {
-        self.frictions.values(s, v)
+    fn friction_values(&self, regime: Regime, s: &State, v: &Velocities) -> Vec<FrictionValue> {
+        self.frictions.values(regime, s, v)
     }
 
-    fn sensor_values(&self) -> Option<&data::SensorValues> {
-        Some(&self.data.sensor_values)
-    }
-
-    fn add_forces(&self, s: &State, v: &Velocities, out: &mut [f64]) -> Result<(), ForceError> {
-        self.generalised::<f64>(s, v, |k, q| {
+    fn add_forces(
+        &self,
+        regime: Regime,
+        s: &State,
+        v: &Velocities,
+        out: &mut [f64],
+    ) -> Result<(), ForceError> {
+        self.generalised::<f64>(regime, s, v, |k, q| {
             for (c, x) in q.iter().enumerate() {
                 if let Some(o) = out.get_mut(6 * k + c) {
                     *o += x;
@@ -822,13 +821,14 @@ impl AppliedForces for ForceSet {
 
     fn add_jacobians(
         &self,
+        regime: Regime,
         s: &State,
         v: &Velocities,
         dq: &mut Vec<(usize, usize, f64)>,
         mut dv: Option<&mut Vec<(usize, usize, f64)>>,
     ) -> Result<(), ForceError> {
         let n6 = 6 * self.nparts;
-        self.generalised::<Dual>(s, v, |k, q| {
+        self.generalised::<Dual>(regime, s, v, |k, q| {
             for (c, x) in q.iter().enumerate() {
                 let row = 6 * k + c;
                 for &(var, d) in x.gradient() {
@@ -869,6 +869,7 @@ impl AppliedForces for ForceSet {
 
     fn add_control_force_jacobian(
         &self,
+        regime: Regime,
         s: &State,
         v: &Velocities,
         out: &mut Vec<(usize, usize, f64)>,
@@ -877,7 +878,7 @@ impl AppliedForces for ForceSet {
             return Ok(());
         }
         let n12 = 12 * self.nparts;
-        self.generalised::<Dual>(s, v, |k, q| {
+        self.generalised::<Dual>(regime, s, v, |k, q| {
             for (c, x) in q.iter().enumerate() {
                 for &(var, d) in x.gradient() {
                     if let Some(col) = (var as usize).checked_sub(n12) {

@@ -90,7 +90,8 @@ thread_local! {
     /// The row gradient position measures build their gradients in, reused so that
     /// evaluating them does not allocate.
     static MEASURE_GRADIENT: RefCell<RowGradient> = RefCell::new(RowGradient::default());
-    /// VARIABLE memories of dropped [`StateEnv`]s, cleared, for the next ones.
+    /// VARIABLE memories of dropped [`StateEnv`]s, cleared, for the next ones (storage only:
+    /// nothing read from these buffers outlives one evaluation).
     static MEMOS: RefCell<Vec<VariableMemo>> = const { RefCell::new(Vec::new()) };
 }
 
@@ -352,6 +353,9 @@ pub struct StateEnv<'a> {
     pub velocities: &'a Velocities,
     pub data: &'a DataElements,
     pub mode: i32,
+    /// VARIABLE values memoised at this environment's one state (and the guard against
+    /// cycles): a pure cache of functions of the state, dropped with the environment, so no
+    /// state outlives an evaluation.
     memo: RefCell<VariableMemo>,
 }
 

@@ -43,12 +43,12 @@
 
 use crate::constraints::rows::{BodyFrame, RowGradient};
 use crate::constraints::system::System;
-use crate::physics::applied::AppliedForces;
+use crate::kernel::Output;
+use crate::physics::applied::{AppliedForces, Regime};
 use crate::physics::forces::data::DataElements;
 use crate::physics::forces::ForceSet;
 use crate::physics::mass::{ground_inertia, gyroscopic};
 use crate::physics::measures::{MarkerFrames, StateEnv};
-use crate::stages::dynamics::Output;
 use glam::{DMat3, DVec3};
 use linkage_adm::{Diagnostics, RequestKind};
 use linkage_expr::{
@@ -293,7 +293,8 @@ type Wrench = (DVec3, DVec3);
 /// A load of a force element: point of application, force, torque (ground).
 type PointLoad = (DVec3, DVec3, DVec3);
 
-/// Memory of VARVAL evaluations in one [`OutputEnv`].
+/// Memory of VARVAL evaluations in one [`OutputEnv`]: a pure cache of values at its one
+/// output (and the guard against cycles), dropped with the environment.
 #[derive(Default)]
 struct Memo {
     active: Vec<u32>,
@@ -334,7 +335,7 @@ pub struct OutputEnv<'a> {
     inner: StateEnv<'a>,
     memo: RefCell<Memo>,
     /// Per moving part, the constraint wrench the output's reactions do not explain (force at
-    /// the CM, torque about it), computed on first use.
+    /// the CM, torque about it), computed on first use: a cache of a function of the output.
     remainder: RefCell<Option<Result<Vec<Wrench>, EvalError>>>,
 }
 
@@ -385,7 +386,7 @@ impl<'a> OutputEnv<'a> {
         let n = model.parts.len();
         let mut applied = vec![0.0; 6 * n];
         if let Some(fs) = self.applied_forces()? {
-            fs.add_forces(&o.state, &o.velocities, &mut applied)
+            fs.add_forces(Regime::Dynamic, &o.state, &o.velocities, &mut applied)
                 .map_err(|m| EvalError::new(EvalErrorKind::Domain, m.to_string()))?;
         }
         let ucf = model.ucf();

@@ -1,7 +1,7 @@
 //! Explain and repair redundancy (`linkage verify --explain`).
 //!
 //! Four findings, all from the rank analysis of the constraint Jacobian (scaled and
-//! row-normalised as in [`crate::stages::verify`]; decided per loop by [`dense`]: an SVD where loops
+//! row-normalised as in [`crate::pipeline::verify`]; decided per loop by [`dense`]: an SVD where loops
 //! are small, the sparse greedy analysis otherwise):
 //!
 //! * **Which reactions are determinate** ([`reactions`]). With redundant equations the
@@ -30,7 +30,7 @@ pub mod reactions;
 pub mod repair;
 
 use crate::constraints::drivers::Drivers;
-use crate::stages::verify::Verification;
+use crate::pipeline::verify::Verification;
 use crate::state::State;
 use crate::tolerances::Tolerances;
 use linkage_model::Model;

@@ -17,15 +17,16 @@
 //! extrapolation `q + v Δt + a Δt²/2` of the previous output. Removed rows are checked at every
 //! output like in the dynamic run.
 
+use crate::constraints::residuals::{report_residual, report_unit_suffix};
 use crate::constraints::rows::RowGradient;
 use crate::constraints::system::RowUnit;
+use crate::kernel::redundant::redundant_violation;
+use crate::kernel::{
+    flat, outputs_every, Failure, IntegrationError, Output, OutputSolver, Problem, SensorWatch,
+    Simulation,
+};
 use crate::linalg::kkt::{jacobian_entries, CoordinateScale, Zeros};
 use crate::linalg::linear::SparseLu;
-use crate::stages::dynamics::{
-    flat, outputs_every, redundant_violation, Failure, IntegrationError, Output, OutputSolver,
-    Problem, SensorWatch, Simulation,
-};
-use crate::stages::verify::{report_residual, report_unit_suffix};
 use crate::state::State;
 use crate::tolerances::KINEMATIC_POSITION;
 use glam::DVec3;
@@ -63,7 +64,7 @@ pub(crate) fn run(
             return sim;
         }
     };
-    let mut sensors = SensorWatch::new(p.model, p.forces);
+    let mut sensors = SensorWatch::new(p.model);
     let end = times.last().copied().unwrap_or(start.time);
     let mut schedule = times.to_vec();
     let v0 = flat(v0);
@@ -133,6 +134,10 @@ pub(crate) fn run(
                 sim.outputs.push(output);
                 k += 1;
             }
+        }
+        // The next positions are solved with the values the sensors stored (SENVAL).
+        if let Some(o) = previous.as_mut() {
+            w.carry(&mut o.state);
         }
         progress(at.max(t));
     }

@@ -37,10 +37,10 @@ use crate::constraints::rows::{RowGradient, Velocities};
 use crate::constraints::system::System;
 use crate::linalg::eigs::{zero_eigenvectors, ConstrainedPencil, EigenError, SparseMatrix, Wanted};
 use crate::linalg::kkt::{jacobian_entries, null_space, CoordinateScale, Zeros};
-use crate::physics::applied::{AppliedForces, ForceError};
+use crate::physics::applied::{AppliedForces, ForceError, Regime};
 use crate::physics::mass::{ground_inertia, MasslessSubstitute};
+use crate::pipeline::ic::AccelerationError;
 use crate::pipeline::{Assembled, NotAssembled};
-use crate::stages::ic::AccelerationError;
 use crate::stages::statics::{Equilibrium, StaticsError};
 use crate::state::State;
 use crate::tolerances::UNDERFLOW_FLOOR;
@@ -224,7 +224,7 @@ impl ControlEquations {
             }
         }
         t.clear();
-        forces.add_control_force_jacobian(s, v, &mut t)?;
+        forces.add_control_force_jacobian(Regime::Dynamic, s, v, &mut t)?;
         for &(row, col, d) in &t {
             let x = ucf * scale(row) * d;
             if col < nx {
@@ -357,7 +357,7 @@ pub fn assemble(
     let mut cmat = Vec::new();
     let mut dq = Vec::new();
     let mut dv = Vec::new();
-    forces.add_jacobians(s, v, &mut dq, Some(&mut dv))?;
+    forces.add_jacobians(Regime::Dynamic, s, v, &mut dq, Some(&mut dv))?;
     for (i, j, x) in dq {
         kmat.push((i, j, -(ucf * x * sc(i) * sc(j))));
     }

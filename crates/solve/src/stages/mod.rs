@@ -1,14 +1,18 @@
-//! The analyses, each consuming the previous stage's result: verify → assemble → ic → statics /
-//! settle → linearize / dynamics (kinematics for zero-DOF models); explain reads verify.
+//! The analyses on a [`crate::pipeline::Assembled`] (verify → assemble → ic are the pipeline's
+//! rungs): statics / settle → linearize (+ plant) / dynamics (kinematics for zero-DOF models);
+//! explain reads verify. Stages share the [`crate::kernel`]; one stage calls another only
+//! through its public entry (a run from equilibrium calls statics and settle, settling calls
+//! the dynamic simulate, the zero-DOF simulate calls kinematics, plant reads linearize).
 
-pub mod assemble;
 pub mod dynamics;
 pub mod explain;
-pub mod fe_modes;
-pub mod ic;
 pub mod kinematics;
 pub mod linearize;
 pub mod plant;
 pub mod settle;
 pub mod statics;
-pub mod verify;
+
+// The initial-conditions rungs live in the pipeline layer and the FE_PART reduction in physics;
+// their former paths stay valid for the crates that call them.
+pub use crate::physics::fe_modes;
+pub use crate::pipeline::{assemble, ic, verify};

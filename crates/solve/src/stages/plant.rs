@@ -16,7 +16,7 @@
 
 use crate::constraints::rows::Velocities;
 use crate::linalg::kkt::CoordinateScale;
-use crate::physics::applied::{AppliedForces, ForceError};
+use crate::physics::applied::{AppliedForces, ForceError, Regime};
 use crate::physics::forces::ForceSet;
 use crate::stages::linearize::{OperatingPoint, StateMatrix};
 use crate::state::State;
@@ -88,8 +88,8 @@ pub fn plant(
         let du = PLANT_STEP * u0.abs().max(1.0);
         let (plus, minus) = (held(id, u0 + du)?, held(id, u0 - du)?);
         let (mut qp, mut qm) = (vec![0.0; n6], vec![0.0; n6]);
-        plus.add_forces(s, v, &mut qp)?;
-        minus.add_forces(s, v, &mut qm)?;
+        plus.add_forces(Regime::Dynamic, s, v, &mut qp)?;
+        minus.add_forces(Regime::Dynamic, s, v, &mut qm)?;
         // F̂ = UCF · s_i · ∂Q_i/∂u in the scaled coordinates; z̈ = M_r⁻¹ Nᵀ F̂.
         let fhat: Vec<f64> = (0..n6)
             .map(|i| ucf * scale.of(i) * (qp[i] - qm[i]) / (2.0 * du))

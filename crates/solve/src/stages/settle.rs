@@ -11,8 +11,10 @@
 //! start.
 
 use crate::constraints::system::System;
+use crate::kernel::ExtraDamping;
+use crate::physics::applied::Regime;
 use crate::pipeline::{Assembled, NotAssembled};
-use crate::stages::dynamics::{simulate_with, AfterOutput, ExtraDamping, IntegratorSettings};
+use crate::stages::dynamics::{simulate_with, AfterOutput, IntegratorSettings};
 use crate::stages::statics::{equilibrium, Equilibrium, StaticsError};
 use crate::state::State;
 use crate::tolerances::SETTLING_INTEGRATOR_ERROR;
@@ -115,7 +117,9 @@ pub fn settle_until(
     let model = a.model;
     let eq = &model.equilibrium;
     let t0 = a.state().time;
-    let problem = a.problem(Some(ExtraDamping(eq.global_damping)), Some(t0));
+    // Frictions inactive in statics (INACTIVE_DURING = STATIC) are off while settling too.
+    let mut problem = a.problem(Some(ExtraDamping(eq.global_damping)), Some(t0));
+    problem.regime = Regime::Static;
     let v0 = a.velocities();
     // One integration over SETTLING_TIME, watched at `WINDOWS` evenly spaced outputs (and the
     // start): it ends at the first output where both limits hold.
@@ -131,8 +135,6 @@ pub fn settle_until(
     };
     let mut stop = None;
     let mut last: Option<(State, f64)> = None;
-    // Frictions inactive in statics (INACTIVE_DURING = STATIC) are off while settling too.
-    a.forces.set_static(true);
     let sim = simulate_with(
         &problem,
         a.state(),
@@ -174,7 +176,6 @@ pub fn settle_until(
             }
         },
     );
-    a.forces.set_static(false);
     if let Some(f) = sim.failure {
         stop = Some(SettleStop::Failed(format!(
             "at settling time {}: {}",

@@ -23,13 +23,13 @@ use crate::constraints::drivers::{Drivers, MotionError};
 use crate::constraints::hessian::HessianBlocks;
 use crate::constraints::rows::RowGradient;
 use crate::constraints::system::{RowUnit, System};
-use crate::linalg::linear::LinearError;
-use crate::physics::applied::{AppliedForces, ForceError};
-use crate::physics::reactions::{element_reactions, Reaction};
-use crate::pipeline::Assembled;
-use crate::stages::dynamics::{
+use crate::kernel::{
     outputs_every, IntegrationError, Output, SensorEvent, SensorStop, SensorWatch,
 };
+use crate::linalg::linear::LinearError;
+use crate::physics::applied::{AppliedForces, ForceError, Regime};
+use crate::physics::reactions::{element_reactions, Reaction};
+use crate::pipeline::Assembled;
 use crate::state::State;
 use crate::tolerances::{
     STABILITY_EIGENVALUE, STABILITY_RANK, STATIC_CONSTRAINT_FLOOR, STATIC_CUT_PROJECTION,
@@ -248,13 +248,11 @@ pub fn equilibrium(
     if !forces.has_state() {
         return equilibrium_once(model, sys, rows, drivers, forces, start, settings);
     }
-    forces.set_static(true);
-    let result = equilibrium_once(model, sys, rows, drivers, forces, start, settings);
-    if let Some(eq) = result.as_ref().ok().filter(|e| e.converged) {
+    let mut result = equilibrium_once(model, sys, rows, drivers, forces, start, settings);
+    if let Some(eq) = result.as_mut().ok().filter(|e| e.converged) {
         let rest = vec![(DVec3::ZERO, DVec3::ZERO); model.parts.len()];
-        forces.accept_state(&eq.state, &rest, &eq.reactions);
+        forces.accept_state(&mut eq.state, &rest, &eq.reactions);
     }
-    forces.set_static(false);
     result
 }
 
@@ -301,7 +299,7 @@ fn equilibrium_once(
     let mut history = [0.0; RUNAWAY_WINDOW];
     let mut recorded = 0usize;
     loop {
-        let load = w.residuals(&p, &s, &lambda)?;
+        let load = w.residuals(&p, &mut s, &lambda)?;
         if w.force.iter().chain(&w.phi).any(|x| !x.is_finite()) {
             return Err(StaticsError::NotFinite {
                 iteration: iterations,
@@ -558,7 +556,9 @@ fn reduced_stability(
     let mut kt = faer::Mat::<f64>::zeros(dim, dim);
     let mut dq = Vec::new();
     let rest = vec![(DVec3::ZERO, DVec3::ZERO); n];
-    forces.add_jacobians(s, &rest, &mut dq, None).ok()?;
+    forces
+        .add_jacobians(Regime::Static, s, &rest, &mut dq, None)
+        .ok()?;
     for (i, j, v) in dq {
         kt[(i, j)] -= v * scale(i) * scale(j);
     }
@@ -655,7 +655,7 @@ pub fn run_from(a: &Assembled, start: &State, times: &[f64]) -> StaticRun {
         return out;
     }
     let mut watch = (times.len() > 1)
-        .then(|| SensorWatch::new(a.model, a.forces))
+        .then(|| SensorWatch::new(a.model))
         .flatten();
     let end = times.last().copied().unwrap_or(0.0);
     let mut schedule = times.to_vec();
@@ -783,6 +783,10 @@ pub fn run_from(a: &Assembled, start: &State, times: &[f64]) -> StaticRun {
                 out.steps.push((t, Ok(eq)));
                 k += 1;
             }
+        }
+        // The next equilibria start with the values the sensors stored (SENVAL).
+        if let Some(s) = history.last_mut() {
+            w.carry(s);
         }
     }
     out

@@ -490,6 +490,7 @@ mod tests {
             ],
             time: 0.0,
             controls: ControlValues::default(),
+            elements: Default::default(),
         };
         (row, s)
     }

@@ -403,6 +403,7 @@ pub(crate) mod tests {
             poses: vec![Pose { p: p0, r: r0 }, Pose { p: p1, r: r1 }],
             time: 0.0,
             controls: ControlValues::default(),
+            elements: Default::default(),
         };
         (gap, s)
     }

@@ -385,6 +385,7 @@ mod tests {
             }],
             time: 0.0,
             controls: Default::default(),
+            elements: Default::default(),
         };
         let v = [(DVec3::new(0.1, 0.2, 0.3), DVec3::new(0.5, -0.4, 0.2))];
         let kin = Kinematics {

@@ -11,13 +11,15 @@
 //! force is an error that names them, while unused ones do not matter (models often carry
 //! output VARIABLEs with measures linkage does not know).
 //!
-//! `SENVAL(id)` reads [`SensorValues`]: the value SENSOR/id stored when it last fired
-//! (EVALUATE, else FUNCTION, at the event; ADM-ELEMENTS §5), 0 before it first fires
-//! [decided: Adams does not say]. The values are shared by every clone of the data (the
-//! forces, the requests and the sensors of a run see the same ones), are written only by a
-//! dynamic, quasi-static or kinematic run when a sensor fires, and persist across the
-//! analyses of one command file; the IC and static analyses read them as they are (0, or
-//! the value of the last firing of an earlier run) [decided].
+//! `SENVAL(id)` reads the value SENSOR/id stored when it last fired (EVALUATE, else
+//! FUNCTION, at the event; ADM-ELEMENTS §5), 0 before it first fires [decided: Adams does not
+//! say]. The values are data of the state evaluated (`State::elements.sensors`), so the
+//! forces, the requests and the sensors of a run read the same ones; they are written only
+//! by a dynamic, quasi-static or kinematic run when a sensor fires
+//! (`kernel::sensors::SensorWatch`), and persist across the analyses of one command file
+//! (`pipeline::Assembled::continuing` takes them from the state the last analysis left);
+//! the IC and static analyses read them as they are (0, or the value of the last firing of
+//! an earlier run) [decided].
 
 use super::parse_function;
 use linkage_adm::Diagnostic;
@@ -26,36 +28,6 @@ use linkage_model::controls::StateLaw;
 use linkage_model::forces::{ArrayValues, SplineValues};
 use linkage_model::Model;
 use std::collections::HashMap;
-use std::sync::atomic::{AtomicU64, Ordering};
-use std::sync::Arc;
-
-/// The values the sensors stored (`SENVAL`), in model order, shared between clones;
-/// reading and writing allocate nothing and take no lock.
-#[derive(Clone, Debug, Default)]
-pub struct SensorValues(Arc<[AtomicU64]>);
-
-impl SensorValues {
-    /// `n` values, all 0.
-    pub fn new(n: usize) -> SensorValues {
-        SensorValues((0..n).map(|_| AtomicU64::new(0.0f64.to_bits())).collect())
-    }
-
-    /// The value of sensor `k` (model order).
-    pub fn get(&self, k: usize) -> f64 {
-        f64::from_bits(self.0[k].load(Ordering::Relaxed))
-    }
-
-    /// Stores `v` for sensor `k`.
-    pub fn set(&self, k: usize, v: f64) {
-        self.0[k].store(v.to_bits(), Ordering::Relaxed);
-    }
-
-    /// Every value, in model order.
-    pub fn all(&self) -> Vec<f64> {
-        (0..self.0.len()).map(|k| self.get(k)).collect()
-    }
-}
-
 /// Why a VARIABLE cannot be evaluated.
 #[derive(Clone, Debug)]
 pub enum VariableProblem {
@@ -112,9 +84,9 @@ pub struct DataElements {
     /// PINPUT and POUTPUT ids → their VARIABLE ids in order.
     pub pinputs: HashMap<u32, Vec<u32>>,
     pub poutputs: HashMap<u32, Vec<u32>>,
-    /// SENSOR id → its index in the model's sensors (and in `sensor_values`).
+    /// SENSOR id → its index in the model's sensors (and in the stored values a state
+    /// carries, `State::elements.sensors`).
     pub sensors: HashMap<u32, usize>,
-    pub sensor_values: SensorValues,
 }
 
 /// Dataset ids above `u32::MAX` cannot be named in an expression.
@@ -232,7 +204,6 @@ impl DataElements {
                 data.sensors.insert(id, k);
             }
         }
-        data.sensor_values = SensorValues::new(model.sensors.len());
         for s in &model.splines {
             let Some(id) = id32(s.origin.id) else {
                 continue;

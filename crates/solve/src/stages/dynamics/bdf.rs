@@ -52,12 +52,12 @@
 //! ([`crate::physics::controls::consistent_rates`]).
 
 use super::corrector::{correct, reciprocal_length_weight, Scheme, Step, Workspace};
-use super::error::IntegrationError;
-use super::matrix::MatrixCoefficients;
-use super::output::Output;
-use super::problem::{flat, padded, Problem};
 use crate::constraints::rows::Velocities;
-use crate::state::{Pose, State};
+use crate::kernel::error::IntegrationError;
+use crate::kernel::matrix::MatrixCoefficients;
+use crate::kernel::output::Output;
+use crate::kernel::problem::{flat, padded, Problem};
+use crate::state::{ElementState, Pose, State};
 use glam::{DMat3, DVec3};
 use linkage_model::frames::{exp_so3, log_so3, skew};
 use linkage_model::settings::{Formulation, IntegratorSettings};
@@ -239,6 +239,13 @@ impl<'p, 'a> Bdf<'p, 'a> {
     /// Positions at the current step.
     pub fn state(&self) -> &State {
         &self.cur.s
+    }
+
+    /// Replaces the force elements' state the next steps are solved with (joint friction
+    /// after an accepted step: [`crate::physics::applied::AppliedForces::accept_state`]).
+    pub fn set_elements(&mut self, elements: &ElementState) {
+        self.cur.s.elements.clone_from(elements);
+        self.trial.s.elements.clone_from(elements);
     }
 
     /// The order the next step will use.

@@ -3,13 +3,13 @@
 //! ([`correct`]). What differs between HHT-α and BDF is only how positions and velocities
 //! follow from the accelerations (a placement closure) and the coefficients in [`Scheme`].
 
-use super::error::{IntegrationError, SingularSolve};
-use super::matrix::{Iterate, IterationMatrix, MatrixCoefficients};
-use super::output::ConsistentSolve;
-use super::problem::{unflat_into, Problem};
 use crate::constraints::drivers::MotionError;
 use crate::constraints::rows::{RowGradient, Velocities};
 use crate::constraints::system::RowUnit;
+use crate::kernel::error::{IntegrationError, SingularSolve};
+use crate::kernel::matrix::{Iterate, IterationMatrix, MatrixCoefficients};
+use crate::kernel::output::ConsistentSolve;
+use crate::kernel::problem::{unflat_into, Problem};
 use crate::physics::mass::{self, SingularInertia};
 use crate::state::State;
 use crate::tolerances::{

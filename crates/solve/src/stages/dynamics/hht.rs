@@ -1,6 +1,6 @@
 //! The HHT-α method's coefficients (Negrut, Rampalli, Ottarsson, Sajdak 2007).
 
-use super::matrix::MatrixCoefficients;
+use crate::kernel::matrix::MatrixCoefficients;
 use crate::tolerances::HHT_UNDAMPED_RADIUS;
 
 /// HHT-α coefficients: `β = (1−α)²/4`, `γ = 1/2 − α`, with `α ∈ [−1/3, 0]`.

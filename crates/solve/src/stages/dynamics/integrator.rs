@@ -5,12 +5,12 @@
 use super::corrector::{
     correct, project_velocities, reciprocal_length_weight, Scheme, Step, Workspace,
 };
-use super::error::IntegrationError;
 use super::hht::Hht;
-use super::output::Output;
-use super::problem::{flat, padded, Problem};
 use crate::constraints::rows::Velocities;
-use crate::state::State;
+use crate::kernel::error::IntegrationError;
+use crate::kernel::output::Output;
+use crate::kernel::problem::{flat, padded, Problem};
+use crate::state::{ElementState, State};
 use glam::DVec3;
 use linkage_model::settings::IntegratorSettings;
 
@@ -146,6 +146,13 @@ impl<'p, 'a> Integrator<'p, 'a> {
     /// Positions at the current step.
     pub fn state(&self) -> &State {
         &self.cur.s
+    }
+
+    /// Replaces the force elements' state the next steps are solved with (joint friction
+    /// after an accepted step: [`crate::physics::applied::AppliedForces::accept_state`]).
+    pub fn set_elements(&mut self, elements: &ElementState) {
+        self.cur.s.elements.clone_from(elements);
+        self.trial.s.elements.clone_from(elements);
     }
 
     /// Velocities at the current step, 6 per part (CM velocity, angular velocity; ground).

@@ -28,14 +28,13 @@
 //! Redundant rows (removed as in verify) are checked every step; one that becomes violated
 //! stops the run.
 //!
-//! Layout: `problem.rs` (what a step needs that does not change: generalized forces, drives),
-//! `hht.rs` (the method's coefficients), `matrix.rs` (iteration-matrix assembly),
-//! `integrator.rs` (the HHT step), `bdf.rs` (the BDF step), `corrector.rs` (the shared Newton
-//! iteration and workspace), `stepper.rs` (either behind one interface), `output.rs` (the consistent-output solve,
-//! shared with the kinematic run), `simulate.rs` (step-size
-//! control, outputs), `redundant.rs` (redundant-row checks), `results.rs` and `error.rs` (what a
-//! run returns), `run.rs` (the dataset-level run), `sensors.rs` (SENSOR evaluation, event
-//! location by re-stepping, actions).
+//! Layout: `hht.rs` (the method's coefficients), `integrator.rs` (the HHT step), `bdf.rs` (the
+//! BDF step), `corrector.rs` (the shared Newton iteration and workspace), `stepper.rs` (either
+//! behind one interface), `simulate.rs` (step-size control, outputs), `events.rs` (SENSOR
+//! events located by re-stepping), `run.rs` (the dataset-level run). What every analysis
+//! shares is in [`crate::kernel`]: the problem view (`problem.rs`: generalized forces,
+//! drives), the iteration matrix (`matrix.rs`), the consistent-output solve (`output.rs`), the
+//! sensor watch, the redundant-row checks, what a run returns and its errors.
 //!
 //! Cost: [`Integrator`] holds every buffer a step needs (MuJoCo's "model read-only, data
 //! preallocated"): a step allocates nothing once the iteration matrix's sparsity pattern is
@@ -50,31 +49,24 @@
 
 mod bdf;
 mod corrector;
-mod error;
+mod events;
 mod hht;
 mod integrator;
-mod matrix;
-mod output;
-mod problem;
-mod redundant;
-mod results;
 mod run;
-mod sensors;
 mod simulate;
 mod stepper;
 
 pub use bdf::Bdf;
-pub use error::{IntegrationError, MatrixRole, SingularSolve};
 pub use integrator::Integrator;
+// The kernel types a run takes and returns, re-exported on the dynamics paths callers use.
+pub use crate::kernel::{
+    flat, outputs_every, Consistent, ExtraDamping, Failure, IntegrationError, MatrixRole, Output,
+    OutputSolver, Problem, SensorEvent, SensorStop, SensorWatch, Simulation, SingularSolve,
+};
 pub use linkage_model::settings::IntegratorSettings;
-pub use output::{Consistent, Output, OutputSolver};
-pub use problem::{flat, ExtraDamping, Problem};
-pub(crate) use redundant::redundant_violation;
-pub use results::{Failure, Simulation};
 pub use run::{
     continue_streamed, run, run_from, run_streamed, Continue, DynamicRun, RunError, RunProgress,
     Start, StartingEquilibrium, Stream, UnstableStart,
 };
-pub use sensors::{outputs_every, SensorEvent, SensorStop, SensorWatch};
 pub use simulate::{simulate, simulate_with, AfterOutput};
 pub use stepper::Stepper;

@@ -1,15 +1,16 @@
 //! The simulate loop: step-size control on the local error estimate, output times hit exactly,
 //! consistent outputs, redundant rows checked after every step, sensors evaluated after every
-//! step ([`super::sensors`]). A model without degrees of freedom is handed to the kinematic
+//! step ([`crate::kernel::sensors`], events located by [`super::events`]). A model without degrees of freedom is handed to the kinematic
 //! run.
 
-use super::error::IntegrationError;
-use super::output::Output;
-use super::problem::Problem;
-use super::redundant::{redundant_tolerance, redundant_violation};
-use super::results::{Failure, Simulation};
-use super::sensors::SensorWatch;
+use super::events;
 use super::stepper::Stepper;
+use crate::kernel::error::IntegrationError;
+use crate::kernel::output::Output;
+use crate::kernel::problem::Problem;
+use crate::kernel::redundant::{redundant_tolerance, redundant_violation};
+use crate::kernel::results::{Failure, Simulation};
+use crate::kernel::sensors::SensorWatch;
 use crate::state::State;
 use crate::tolerances::{
     AT_MIN_STEP, LOCAL_ERROR_FLOOR, LOCAL_ERROR_ROUNDING, OUTPUT_AT_START, OUTPUT_HIT, SPAN_FLOOR,
@@ -109,7 +110,7 @@ pub fn simulate_with(
     };
     let mut next_output = 0;
     // Sensors (not while settling at a frozen time), armed at the start.
-    let mut sensors = SensorWatch::new(p.model, p.forces).filter(|_| p.frozen_time.is_none());
+    let mut sensors = SensorWatch::new(p.model).filter(|_| p.frozen_time.is_none());
     if let Some(Err(e)) = sensors.as_mut().map(|w| w.start(p.model, &first)) {
         sim.failure = Some(Failure::new(start.time, e));
         return sim;
@@ -201,11 +202,14 @@ pub fn simulate_with(
                 sim.steps += 1;
                 let (err, order) = integ.accept(err, tol);
                 let now = integ.time();
-                // Force elements with a state (joint friction) take the accepted step.
+                // Force elements with a state (joint friction) take the accepted step; the
+                // next steps are solved with the state that gives.
                 if p.forces.has_state() {
                     match integ.output() {
-                        Ok(o) => {
-                            p.forces.accept_state(&o.state, &o.velocities, &o.reactions);
+                        Ok(mut o) => {
+                            p.forces
+                                .accept_state(&mut o.state, &o.velocities, &o.reactions);
+                            integ.set_elements(&o.state.elements);
                         }
                         Err(e) => {
                             sim.failure = Some(Failure::new(now, e));
@@ -240,7 +244,7 @@ pub fn simulate_with(
                 );
                 // Sensors: an event inside the step continues the run from its time.
                 if let Some(w) = sensors.as_mut() {
-                    match w.after_step(p, &mut integ, settings, span) {
+                    match events::after_step(w, p, &mut integ, settings, span) {
                         Ok(None) => {}
                         Ok(Some(fired)) => {
                             let at_output = hit && !fired.before_step_end;

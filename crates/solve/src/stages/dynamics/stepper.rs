@@ -1,12 +1,12 @@
 //! The integrator a run steps with: HHT-α or BDF, behind one interface for the simulate loop.
 
 use super::bdf::Bdf;
-use super::error::IntegrationError;
 use super::integrator::Integrator;
-use super::output::Output;
-use super::problem::Problem;
 use crate::constraints::rows::Velocities;
-use crate::state::State;
+use crate::kernel::error::IntegrationError;
+use crate::kernel::output::Output;
+use crate::kernel::problem::Problem;
+use crate::state::{ElementState, State};
 use linkage_model::settings::{IntegratorMethod, IntegratorSettings};
 
 /// HHT-α (second order) or variable-order BDF.
@@ -90,6 +90,14 @@ impl<'p, 'a> Stepper<'p, 'a> {
         match self {
             Stepper::Hht(i) => i.state(),
             Stepper::Bdf(b) => b.state(),
+        }
+    }
+
+    /// Replaces the force elements' state the next steps are solved with.
+    pub fn set_elements(&mut self, elements: &ElementState) {
+        match self {
+            Stepper::Hht(i) => i.set_elements(elements),
+            Stepper::Bdf(b) => b.set_elements(elements),
         }
     }
 

@@ -2,7 +2,7 @@
 //!
 //! Adams does not check these. The rows are ranked in priority order: the constraint rows
 //! (as in verify), then the motions, then the hard initial conditions of the assembly (EXACT
-//! part coordinates, then joint initial displacements, [`crate::stages::assemble::hard_rows`]). A
+//! part coordinates, then joint initial displacements, [`crate::pipeline::assemble::hard_rows`]). A
 //! motion or initial condition whose row is redundant fixes a DOF that the rows before it
 //! already fix: a *duplicate*. It *conflicts* when the values disagree: with the linearised
 //! dependency `r = Σ c_k a_k` (scaled rows, norms `n`), `Δ = φ_r/n_r − Σ c_k φ_k/n_k` of the
@@ -12,11 +12,11 @@
 
 use crate::constraints::drivers::Drivers;
 use crate::constraints::rank::{greedy_rank, RankSettings, SparseRows};
+use crate::constraints::residuals::report_residual;
 use crate::constraints::rows::RowGradient;
 use crate::constraints::system::{RowUnit, System, Tier};
 use crate::linalg::kkt::scaled_row;
-use crate::stages::assemble::hard_rows;
-use crate::stages::verify::report_residual;
+use crate::pipeline::assemble::hard_rows;
 use crate::state::State;
 use crate::tolerances::Tolerances;
 use linkage_model::Model;

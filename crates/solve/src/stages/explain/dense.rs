@@ -1,6 +1,6 @@
 //! Rank and left null space block by block, by a dense SVD where the block is small.
 //!
-//! The sparse greedy elimination of [`crate::stages::verify::rank_analysis`] decides exactly on the
+//! The sparse greedy elimination of [`crate::pipeline::verify::rank_analysis`] decides exactly on the
 //! axis-aligned poses models are usually written in, but at a generic pose (e.g. after the
 //! random moves of [`super::generic`]) its threshold pivoting can leave rounding of order
 //! 10⁻⁹ in a long loop — at the rank tolerance. The explanations compare ranks across poses
@@ -14,7 +14,7 @@ use crate::constraints::graph::{Block, Topology};
 use crate::constraints::rows::RowGradient;
 use crate::constraints::system::System;
 use crate::linalg::kkt::scaled_row;
-use crate::stages::verify::rank_analysis;
+use crate::pipeline::verify::rank_analysis;
 use crate::state::State;
 use crate::tolerances::Tolerances;
 use crate::tolerances::NULL_VECTOR_ENTRY;

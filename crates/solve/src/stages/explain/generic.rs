@@ -7,7 +7,7 @@
 //! generic DOF and redundancy follow from it, and the input is singular when its rank differs.
 //!
 //! Nearby poses are reached in two ways, each ending with a least-change assembly
-//! ([`crate::stages::assemble::assemble`], tightened to 10⁻¹¹ so that the rank decisions are not
+//! ([`crate::pipeline::assemble::assemble`], tightened to 10⁻¹¹ so that the rank decisions are not
 //! disturbed by the assembly error; motions are left free):
 //!
 //! * **Random moves** ([`TRIALS`]): every part is moved by a random step — components uniform
@@ -42,8 +42,8 @@ use crate::constraints::drivers::NoDrivers;
 use crate::constraints::graph::Topology;
 use crate::constraints::rows::Quantity;
 use crate::constraints::system::{RowUnit, System, Tier};
-use crate::stages::assemble::{assemble, HardKind, HardRow};
-use crate::stages::verify::rank_analysis;
+use crate::pipeline::assemble::{assemble, HardKind, HardRow};
+use crate::pipeline::verify::rank_analysis;
 use crate::state::State;
 use crate::tolerances::Tolerances;
 use crate::tolerances::{ADMISSIBLE_RESIDUAL, SMALLEST_PART_SIZE, TIGHT_ASSEMBLY};

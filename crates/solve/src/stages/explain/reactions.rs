@@ -20,7 +20,7 @@
 use crate::constraints::rows::{Quantity, RowGradient};
 use crate::constraints::system::System;
 use crate::linalg::kkt::scaled_row;
-use crate::stages::verify::Dependency;
+use crate::pipeline::verify::Dependency;
 use crate::state::State;
 use crate::tolerances::UNDERFLOW_FLOOR;
 use crate::tolerances::{

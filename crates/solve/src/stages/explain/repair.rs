@@ -64,7 +64,7 @@
 use super::dense::analyse;
 use super::reactions::{determinacy, Direction, ElementReactions};
 use crate::constraints::graph::{topology, Block, Topology};
-use crate::stages::verify::{compile, rank_analysis, Verification};
+use crate::pipeline::verify::{compile, rank_analysis, Verification};
 use crate::state::State;
 use crate::tolerances::Tolerances;
 use crate::tolerances::NULL_VECTOR_ROUNDING;

@@ -32,7 +32,7 @@ use crate::constraints::system::System;
 use crate::linalg::kkt::{push_constraint_row, ConstraintBlocks, CoordinateScale, Zeros};
 use crate::linalg::linear::LinearError;
 use crate::linalg::triplet_lu::TripletLu;
-use crate::physics::applied::{AppliedForces, ForceError};
+use crate::physics::applied::{AppliedForces, ForceError, Regime};
 use crate::physics::mass::ground_inertia;
 use crate::state::State;
 use crate::tolerances::STATIC_MASS_FLOOR;
@@ -142,15 +142,21 @@ impl Workspace {
     }
 
     /// The residuals at `s`, `λ`: the rows' gradients, the frictions' normal loads from `λ`
-    /// ([`FrictionLoads::update`]), `F` and `Φ`. Returns the largest applied load component
-    /// `max |Q + Q_gravity|`.
-    pub fn residuals(&mut self, p: &Problem, s: &State, lambda: &[f64]) -> Result<f64, ForceError> {
+    /// (set in `s` by [`FrictionLoads::update`]), `F` and `Φ`. Returns the largest applied
+    /// load component `max |Q + Q_gravity|`.
+    pub fn residuals(
+        &mut self,
+        p: &Problem,
+        s: &mut State,
+        lambda: &[f64],
+    ) -> Result<f64, ForceError> {
         for (k, (r, _)) in p.used.iter().enumerate() {
             p.sys.gradient(*r, s, &mut self.grads[k]);
         }
         if let Some(f) = self.frictions.as_mut() {
             f.update(p, s, &self.grads, lambda);
         }
+        let s: &State = s;
         applied(p, s, &self.rest, &mut self.force)?;
         let load = self.force.iter().map(|x| x.abs()).fold(0.0, f64::max);
         for (k, g) in self.grads.iter().enumerate() {
@@ -198,13 +204,14 @@ impl Workspace {
         lambda: &[f64],
     ) -> Result<(), StaticsError> {
         self.dq.clear();
-        p.forces.add_jacobians(s, &self.rest, &mut self.dq, None)?;
+        p.forces
+            .add_jacobians(Regime::Static, s, &self.rest, &mut self.dq, None)?;
         self.dr.clear();
         self.dqx.clear();
         if p.controls() > 0 {
             p.forces.control_jacobian(s, &self.rest, &mut self.dr)?;
             p.forces
-                .add_control_force_jacobian(s, &self.rest, &mut self.dqx)?;
+                .add_control_force_jacobian(Regime::Static, s, &self.rest, &mut self.dqx)?;
         }
         let mut second = SecondDerivatives {
             hessian: &mut self.hessian,
@@ -449,5 +456,5 @@ fn applied(
             out[6 * k + c] = part.mass * p.model.gravity[c] / ucf;
         }
     }
-    p.forces.add_forces(s, rest, out)
+    p.forces.add_forces(Regime::Static, s, rest, out)
 }

@@ -24,12 +24,13 @@
 //!
 //! **State and the implicit coupling.** The friction depends on the joint's reaction, which
 //! the analyses solve together with the motion. Outside statics linkage breaks the loop by
-//! lagging the normal load: `N` and the anchor are a [`FrictionState`] per friction, updated at accepted
-//! states only ([`crate::physics::applied::AppliedForces::accept_state`]):
+//! lagging the normal load: `N` and the anchor are a [`FrictionState`] per friction, data of the
+//! run's [`State`] (`State::elements`), updated at accepted states only
+//! ([`crate::physics::applied::AppliedForces::accept_state`]); the force set holds none:
 //! - the IC sets the anchors at the assembled pose, solves the accelerations and reactions,
-//!   takes `N` from them and solves again (`stages::ic`);
+//!   takes `N` from them and solves again (`pipeline::ic`);
 //! - statics takes `N` from the joint's multipliers at every Newton iterate, with the
-//!   coupling `∂Q/∂λ` in the Newton matrix (`stages/statics/friction_load.rs`), so the
+//!   coupling `∂Q/∂λ` in the Newton matrix (`stages/statics/newton/friction_load.rs`), so the
 //!   equilibrium holds with the load of its own reactions (the friction in statics is the
 //!   stiction spring about the anchor at the start: a block on a ramp with `tan θ < μs` is
 //!   held with a deformation below Δmax; `INACTIVE_DURING = STATIC` switches the friction off
@@ -54,22 +55,12 @@ use super::algebra::{Kinematics, Real, V3};
 use super::{Context, Load, Loads};
 use crate::constraints::rows::{BodyFrame, Velocities};
 use crate::physics::reactions::Reaction;
+pub use crate::state::FrictionState;
 use crate::state::State;
 use glam::{DMat3, DVec3};
 use linkage_model::frames::{exp_so3, log_so3};
 use linkage_model::friction::{Friction, FrictionJoint};
 use regime::Regime;
-
-/// What a friction carries from one accepted state to the next.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct FrictionState {
-    /// The travel `(P_i − P_j)·z_j` where the axial deformation is zero.
-    pub anchor_travel: f64,
-    /// `R_jᵀR_i` where the rotational deformation is zero.
-    pub anchor_rotation: DMat3,
-    /// The normal load N (force at the slip surface, model force units).
-    pub normal: f64,
-}
 
 /// One FRICTION, ready to evaluate.
 #[derive(Clone, Debug)]

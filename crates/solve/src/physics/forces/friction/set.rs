@@ -1,42 +1,29 @@
-//! Every FRICTION of a model with its state ([`FrictionState`]), behind a lock so that the
-//! force interface (`&self`) can carry it from one accepted state to the next.
+//! Every FRICTION of a model, read-only: the laws, and the state each starts with at the
+//! dataset's input configuration. The state a run carries is data of its [`State`]
+//! (`State::elements.frictions`, [`FrictionState`] per friction in model order), started by
+//! [`FrictionSet::start`] and moved by [`FrictionSet::accept`]; a state without it (one the
+//! initial conditions did not start) reads as [`FrictionSet::initial`].
 
 use super::{FrictionLaw, FrictionState, FrictionValue};
 use crate::constraints::rows::Velocities;
+use crate::physics::applied::Regime;
 use crate::physics::forces::algebra::Real;
 use crate::physics::forces::{marker_frame, Context, Loads};
 use crate::physics::reactions::Reaction;
 use crate::state::State;
 use linkage_model::Model;
-use std::sync::{Mutex, MutexGuard};
 
-/// What the analyses change: the states, and whether a static analysis is running (the
-/// frictions with `INACTIVE_DURING = STATIC` are then off).
+/// The model's frictions.
 #[derive(Clone, Debug, Default)]
-struct Shared {
-    states: Vec<FrictionState>,
-    statics: bool,
-}
-
-/// The model's frictions and their states.
-#[derive(Debug, Default)]
 pub struct FrictionSet {
     laws: Vec<FrictionLaw>,
-    shared: Mutex<Shared>,
-}
-
-impl Clone for FrictionSet {
-    fn clone(&self) -> Self {
-        FrictionSet {
-            laws: self.laws.clone(),
-            shared: Mutex::new(self.lock().clone()),
-        }
-    }
+    /// Each friction anchored at the input configuration with the normal load of its preload.
+    initial: Vec<FrictionState>,
 }
 
 impl FrictionSet {
-    /// The frictions of `model`, anchored at its input configuration, with the normal load of
-    /// their preloads.
+    /// The frictions of `model`, with their states anchored at its input configuration with
+    /// the normal load of their preloads.
     pub fn new(model: &Model) -> FrictionSet {
         let laws: Vec<FrictionLaw> = model
             .frictions
@@ -44,19 +31,8 @@ impl FrictionSet {
             .map(|f| FrictionLaw::new(f, marker_frame(model, f.i), marker_frame(model, f.j)))
             .collect();
         let input = State::input(model);
-        let states = laws.iter().map(|l| l.start(&input)).collect();
-        FrictionSet {
-            laws,
-            shared: Mutex::new(Shared {
-                states,
-                statics: false,
-            }),
-        }
-    }
-
-    fn lock(&self) -> MutexGuard<'_, Shared> {
-        // A panic elsewhere while the lock was held leaves plain data behind: keep using it.
-        self.shared.lock().unwrap_or_else(|e| e.into_inner())
+        let initial = laws.iter().map(|l| l.start(&input)).collect();
+        FrictionSet { laws, initial }
     }
 
     pub fn is_empty(&self) -> bool {
@@ -68,40 +44,56 @@ impl FrictionSet {
         &self.laws
     }
 
-    /// The current state of each friction.
-    pub fn states(&self) -> Vec<FrictionState> {
-        self.lock().states.clone()
+    /// The states at the input configuration, with the preloads' normal loads.
+    pub fn initial(&self) -> &[FrictionState] {
+        &self.initial
     }
 
-    /// Whether friction `k` acts now (not in a static analysis when INACTIVE_DURING=STATIC).
-    fn active(&self, shared: &Shared, k: usize) -> bool {
-        !(shared.statics && self.laws[k].friction.inactive_static)
+    /// The state of every friction at `s`: the run's, or [`FrictionSet::initial`] when `s`
+    /// carries none.
+    pub fn states<'a>(&'a self, s: &'a State) -> &'a [FrictionState] {
+        let carried = &s.elements.frictions;
+        if carried.len() == self.laws.len() {
+            carried
+        } else {
+            &self.initial
+        }
     }
 
-    /// Whether friction `k` acts now ([`FrictionSet::set_static`]).
-    pub fn acts(&self, k: usize) -> bool {
-        self.active(&self.lock(), k)
+    /// The state of friction `k` at `s`.
+    pub fn state(&self, s: &State, k: usize) -> FrictionState {
+        self.states(s)[k]
     }
 
-    /// The state of friction `k`.
-    pub fn state(&self, k: usize) -> FrictionState {
-        self.lock().states[k]
+    /// The states `s` carries, started from [`FrictionSet::initial`] when it carries none.
+    fn states_mut<'a>(&self, s: &'a mut State) -> &'a mut [FrictionState] {
+        let carried = &mut s.elements.frictions;
+        if carried.len() != self.laws.len() {
+            carried.clear();
+            carried.extend_from_slice(&self.initial);
+        }
+        carried
     }
 
-    /// The largest stiction deformation of the active frictions at `(s, v)` from their
-    /// anchors, as a fraction of each one's MAX_STICTION_DEFORMATION (0 without any).
-    pub fn stiction_fraction(&self, s: &State, v: &Velocities) -> f64 {
-        let shared = self.lock();
+    /// Whether friction `k` acts in `regime` (not in statics when INACTIVE_DURING=STATIC).
+    pub fn acts(&self, regime: Regime, k: usize) -> bool {
+        !(regime == Regime::Static && self.laws[k].friction.inactive_static)
+    }
+
+    /// The largest stiction deformation of the frictions active in `regime` at `(s, v)` from
+    /// their anchors, as a fraction of each one's MAX_STICTION_DEFORMATION (0 without any).
+    pub fn stiction_fraction(&self, regime: Regime, s: &State, v: &Velocities) -> f64 {
+        let states = self.states(s);
         let kin = crate::physics::forces::algebra::Kinematics {
             state: s,
             velocities: v,
         };
         let mut largest: f64 = 0.0;
         for (k, law) in self.laws.iter().enumerate() {
-            if !self.active(&shared, k) {
+            if !self.acts(regime, k) {
                 continue;
             }
-            let slip = law.slip::<f64>(&kin, &shared.states[k]);
+            let slip = law.slip::<f64>(&kin, &states[k]);
             let size = slip.deformation[..slip.dims]
                 .iter()
                 .map(|c| c * c)
@@ -112,65 +104,58 @@ impl FrictionSet {
         largest
     }
 
-    /// Sets the normal load of friction `k` (its anchor unchanged): statics takes it from the
-    /// Newton iterate's multipliers.
-    pub fn set_normal(&self, k: usize, normal: f64) {
-        self.lock().states[k].normal = normal;
+    /// Sets the normal load of friction `k` in `s` (its anchor unchanged): statics takes it
+    /// from the Newton iterate's multipliers.
+    pub fn set_normal(&self, s: &mut State, k: usize, normal: f64) {
+        self.states_mut(s)[k].normal = normal;
     }
 
-    /// Calls `sink` with the loads of every active friction at `cx`.
-    pub fn each_load<R: Real>(&self, cx: &Context, mut sink: impl FnMut(Loads<R>)) {
+    /// Calls `sink` with the loads of every friction active in `regime` at `cx` (with the
+    /// states its state carries).
+    pub fn each_load<R: Real>(&self, regime: Regime, cx: &Context, mut sink: impl FnMut(Loads<R>)) {
         if self.laws.is_empty() {
             return;
         }
-        let shared = self.lock();
+        let states = self.states(cx.kin.state);
         for (k, law) in self.laws.iter().enumerate() {
-            if self.active(&shared, k) {
-                sink(law.loads::<R>(cx, &shared.states[k]));
+            if self.acts(regime, k) {
+                sink(law.loads::<R>(cx, &states[k]));
             }
         }
     }
 
-    /// Anchors every friction at `s` (the normal loads of the preloads alone).
-    pub fn start(&self, s: &State) {
-        let mut shared = self.lock();
-        shared.states = self.laws.iter().map(|l| l.start(s)).collect();
+    /// Anchors every friction at `s` (the normal loads of the preloads alone), in `s`.
+    pub fn start(&self, s: &mut State) {
+        let started: Vec<FrictionState> = self.laws.iter().map(|l| l.start(s)).collect();
+        s.elements.frictions = started;
     }
 
-    /// Takes the normal loads from `reactions` and moves the anchors (see
+    /// Takes the normal loads from `reactions` and moves the anchors in `s` (see
     /// [`FrictionLaw::accept`]); returns the largest change of a normal load.
-    pub fn accept(&self, s: &State, v: &Velocities, reactions: &[Reaction]) -> f64 {
-        let mut shared = self.lock();
+    pub fn accept(&self, s: &mut State, v: &Velocities, reactions: &[Reaction]) -> f64 {
+        // Taken out of `s` while the laws read its positions (no allocation once started).
+        let mut states = std::mem::take(&mut s.elements.frictions);
+        if states.len() != self.laws.len() {
+            states.clear();
+            states.extend_from_slice(&self.initial);
+        }
         let mut change: f64 = 0.0;
-        for (law, st) in self.laws.iter().zip(shared.states.iter_mut()) {
+        for (law, st) in self.laws.iter().zip(states.iter_mut()) {
             let next = law.accept(s, v, reactions, st);
             change = change.max((next.normal - st.normal).abs());
             *st = next;
         }
+        s.elements.frictions = states;
         change
     }
 
-    /// Static analyses on or off.
-    pub fn set_static(&self, on: bool) {
-        self.lock().statics = on;
-    }
-
-    /// The value of each friction at `(s, v)` (zero when it is off).
-    pub fn values(&self, s: &State, v: &Velocities) -> Vec<FrictionValue> {
-        let shared = self.lock();
+    /// The value of each friction at `(s, v)` in `regime` (zero when it is off there).
+    pub fn values(&self, regime: Regime, s: &State, v: &Velocities) -> Vec<FrictionValue> {
+        let states = self.states(s);
         self.laws
             .iter()
             .enumerate()
-            .map(|(k, l)| l.value(s, v, &shared.states[k], self.active(&shared, k)))
+            .map(|(k, l)| l.value(s, v, &states[k], self.acts(regime, k)))
             .collect()
-    }
-
-    /// The largest normal load, for the scale of convergence tests.
-    pub fn largest_normal(&self) -> f64 {
-        self.lock()
-            .states
-            .iter()
-            .map(|s| s.normal)
-            .fold(0.0, f64::max)
     }
 }

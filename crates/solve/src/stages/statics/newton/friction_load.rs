@@ -23,6 +23,7 @@
 
 use super::Problem;
 use crate::constraints::rows::{RowGradient, Velocities};
+use crate::physics::applied::Regime;
 use crate::state::State;
 use glam::DVec3;
 use linkage_model::bodies::Body;
@@ -58,7 +59,7 @@ impl FrictionLoads {
             .laws()
             .iter()
             .enumerate()
-            .filter(|(k, _)| set.acts(*k))
+            .filter(|(k, _)| set.acts(Regime::Static, *k))
             .map(|(k, law)| {
                 let rows: Vec<usize> = p
                     .used
@@ -99,24 +100,25 @@ impl FrictionLoads {
         // A friction already at the reach (stopped there by the last step, or held near
         // its limit) may leave the band: its equilibrium can lie beyond, sliding at μs·N
         // with other loads taking the rest.
-        let before = set.stiction_fraction(s, rest);
+        let before = set.stiction_fraction(Regime::Static, s, rest);
         if before >= STICTION_REACH {
             return 1.0;
         }
         self.trial.poses.copy_from_slice(&s.poses);
+        self.trial.elements.clone_from(&s.elements);
         for (k, &(dx, dth)) in steps.iter().enumerate() {
             self.trial.increment(k, dx * scale, dth * scale);
         }
-        let after = set.stiction_fraction(&self.trial, rest);
+        let after = set.stiction_fraction(Regime::Static, &self.trial, rest);
         if after <= 1.0 {
             return 1.0;
         }
         ((STICTION_REACH - before).max(0.0) / (after - before)).clamp(0.0, 1.0)
     }
 
-    /// Sets each friction's normal load from the multipliers `lambda` at `s` (the rows'
+    /// Sets each friction's normal load in `s` from the multipliers `lambda` there (the rows'
     /// gradients `grads` there) and keeps `∂N/∂λ` for the Newton matrix.
-    pub fn update(&mut self, p: &Problem, s: &State, grads: &[RowGradient], lambda: &[f64]) {
+    pub fn update(&mut self, p: &Problem, s: &mut State, grads: &[RowGradient], lambda: &[f64]) {
         let Some(set) = p.forces.joint_frictions() else {
             return;
         };
@@ -134,7 +136,7 @@ impl FrictionLoads {
                 let (f, t) = unit_reaction(body, p_i, s, &grads[row]);
                 *dn = dn_f.dot(f) + dn_t.dot(t);
             }
-            set.set_normal(c.friction, normal);
+            set.set_normal(s, c.friction, normal);
         }
     }
 
@@ -153,7 +155,7 @@ impl FrictionLoads {
         let n6 = 6 * p.parts();
         for c in &self.coupled {
             let law = &set.laws()[c.friction];
-            let per_unit = law.per_unit_load(s, rest, &set.state(c.friction));
+            let per_unit = law.per_unit_load(s, rest, &set.state(s, c.friction));
             for (part, dq) in per_unit.into_iter().flatten() {
                 for (component, d) in dq.iter().enumerate() {
                     for (dn, &row) in c.dn.iter().zip(&c.rows) {

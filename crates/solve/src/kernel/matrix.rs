@@ -11,7 +11,7 @@ use crate::physics::mass;
 use crate::state::State;
 
 /// An empty `dim × dim` matrix whose pattern is the diagonal (it grows on first assembly).
-pub(super) fn diagonal(dim: usize) -> Result<FixedPatternLu, IntegrationError> {
+pub(crate) fn diagonal(dim: usize) -> Result<FixedPatternLu, IntegrationError> {
     FixedPatternLu::new(dim, (0..dim).map(|i| (i, i))).map_err(|cause| IntegrationError::Setup {
         matrix: MatrixRole::Both,
         cause,
@@ -23,7 +23,7 @@ pub(super) fn diagonal(dim: usize) -> Result<FixedPatternLu, IntegrationError> {
 /// it to the entries that are nonzero there, and an entry that becomes nonzero later grows it
 /// once more; a planar mechanism thus keeps a planar pattern. Returns whether the pattern
 /// grew; a failure names the matrix `what`.
-pub(super) fn assemble_growing(
+pub(crate) fn assemble_growing(
     a: &mut FixedPatternLu,
     what: MatrixRole,
     fill: impl FnMut(&mut FixedPatternLu),
@@ -42,7 +42,7 @@ pub(super) fn assemble_growing(
 /// ([`crate::physics::flex_inertia`], each 3 × 3 block claiming its place even where it is
 /// zero); `rotational(k)` is added to the diagonal of part k's rotational block
 /// (regularisation of the projection).
-pub(super) fn add_mass(
+pub(crate) fn add_mass(
     p: &Problem,
     s: &State,
     matrix: &mut FixedPatternLu,
@@ -62,7 +62,7 @@ pub(super) fn add_mass(
 /// `[M + stiffness·K_T + damping·C_T, multiplier·UCF·Jᵀ; J, 0]`; for HHT-α with step h:
 /// `(1+α)βh²`, `(1+α)γh` and `1+α`.
 #[derive(Clone, Copy, Debug)]
-pub(super) struct MatrixCoefficients {
+pub(crate) struct MatrixCoefficients {
     pub stiffness: f64,
     pub damping: f64,
     pub multiplier: f64,
@@ -70,7 +70,7 @@ pub(super) struct MatrixCoefficients {
 
 /// The iterate the matrix is assembled at: positions (and time), velocities, the kept rows'
 /// gradients at `s` and their multipliers (force units).
-pub(super) struct Iterate<'i> {
+pub(crate) struct Iterate<'i> {
     pub s: &'i State,
     pub v: &'i Velocities,
     pub grads: &'i [RowGradient],
@@ -79,7 +79,7 @@ pub(super) struct Iterate<'i> {
 
 /// The corrector's iteration matrix in a [`FixedPatternLu`], with the buffers of its assembly
 /// and the step size it was last factorised for.
-pub(super) struct IterationMatrix {
+pub(crate) struct IterationMatrix {
     pub lu: FixedPatternLu,
     /// The step size of the valid factorisation (`None`: none valid).
     pub h: Option<f64>,
@@ -98,7 +98,7 @@ pub(super) struct IterationMatrix {
 
 impl IterationMatrix {
     /// An unassembled matrix for `p` (diagonal pattern); `like` sizes the frozen-time state.
-    pub(super) fn new(p: &Problem, like: &State) -> Result<IterationMatrix, IntegrationError> {
+    pub(crate) fn new(p: &Problem, like: &State) -> Result<IterationMatrix, IntegrationError> {
         Ok(IterationMatrix {
             lu: diagonal(6 * p.n() + p.rows.len() + p.controls())?,
             h: None,
@@ -128,7 +128,7 @@ impl IterationMatrix {
     /// `C_T = −UCF·∂Q/∂v` (+ the extra damping), at the iterate `at`. A row's second
     /// derivatives claim their places in the pattern even while its multiplier is zero.
     /// Cost: the force Jacobians and the rows' Hessians, O(rows + parts) for a chain.
-    pub(super) fn assemble(
+    pub(crate) fn assemble(
         &mut self,
         p: &Problem,
         at: &Iterate,
@@ -141,6 +141,7 @@ impl IterationMatrix {
         self.dq.clear();
         self.dv.clear();
         p.forces.add_jacobians(
+            p.regime,
             p.force_state(s, &mut self.force_state),
             at.v,
             &mut self.dq,
@@ -153,7 +154,7 @@ impl IterationMatrix {
             let fs = p.force_state(s, &mut self.force_state);
             p.forces.control_jacobian(fs, at.v, &mut self.dr)?;
             p.forces
-                .add_control_force_jacobian(fs, at.v, &mut self.dqx)?;
+                .add_control_force_jacobian(p.regime, fs, at.v, &mut self.dqx)?;
         }
         let base = 6 * n + p.rows.len();
         let (to_q, to_v) = (kq / c.multiplier, kv / c.multiplier);
@@ -213,7 +214,7 @@ impl IterationMatrix {
     }
 
     /// Assembles and factorises at `at` for a step of coefficients `c`.
-    pub(super) fn refresh(
+    pub(crate) fn refresh(
         &mut self,
         p: &Problem,
         at: &Iterate,
@@ -234,7 +235,7 @@ impl IterationMatrix {
     /// A matrix for `p` whose pattern is found by assembling it at `start` with velocities
     /// `v0` (one per part) and zero multipliers (the rows' second derivatives claim their
     /// places all the same); `coefficients(h)` gives the matrix coefficients of step size h.
-    pub(super) fn with_pattern(
+    pub(crate) fn with_pattern(
         p: &Problem,
         start: &State,
         v0: &Velocities,

@@ -1,4 +1,4 @@
-//! SENSORs during a dynamic run (ADM-ELEMENTS §5): evaluation after every accepted step, event
+//! SENSORs during a run (ADM-ELEMENTS §5): evaluation after every accepted point, event
 //! location to the sensor's ERROR, and the actions the simulate loop carries out.
 //!
 //! Contract.
@@ -12,9 +12,11 @@
 //! - Event location: when a step from `t₀` to `t₁` carries `g` across the band `|g| ≤ ERROR`
 //!   (g changes sign, or GE/LE end beyond it), the event time `t*` is found by the secant
 //!   method on `g` (Illinois variant, keeping a bracket), or by bisection with `BISECTION`,
-//!   until `|g(t*)| ≤ ERROR`. Each trial time is reached by *re-stepping*: a fresh integrator
-//!   started from the accepted state at `t₀` integrates to it with the run's error control
-//!   (the integrator's own step is never rolled back). The run then continues from `t*`.
+//!   until `|g(t*)| ≤ ERROR`. Each trial time is reached by the run's own `reach(from, t)`:
+//!   in a dynamic run by *re-stepping* (a fresh integrator started from the accepted state at
+//!   `t₀` integrates to it with the run's error control; the integrator's own step is never
+//!   rolled back: `stages::dynamics::events`), in a kinematic run by a position solve, in a
+//!   quasi-static series by an equilibrium. The run then continues from `t*`.
 //! - Actions at `t*`: HALT ends the run there with an output at `t*` (the run is complete, not
 //!   failed); RETURN does the same and, in a command file, returns to the next command (HALT
 //!   ends the command file); PRINT writes an output at `t*`; RESTART and CODGEN restart the
@@ -23,22 +25,21 @@
 //!   sets the output interval from `t*` on (outputs at `t* + k·DT` up to the run's end, in
 //!   place of the requested ones not yet written: [`Fired::reschedule`]).
 //!   EVALUATE (or FUNCTION when there is none) is evaluated at `t*` and stored as the sensor's
-//!   value, which `SENVAL(id)` returns from then on in forces, VARIABLEs and REQUESTs (the
-//!   [`SensorValues`] the force set shares; a changed value restarts the integrator at `t*`).
+//!   value, which `SENVAL(id)` returns from then on in forces, VARIABLEs and REQUESTs. The
+//!   values are data of the run: the watch holds them and writes them into the event's
+//!   output state (`State::elements.sensors`), from which the run continues ([`SensorWatch::carry`]
+//!   for the states it continues from otherwise); a changed value restarts the integrator at
+//!   `t*`.
 //!
 //! Cost: one consistent-output solve per accepted step when the model has sensors (none
 //! otherwise); an event costs a few short re-integrations from the step's start.
 
 use super::error::IntegrationError;
 use super::output::Output;
-use super::problem::Problem;
-use super::stepper::Stepper;
-use crate::physics::applied::AppliedForces;
-use crate::physics::forces::data::{DataElements, SensorValues};
+use crate::physics::forces::data::DataElements;
 use crate::physics::measures::{MarkerFrames, StateEnv};
-use crate::tolerances::LOCAL_ERROR_FLOOR;
+use crate::state::State;
 use linkage_expr::Expr;
-use linkage_model::settings::IntegratorSettings;
 use linkage_model::Model;
 
 /// Most trial times of one event location (secant or bisection).
@@ -114,9 +115,9 @@ pub struct SensorWatch {
     active: Vec<bool>,
     /// The last accepted point and `g` of every sensor there.
     last: Option<(Output, Vec<f64>)>,
-    /// Per sensor: its stored value (`SENVAL`), 0 before it first fires; shared with the
-    /// forces, which read it through `SENVAL`.
-    pub stored: SensorValues,
+    /// Per sensor: its stored value (`SENVAL`), 0 before it first fires (or as the run's
+    /// start state carries it); the states the run continues from carry it to the forces.
+    stored: Vec<f64>,
 }
 
 fn function(model: &Model, s: usize) -> Result<&Expr, IntegrationError> {
@@ -132,23 +133,23 @@ fn function(model: &Model, s: usize) -> Result<&Expr, IntegrationError> {
 
 impl SensorWatch {
     /// The watch over `model`'s sensors; `None` when it has none (the run pays nothing).
-    /// The stored values are those `forces` read (`SENVAL`), so a firing changes the forces
-    /// from then on.
-    pub fn new(model: &Model, forces: &dyn AppliedForces) -> Option<SensorWatch> {
+    /// The stored values start as the run's first state carries them ([`SensorWatch::start`]).
+    pub fn new(model: &Model) -> Option<SensorWatch> {
         if model.sensors.is_empty() {
             return None;
         }
-        let mut data = DataElements::new(model).0;
-        if let Some(v) = forces.sensor_values() {
-            data.sensor_values = v.clone();
-        }
         Some(SensorWatch {
             frames: MarkerFrames::new(model),
-            stored: data.sensor_values.clone(),
-            data,
+            data: DataElements::new(model).0,
             active: vec![false; model.sensors.len()],
             last: None,
+            stored: vec![0.0; model.sensors.len()],
         })
+    }
+
+    /// Writes the stored values (`SENVAL`) into `s`, a state the run continues from.
+    pub fn carry(&self, s: &mut State) {
+        s.elements.sensors.clone_from(&self.stored);
     }
 
     /// `expr` at output `o`.
@@ -177,28 +178,15 @@ impl SensorWatch {
     /// true there are armed only once they have been false (a run that continues after a
     /// RETURN does not stop again at once).
     pub fn start(&mut self, model: &Model, first: &Output) -> Result<(), IntegrationError> {
+        for (k, v) in self.stored.iter_mut().enumerate() {
+            *v = first.state.elements.sensors.get(k).copied().unwrap_or(0.0);
+        }
         let g = self.gaps(model, first)?;
         for (s, sensor) in model.sensors.iter().enumerate() {
             self.active[s] = sensor.holds(g[s]);
         }
         self.last = Some((first.clone(), g));
         Ok(())
-    }
-
-    /// After an accepted step of `integ`: evaluates the sensors on its output, locates an
-    /// event inside the step by re-stepping from the step's start, and says what fired.
-    /// `span` is the run's length (the error per step is `ERROR·h/span` for BDF).
-    pub fn after_step(
-        &mut self,
-        p: &Problem,
-        integ: &mut Stepper,
-        settings: &IntegratorSettings,
-        span: f64,
-    ) -> Result<Option<Fired>, IntegrationError> {
-        let o1 = integ.output()?;
-        self.after_point(p.model, o1, &mut |from, t| {
-            integrate_to(p, from, t, settings, span)
-        })
     }
 
     /// After the run reached the point `o1` (an accepted step, a kinematic output, a
@@ -343,10 +331,11 @@ impl SensorWatch {
             };
             // A new stored value changes the forces that read SENVAL: the integrator
             // restarts from the event.
-            if self.stored.get(s) != stored {
+            if self.stored[s] != stored {
                 fired.restart = true;
             }
-            self.stored.set(s, stored);
+            self.stored[s] = stored;
+            self.carry(&mut fired.output.state);
             let a = &sensor.actions;
             if a.halt {
                 fired.stop = Some(SensorStop::Halt);
@@ -373,56 +362,6 @@ impl SensorWatch {
         }
         Ok(Some(fired))
     }
-}
-
-/// The consistent output at time `t` of a fresh integrator started from `from` (order 1),
-/// with the run's error control: the local error of a step of size h at most
-/// `ERROR·h/span` for BDF (at least [`LOCAL_ERROR_FLOOR`]), ERROR for HHT.
-fn integrate_to(
-    p: &Problem,
-    from: &Output,
-    t: f64,
-    settings: &IntegratorSettings,
-    span: f64,
-) -> Result<Output, IntegrationError> {
-    let (mut integ, first) = Stepper::new(p, &from.state, &from.velocities, settings)?;
-    if t <= from.time {
-        return Ok(first);
-    }
-    let per_run = integ.error_per_run();
-    let mut h = (t - from.time).min(settings.hmax.unwrap_or(f64::INFINITY));
-    while integ.time() < t {
-        let remaining = t - integ.time();
-        let hs = h.min(remaining);
-        let last = hs >= remaining * (1.0 - 1e-12);
-        let hs = if last { remaining } else { hs };
-        let tol = if per_run {
-            (settings.error * hs / span).max(LOCAL_ERROR_FLOOR)
-        } else {
-            settings.error
-        };
-        match integ.try_step(hs, tol) {
-            Ok(err) if err <= tol || hs <= settings.hmin => {
-                integ.accept(err, tol);
-                if last {
-                    break;
-                }
-                let grow = if err > 0.0 {
-                    (0.9 * (tol / err).powf(1.0 / (integ.order() as f64 + 1.0))).clamp(0.2, 2.0)
-                } else {
-                    2.0
-                };
-                h = hs * grow;
-            }
-            Ok(err) => {
-                let shrink = 0.9 * (tol / err).powf(1.0 / (integ.order() as f64 + 1.0));
-                h = (hs * shrink.clamp(0.2, 0.9)).max(settings.hmin);
-            }
-            Err(e) if hs <= settings.hmin => return Err(e),
-            Err(_) => h = (hs * 0.25).max(settings.hmin),
-        }
-    }
-    integ.output()
 }
 
 /// Output times closer than this fraction of a sensor's DT to the end are the end.

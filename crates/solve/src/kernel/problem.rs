@@ -7,7 +7,7 @@ use crate::constraints::drivers::Drivers;
 use crate::constraints::drivers::MotionError;
 use crate::constraints::rows::{RowGradient, Velocities};
 use crate::constraints::system::System;
-use crate::physics::applied::AppliedForces;
+use crate::physics::applied::{AppliedForces, Regime};
 use crate::physics::flex_inertia::FlexCoupling;
 use crate::physics::mass;
 use crate::state::State;
@@ -31,6 +31,8 @@ pub struct Problem<'a> {
     pub damping: Option<ExtraDamping>,
     /// Freeze time at this value (dynamic settling): motions and forces see it.
     pub frozen_time: Option<f64>,
+    /// The regime the forces are evaluated in: static for dynamic settling.
+    pub regime: Regime,
     /// The flex bodies' rigid–modal inertia coupling, added to every mass matrix.
     pub coupling: FlexCoupling,
 }
@@ -78,6 +80,7 @@ impl Problem<'_> {
             Some(t) => {
                 buf.poses.clone_from(&s.poses);
                 buf.controls.clone_from(&s.controls);
+                buf.elements.clone_from(&s.elements);
                 buf.time = t;
                 buf
             }
@@ -96,7 +99,8 @@ impl Problem<'_> {
     ) -> Result<(), IntegrationError> {
         let ucf = self.model.ucf();
         q.fill(0.0);
-        self.forces.add_forces(self.force_state(s, buf), v, q)?;
+        self.forces
+            .add_forces(self.regime, self.force_state(s, buf), v, q)?;
         for x in q.iter_mut() {
             *x *= ucf;
         }

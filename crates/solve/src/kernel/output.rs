@@ -6,8 +6,7 @@
 //! reported; the runs regularise ([`SingularInertia::Regularise`]).
 
 use super::error::{IntegrationError, MatrixRole, SingularSolve};
-use super::hht::Hht;
-use super::matrix::{add_mass, assemble_growing, diagonal, IterationMatrix};
+use super::matrix::{add_mass, assemble_growing, diagonal, IterationMatrix, MatrixCoefficients};
 use super::problem::{padded, unflat, Problem};
 use crate::constraints::rows::{RowGradient, Velocities};
 use crate::linalg::kkt;
@@ -66,7 +65,7 @@ pub struct Consistent {
 /// The matrix `[M, Jᵀ; J, 0]` of the consistent solves and its buffers. Its pattern is a copy
 /// of an [`IterationMatrix`]'s (which holds every entry it needs), taken again when that one
 /// changes; the copy fixes the column ordering, so the outputs do not depend on who asks.
-pub(super) struct ConsistentSolve {
+pub(crate) struct ConsistentSolve {
     lu: FixedPatternLu,
     /// The [`IterationMatrix::pattern`] the pattern was copied from (0: its own diagonal).
     pattern: u64,
@@ -82,7 +81,7 @@ pub(super) struct ConsistentSolve {
 
 impl ConsistentSolve {
     /// Buffers for `p`; `like` sizes the state buffers.
-    pub(super) fn new(
+    pub(crate) fn new(
         p: &Problem,
         like: &State,
         singular: SingularInertia,
@@ -106,7 +105,7 @@ impl ConsistentSolve {
     /// parts with singular inertia: elsewhere the equations are exact, so that a constraint wrench recovered from
     /// them (FORCE requests) vanishes to rounding where it should. The matrix takes
     /// `pattern_of`'s pattern. Cost: one assembly, one numeric LU, two solves.
-    pub(super) fn solve(
+    pub(crate) fn solve(
         &mut self,
         p: &Problem,
         s: &State,
@@ -216,6 +215,17 @@ impl ConsistentSolve {
     }
 }
 
+/// The iteration matrix's coefficients of the trapezoidal rule (HHT with α = 0: `β = 1/4`,
+/// `γ = 1/2`) for step size `h`: they only decide which entries the pattern an
+/// [`OutputSolver`] copies holds.
+fn trapezoidal(h: f64) -> MatrixCoefficients {
+    MatrixCoefficients {
+        stiffness: 0.25 * h * h,
+        damping: 0.5 * h,
+        multiplier: 1.0,
+    }
+}
+
 /// The consistent-output solve on its own, without a running integrator: the output solve of
 /// the kinematic analysis.
 ///
@@ -233,11 +243,8 @@ impl OutputSolver {
     /// ones at rest): they only decide which matrix entries exist.
     pub fn new(p: &Problem, start: &State, v0: &Velocities) -> Result<Self, IntegrationError> {
         let v0 = padded(p, v0);
-        let hht = Hht::new(0.0);
         Ok(OutputSolver {
-            pattern_of: IterationMatrix::with_pattern(p, start, &v0, |h| {
-                hht.matrix_coefficients(h)
-            })?,
+            pattern_of: IterationMatrix::with_pattern(p, start, &v0, trapezoidal)?,
             solve: ConsistentSolve::new(p, start, SingularInertia::Regularise)?,
         })
     }
@@ -278,8 +285,8 @@ mod tests {
     use super::*;
     use crate::constraints::drivers::NoDrivers;
     use crate::constraints::system::System;
+    use crate::kernel::problem::flat;
     use crate::physics::applied::NoForces;
-    use crate::stages::dynamics::problem::flat;
 
     /// A 2 kg link hanging from a revolute about ground's z at its end, held horizontal with
     /// its centre of mass 1 m along x; gravity −9.80665 along y; inertia 0.1 kg m² about z.
@@ -308,6 +315,7 @@ mod tests {
             forces: &NoForces,
             damping: None,
             frozen_time: None,
+            regime: crate::physics::applied::Regime::Dynamic,
             coupling: crate::physics::flex_inertia::FlexCoupling::new(&model),
         };
         let s = State::input(&model);

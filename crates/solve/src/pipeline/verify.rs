@@ -6,8 +6,9 @@
 
 use crate::constraints::graph::{topology, Topology};
 use crate::constraints::rank::{greedy_rank, RankSettings, SparseRows};
+use crate::constraints::residuals::{report_residual, residuals, within_tolerance};
 use crate::constraints::rows::RowGradient;
-use crate::constraints::system::{RowUnit, System, Tier};
+use crate::constraints::system::{System, Tier};
 use crate::state::State;
 use crate::tolerances::{Tolerances, DEPENDENCY_COEFFICIENT};
 use linkage_model::{ConstraintKind, Model};
@@ -78,8 +79,8 @@ pub struct Verification {
     /// The flex bodies' hidden equations among `rows` (5 per mode guide, 6 per node).
     pub flex_rows: usize,
     /// Each FE part's Craig–Bampton reduction and chapter count
-    /// ([`crate::stages::fe_modes`]).
-    pub fe_parts: Vec<crate::stages::fe_modes::FeModes>,
+    /// ([`crate::physics::fe_modes`]).
+    pub fe_parts: Vec<crate::physics::fe_modes::FeModes>,
     /// Parts with zero mass.
     pub massless_parts: Vec<usize>,
     /// Constraint elements counted by description (`Revolute Joint` → 2), in first-seen order.
@@ -102,47 +103,6 @@ pub struct Verification {
     /// Admitted rows whose rank decision was a near-tie.
     pub near_tie_admitted: Vec<usize>,
     pub topology: Topology,
-}
-
-/// Residual in report units: length, or degrees for rotational rows.
-pub fn report_residual(unit: RowUnit, value: f64) -> f64 {
-    match unit {
-        RowUnit::Length | RowUnit::Mixed => value,
-        RowUnit::Direction => value.clamp(-1.0, 1.0).asin().to_degrees(),
-        RowUnit::Angle => value.to_degrees(),
-    }
-}
-
-/// The unit [`report_residual`] gives a row's residual in, as a suffix: `" deg"` for
-/// rotational rows, nothing for lengths.
-pub fn report_unit_suffix(unit: RowUnit) -> &'static str {
-    match unit {
-        RowUnit::Direction | RowUnit::Angle => " deg",
-        RowUnit::Length | RowUnit::Mixed => "",
-    }
-}
-
-/// Whether a raw residual is within tolerance.
-pub fn within_tolerance(unit: RowUnit, value: f64, tol: &Tolerances, length: f64) -> bool {
-    match unit {
-        RowUnit::Length | RowUnit::Mixed => value.abs() <= tol.length * length,
-        RowUnit::Direction | RowUnit::Angle => value.abs() <= tol.angle,
-    }
-}
-
-/// Raw residuals of every row at `s` (`None` for motions whose function cannot be evaluated).
-pub fn residuals(sys: &System, s: &State, drivers: &dyn Drivers) -> Vec<Option<f64>> {
-    (0..sys.rows.len())
-        .map(|r| {
-            let row = &sys.rows[r];
-            let drive = if row.driven {
-                drivers.value(row.element, s.time)?
-            } else {
-                0.0
-            };
-            Some(sys.residual(r, s, drive))
-        })
-        .collect()
 }
 
 /// Outcome of the rank analysis of a whole system.
@@ -437,7 +397,7 @@ fn analyse(
     // every nodal coordinate.
     let requested = linkage_model::fe_parts::requested_normal_modes();
     let fe_parts: Vec<_> = (0..model.fe_parts.len())
-        .map(|f| crate::stages::fe_modes::fe_modes(model, f, requested))
+        .map(|f| crate::physics::fe_modes::fe_modes(model, f, requested))
         .collect();
     let fe_nodes: usize = model.fe_parts.iter().map(|p| p.nodes.len()).sum();
     let rigid = n - fe_nodes;

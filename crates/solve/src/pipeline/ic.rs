@@ -2,7 +2,7 @@
 //! acceleration and force, with the redundancy classified at the assembled configuration.
 //!
 //! 1. Displacement: rank analysis at the input (broken joints as intended), least-change
-//!    assembly of the independent rows and hard conditions ([`crate::stages::assemble`]), then the rank
+//!    assembly of the independent rows and hard conditions ([`crate::pipeline::assemble`]), then the rank
 //!    analysis again at the assembled configuration; if it admits a row the assembly did not
 //!    satisfy, assemble once more with the new set.
 //! 2. Velocity: `min ½(v − v₀)ᵀW(v − v₀)` subject to `J v = ḟ(t) − ∂Φ/∂t` (motions, and
@@ -13,16 +13,17 @@
 //!    included ([`System::acceleration_bias`]); reactions `−Jᵀμ / UCF` on each element's I
 //!    marker. Redundant rows are not in J, so their reactions are zero, as in Adams.
 
+use super::assemble::{assemble, hard_rows, Assembly, HardKind, HardRow};
+use super::verify::{verify_at, Verification};
 use crate::constraints::drivers::{Drivers, ExpressionDrivers, MotionError};
+use crate::constraints::residuals::{report_residual, residuals};
 use crate::constraints::rows::RowGradient;
 use crate::constraints::system::System;
+use crate::kernel::{flat, IntegrationError, OutputSolver, Problem, SingularSolve};
 use crate::linalg::kkt::{SaddlePoint, Zeros};
-use crate::physics::applied::{AppliedForces, ForceError};
+use crate::physics::applied::{AppliedForces, ForceError, Regime};
 use crate::physics::reactions::Reaction;
-use crate::stages::assemble::{assemble, hard_rows, Assembly, HardKind, HardRow};
-use crate::stages::dynamics::{flat, IntegrationError, OutputSolver, Problem, SingularSolve};
-use crate::stages::verify::{report_residual, residuals, verify_at, Verification};
-use crate::state::State;
+use crate::state::{ElementState, State};
 use crate::tolerances::{Tolerances, ACCELERATION_IC_FLOOR, UNGIVEN_VELOCITY_WEIGHT};
 use glam::DVec3;
 use linkage_model::{ConstraintKind, Model};
@@ -129,12 +130,21 @@ pub fn initial_conditions(
     forces: &dyn AppliedForces,
     tol: &Tolerances,
 ) -> InitialConditions {
-    initial_conditions_at(model, sys, drivers, forces, tol, 0.0)
+    initial_conditions_at(
+        model,
+        sys,
+        drivers,
+        forces,
+        tol,
+        0.0,
+        &ElementState::default(),
+    )
 }
 
 /// [`initial_conditions`] at time `time` (motions and time-dependent constraints are
 /// evaluated there): a command file's analysis that continues a run assembles the model at
-/// the time the previous analysis left it.
+/// the time the previous analysis left it, with the values its sensors stored (`carried`'s
+/// `sensors`, which `SENVAL` reads; the frictions are started again at the assembled pose).
 pub fn initial_conditions_at(
     model: &Model,
     sys: &System,
@@ -142,9 +152,13 @@ pub fn initial_conditions_at(
     forces: &dyn AppliedForces,
     tol: &Tolerances,
     time: f64,
+    carried: &ElementState,
 ) -> InitialConditions {
     let mut input = State::input(model);
     input.time = time;
+    if carried.sensors.len() == model.sensors.len() {
+        input.elements.sensors.clone_from(&carried.sensors);
+    }
     let hard = hard_rows(model);
     let mut analysis = verify_at(model, sys, &input, drivers, tol);
     let before = residuals(sys, &input, drivers);
@@ -205,31 +219,22 @@ pub fn initial_conditions_at(
     let (velocity, acceleration) = if asm.converged {
         let rows = admitted_rows(&analysis);
         let vel = velocity_ic(model, sys, &rows, &hard, drivers, &asm.state);
-        let solve = || {
-            acceleration_ic(
-                model,
-                sys,
-                &rows,
-                drivers,
-                forces,
-                &asm.state,
-                &vel.velocities,
-            )
-        };
+        let solve =
+            |s: &State| acceleration_ic(model, sys, &rows, drivers, forces, s, &vel.velocities);
         // Elements with a state (joint friction): anchored at the assembled pose; their
         // normal loads from the reactions of a first solve, then solved again with them.
         let acc = if forces.has_state() {
-            forces.start_state(&asm.state);
-            let first = solve();
+            forces.start_state(&mut asm.state);
+            let first = solve(&asm.state);
             match &first {
                 Ok(a) => {
-                    forces.accept_state(&asm.state, &vel.velocities, &a.reactions);
-                    solve()
+                    forces.accept_state(&mut asm.state, &vel.velocities, &a.reactions);
+                    solve(&asm.state)
                 }
                 Err(_) => first,
             }
         } else {
-            solve()
+            solve(&asm.state)
         };
         let acc = acc.map_err(|e| match e {
             AccelerationError::Singular { free } if free.is_empty() => {
@@ -278,8 +283,14 @@ fn analysis_repairs(
             continue;
         };
         let unit = sys.rows[r].unit;
-        let holds =
-            |x| crate::stages::verify::within_tolerance(unit, x, tol, model.characteristic_length);
+        let holds = |x| {
+            crate::constraints::residuals::within_tolerance(
+                unit,
+                x,
+                tol,
+                model.characteristic_length,
+            )
+        };
         // Only real repairs: broken at the input and holding after the assembly (a redundant
         // equation that still does not hold is reported as inconsistent, not as repaired).
         if !holds(b) && holds(a) {
@@ -508,7 +519,7 @@ pub fn acceleration_ic(
 ) -> Result<AccelerationIc, AccelerationError> {
     let n = model.parts.len();
     let mut applied = vec![0.0; 6 * n];
-    forces.add_forces(s, v, &mut applied)?;
+    forces.add_forces(Regime::Dynamic, s, v, &mut applied)?;
     // The acceleration equations `∇Φ·a = f̈ − γ` of the rows, to measure the solution by.
     let mut g = RowGradient::default();
     let mut eqs: Vec<(RowGradient, f64)> = Vec::with_capacity(rows.len());
@@ -550,6 +561,7 @@ pub fn acceleration_ic(
         forces,
         damping: None,
         frozen_time: None,
+        regime: Regime::Dynamic,
         coupling: crate::physics::flex_inertia::FlexCoupling::new(model),
     };
     let solved = OutputSolver::exact(&problem, s, v)

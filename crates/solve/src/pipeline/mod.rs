@@ -1,4 +1,7 @@
-//! The assembled problem: built once per dataset, consumed by every analysis.
+//! The assembled problem: built once per dataset, consumed by every analysis. This layer owns
+//! the initial-conditions solve: [`verify`] (rank analysis at the input), [`assemble`]
+//! (least-change assembly) and [`ic`] (re-verification at the assembled pose, velocity and
+//! acceleration/force IC), on the shared [`crate::kernel`]; it imports no stage.
 //!
 //! ```text
 //! Model ──Assembled::new──▶ Assembled ──▶ statics::run      (equilibrium, quasi-statics)
@@ -16,15 +19,19 @@
 //! `q(t) = q(0) + ∫f`), and the applied forces. Each stage takes `&Assembled` (or the state a
 //! previous stage left) and returns its own result type.
 
+pub mod assemble;
+pub mod ic;
+pub mod verify;
+
 use crate::constraints::drivers::ExpressionDrivers;
+use crate::constraints::residuals::report_unit_suffix;
 use crate::constraints::system::System;
-use crate::physics::applied::AppliedForces;
-use crate::stages::dynamics::{ExtraDamping, Problem};
-use crate::stages::ic::{initial_conditions_at, InitialConditions};
-use crate::stages::verify::report_unit_suffix;
-use crate::state::State;
+use crate::kernel::{ExtraDamping, Problem};
+use crate::physics::applied::{AppliedForces, Regime};
+use crate::state::{ElementState, State};
 use crate::tolerances::Tolerances;
 use glam::DVec3;
+use ic::{initial_conditions_at, InitialConditions};
 use linkage_model::Model;
 
 /// A redundant equation that the assembled configuration cannot satisfy.
@@ -169,8 +176,22 @@ impl<'m> Assembled<'m> {
         tol: &Tolerances,
         time: f64,
     ) -> Assembled<'m> {
+        Assembled::continuing(model, drivers, forces, tol, time, &ElementState::default())
+    }
+
+    /// [`Assembled::at_time`] continuing the element state `carried` the previous analysis
+    /// left (a command file): the values its sensors stored carry on into `SENVAL`; the
+    /// frictions are started again at the assembled pose, as every IC does.
+    pub fn continuing(
+        model: &'m Model,
+        drivers: &ExpressionDrivers,
+        forces: &'m dyn AppliedForces,
+        tol: &Tolerances,
+        time: f64,
+        carried: &ElementState,
+    ) -> Assembled<'m> {
         let system = System::new(model);
-        let mut ic = initial_conditions_at(model, &system, drivers, forces, tol, time);
+        let mut ic = initial_conditions_at(model, &system, drivers, forces, tol, time, carried);
         // The control states' rates consistent with their equations at the initial
         // conditions (a law that cannot be evaluated is reported by the analysis that needs
         // it).
@@ -274,6 +295,7 @@ impl<'m> Assembled<'m> {
             forces: self.forces,
             damping,
             frozen_time,
+            regime: Regime::Dynamic,
             coupling: crate::physics::flex_inertia::FlexCoupling::new(self.model),
         }
     }

@@ -4,7 +4,7 @@
 use super::error::IntegrationError;
 use super::problem::Problem;
 use super::results::Failure;
-use crate::stages::verify::{report_residual, report_unit_suffix, within_tolerance};
+use crate::constraints::residuals::{report_residual, report_unit_suffix, within_tolerance};
 use crate::state::State;
 use crate::tolerances::REDUNDANT_DRIFT;
 

@@ -27,8 +27,8 @@ impl Failure {
 /// Result of a simulation.
 #[derive(Clone, Debug)]
 pub struct Simulation {
-    /// The outputs kept: every one from [`super::simulate`]; only the last from a streamed
-    /// run ([`super::run_streamed`]), whose outputs went to its caller.
+    /// The outputs kept: every one from [`crate::stages::dynamics::simulate`]; only the last from a streamed
+    /// run ([`crate::stages::dynamics::run_streamed`]), whose outputs went to its caller.
     pub outputs: Vec<Output>,
     /// Outputs produced (kept or streamed).
     pub output_count: usize,
