@@ -7,7 +7,7 @@ use linkage_report::element_columns;
 use linkage_report::simulate::{CsvHistory, SimulateJson};
 use linkage_solve::coverage::Analysis;
 use linkage_solve::physics::applied::AppliedForces;
-use linkage_solve::physics::requests::RequestSet;
+use linkage_solve::physics::requests::{RequestAngles, RequestSet};
 use linkage_solve::pipeline::Assembled;
 use linkage_solve::stages::dynamics::{
     run_streamed, AfterOutput, Output, RunProgress, Start, Stream, UnstableStart,
@@ -65,6 +65,8 @@ struct CsvStream<'r> {
     names: Vec<String>,
     request_failures: usize,
     errors: Vec<String>,
+    /// The REQUEST angles of the last row, which the next continues.
+    angles: RequestAngles,
 }
 
 impl CsvStream<'_> {
@@ -73,7 +75,12 @@ impl CsvStream<'_> {
         let requests = self.request_columns;
         let mut values = match self.requests {
             None => Vec::new(),
-            Some(r) => match r.evaluate(assembled.model, &assembled.system, o) {
+            Some(r) => match r.evaluate_continuing(
+                assembled.model,
+                &assembled.system,
+                o,
+                &mut self.angles,
+            ) {
                 Ok(v) => v,
                 Err(e) => {
                     if self.request_failures == 0 {
@@ -178,6 +185,7 @@ pub fn simulate(loaded: &Loaded, args: SimulateArgs) -> Result<SimulateJson, Err
                 names,
                 request_failures: 0,
                 errors: Vec::new(),
+                angles: RequestAngles::new(),
             })
         }
     };

@@ -19,7 +19,7 @@ use linkage_report::element_columns;
 use linkage_report::simulate::CsvHistory;
 use linkage_solve::constraints::system::System;
 use linkage_solve::physics::applied::AppliedForces;
-use linkage_solve::physics::requests::RequestSet;
+use linkage_solve::physics::requests::{RequestAngles, RequestSet};
 use linkage_solve::stages::dynamics::Output;
 use std::fs::File;
 use std::io::BufWriter;
@@ -110,6 +110,8 @@ pub struct Records {
     req: RequestFileWriter<BufWriter<File>>,
     /// The request columns of the CSV (fixed at the first output, as its other columns).
     names: Option<Vec<String>>,
+    /// The REQUEST angles of the last output written, which the next continues.
+    angles: RequestAngles,
     /// Outputs written.
     pub written: usize,
 }
@@ -147,6 +149,7 @@ impl Records {
             req_path,
             req,
             names: None,
+            angles: RequestAngles::new(),
             written: 0,
         })
     }
@@ -163,7 +166,7 @@ impl Records {
         forces: &dyn AppliedForces,
         o: &Output,
     ) -> Result<(), RecordError> {
-        let values = requests.evaluate(model, sys, o)?;
+        let values = requests.evaluate_continuing(model, sys, o, &mut self.angles)?;
         let mut columns = values.clone();
         let frictions = if model.frictions.is_empty() {
             Vec::new()
