@@ -75,21 +75,19 @@ impl CsvStream<'_> {
         let requests = self.request_columns;
         let mut values = match self.requests {
             None => Vec::new(),
-            Some(r) => match r.evaluate_continuing(
-                assembled.model,
-                &assembled.system,
-                o,
-                &mut self.angles,
-            ) {
-                Ok(v) => v,
-                Err(e) => {
-                    if self.request_failures == 0 {
-                        self.errors.push(e.to_string());
+            Some(r) => {
+                match r.evaluate_continuing(assembled.model, &assembled.system, o, &mut self.angles)
+                {
+                    Ok(v) => v,
+                    Err(e) => {
+                        if self.request_failures == 0 {
+                            self.errors.push(e.to_string());
+                        }
+                        self.request_failures += 1;
+                        vec![f64::NAN; requests]
                     }
-                    self.request_failures += 1;
-                    vec![f64::NAN; requests]
                 }
-            },
+            }
         };
         let frictions = if assembled.model.frictions.is_empty() {
             Vec::new()

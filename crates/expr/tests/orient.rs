@@ -540,7 +540,12 @@ fn psi_and_phi_near_theta_zero_continue_the_previous_split() {
         &elementary(2, (-90f64).to_radians())[0],
     ));
     let first = euler313_continued(&from_313_degrees([-90.0, 0.0, 0.0]), None);
-    assert_close(deg(first)[0], -90.0, 1e-12, "ψ at t = 0 (φ = 0 without a history)");
+    assert_close(
+        deg(first)[0],
+        -90.0,
+        1e-12,
+        "ψ at t = 0 (φ = 0 without a history)",
+    );
     let next = deg(euler313_continued(&r, Some(first)));
     assert_close(next[0], -90.0, 1e-12, "ψ continued");
     assert_close(next[1], tilt.abs().to_degrees(), 1e-12, "θ");
@@ -565,10 +570,21 @@ fn psi_and_phi_near_theta_zero_continue_the_previous_split() {
         &elementary(0, tilt)[0],
         &elementary(2, (-90f64).to_radians())[0],
     ));
-    let value = |text: &str, previous| evaluate(&parse(text).unwrap(), &Held { r, previous }).unwrap();
+    let value =
+        |text: &str, previous| evaluate(&parse(text).unwrap(), &Held { r, previous }).unwrap();
     let previous = Some([-PI / 2.0, 0.0, 0.0]);
-    assert_close(value("ORIENT(11, 1, 1, 0)", previous).to_degrees(), -90.0, 1e-9, "PSI");
-    assert_close(value("ORIENT(11, 3, 1, 0)", previous).to_degrees(), 0.0, 1e-6, "PHI");
+    assert_close(
+        value("ORIENT(11, 1, 1, 0)", previous).to_degrees(),
+        -90.0,
+        1e-9,
+        "PSI",
+    );
+    assert_close(
+        value("ORIENT(11, 3, 1, 0)", previous).to_degrees(),
+        0.0,
+        1e-6,
+        "PHI",
+    );
     let h = std::f64::consts::FRAC_1_SQRT_2;
     assert_close(value("ORIENT(27, 1, 1, 0)", previous), h, 1e-9, "P0");
     assert_close(value("ORIENT(27, 4, 1, 0)", previous), -h, 1e-9, "P3");

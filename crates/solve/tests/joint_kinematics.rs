@@ -834,9 +834,24 @@ VTORQUE/1, I = 20, JFLOAT = 4, RM = 1, TX = 3, TY = 0, TZ = 0",
             1e-10,
             "pinion: θ = 2t about +x",
         );
-        close3(o.velocities[pinion].1, DVec3::new(2.0, 0.0, 0.0), 1e-10, "ω");
-        close(reaction_at(&m, o, "JOINT_3").1.x, -3.0, 1e-8, "torque on pinion");
-        close(reaction_at(&m, o, "MOTION_1").0.z, 60.0, 1e-7, "motion on rack");
+        close3(
+            o.velocities[pinion].1,
+            DVec3::new(2.0, 0.0, 0.0),
+            1e-10,
+            "ω",
+        );
+        close(
+            reaction_at(&m, o, "JOINT_3").1.x,
+            -3.0,
+            1e-8,
+            "torque on pinion",
+        );
+        close(
+            reaction_at(&m, o, "MOTION_1").0.z,
+            60.0,
+            1e-7,
+            "motion on rack",
+        );
     }
 }
 
@@ -914,8 +929,18 @@ VTORQUE/1, I = 30, JFLOAT = 4, RM = 1, TX = 0, TY = 0, TZ = 2",
             1e-10,
             "gear 2: θ₂ = −θ₁/2",
         );
-        close3(o.velocities[g2].1, DVec3::new(0.0, 0.0, -0.5 * w1), 1e-10, "ω₂");
-        close(reaction_at(&m, o, "MOTION_1").1.z, 1.0, 1e-9, "motion torque");
+        close3(
+            o.velocities[g2].1,
+            DVec3::new(0.0, 0.0, -0.5 * w1),
+            1e-10,
+            "ω₂",
+        );
+        close(
+            reaction_at(&m, o, "MOTION_1").1.z,
+            1.0,
+            1e-9,
+            "motion torque",
+        );
     }
 }
 
@@ -949,7 +974,17 @@ VTORQUE/1, I = 30, JFLOAT = 4, RM = 1, TX = 0, TY = 0, TZ = 2",
             1e-10,
             "q₂ = 2q₁",
         );
-        close3(o.velocities[p3].1, DVec3::new(0.0, 0.0, 2.0 * w), 1e-10, "ω₂");
-        close(reaction_at(&m, o, "MOTION_1").1.z, -4.0, 1e-9, "motion torque");
+        close3(
+            o.velocities[p3].1,
+            DVec3::new(0.0, 0.0, 2.0 * w),
+            1e-10,
+            "ω₂",
+        );
+        close(
+            reaction_at(&m, o, "MOTION_1").1.z,
+            -4.0,
+            1e-9,
+            "motion torque",
+        );
     }
 }

@@ -266,14 +266,13 @@ impl RequestSet {
                 }
                 RequestWhat::Functions(list) => {
                     for f in list {
-                        let v =
-                            evaluate(&f.expr, env).map_err(|cause| RequestError::Function {
-                                request: r.label.clone(),
-                                time: t,
-                                component: f.component,
-                                text: f.text.clone(),
-                                cause,
-                            })?;
+                        let v = evaluate(&f.expr, env).map_err(|cause| RequestError::Function {
+                            request: r.label.clone(),
+                            time: t,
+                            component: f.component,
+                            text: f.text.clone(),
+                            cause,
+                        })?;
                         out.push(v);
                     }
                 }
