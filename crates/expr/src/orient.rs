@@ -395,11 +395,13 @@ pub const EULER_SPLIT_SINE: f64 = 1e-6;
 /// the general formula. Nearer, only `σ = ψ + φ` (θ ≈ 0) or `δ = ψ − φ` (θ ≈ π) is
 /// determined, exactly, by `σ = atan2(R21 − R12, R11 + R22)` and
 /// `δ = atan2(R21 + R12, R11 − R22)` (both numerators and denominators carry the factor
-/// `1 ± cos θ`); ψ then keeps its previous value and φ takes the rest, so that ψ, φ and the
+/// `1 ± cos θ`); φ then keeps its previous value and ψ takes the rest, so that ψ, φ and the
 /// Euler parameters written with them do not jump between outputs. Without a previous output
-/// φ = 0 and ψ carries the whole rotation, as at an exactly singular pose. The pose
-/// `Rz(ψ)·Rx(θ)·Rz(φ)` of the continued angles differs from `r` by less than θ
-/// (< 1e-6 rad).
+/// φ = 0 and ψ carries the whole rotation, as at an exactly singular pose. This is what
+/// Adams writes: in its Distance_Case02 run the rod spins about z at θ = 0 for 0.13 s with
+/// φ = 0 and ψ following the spin, and Distance_Case03 keeps ψ = −90°, φ = 0° of its first
+/// output. The pose `Rz(ψ)·Rx(θ)·Rz(φ)` of the continued angles differs from `r` by less
+/// than θ (< 1e-6 rad).
 pub fn euler313_continued(r: &[f64; 9], previous: Option<[f64; 3]>) -> [f64; 3] {
     let at = |row: usize, col: usize| r[3 * col + row];
     let s = at(0, 2).hypot(at(1, 2));
@@ -417,14 +419,12 @@ pub fn euler313_continued(r: &[f64; 9], previous: Option<[f64; 3]>) -> [f64; 3] 
             w
         }
     };
-    let psi = previous.map(|p| p[0]);
+    let phi = previous.map_or(0.0, |p| p[2]);
     if at(2, 2) > 0.0 {
         let sigma = (at(1, 0) - at(0, 1)).atan2(at(0, 0) + at(1, 1));
-        let psi = psi.unwrap_or(sigma);
-        [wrap(psi), theta, wrap(sigma - psi)]
+        [wrap(sigma - phi), theta, wrap(phi)]
     } else {
         let delta = (at(1, 0) + at(0, 1)).atan2(at(0, 0) - at(1, 1));
-        let psi = psi.unwrap_or(delta);
-        [wrap(psi), theta, wrap(psi - delta)]
+        [wrap(delta + phi), theta, wrap(phi)]
     }
 }

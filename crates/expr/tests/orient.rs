@@ -550,15 +550,29 @@ fn psi_and_phi_near_theta_zero_continue_the_previous_split() {
     assert_close(next[0], -90.0, 1e-12, "ψ continued");
     assert_close(next[1], tilt.abs().to_degrees(), 1e-12, "θ");
     assert_close(next[2], 0.0, 1e-6, "φ continued");
-    // Continued from another split, the same pose keeps that ψ: ψ + φ is what the pose fixes.
+    // Continued from another split, the same pose keeps its φ: ψ + φ is what the pose fixes.
     let other = deg(euler313_continued(&r, Some([0.5, 0.0, -0.5 - PI / 2.0])));
-    assert_close(other[0], 0.5f64.to_degrees(), 1e-12, "ψ of the other split");
+    assert_close(other[0], 0.5f64.to_degrees(), 1e-6, "ψ of the other split");
+    assert_close(other[2], (-0.5 - PI / 2.0).to_degrees(), 1e-12, "φ kept");
     assert_close(other[0] + other[2], -90.0, 1e-6, "ψ + φ");
-    // Near θ = π only ψ − φ is fixed: Rz(30°)·Rx(π − 1e-9)·Rz(−20°) continued from ψ = 10°.
+    // Near θ = π only ψ − φ is fixed: Rz(30°)·Rx(π − 1e-9)·Rz(−20°) continued from φ = −40°.
     let r = from_313_degrees([30.0, 180.0 - 1e-7, -20.0]);
-    let a = deg(euler313_continued(&r, Some([10f64.to_radians(), PI, 0.0])));
-    assert_close(a[0], 10.0, 1e-12, "ψ at θ ≈ π");
+    let a = deg(euler313_continued(
+        &r,
+        Some([10f64.to_radians(), PI, (-40f64).to_radians()]),
+    ));
+    assert_close(a[0], 10.0, 1e-6, "ψ at θ ≈ π");
+    assert_close(a[2], -40.0, 1e-12, "φ kept at θ ≈ π");
     assert_close(a[0] - a[2], 50.0, 1e-6, "ψ − φ at θ ≈ π");
+    // A spin about z at θ = 0 from a first output with φ = 0 (Adams' Distance_Case02 for its
+    // first 0.13 s): ψ follows the spin, φ stays 0.
+    let mut last = None;
+    for spin in [0.0f64, -1e-3, -0.05, 120.0, 179.0, -179.0] {
+        let a = euler313_continued(&from_313_degrees([spin, 0.0, 0.0]), last);
+        assert_close(deg(a)[0], spin, 1e-9, "ψ follows the spin");
+        assert_close(a[2], 0.0, 1e-15, "φ stays 0");
+        last = Some(a);
+    }
     // Away from the singular poses the split is the pose's own, whatever came before.
     let r = from_313_degrees([40.0, 1e-3, 20.0]);
     let a = deg(euler313_continued(&r, Some([-1.0, 0.0, 1.0])));
