@@ -164,8 +164,7 @@ fn every_corpus_command_file_runs_or_stops_naming_the_place_and_the_reason() {
     };
     // Within 1e-3 of each signal's range (measured: Revolute_Case01 6.1e-5, Revolute_Case02
     // 1.2e-4, Spherical_Case01 4.5e-4, Universal_Case01 4.5e-4, Universal_Case02 4.5e-4,
-    // Distance_Case01 2.0e-5, Distance_Case02 to 1.5 s 1.3e-5 (5.4e-4 before ψ and φ were
-    // continued at θ ≈ 0), TransSpring_Case01 4.4e-7).
+    // Distance_Case01 2.0e-5, Distance_Case02 to 1.5 s 1.3e-5, TransSpring_Case01 4.4e-7).
     for case in [
         "Revolute_Case01",
         "Revolute_Case02",
