@@ -16,7 +16,7 @@ use linkage_model::Model;
 use linkage_report::element_columns;
 use linkage_report::simulate::CsvHistory;
 use linkage_solve::physics::applied::Regime;
-use linkage_solve::physics::requests::{RequestError, RequestSet};
+use linkage_solve::physics::requests::{RequestAngles, RequestError, RequestSet};
 use linkage_solve::pipeline::Assembled;
 use linkage_solve::stages::dynamics::Output;
 use std::io::Write;
@@ -219,6 +219,9 @@ impl<W: Write> OutputSink for CsvSink<W> {
 pub(crate) struct Feed<'s> {
     sink: &'s mut dyn OutputSink,
     requests: Option<RequestSet>,
+    /// The REQUEST angles of the last output, which the next continues (ψ and φ split at
+    /// θ ≈ 0 as the last output had them, as Adams writes them).
+    angles: RequestAngles,
 }
 
 impl<'s> Feed<'s> {
@@ -233,7 +236,11 @@ impl<'s> Feed<'s> {
         } else {
             None
         };
-        Ok(Feed { sink, requests })
+        Ok(Feed {
+            sink,
+            requests,
+            angles: RequestAngles::new(),
+        })
     }
 
     /// The analysis has its assembled problem.
@@ -243,10 +250,11 @@ impl<'s> Feed<'s> {
 
     /// One output of `a`.
     pub(crate) fn output(&mut self, a: &Assembled, o: &Output) -> Result<(), SinkError> {
+        let angles = &mut self.angles;
         let values = self
             .requests
             .as_ref()
-            .map(|r| r.evaluate(a.model, &a.system, o));
+            .map(|r| r.evaluate_continuing(a.model, &a.system, o, angles));
         self.sink.output(a, o, values.as_ref())
     }
 }

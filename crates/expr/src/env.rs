@@ -140,6 +140,16 @@ pub trait Env {
         ))
     }
 
+    /// The body 3-1-3 angles `[ψ, θ, φ]` (radians) of marker `i` relative to marker `j` at
+    /// the previous output of the run being written, from which `ORIENT` continues the split
+    /// of ψ and φ at θ ≈ 0 ([`crate::orient::euler313_continued`]).
+    ///
+    /// Default: none (no previous output).
+    fn euler313_previous(&self, i: u32, j: u32) -> Option<[f64; 3]> {
+        let _ = (i, j);
+        None
+    }
+
     /// The entries of [`Env::rotation`] as series along the current motion (as
     /// [`Env::measure_series`]): `[R, dR/dt, d²R/dt²]` per entry, same order.
     ///

@@ -274,7 +274,7 @@ impl<E: Env + ?Sized> Evaluator<'_, E> {
                 "ORIENT: the environment returned non-finite direction cosines",
             ));
         }
-        what.evaluate(&r)
+        what.evaluate(&r, self.env.euler313_previous(i, j))
     }
 
     fn element_force<N: Num>(&self, kind: ElementForce, args: &[Expr]) -> Result<N, EvalError> {

@@ -46,6 +46,9 @@ use crate::error::EvalError;
 use crate::functions;
 use crate::num::Num;
 
+/// The body 3-1-3 sequence (system 11: PSI, THETA, PHI).
+const BODY_313: [usize; 3] = [2, 0, 2];
+
 /// Below this, a pair of direction cosines that fixes an Euler angle is taken as zero (a
 /// singular pose of the sequence).
 const SINGULAR: f64 = 1e-12;
@@ -138,11 +141,26 @@ impl OrientValue {
         })
     }
 
-    /// The value from the direction cosines `r` (column-major).
-    pub(crate) fn evaluate<N: Num>(&self, r: &[N; 9]) -> Result<N, EvalError> {
+    /// The value from the direction cosines `r` (column-major); `previous` the body 3-1-3
+    /// angles of the same markers at the previous output, which the 3-1-3 angles and the
+    /// Euler parameters' sign continue at θ ≈ 0 ([`euler313_continued`]).
+    pub(crate) fn evaluate<N: Num>(
+        &self,
+        r: &[N; 9],
+        previous: Option<[f64; 3]>,
+    ) -> Result<N, EvalError> {
         let m = Matrix(r);
         let k = self.component;
         match self.system {
+            OrientSystem::BodyFixed(seq) if seq == BODY_313 && k != 1 => {
+                let values: [f64; 9] = std::array::from_fn(|i| r[i].val());
+                if values[6].hypot(values[7]) < EULER_SPLIT_SINE {
+                    // ψ and φ of a split, constant (not differentiable at this pose).
+                    Ok(N::cst(euler313_continued(&values, previous)[k]))
+                } else {
+                    Ok(body_fixed_angle(&m, seq, k))
+                }
+            }
             OrientSystem::BodyFixed(seq) => Ok(body_fixed_angle(&m, seq, k)),
             OrientSystem::SpaceFixed([a, b, c]) => Ok(body_fixed_angle(&m, [c, b, a], 2 - k)),
             OrientSystem::Projection => {
@@ -155,9 +173,9 @@ impl OrientValue {
                 })
             }
             OrientSystem::YawPitchRoll => Ok(body_fixed_angle(&m, [2, 1, 0], k)),
-            OrientSystem::EulerParameters => Ok(euler_parameters(&m)[k].clone()),
+            OrientSystem::EulerParameters => Ok(euler_parameters(&m, previous)[k].clone()),
             OrientSystem::Rodrigues => {
-                let p = euler_parameters(&m);
+                let p = euler_parameters(&m, previous);
                 if p[0].val() == 0.0 {
                     return Err(EvalError::domain(
                         "ORIENT: Rodrigues parameters are undefined for a rotation of 180 degrees \
@@ -264,8 +282,9 @@ fn body_fixed_angle<N: Num>(m: &Matrix<'_, N>, [a, b, c]: [usize; 3], k: usize) 
 /// Angles of the Euler-parameter sign rule closer than this (radians) to −π are taken as +π.
 const ANGLE_WRAP_SLACK: f64 = 1e-9;
 
-/// Euler parameters `[P0, P1, P2, P3]` of `R` with Adams' sign (module docs).
-fn euler_parameters<N: Num>(m: &Matrix<'_, N>) -> [N; 4] {
+/// Euler parameters `[P0, P1, P2, P3]` of `R` with Adams' sign (module docs), the 3-1-3
+/// angles of the sign rule continued from `previous` ([`euler313_continued`]).
+fn euler_parameters<N: Num>(m: &Matrix<'_, N>, previous: Option<[f64; 3]>) -> [N; 4] {
     let d = [m.at(0, 0), m.at(1, 1), m.at(2, 2)];
     let trace = d[0].plus(d[1]).plus(d[2]);
     // Shepperd: start from the largest of 4·P0², 4·P1², 4·P2², 4·P3² (1 + trace, 1 + 2R00 −
@@ -328,15 +347,15 @@ fn euler_parameters<N: Num>(m: &Matrix<'_, N>) -> [N; 4] {
     let values: [f64; 9] = std::array::from_fn(|i| m.0[i].val());
     // Angles in (−π, π]: a rounding-level negative numerator must not turn +π into −π, which
     // would flip the sign (Adams prints ψ = 180, not −180, for such poses).
-    let angle = |k: usize| {
-        let a = body_fixed_angle(&Matrix(&values), [2, 0, 2], k);
+    let lift = |a: f64| {
         if a < -std::f64::consts::PI + ANGLE_WRAP_SLACK {
             a + 2.0 * std::f64::consts::PI
         } else {
             a
         }
     };
-    let (psi, theta, phi) = (angle(0), angle(1), angle(2));
+    let [psi, theta, phi] = euler313_continued(&values, previous);
+    let (psi, phi) = (lift(psi), lift(phi));
     let (sh, ch) = (0.5 * theta).sin_cos();
     let (sp, cp) = (0.5 * (psi + phi)).sin_cos();
     let (sm, cm) = (0.5 * (psi - phi)).sin_cos();
@@ -353,5 +372,59 @@ fn euler_parameters<N: Num>(m: &Matrix<'_, N>) -> [N; 4] {
 /// `ORIENT(system, component, …)` of the direction cosines `r` (column-major, as
 /// [`crate::Env::rotation`]), as a plain value.
 pub fn orient(system: u32, component: u32, r: &[f64; 9]) -> Result<f64, EvalError> {
-    OrientValue::new(system, component)?.evaluate(r)
+    OrientValue::new(system, component)?.evaluate(r, None)
+}
+
+/// `sin θ` below which the body 3-1-3 angles of an output are taken at θ ≈ 0 (or π), where
+/// only `ψ + φ` (resp. `ψ − φ`) is determined by the pose and the split between ψ and φ is
+/// continued from the previous output ([`euler313_continued`]).
+///
+/// Chosen between two Adams runs of the Chrono test models: Adams splits a pose with
+/// θ = 2.2e-5 rad by the general formula (Distance_Case02 at t = 0.14 s: ψ = −90.04°,
+/// θ = 0.00124°, φ = 89.97°), and keeps the split of its previous output for a body whose θ
+/// is still at rounding level after a hundredth of a second (Distance_Case03 at t = 0.01 s:
+/// ψ = −90°, φ = 0° as at t = 0, where the general formula gives ψ = 180°, φ = 90° for
+/// θ ~ 1e-9 rad).
+pub const EULER_SPLIT_SINE: f64 = 1e-6;
+
+/// The body 3-1-3 angles `[ψ, θ, φ]` (radians; ψ, φ in (−π, π], θ in [0, π]) of the direction
+/// cosines `r` (column-major, `R = Rz(ψ)·Rx(θ)·Rz(φ)`), continued from the angles `previous`
+/// of the same pair of frames at the previous output.
+///
+/// Away from θ = 0 and π (`sin θ ≥` [`EULER_SPLIT_SINE`]) the angles are unique and given by
+/// the general formula. Nearer, only `σ = ψ + φ` (θ ≈ 0) or `δ = ψ − φ` (θ ≈ π) is
+/// determined, exactly, by `σ = atan2(R21 − R12, R11 + R22)` and
+/// `δ = atan2(R21 + R12, R11 − R22)` (both numerators and denominators carry the factor
+/// `1 ± cos θ`); φ then keeps its previous value and ψ takes the rest, so that ψ, φ and the
+/// Euler parameters written with them do not jump between outputs. Without a previous output
+/// φ = 0 and ψ carries the whole rotation, as at an exactly singular pose. This is what
+/// Adams writes: in its Distance_Case02 run the rod spins about z at θ = 0 for 0.13 s with
+/// φ = 0 and ψ following the spin, and Distance_Case03 keeps ψ = −90°, φ = 0° of its first
+/// output. The pose `Rz(ψ)·Rx(θ)·Rz(φ)` of the continued angles differs from `r` by less
+/// than θ (< 1e-6 rad).
+pub fn euler313_continued(r: &[f64; 9], previous: Option<[f64; 3]>) -> [f64; 3] {
+    let at = |row: usize, col: usize| r[3 * col + row];
+    let s = at(0, 2).hypot(at(1, 2));
+    let theta = s.atan2(at(2, 2));
+    if s >= EULER_SPLIT_SINE {
+        let psi = at(0, 2).atan2(-at(1, 2));
+        let phi = at(2, 0).atan2(at(2, 1));
+        return [psi, theta, phi];
+    }
+    let wrap = |a: f64| {
+        let w = a - std::f64::consts::TAU * (a / std::f64::consts::TAU).round();
+        if w <= -std::f64::consts::PI + ANGLE_WRAP_SLACK {
+            w + std::f64::consts::TAU
+        } else {
+            w
+        }
+    };
+    let phi = previous.map_or(0.0, |p| p[2]);
+    if at(2, 2) > 0.0 {
+        let sigma = (at(1, 0) - at(0, 1)).atan2(at(0, 0) + at(1, 1));
+        [wrap(sigma - phi), theta, wrap(phi)]
+    } else {
+        let delta = (at(1, 0) + at(0, 1)).atan2(at(0, 0) - at(1, 1));
+        [wrap(delta + phi), theta, wrap(phi)]
+    }
 }

@@ -506,3 +506,103 @@ fn orient_errors() {
     assert!(e.uses_state());
     assert_eq!(e.to_string(), "ORIENT(27, 1, 201, 101)");
 }
+
+/// An environment whose ORIENT(…, 1, 0) rotation is the fixed matrix `r`, with `previous` the
+/// 3-1-3 angles of the previous output.
+struct Held {
+    r: [f64; 9],
+    previous: Option<[f64; 3]>,
+}
+
+impl Env for Held {
+    fn time(&self) -> f64 {
+        0.0
+    }
+    fn rotation(&self, _i: u32, _j: u32, _gradient: bool) -> Result<[Dual; 9], EvalError> {
+        Ok(self.r.map(Dual::constant))
+    }
+    fn euler313_previous(&self, _i: u32, _j: u32) -> Option<[f64; 3]> {
+        self.previous
+    }
+}
+
+#[test]
+fn psi_and_phi_near_theta_zero_continue_the_previous_split() {
+    use linkage_expr::orient::euler313_continued;
+    use std::f64::consts::PI;
+    let deg = |a: [f64; 3]| a.map(f64::to_degrees);
+    // Distance_Case03: the CM marker at REULER −90°, 0°, 0°, then tilted about ground x by
+    // −2e-9 rad (θ ≈ 0, only ψ + φ = −90° fixed): Adams writes ψ = −90°, φ = 0° as at t = 0,
+    // where the general formula gives ψ = 180°, φ = 90°.
+    let tilt = -2e-9;
+    let r = column_major(&mul(
+        &elementary(0, tilt)[0],
+        &elementary(2, (-90f64).to_radians())[0],
+    ));
+    let first = euler313_continued(&from_313_degrees([-90.0, 0.0, 0.0]), None);
+    assert_close(
+        deg(first)[0],
+        -90.0,
+        1e-12,
+        "ψ at t = 0 (φ = 0 without a history)",
+    );
+    let next = deg(euler313_continued(&r, Some(first)));
+    assert_close(next[0], -90.0, 1e-12, "ψ continued");
+    assert_close(next[1], tilt.abs().to_degrees(), 1e-12, "θ");
+    assert_close(next[2], 0.0, 1e-6, "φ continued");
+    // Continued from another split, the same pose keeps its φ: ψ + φ is what the pose fixes.
+    let other = deg(euler313_continued(&r, Some([0.5, 0.0, -0.5 - PI / 2.0])));
+    assert_close(other[0], 0.5f64.to_degrees(), 1e-6, "ψ of the other split");
+    assert_close(other[2], (-0.5 - PI / 2.0).to_degrees(), 1e-12, "φ kept");
+    assert_close(other[0] + other[2], -90.0, 1e-6, "ψ + φ");
+    // Near θ = π only ψ − φ is fixed: Rz(30°)·Rx(π − 1e-9)·Rz(−20°) continued from φ = −40°.
+    let r = from_313_degrees([30.0, 180.0 - 1e-7, -20.0]);
+    let a = deg(euler313_continued(
+        &r,
+        Some([10f64.to_radians(), PI, (-40f64).to_radians()]),
+    ));
+    assert_close(a[0], 10.0, 1e-6, "ψ at θ ≈ π");
+    assert_close(a[2], -40.0, 1e-12, "φ kept at θ ≈ π");
+    assert_close(a[0] - a[2], 50.0, 1e-6, "ψ − φ at θ ≈ π");
+    // A spin about z at θ = 0 from a first output with φ = 0 (Adams' Distance_Case02 for its
+    // first 0.13 s): ψ follows the spin, φ stays 0.
+    let mut last = None;
+    for spin in [0.0f64, -1e-3, -0.05, 120.0, 179.0, -179.0] {
+        let a = euler313_continued(&from_313_degrees([spin, 0.0, 0.0]), last);
+        assert_close(deg(a)[0], spin, 1e-9, "ψ follows the spin");
+        assert_close(a[2], 0.0, 1e-15, "φ stays 0");
+        last = Some(a);
+    }
+    // Away from the singular poses the split is the pose's own, whatever came before.
+    let r = from_313_degrees([40.0, 1e-3, 20.0]);
+    let a = deg(euler313_continued(&r, Some([-1.0, 0.0, 1.0])));
+    assert_close(a[0], 40.0, 1e-6, "ψ");
+    assert_close(a[2], 20.0, 1e-6, "φ");
+    // ORIENT continues the same split, and the Euler parameters' sign follows it
+    // (P0 = cos(θ/2)·cos((ψ + φ)/2) > 0 with ψ = −90°, φ = 0°; it is < 0 with 180°, 90°).
+    let r = column_major(&mul(
+        &elementary(0, tilt)[0],
+        &elementary(2, (-90f64).to_radians())[0],
+    ));
+    let value =
+        |text: &str, previous| evaluate(&parse(text).unwrap(), &Held { r, previous }).unwrap();
+    let previous = Some([-PI / 2.0, 0.0, 0.0]);
+    assert_close(
+        value("ORIENT(11, 1, 1, 0)", previous).to_degrees(),
+        -90.0,
+        1e-9,
+        "PSI",
+    );
+    assert_close(
+        value("ORIENT(11, 3, 1, 0)", previous).to_degrees(),
+        0.0,
+        1e-6,
+        "PHI",
+    );
+    let h = std::f64::consts::FRAC_1_SQRT_2;
+    assert_close(value("ORIENT(27, 1, 1, 0)", previous), h, 1e-9, "P0");
+    assert_close(value("ORIENT(27, 4, 1, 0)", previous), -h, 1e-9, "P3");
+    // The parameters are the same orientation either way: only the sign is a convention.
+    let unsplit = value("ORIENT(27, 1, 1, 0)", None);
+    assert_close(unsplit.abs(), h, 1e-9, "|P0| without a history");
+}

@@ -39,6 +39,49 @@ pub fn matrix_to_euler313(r: &DMat3) -> [f64; 3] {
     }
 }
 
+/// The body 3-1-3 angles each of a set of frames (a run's parts, a request's pair of markers)
+/// had at the last output, from which the next output continues the split of ψ and φ at
+/// θ ≈ 0 or π ([`linkage_expr::orient::euler313_continued`]): the state an output writer
+/// carries from output to output, so that the angles (and the Euler parameters written with
+/// them) do not jump where the pose does not, as in Adams' output files.
+#[derive(Clone, Debug)]
+pub struct EulerHistory<K> {
+    last: std::collections::HashMap<K, [f64; 3]>,
+}
+
+impl<K> Default for EulerHistory<K> {
+    fn default() -> Self {
+        EulerHistory {
+            last: std::collections::HashMap::new(),
+        }
+    }
+}
+
+impl<K: Eq + std::hash::Hash + Copy> EulerHistory<K> {
+    /// No output yet.
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// The angles `[ψ, θ, φ]` (radians) of the rotation `r` of frame `key`, continued from
+    /// its last output and kept as its last output.
+    pub fn angles(&mut self, key: K, r: &DMat3) -> [f64; 3] {
+        let a = linkage_expr::orient::euler313_continued(&r.to_cols_array(), self.previous(key));
+        self.last.insert(key, a);
+        a
+    }
+
+    /// The angles frame `key` had at the last output.
+    pub fn previous(&self, key: K) -> Option<[f64; 3]> {
+        self.last.get(&key).copied()
+    }
+
+    /// Keeps `angles` as frame `key`'s last output.
+    pub fn record(&mut self, key: K, angles: [f64; 3]) {
+        self.last.insert(key, angles);
+    }
+}
+
 /// Frame whose +z axis points from `origin` towards `z_point` and whose x axis lies in the
 /// half plane of `x_point` (Adams ZP/XP, ZG/XG). With `x_point` absent or on the z axis, x is
 /// chosen as the ground axis least aligned with z, projected (a documented choice; Adams'

@@ -6,7 +6,7 @@ use crate::statics::{settling_line, settling_summary, SettlingJson};
 use crate::units::{text_line, units_json, Angle, CsvUnits, UnitsJson};
 use crate::verify::{equation_ref, EquationRef};
 use linkage_adm::Diagnostic;
-use linkage_model::frames::matrix_to_euler313;
+use linkage_model::frames::EulerHistory;
 use linkage_model::settings::{Formulation, IntegratorMethod};
 use linkage_model::Model;
 use linkage_solve::pipeline::Assembled;
@@ -48,17 +48,25 @@ pub fn csv_header(model: &Model, reaction_elements: &[usize], extra: &[String]) 
 }
 
 /// One CSV row (angles in degrees, positions of centres of mass, ground axes), each field
-/// with [`CSV_DIGITS`] significant digits. Rounding noise is printed as 0, judged per kind of
+/// with [`CSV_DIGITS`] significant digits. The parts' body 3-1-3 angles continue the split of
+/// ψ and φ at θ ≈ 0 from the previous row's, kept in `angles` (a run's writer passes the same
+/// history from its first row to its last; [`EulerHistory`]). Rounding noise is printed as 0, judged per kind of
 /// quantity in the row (positions, angles against a full turn, velocities, angular velocities,
 /// forces, torques; see [`crate::num::denoise`]).
-pub fn csv_row(model: &Model, o: &Output, reaction_elements: &[usize], extra: &[f64]) -> String {
+pub fn csv_row(
+    model: &Model,
+    o: &Output,
+    reaction_elements: &[usize],
+    extra: &[f64],
+    angles: &mut EulerHistory<usize>,
+) -> String {
     let mut s = general(o.time, CSV_DIGITS);
     let poses = &o.state.poses;
     let position_scale = scale_of(poses.iter().flat_map(|p| p.p.to_array()));
     let v_scale = scale_of(o.velocities.iter().flat_map(|(v, _)| v.to_array()));
     let w_scale = scale_of(o.velocities.iter().flat_map(|(_, w)| w.to_array()));
     for (k, pose) in poses.iter().enumerate() {
-        let e = matrix_to_euler313(&pose.r).map(f64::to_degrees);
+        let e = angles.angles(k, &pose.r).map(f64::to_degrees);
         let (v, w) = o.velocities[k];
         let fields = [
             (pose.p.x, position_scale),
@@ -116,6 +124,8 @@ pub struct CsvHistory<W: std::io::Write> {
     /// Their indices in the model last written, searched by name only when the model's
     /// constraints no longer have those names there (a rebuilt model), not at every output.
     indices: Vec<usize>,
+    /// The parts' angles at the last row written.
+    angles: EulerHistory<usize>,
 }
 
 impl<W: std::io::Write> CsvHistory<W> {
@@ -124,6 +134,7 @@ impl<W: std::io::Write> CsvHistory<W> {
             out,
             elements: None,
             indices: Vec::new(),
+            angles: EulerHistory::new(),
         }
     }
 
@@ -167,7 +178,8 @@ impl<W: std::io::Write> CsvHistory<W> {
                 .collect();
         }
         let indices = &self.indices;
-        writeln!(self.out, "{}", csv_row(model, o, indices, values))?;
+        let row = csv_row(model, o, indices, values, &mut self.angles);
+        writeln!(self.out, "{row}")?;
         self.out.flush()
     }
 
@@ -199,9 +211,10 @@ pub fn to_csv(model: &Model, run: &DynamicRun, extra: Option<&ExtraColumns>) -> 
     let names: &[String] = extra.map_or(&[], |e| &e.0);
     let mut s = csv_header(model, &elements, names);
     s.push('\n');
+    let mut angles = EulerHistory::new();
     for (k, o) in sim.outputs.iter().enumerate() {
         let vals: &[f64] = extra.and_then(|e| e.1.get(k)).map_or(&[], |v| v.as_slice());
-        s.push_str(&csv_row(model, o, &elements, vals));
+        s.push_str(&csv_row(model, o, &elements, vals, &mut angles));
         s.push('\n');
     }
     s

@@ -229,21 +229,22 @@ MOTION/1, JOINT = 1, ROTATION, FUNCTION = 360D * TIME"
     }
 }
 
-/// RACKPIN: the displacement of the pinion's I marker along the rack's z_j is PD/2 times the
-/// pinion's rotation about z_i (ADM-REFERENCE §4.2), i.e. the rack (J) moves by −PD/2·θ along
-/// z_j when the pinion turns by θ: rolling without slip for a rack on the z_i × z_j side of the
-/// pinion (here above it: the pitch point at y = +PD/2 moves along −x when the pinion turns
-/// anticlockwise).
+/// RACKPIN (Adams' convention, `constraints::system` module docs): the rack's J marker
+/// travels `(PD/2)·θ` along z_j relative to the pinion's I marker when the pinion turns by θ
+/// about z_i, the rack's pitch line on the pinion's −y_i side and x_i along z_j. Pinion about
+/// global z at the origin (x_i = +x = z_j), rack below it at y = −PD/2: the pitch point
+/// (0, −0.1, 0) moves along +x at (PD/2)·ω when the pinion turns anticlockwise, and so does
+/// the rack.
 #[test]
 fn rack_advances_half_the_pitch_diameter_per_radian() {
     let pd = 0.2;
     let m = model(&format!(
-        "MARKER/3, PART = 1, QP = 0, 0.1, 0, REULER = 90D, 90D, -90D
+        "MARKER/3, PART = 1, QP = 0, -0.1, 0, REULER = 90D, 90D, -90D
 PART/2, MASS = 1, CM = 20, IP = 1, 1, 1
 MARKER/20, PART = 2
 MARKER/21, PART = 2
 MARKER/22, PART = 2
-PART/3, MASS = 1, CM = 30, IP = 1, 1, 1, QG = 0, 0.1, 0
+PART/3, MASS = 1, CM = 30, IP = 1, 1, 1, QG = 0, -0.1, 0
 MARKER/30, PART = 3
 MARKER/31, PART = 3, REULER = 90D, 90D, -90D
 MARKER/32, PART = 3, REULER = 90D, 90D, -90D
@@ -257,16 +258,16 @@ MOTION/1, JOINT = 1, ROTATION, FUNCTION = 90D * TIME"
     let w = 90f64.to_radians();
     for o in outputs(&m, &times(3.0, 12), true) {
         let theta = w * o.time;
-        // Advance per radian = PD/2 (0.1 m), the rack along −x (z_j = +x).
+        // Advance per radian = PD/2 (0.1 m), the rack along +x (z_j = +x).
         close3(
             o.state.poses[rack].p,
-            DVec3::new(-pd / 2.0 * theta, 0.1, 0.0),
+            DVec3::new(pd / 2.0 * theta, -0.1, 0.0),
             1e-11,
             "rack position",
         );
         close3(
             o.velocities[rack].0,
-            DVec3::new(-pd / 2.0 * w, 0.0, 0.0),
+            DVec3::new(pd / 2.0 * w, 0.0, 0.0),
             1e-11,
             "rack velocity",
         );
@@ -659,19 +660,19 @@ MOTION/1, JOINT = 1, ROTATION, FUNCTION = 30D * TIME",
 }
 
 /// The RACKPIN's reactions by virtual work: a 10 N load along +x on the rack (z_j) is held by
-/// the pinion's motion with τ·δθ + F·δx = 0, δx = −(PD/2)·δθ, so τ = +F·PD/2 = +1 N·m about z;
-/// the rack-and-pinion pushes back on the pinion with −1 N·m about z (the hinge carries no
+/// the pinion's motion with τ·δθ + F·δx = 0, δx = +(PD/2)·δθ, so τ = −F·PD/2 = −1 N·m about
+/// z; the rack-and-pinion pushes back on the pinion with +1 N·m about z (the hinge carries no
 /// torque about its axis).
 #[test]
 fn rackpin_transmits_the_load_times_half_the_pitch_diameter() {
     let text = format!(
-        "{HEADER}MARKER/3, PART = 1, QP = 0, 0.1, 0, REULER = 90D, 90D, -90D
+        "{HEADER}MARKER/3, PART = 1, QP = 0, -0.1, 0, REULER = 90D, 90D, -90D
 MARKER/4, PART = 1, FLOATING
 PART/2, MASS = 1, CM = 20, IP = 1, 1, 1
 MARKER/20, PART = 2
 MARKER/21, PART = 2
 MARKER/22, PART = 2
-PART/3, MASS = 1, CM = 30, IP = 1, 1, 1, QG = 0, 0.1, 0
+PART/3, MASS = 1, CM = 30, IP = 1, 1, 1, QG = 0, -0.1, 0
 MARKER/30, PART = 3
 MARKER/31, PART = 3, REULER = 90D, 90D, -90D
 MARKER/32, PART = 3, REULER = 90D, 90D, -90D
@@ -702,13 +703,13 @@ END
     // Exact up to rounding of the 0-DOF solve.
     close(
         reaction("MOTION_1").torque.z,
-        1.0,
+        -1.0,
         1e-10,
         "motion torque on the pinion",
     );
     close(
         reaction("JOINT_3").torque.z,
-        -1.0,
+        1.0,
         1e-10,
         "rack-and-pinion torque on the pinion",
     );
@@ -756,4 +757,234 @@ END
         1e-12,
         "motion torque on the nut",
     );
+}
+
+/// The outputs of a run of the 0-DOF dataset `body` with its force elements, and its model.
+fn loaded_run(body: &str, times: &[f64]) -> (Model, Vec<Output>) {
+    let m = model(body);
+    let outputs = {
+        let d = ExpressionDrivers::new(&m).unwrap();
+        let f = linkage_solve::physics::forces::ForceSet::new(&m).unwrap_or_else(|e| panic!("{e}"));
+        let a = Assembled::new(&m, &d, &f, &Tolerances::default());
+        assert!(a.failure().is_none(), "{:?}", a.failure());
+        let settings = IntegratorSettings {
+            error: 1e-8,
+            ..Default::default()
+        };
+        let r = run(&a, times, &settings, Start::InitialConditions, |_| {});
+        let sim = r.simulation.unwrap_or_else(|| panic!("{:?}", r.error));
+        assert!(sim.failure.is_none() && sim.kinematic, "{:?}", sim.failure);
+        sim.outputs
+    };
+    (m, outputs)
+}
+
+/// The reaction (force, torque about its I marker, ground axes) of element `name` at `o`.
+fn reaction_at(m: &Model, o: &Output, name: &str) -> (DVec3, DVec3) {
+    let k = m
+        .constraints
+        .iter()
+        .position(|c| c.origin.name == name)
+        .unwrap_or_else(|| panic!("no {name}"));
+    let r = o.reactions.iter().find(|r| r.element == k).unwrap();
+    (r.force, r.torque)
+}
+
+/// RACKPIN in the geometry of the Chrono rack-and-pinion model Adams ran: pinion about +x
+/// (I marker REULER 90°, 90°, −90°: z_i = +x, x_i = −z), rack travelling along z_j = −z
+/// (REULER 0°, 180°, 0°) on the pinion's −y side, PD = 0.1. A motion lowers the rack at
+/// 0.1 m/s (+0.1 m/s along z_j) against a load torque of 3 N·m about +x on the pinion. Hand
+/// derivation: the rack's travel (PD/2)·θ = 0.1·t gives θ = 2t about z_i = +x (the pitch point
+/// (0, −0.05, 0) of a pinion turning about +x moves along −z with the rack); at constant rates
+/// the pinion's torques balance, so the rack-and-pinion's torque on it is −3 N·m about x, and
+/// virtual power, F·0.1 + 3·2 = 0 with F the motion's force along z_j, gives +60 N along +z on
+/// the rack.
+#[test]
+fn falling_rack_turns_the_pinion_positively_about_its_axis() {
+    let (m, outs) = loaded_run(
+        "MARKER/2, PART = 1, REULER = 90D, 90D, -90D
+MARKER/3, PART = 1, QP = 0, -0.05, 0, REULER = 0D, 180D, 0D
+MARKER/4, PART = 1, FLOATING
+PART/2, MASS = 1, CM = 20, IP = 1, 1, 1
+MARKER/20, PART = 2
+MARKER/21, PART = 2, REULER = 90D, 90D, -90D
+PART/3, MASS = 1, CM = 30, IP = 1, 1, 1, QG = 0, -0.05, 0
+MARKER/30, PART = 3
+MARKER/31, PART = 3, REULER = 0D, 180D, 0D
+MARKER/32, PART = 3, QP = 0, 0.05, 0, REULER = 0D, 180D, 0D
+JOINT/1, REVOLUTE, I = 21, J = 2
+JOINT/2, TRANSLATIONAL, I = 31, J = 3
+JOINT/3, RACKPIN, I = 21, J = 32, PD = 0.1
+MOTION/1, JOINT = 2, TRANSLATION, FUNCTION = 0.1 * TIME
+VTORQUE/1, I = 20, JFLOAT = 4, RM = 1, TX = 3, TY = 0, TZ = 0",
+        &times(2.0, 8),
+    );
+    let (pinion, rack) = (part(&m, 2), part(&m, 3));
+    for o in &outs {
+        let t = o.time;
+        close3(
+            o.state.poses[rack].p,
+            DVec3::new(0.0, -0.05, -0.1 * t),
+            1e-11,
+            "rack position",
+        );
+        close_rot(
+            o.state.poses[pinion].r,
+            DMat3::from_rotation_x(2.0 * t),
+            1e-10,
+            "pinion: θ = 2t about +x",
+        );
+        close3(
+            o.velocities[pinion].1,
+            DVec3::new(2.0, 0.0, 0.0),
+            1e-10,
+            "ω",
+        );
+        close(
+            reaction_at(&m, o, "JOINT_3").1.x,
+            -3.0,
+            1e-8,
+            "torque on pinion",
+        );
+        close(
+            reaction_at(&m, o, "MOTION_1").0.z,
+            60.0,
+            1e-7,
+            "motion on rack",
+        );
+    }
+}
+
+/// SCREW turning (one turn in 4 s) against an axial load of 10 N along +z on the nut: the nut
+/// at z = PITCH·θ/2π, and at constant rates the motion holds it with −F·PITCH/2π about z and
+/// the screw turns it with +F·PITCH/2π (virtual power: τ·ω + F·PITCH·ω/2π = 0).
+#[test]
+fn turning_screw_holds_its_axial_load_with_load_times_pitch_over_two_pi() {
+    let pitch = 0.02;
+    let (m, outs) = loaded_run(
+        &format!(
+            "MARKER/4, PART = 1, FLOATING
+PART/2, MASS = 1, CM = 20, IP = 1, 1, 1
+MARKER/20, PART = 2
+MARKER/21, PART = 2
+JOINT/1, CYLINDRICAL, I = 21, J = 1
+JOINT/2, SCREW, I = 21, J = 1, PITCH = {pitch}
+MOTION/1, JOINT = 1, ROTATION, FUNCTION = 90D * TIME
+VFORCE/1, I = 20, JFLOAT = 4, RM = 1, FX = 0\\FY = 0\\FZ = 10"
+        ),
+        &times(3.0, 6),
+    );
+    let nut = part(&m, 2);
+    let w = 90f64.to_radians();
+    let tau = 10.0 * pitch / TAU;
+    for o in &outs {
+        let theta = w * o.time;
+        close3(
+            o.state.poses[nut].p,
+            DVec3::new(0.0, 0.0, pitch * theta / TAU),
+            1e-11,
+            "nut position",
+        );
+        close_rot(
+            o.state.poses[nut].r,
+            DMat3::from_rotation_z(theta),
+            1e-10,
+            "nut angle",
+        );
+        close3(o.velocities[nut].1, DVec3::new(0.0, 0.0, w), 1e-10, "ω");
+        close(reaction_at(&m, o, "MOTION_1").1.z, -tau, 1e-10, "motion");
+        close(reaction_at(&m, o, "JOINT_2").1.z, tau, 1e-10, "screw");
+    }
+}
+
+/// GEAR whose second hinge is written the other way round (I on ground — the carrier, with
+/// the CV marker — J on the gear): the gear still turns with θ₂ = −(r₁/r₂)θ₁, and a load
+/// torque of 2 N·m about +z on it is held by the motion of the first gear with +1 N·m
+/// (virtual power: τ·ω₁ + 2·(−ω₁/2) = 0).
+#[test]
+fn gear_on_the_j_side_of_its_hinge_turns_the_same_way() {
+    let (m, outs) = loaded_run(
+        "MARKER/3, PART = 1, QP = 0.3, 0, 0
+MARKER/4, PART = 1, FLOATING
+MARKER/5, PART = 1, QP = 0.1, 0, 0, REULER = 0D, -90D, 0D
+PART/2, MASS = 1, CM = 20, IP = 1, 1, 1
+MARKER/20, PART = 2
+MARKER/21, PART = 2
+PART/3, MASS = 1, CM = 30, IP = 1, 1, 1, QG = 0.3, 0, 0
+MARKER/30, PART = 3
+MARKER/31, PART = 3
+JOINT/1, REVOLUTE, I = 21, J = 1
+JOINT/2, REVOLUTE, I = 3, J = 31
+GEAR/1, JOINTS = 1, 2, CV = 5
+MOTION/1, JOINT = 1, ROTATION, FUNCTION = 90D * TIME
+VTORQUE/1, I = 30, JFLOAT = 4, RM = 1, TX = 0, TY = 0, TZ = 2",
+        &times(3.0, 12),
+    );
+    let g2 = part(&m, 3);
+    let w1 = 90f64.to_radians();
+    for o in &outs {
+        close_rot(
+            o.state.poses[g2].r,
+            DMat3::from_rotation_z(-0.5 * w1 * o.time),
+            1e-10,
+            "gear 2: θ₂ = −θ₁/2",
+        );
+        close3(
+            o.velocities[g2].1,
+            DVec3::new(0.0, 0.0, -0.5 * w1),
+            1e-10,
+            "ω₂",
+        );
+        close(
+            reaction_at(&m, o, "MOTION_1").1.z,
+            1.0,
+            1e-9,
+            "motion torque",
+        );
+    }
+}
+
+/// COUPLER SCALES = 1, −0.5 (q₂ = 2q₁, the same sign) turning through several turns against a
+/// load torque of 2 N·m about +z on the coupled hinge: the driving motion holds it with
+/// −4 N·m (virtual power: τ·ω + 2·2ω = 0).
+#[test]
+fn coupled_hinge_loads_its_driver_in_the_ratio_of_the_scales() {
+    let (m, outs) = loaded_run(
+        "MARKER/3, PART = 1, QP = 1, 0, 0
+MARKER/4, PART = 1, FLOATING
+PART/2, MASS = 1, CM = 20, IP = 1, 1, 1
+MARKER/20, PART = 2
+MARKER/21, PART = 2
+PART/3, MASS = 1, CM = 30, IP = 1, 1, 1, QG = 1, 0, 0
+MARKER/30, PART = 3
+MARKER/31, PART = 3
+JOINT/1, REVOLUTE, I = 21, J = 1
+JOINT/2, REVOLUTE, I = 31, J = 3
+COUPLER/1, JOINTS = 1, 2, TYPE = R:R, SCALES = 1, -0.5
+MOTION/1, JOINT = 1, ROTATION, FUNCTION = 45D * TIME
+VTORQUE/1, I = 30, JFLOAT = 4, RM = 1, TX = 0, TY = 0, TZ = 2",
+        &times(6.0, 12),
+    );
+    let p3 = part(&m, 3);
+    let w = 45f64.to_radians();
+    for o in &outs {
+        close_rot(
+            o.state.poses[p3].r,
+            DMat3::from_rotation_z(2.0 * w * o.time),
+            1e-10,
+            "q₂ = 2q₁",
+        );
+        close3(
+            o.velocities[p3].1,
+            DVec3::new(0.0, 0.0, 2.0 * w),
+            1e-10,
+            "ω₂",
+        );
+        close(
+            reaction_at(&m, o, "MOTION_1").1.z,
+            -4.0,
+            1e-9,
+            "motion torque",
+        );
+    }
 }

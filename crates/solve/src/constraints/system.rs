@@ -3,6 +3,39 @@
 //! One place defines the equations of every element: joints and primitives as unions of
 //! primitive rows (translational rows first, rotational last), one row per motion, coupler,
 //! gear, rack-and-pinion and screw. Every analysis uses these rows.
+//!
+//! # Sign conventions of the couplings (Adams Solver's JOINT, COUPLER and GEAR statements)
+//!
+//! Joint coordinates are those of Adams' CYLINDRICAL joint: the translation of I's origin along
+//! z_j from J, and the rotation of x_i about the common z axis from x_j (AZ(I, J)).
+//!
+//! * **SCREW** (I the nut, J the screw; z_i, z_j co-directed): `(P_I − P_J)·z_j =
+//!   PITCH·θ/2π` with θ the rotation of I about z_j — a positive PITCH is a right-hand thread:
+//!   turning I anticlockwise about z_j advances it along +z_j.
+//! * **RACKPIN** (I on the pinion at its centre, z_i its axis; J on the rack, z_j its direction
+//!   of travel; x_i parallel to and co-directed with z_j, the rack's pitch line PD/2 from the
+//!   pinion's axis on its −y_i side, per Adams View's rack-and-pinion description): the rack's
+//!   travel `(P_J − P_I)·z_j = (PD/2)·θ` with θ the pinion's rotation about z_i relative to
+//!   the rack — rolling without slip at the pitch point `P_I − (PD/2)·y_i`, whose velocity
+//!   `θ̇ z_i × (−(PD/2) y_i) = (PD/2)·θ̇ x_i` is the rack's. It is the rack that travels (J
+//!   relative to I): a falling rack turns the pinion positively about z_i. (Checked against
+//!   an Adams run of the Chrono rack-and-pinion model: with I relative to J instead, the rack
+//!   travels the same but the pinion turns the other way.)
+//! * **COUPLER**: `r₁q₁ + r₂q₂ [+ r₃q₃] = 0`, q_k the displacement of joint k's I marker
+//!   relative to its J marker (Adams' COUPLER statement: SCALES = 1, −2 makes q₁ = 2q₂, the
+//!   same sign).
+//! * **GEAR**: the velocities along z_cv of the two gears' material points at the CV marker
+//!   are equal (Adams: CV's z axis points along the motion of the teeth in contact). Each
+//!   joint's rate is turned into the velocity of its gear, the part of the joint that does
+//!   not carry the CV marker (the carrier carries it), so either of its markers may be on the
+//!   gear.
+//! * **CONVEL** (z_i, z_j pointing down the shafts away from the centre; x_i ∥ x_j or
+//!   y_i ∥ y_j at assembly): the spins about z_i and z_j are equal and opposite, written
+//!   `x_i·y_j + y_i·x_j = 0`: for collinear shafts (z_i = −z_j, x_i = x_j) a spin α of I alone
+//!   about z_i makes it `−2 sin α`, while the difference `x_i·y_j − y_i·x_j` stays 0 for every
+//!   α and would constrain nothing.
+//! * **UNIVERSAL**: the cross-pin axes are z_i and z_j (`z_i·z_j = 0`); **HOOKE**: x_i and
+//!   y_j (`x_i·y_j = 0`). **JPRIM**: the rows of ADM-REFERENCE §4.1, I relative to J.
 
 mod curve_pair;
 mod flex_rows;
@@ -430,30 +463,36 @@ impl System {
                 } => {
                     let Some((fi, fj)) = frames[e] else { continue };
                     b.primitive_rows(e, primitives(ConstraintKindRef::Joint(*kind)), fi, fj);
+                    // The translation is measured along z_j from the marker that does not
+                    // translate with it: a SCREW's nut (I) moves relative to its screw (J),
+                    // a RACKPIN's rack (J) relative to its pinion (I) (module docs).
                     let coupling = match kind {
                         JointType::Rackpin => Some((
                             "Rack Translation = Pinion Rotation × PD/2",
                             "Rackpin",
                             pd.unwrap_or(0.0) / 2.0,
+                            Quantity::Proj {
+                                i: fj.origin(),
+                                j: fi.origin(),
+                                e: fj.axis(2),
+                            },
                         )),
                         JointType::Screw => Some((
                             "Translation = Rotation × PITCH/2π",
                             "Screw",
                             pitch.unwrap_or(0.0) / std::f64::consts::TAU,
+                            Quantity::Proj {
+                                i: fi.origin(),
+                                j: fj.origin(),
+                                e: fj.axis(2),
+                            },
                         )),
                         _ => None,
                     };
-                    if let Some((label, short, ratio)) = coupling {
+                    if let Some((label, short, ratio, travel)) = coupling {
                         let (x_ref, y_ref) = b.input_refs(fi, fj);
                         let terms = vec![
-                            (
-                                1.0,
-                                Quantity::Proj {
-                                    i: fi.origin(),
-                                    j: fj.origin(),
-                                    e: fj.axis(2),
-                                },
-                            ),
+                            (1.0, travel),
                             (
                                 -ratio,
                                 Quantity::Angle {
@@ -561,11 +600,20 @@ impl System {
                                 ..
                             }
                         );
-                        // Velocity of the gear's material point at CV along z_cv per unit joint rate.
+                        // Velocity of the gear's material point at CV along z_cv per unit joint
+                        // rate: the joint's rate moves I relative to J, so the gear is I unless
+                        // I is on the carrier (the CV marker's part), where the gear (J) moves
+                        // the other way.
+                        let gear_is_j = fi.body == model.markers[*cv].body
+                            && fj.body != model.markers[*cv].body;
+                        let sense = if gear_is_j { -1.0 } else { 1.0 };
                         let (coef, dof) = if is_rev {
-                            (rj.z_axis.cross(p_cv - pj).dot(z_cv), CouplerDof::Rotation)
+                            (
+                                sense * rj.z_axis.cross(p_cv - pj).dot(z_cv),
+                                CouplerDof::Rotation,
+                            )
                         } else {
-                            (rj.z_axis.dot(z_cv), CouplerDof::Translation)
+                            (sense * rj.z_axis.dot(z_cv), CouplerDof::Translation)
                         };
                         qs.push((
                             if k == 0 { coef } else { -coef },

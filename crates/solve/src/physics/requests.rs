@@ -11,7 +11,7 @@
 //!
 //! | request | columns | values |
 //! |---|---|---|
-//! | DISPLACEMENT | `.x .y .z .psi .theta .phi` | `P_I − P_J` in RM; body 3-1-3 angles of `R_Jᵀ R_I` in degrees (I's orientation relative to J's axes, not RM's) |
+//! | DISPLACEMENT | `.x .y .z .psi .theta .phi` | `P_I − P_J` in RM; body 3-1-3 angles of `R_Jᵀ R_I` in degrees (I's orientation relative to J's axes, not RM's), ψ and φ at θ ≈ 0 split as at the previous output ([`RequestSet::evaluate_continuing`]) |
 //! | VELOCITY | `.vx .vy .vz .wx .wy .wz` | `v_I − v_J` (time derivative in ground) and `ω_I − ω_J`, in RM |
 //! | ACCELERATION | `.ax .ay .az .wdx .wdy .wdz` | `a_I − a_J` (second derivative in ground) and `α_I − α_J`, in RM |
 //! | FORCE | `.fx .fy .fz .tx .ty .tz` | net force on I's part from the elements *between I's part and J's part*, and its torque about I's origin, in RM |
@@ -56,10 +56,16 @@ use linkage_expr::{
     MarkerArgs, MeasureKind, SplineData, StateRef,
 };
 use linkage_model::forces::ForceKind;
+use linkage_model::frames::EulerHistory;
 use linkage_model::requests::{RequestDef, RequestWhat};
 use linkage_model::{Body, ConstraintKind, Model};
 use std::cell::RefCell;
 use std::collections::HashMap;
+
+/// The body 3-1-3 angles a run's REQUEST outputs gave, per pair of marker ids (I, J; 0 for
+/// ground): the state its writer carries from output to output
+/// ([`RequestSet::evaluate_continuing`]).
+pub type RequestAngles = EulerHistory<(u32, u32)>;
 
 /// Column suffixes of the standard requests.
 const DISPLACEMENT: [&str; 6] = ["x", "y", "z", "psi", "theta", "phi"];
@@ -210,6 +216,21 @@ impl RequestSet {
         sys: &System,
         output: &Output,
     ) -> Result<Vec<f64>, RequestError> {
+        self.evaluate_continuing(model, sys, output, &mut RequestAngles::new())
+    }
+
+    /// [`RequestSet::evaluate`] at one output of a run whose earlier outputs left `angles`:
+    /// the body 3-1-3 angles of DISPLACEMENT requests and of `ORIENT` (PSI, THETA, PHI and the
+    /// Euler parameters' sign) continue the split of ψ and φ at θ ≈ 0 from them
+    /// ([`EulerHistory`]), which are then this output's. A run's writer passes the same
+    /// `angles` from its first output to its last.
+    pub fn evaluate_continuing(
+        &self,
+        model: &Model,
+        sys: &System,
+        output: &Output,
+        angles: &mut RequestAngles,
+    ) -> Result<Vec<f64>, RequestError> {
         // The curve constraints' floating markers sit at their contacts at this output.
         let placed =
             crate::constraints::curve_contacts::floating_placements(model, sys, &output.state);
@@ -221,7 +242,15 @@ impl RequestSet {
             &moved
         };
         let env = OutputEnv::new(self, frames, model, sys, output);
-        let t = output.time;
+        env.angles.replace(std::mem::take(angles));
+        let result = self.evaluate_in(&env);
+        *angles = env.angles.take();
+        result
+    }
+
+    /// Every column's value in `env`.
+    fn evaluate_in(&self, env: &OutputEnv<'_>) -> Result<Vec<f64>, RequestError> {
+        let t = env.output.time;
         let mut out = Vec::new();
         for r in &self.requests {
             match &r.what {
@@ -237,14 +266,13 @@ impl RequestSet {
                 }
                 RequestWhat::Functions(list) => {
                     for f in list {
-                        let v =
-                            evaluate(&f.expr, &env).map_err(|cause| RequestError::Function {
-                                request: r.label.clone(),
-                                time: t,
-                                component: f.component,
-                                text: f.text.clone(),
-                                cause,
-                            })?;
+                        let v = evaluate(&f.expr, env).map_err(|cause| RequestError::Function {
+                            request: r.label.clone(),
+                            time: t,
+                            component: f.component,
+                            text: f.text.clone(),
+                            cause,
+                        })?;
                         out.push(v);
                     }
                 }
@@ -337,6 +365,9 @@ pub struct OutputEnv<'a> {
     /// Per moving part, the constraint wrench the output's reactions do not explain (force at
     /// the CM, torque about it), computed on first use: a cache of a function of the output.
     remainder: RefCell<Option<Result<Vec<Wrench>, EvalError>>>,
+    /// The body 3-1-3 angles of every pair of markers whose orientation the outputs so far
+    /// gave, continued at this output as its requests read them.
+    angles: RefCell<RequestAngles>,
 }
 
 fn resolve(r: &DMat3, v: DVec3) -> DVec3 {
@@ -368,7 +399,18 @@ impl<'a> OutputEnv<'a> {
             inner: StateEnv::new(frames, &output.state, &output.velocities, &set.data),
             memo: RefCell::new(Memo::default()),
             remainder: RefCell::new(None),
+            angles: RefCell::new(RequestAngles::new()),
         }
+    }
+
+    /// The body 3-1-3 angles (radians) of marker `i` relative to marker `j` at this output,
+    /// continued from the previous output's ([`EulerHistory`]).
+    fn continued_angles(&self, i: u32, j: u32) -> Result<[f64; 3], EvalError> {
+        let (ri, rj) = (self.axes(i)?, self.axes(j)?);
+        Ok(self
+            .angles
+            .borrow_mut()
+            .angles((i, j), &(rj.transpose() * ri)))
     }
 
     fn applied_forces(&self) -> Result<Option<&'a ForceSet>, EvalError> {
@@ -695,10 +737,9 @@ impl<'a> OutputEnv<'a> {
         let r_rm = self.axes(rm)?;
         let (lin, ang) = match kind {
             RequestKind::Displacement => {
-                let ((pi, ri), (pj, rj)) = (self.pose(&fi), self.pose(&fj));
+                let (pi, pj) = (self.pose(&fi).0, self.pose(&fj).0);
                 let d = resolve(&r_rm, pi - pj);
-                let e = linkage_model::frames::matrix_to_euler313(&(rj.transpose() * ri))
-                    .map(f64::to_degrees);
+                let e = self.continued_angles(i, j)?.map(f64::to_degrees);
                 return Ok([d.x, d.y, d.z, e[0], e[1], e[2]]);
             }
             RequestKind::Velocity => {
@@ -825,6 +866,14 @@ impl Env for OutputEnv<'_> {
                     }
                 }
             }
+            Psi | Theta | Phi => {
+                let k = match kind {
+                    Psi => 0,
+                    Theta => 1,
+                    _ => 2,
+                };
+                self.continued_angles(m.i, m.j)?[k]
+            }
             _ => return Ok(Dual::constant(self.inner.measure(kind, m, false)?.value())),
         };
         Ok(Dual::constant(value))
@@ -832,6 +881,14 @@ impl Env for OutputEnv<'_> {
 
     fn rotation(&self, i: u32, j: u32, _gradient: bool) -> Result<[Dual; 9], EvalError> {
         self.inner.rotation(i, j, false)
+    }
+
+    /// The angles of the previous output; this output's, continued from them, are kept for
+    /// the next (an unknown marker is left to `rotation` to report).
+    fn euler313_previous(&self, i: u32, j: u32) -> Option<[f64; 3]> {
+        let previous = self.angles.borrow().previous((i, j));
+        let _ = self.continued_angles(i, j);
+        previous
     }
 
     fn element_force(
