@@ -51,7 +51,7 @@
 //! start from rates consistent with their equations
 //! ([`crate::physics::controls::consistent_rates`]).
 
-use super::corrector::{correct, reciprocal_length_weight, Scheme, Step, Workspace};
+use super::corrector::{StepTolerance, correct, reciprocal_length_weight, Scheme, Step, Workspace};
 use super::error::IntegrationError;
 use super::matrix::MatrixCoefficients;
 use super::output::Output;
@@ -267,7 +267,7 @@ impl<'p, 'a> Bdf<'p, 'a> {
     /// Computes the step of size `h` (kept as the trial; see [`Bdf::accept`]) and returns its
     /// local error estimate (module docs). An error leaves the current step as it was and
     /// drops the iteration matrix.
-    pub fn try_step(&mut self, h: f64, tolerance: f64) -> Result<f64, IntegrationError> {
+    pub fn try_step(&mut self, h: f64, tolerance: StepTolerance) -> Result<f64, IntegrationError> {
         let r = self.step(h, tolerance);
         if r.is_err() {
             self.work.matrix.h = None;
@@ -275,7 +275,7 @@ impl<'p, 'a> Bdf<'p, 'a> {
         r
     }
 
-    fn step(&mut self, h: f64, tolerance: f64) -> Result<f64, IntegrationError> {
+    fn step(&mut self, h: f64, tolerance: StepTolerance) -> Result<f64, IntegrationError> {
         let n = self.p.n();
         let t1 = self.cur.s.time + h;
         let k = self.order.min(self.len);

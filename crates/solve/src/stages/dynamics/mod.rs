@@ -64,6 +64,7 @@ mod simulate;
 mod stepper;
 
 pub use bdf::Bdf;
+pub use corrector::StepTolerance;
 pub use error::{IntegrationError, MatrixRole, SingularSolve};
 pub use integrator::Integrator;
 pub use linkage_model::settings::IntegratorSettings;

@@ -32,6 +32,7 @@
 use super::error::IntegrationError;
 use super::output::Output;
 use super::problem::Problem;
+use super::corrector::StepTolerance;
 use super::stepper::Stepper;
 use crate::physics::applied::AppliedForces;
 use crate::physics::forces::data::{DataElements, SensorValues};
@@ -396,12 +397,9 @@ fn integrate_to(
         let hs = h.min(remaining);
         let last = hs >= remaining * (1.0 - 1e-12);
         let hs = if last { remaining } else { hs };
-        let tol = if per_run {
-            (settings.error * hs / span).max(LOCAL_ERROR_FLOOR)
-        } else {
-            settings.error
-        };
-        match integ.try_step(hs, tol) {
+        let within = StepTolerance::new(settings.error, per_run, hs, span, LOCAL_ERROR_FLOOR);
+        let tol = within.local;
+        match integ.try_step(hs, within) {
             Ok(err) if err <= tol || hs <= settings.hmin => {
                 integ.accept(err, tol);
                 if last {

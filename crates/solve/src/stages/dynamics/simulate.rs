@@ -9,6 +9,7 @@ use super::problem::Problem;
 use super::redundant::{redundant_tolerance, redundant_violation};
 use super::results::{Failure, Simulation};
 use super::sensors::SensorWatch;
+use super::corrector::StepTolerance;
 use super::stepper::Stepper;
 use crate::state::State;
 use crate::tolerances::{
@@ -174,12 +175,9 @@ pub fn simulate_with(
         }
         // BDF spends ERROR over the run: this step may add its share `ERROR·h/T`. HHT
         // takes it per step, as Adams does.
-        let tol = if per_run {
-            (settings.error * hs / span).max(floor)
-        } else {
-            settings.error
-        };
-        let tried = integ.try_step(hs, tol);
+        let within = StepTolerance::new(settings.error, per_run, hs, span, floor);
+        let tol = within.local;
+        let tried = integ.try_step(hs, within);
         (sim.newton_iterations, sim.factorisations) = integ.statistics();
         match tried {
             Ok(err) => {
