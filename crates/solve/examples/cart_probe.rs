@@ -25,7 +25,11 @@ fn main() {
     };
     let end = 10.0;
     let outputs = 1000;
-    let ds = linkage_adm::parse_dataset(Arc::from("cart.adm"), &cart_pendulum::dataset_in(std::env::var_os("MM").is_some())).unwrap();
+    let ds = linkage_adm::parse_dataset(
+        Arc::from("cart.adm"),
+        &cart_pendulum::dataset_in(std::env::var_os("MM").is_some()),
+    )
+    .unwrap();
     let m = linkage_model::build_model(&ds).unwrap().model;
     let d = ExpressionDrivers::new(&m).unwrap();
     let f = ForceSet::new(&m).unwrap();
@@ -37,8 +41,15 @@ fn main() {
         error,
         hmax,
         formulation,
-        alpha: if method == IntegratorMethod::Hht { -0.3 } else { 0.0 },
-        kmax: std::env::var("KMAX").ok().and_then(|v| v.parse().ok()).unwrap_or(6),
+        alpha: if method == IntegratorMethod::Hht {
+            -0.3
+        } else {
+            0.0
+        },
+        kmax: std::env::var("KMAX")
+            .ok()
+            .and_then(|v| v.parse().ok())
+            .unwrap_or(6),
         ..IntegratorSettings::default()
     };
     let w0 = Instant::now();
@@ -49,12 +60,25 @@ fn main() {
     let reference = cart_pendulum::reference(end, outputs);
     let range = reference.iter().map(|r| r.1).fold(f64::MIN, f64::max)
         - reference.iter().map(|r| r.1).fold(f64::MAX, f64::min);
-    let scale = if std::env::var_os("MM").is_some() { 1e3 } else { 1.0 };
+    let scale = if std::env::var_os("MM").is_some() {
+        1e3
+    } else {
+        1.0
+    };
     let mut worst = 0.0f64;
     let mut worst_x = 0.0f64;
     for (o, (x, v)) in sim.outputs.iter().zip(&reference) {
         if std::env::var_os("TRACE").is_some() && (o.time * 10.0).fract().abs() < 1e-9 {
-            eprintln!("t {:.2} x {x:.5} v {v:.5} dv {:.3e} th {:.4}", o.time, o.velocities[0].0.x / scale - v, o.state.poses[1].r.x_axis.y.atan2(o.state.poses[1].r.x_axis.x));
+            eprintln!(
+                "t {:.2} x {x:.5} v {v:.5} dv {:.3e} th {:.4}",
+                o.time,
+                o.velocities[0].0.x / scale - v,
+                o.state.poses[1]
+                    .r
+                    .x_axis
+                    .y
+                    .atan2(o.state.poses[1].r.x_axis.x)
+            );
         }
         worst = worst.max((o.velocities[0].0.x / scale - v).abs());
         worst_x = worst_x.max((o.state.poses[0].p.x / scale - x).abs());

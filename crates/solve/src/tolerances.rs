@@ -45,6 +45,11 @@ pub const CORRECTOR_ROUNDING: f64 = 1e-14;
 /// `CORRECTOR_CONSTRAINT`: rounding noise of coordinates far from the origin (ε·|x| with
 /// |x| ≫ L), which the scaled iteration matrix amplifies by 1/(βh²) in the accelerations.
 pub const CORRECTOR_NOISE: f64 = 1e-10;
+/// … or is below this fraction of the accelerations (translations over L, rotations in
+/// radians; at least `CORRECTOR_ACCELERATION_MIN`): noise amplified by the multipliers near a
+/// singular pose. (Before issue 31 this accepted a still-contracting correction too, which left
+/// a velocity error of the same sign at every step.)
+pub const CORRECTOR_RELATIVE: f64 = 1e-8;
 
 /// The dynamics corrector has converged when its last correction changes the step's positions
 /// by at most this fraction of the step's share of ERROR (`ERROR·h/T`, translations over the

@@ -29,11 +29,19 @@ pub fn dataset() -> String {
 
 /// [`dataset`], in millimetres when `mm` (as the corpus model is written).
 pub fn dataset_in(mm: bool) -> String {
-    let (unit, k) = if mm { ("MILLIMETER", 1e3) } else { ("METER", 1.0) };
+    let (unit, k) = if mm {
+        ("MILLIMETER", 1e3)
+    } else {
+        ("METER", 1.0)
+    };
     let (s, c) = START_DEG.to_radians().sin_cos();
     let (x, y) = (-BOB_ARM * s * k, BOB_ARM * c * k);
     let i = BOB_INERTIA * k * k;
-    let (ci, g, ri) = ([7.07 * k * k, 6.76 * k * k, 0.52 * k * k], GRAVITY * k, 0.13 * k * k);
+    let (ci, g, ri) = (
+        [7.07 * k * k, 6.76 * k * k, 0.52 * k * k],
+        GRAVITY * k,
+        0.13 * k * k,
+    );
     format!(
         "cart pendulum\n\
 UNITS/, FORCE = NEWTON, MASS = KILOGRAM, LENGTH = {unit}, TIME = SECOND\n\
@@ -65,12 +73,7 @@ pub fn reference(end: f64, outputs: usize) -> Vec<(f64, f64)> {
         let (a, b, d) = (big + m, -m * l * c, i + m * l * l);
         let (r1, r2) = (-m * l * s * y[3] * y[3], m * g * l * s);
         let det = a * d - b * b;
-        [
-            y[2],
-            y[3],
-            (d * r1 - b * r2) / det,
-            (a * r2 - b * r1) / det,
-        ]
+        [y[2], y[3], (d * r1 - b * r2) / det, (a * r2 - b * r1) / det]
     };
     let every = 2000;
     let h = end / (outputs * every) as f64;

@@ -13,8 +13,8 @@ use crate::constraints::system::RowUnit;
 use crate::physics::mass::{self, SingularInertia};
 use crate::state::State;
 use crate::tolerances::{
-    CORRECTOR_CONSTRAINT, CORRECTOR_ERROR_FRACTION, CORRECTOR_NOISE, CORRECTOR_ROUNDING,
-    MATRIX_REFRESH_RATE, MATRIX_REUSE_BACKOFF,
+    CORRECTOR_ACCELERATION_MIN, CORRECTOR_CONSTRAINT, CORRECTOR_ERROR_FRACTION, CORRECTOR_NOISE,
+    CORRECTOR_RELATIVE, CORRECTOR_ROUNDING, MATRIX_REFRESH_RATE, MATRIX_REUSE_BACKOFF,
 };
 use glam::DVec3;
 use linkage_model::frames::exp_so3;
@@ -315,6 +315,9 @@ pub(super) fn correct(
             .lu
             .solve_in_place(&mut w.rhs)
             .map_err(|_| IntegrationError::Singular(SingularSolve::Newton))?;
+        let amax = (0..n6)
+            .map(|i| trial.a[i].abs() * reciprocal_length_weight(i, length))
+            .fold(0.0, f64::max);
         let mut da = 0.0f64;
         for i in 0..n6 {
             trial.a[i] += w.rhs[i];
@@ -338,16 +341,19 @@ pub(super) fn correct(
         // (`|Δa| ≤ 1e-8·|a|`, before issue 31) left a velocity error of the same sign at every
         // step, which capped steps multiplied: a cart with an inverted pendulum in millimetres
         // ended 20 % of its velocity's range off at ERROR = 1e-7 with HMAX = 1e-4 (3e-9 now).
-        // Coordinates far from the origin resolve positions to ε·|x| only, so the residuals
-        // carry noise that the scaled matrix turns into corrections of ε·|x|/position in the
-        // accelerations: a correction that no longer contracts (at least halving) with a matrix
-        // built during this step, while moving positions by less than a tenth of the
-        // constraint tolerance, is that noise, and the iterate is as converged as the
-        // arithmetic allows (noise has no sign to accumulate).
+        // A correction that no longer contracts (at least halving) with a matrix built during
+        // this step, or is still there at the last iteration MAXIT allows, is noise, and the iterate is as converged as the arithmetic allows (noise
+        // has no sign to accumulate) when the correction moves the positions by less than a
+        // tenth of the constraint tolerance or is below `CORRECTOR_RELATIVE` of the
+        // accelerations: coordinates far from the origin resolve positions to ε·|x| only, and
+        // the scaled matrix turns that into corrections of ε·|x|/position in the
+        // accelerations; near a singular pose (IFToMM A02's flat chain) the multipliers
+        // amplify it further.
         let moved = position * da;
-        let stagnant = fresh && da >= 0.5 * da_prev && moved <= CORRECTOR_NOISE;
-        let negligible =
-            position * da <= tolerance.position && velocity * da <= tolerance.velocity;
+        let noise = moved <= CORRECTOR_NOISE
+            || da <= CORRECTOR_RELATIVE * amax.max(CORRECTOR_ACCELERATION_MIN);
+        let stagnant = noise && ((fresh && da >= 0.5 * da_prev) || it + 1 == settings.maxit);
+        let negligible = position * da <= tolerance.position && velocity * da <= tolerance.velocity;
         if phi_ok && states_ok && (negligible || stagnant) {
             converged = true;
             if !fresh {

@@ -2,8 +2,8 @@
 //! local error estimate) on the part configuration manifold, with every buffer it needs
 //! allocated once (module docs of [`super`]).
 
-use super::corrector::{StepTolerance, 
-    correct, project_velocities, reciprocal_length_weight, Scheme, Step, Workspace,
+use super::corrector::{
+    correct, project_velocities, reciprocal_length_weight, Scheme, Step, StepTolerance, Workspace,
 };
 use super::error::IntegrationError;
 use super::hht::Hht;

@@ -29,10 +29,10 @@
 //! Cost: one consistent-output solve per accepted step when the model has sensors (none
 //! otherwise); an event costs a few short re-integrations from the step's start.
 
+use super::corrector::StepTolerance;
 use super::error::IntegrationError;
 use super::output::Output;
 use super::problem::Problem;
-use super::corrector::StepTolerance;
 use super::stepper::Stepper;
 use crate::physics::applied::AppliedForces;
 use crate::physics::forces::data::{DataElements, SensorValues};
