@@ -8,7 +8,7 @@ use linkage_model::Model;
 use linkage_solve::constraints::drivers::ExpressionDrivers;
 use linkage_solve::physics::applied::{AppliedForces, NoForces, Regime};
 use linkage_solve::pipeline::Assembled;
-use linkage_solve::stages::dynamics::{IntegratorSettings, Stepper};
+use linkage_solve::stages::dynamics::{IntegratorSettings, StepTolerance, Stepper};
 use linkage_solve::tolerances::Tolerances;
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::cell::Cell;
@@ -106,7 +106,8 @@ fn steady_steps(
     let last = m.parts.len() - 1;
     let mut step = |k: usize| {
         let h = [1e-3, 2.5e-3][k % 2];
-        let err = integ.try_step(h, 1e-3).expect("the step converges");
+        let within = StepTolerance::new(1e-3, integ.error_per_run(), h, 1.0, 1e-12);
+        let err = integ.try_step(h, within).expect("the step converges");
         assert!(err.is_finite());
         integ.accept(err, 1e-3);
     };

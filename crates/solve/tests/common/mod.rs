@@ -3,6 +3,7 @@
 
 pub mod analyses;
 pub mod beam_modes;
+pub mod cart_pendulum;
 
 use std::path::{Path, PathBuf};
 

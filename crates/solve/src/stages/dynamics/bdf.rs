@@ -24,7 +24,7 @@
 //! instead, then projects the positions onto `Φ = 0` with multipliers of their own
 //! ([`super::corrector`]'s `project`), so the position correction does not leak into the
 //! velocities as its quotient by the step; its error test has the velocities too (times the
-//! step). On IFToMM A02 with N = 40 at ERROR = 1e-6, I3 ends 7.6e-4 m off, SI2 1.15e-4 m, at
+//! step). On IFToMM A02 with N = 40 at ERROR = 1e-6, I3 ends 8.1e-4 m off, SI2 1.25e-4 m, at
 //! about the same number of steps (through the chain's flat poses both depend on rounding:
 //! README, dynamics).
 //!
@@ -51,7 +51,7 @@
 //! start from rates consistent with their equations
 //! ([`crate::physics::controls::consistent_rates`]).
 
-use super::corrector::{correct, reciprocal_length_weight, Scheme, Step, Workspace};
+use super::corrector::{correct, reciprocal_length_weight, Scheme, Step, StepTolerance, Workspace};
 use crate::constraints::rows::Velocities;
 use crate::kernel::error::IntegrationError;
 use crate::kernel::matrix::MatrixCoefficients;
@@ -274,7 +274,7 @@ impl<'p, 'a> Bdf<'p, 'a> {
     /// Computes the step of size `h` (kept as the trial; see [`Bdf::accept`]) and returns its
     /// local error estimate (module docs). An error leaves the current step as it was and
     /// drops the iteration matrix.
-    pub fn try_step(&mut self, h: f64, tolerance: f64) -> Result<f64, IntegrationError> {
+    pub fn try_step(&mut self, h: f64, tolerance: StepTolerance) -> Result<f64, IntegrationError> {
         let r = self.step(h, tolerance);
         if r.is_err() {
             self.work.matrix.h = None;
@@ -282,7 +282,7 @@ impl<'p, 'a> Bdf<'p, 'a> {
         r
     }
 
-    fn step(&mut self, h: f64, tolerance: f64) -> Result<f64, IntegrationError> {
+    fn step(&mut self, h: f64, tolerance: StepTolerance) -> Result<f64, IntegrationError> {
         let n = self.p.n();
         let t1 = self.cur.s.time + h;
         let k = self.order.min(self.len);

@@ -13,9 +13,8 @@ use crate::kernel::problem::{unflat_into, Problem};
 use crate::physics::mass::{self, SingularInertia};
 use crate::state::State;
 use crate::tolerances::{
-    CORRECTOR_ACCELERATION_FLOOR, CORRECTOR_ACCELERATION_MIN, CORRECTOR_CONSTRAINT,
-    CORRECTOR_ERROR_FRACTION, CORRECTOR_NOISE, CORRECTOR_RELATIVE, CORRECTOR_ROUNDING,
-    MATRIX_REFRESH_RATE, MATRIX_REUSE_BACKOFF,
+    CORRECTOR_ACCELERATION_MIN, CORRECTOR_CONSTRAINT, CORRECTOR_ERROR_FRACTION, CORRECTOR_NOISE,
+    CORRECTOR_RELATIVE, CORRECTOR_ROUNDING, MATRIX_REFRESH_RATE, MATRIX_REUSE_BACKOFF,
 };
 use glam::DVec3;
 use linkage_model::frames::exp_so3;
@@ -30,6 +29,42 @@ pub(super) fn reciprocal_length_weight(i: usize, length: f64) -> f64 {
         1.0 / length
     } else {
         1.0
+    }
+}
+
+/// What one step of size h may leave undone, in the error test's scaling (translations over
+/// the characteristic length, rotations in radians): the bound of its local truncation-error
+/// estimate, and what the corrector may leave unconverged in its positions and velocities.
+///
+/// The corrector's allowance is the step's share of ERROR over the run, `s = ERROR·h/T` (T the
+/// run's span; at least the rounding floor), times [`CORRECTOR_ERROR_FRACTION`]: positions
+/// `f·s`, velocities `f·s/T`. A velocity left wrong by δv is a state of its own (the BDF
+/// carries the velocities' history, HHT's velocity update its last value): it moves the
+/// positions by up to δv·T over the rest of the run, so the allowances of all steps add up to
+/// `f·ERROR` of position error whatever the number of steps. An allowance per step (as
+/// before issue 31) accepted corrections whose velocity error did not shrink with the step,
+/// so capping the step (HMAX) multiplied the accepted error by the number of steps.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct StepTolerance {
+    /// Bound of the local error estimate (BDF: `s`; HHT: ERROR, as in Adams).
+    pub local: f64,
+    /// What the corrector may leave in the positions …
+    pub position: f64,
+    /// … and in the velocities (per time unit).
+    pub velocity: f64,
+}
+
+impl StepTolerance {
+    /// The tolerances of a step of size `h` in a run of span `span` with INTEGRATOR ERROR
+    /// `error`: the local error bound is the step's share `error·h/span` (at least `floor`)
+    /// when `per_run` (BDF), `error` otherwise (HHT).
+    pub fn new(error: f64, per_run: bool, h: f64, span: f64, floor: f64) -> StepTolerance {
+        let share = (error * h / span).max(floor);
+        StepTolerance {
+            local: if per_run { share } else { error },
+            position: CORRECTOR_ERROR_FRACTION * share,
+            velocity: CORRECTOR_ERROR_FRACTION * share / span,
+        }
     }
 }
 
@@ -177,7 +212,7 @@ pub(super) fn correct(
     cur: &Step,
     trial: &mut Step,
     h: f64,
-    tolerance: f64,
+    tolerance: StepTolerance,
     scheme: Scheme,
     mut place: impl FnMut(&mut Step),
 ) -> Result<(), IntegrationError> {
@@ -282,8 +317,7 @@ pub(super) fn correct(
             .map_err(|_| IntegrationError::Singular(SingularSolve::Newton))?;
         let amax = (0..n6)
             .map(|i| trial.a[i].abs() * reciprocal_length_weight(i, length))
-            .fold(0.0, f64::max)
-            .max(1.0 / (h * h) * CORRECTOR_ACCELERATION_FLOOR);
+            .fold(0.0, f64::max);
         let mut da = 0.0f64;
         for i in 0..n6 {
             trial.a[i] += w.rhs[i];
@@ -300,31 +334,27 @@ pub(super) fn correct(
             *xd += d;
             dx = dx.max(velocity * d.abs() / x.abs().max(1.0));
         }
-        let states_ok = dx <= (CORRECTOR_ERROR_FRACTION * tolerance).max(CORRECTOR_ROUNDING);
-        // Converged when the constraints hold and the correction is negligible relative to
-        // the accelerations, or its effect on positions is at rounding level. Coordinates far
-        // from the origin (a 1000-loop chain reaches x = 1000 m) resolve positions to ε·|x|
-        // only, so the residuals carry noise that the scaled matrix turns into corrections of
-        // ε·|x|/position in the accelerations: a correction that no longer contracts (at
-        // least halving) with a matrix built during this step, while moving positions by less
-        // than a tenth of the constraint tolerance, is that noise, and the iterate is as
-        // converged as the arithmetic allows.
+        let states_ok = dx <= tolerance.position.max(CORRECTOR_ROUNDING);
+        // Converged when the constraints hold and the correction's effect on the step is within
+        // the corrector's allowance (see [`StepTolerance`]): on the positions directly and, for
+        // the rest of the run, through the velocities. A test relative to the accelerations
+        // (`|Δa| ≤ 1e-8·|a|`, before issue 31) left a velocity error of the same sign at every
+        // step, which capped steps multiplied: a cart with an inverted pendulum in millimetres
+        // ended 20 % of its velocity's range off at ERROR = 1e-7 with HMAX = 1e-4 (3e-9 now).
+        // A correction that no longer contracts (at least halving) with a matrix built during
+        // this step, or is still there at the last iteration MAXIT allows, is noise, and the iterate is as converged as the arithmetic allows (noise
+        // has no sign to accumulate) when the correction moves the positions by less than a
+        // tenth of the constraint tolerance or is below `CORRECTOR_RELATIVE` of the
+        // accelerations: coordinates far from the origin resolve positions to ε·|x| only, and
+        // the scaled matrix turns that into corrections of ε·|x|/position in the
+        // accelerations; near a singular pose (IFToMM A02's flat chain) the multipliers
+        // amplify it further.
         let moved = position * da;
-        let stagnant = fresh && da >= 0.5 * da_prev && moved <= CORRECTOR_NOISE;
-        // Parts with tiny inertia about some axis leave corrections at noise level too: a
-        // correction whose effect on the positions within the step (directly, and through the
-        // velocities over the step) is a negligible fraction of the local error the step is
-        // allowed is accepted. That allowance is the step's share of ERROR, so what is
-        // accepted over a run does not grow as the steps shrink (HMAX = 1e-5 takes 500,000
-        // steps over 5 s), and it stays below what the local error estimate can see.
-        let negligible = position.max(velocity * h) * da <= CORRECTOR_ERROR_FRACTION * tolerance;
-        if phi_ok
-            && states_ok
-            && (da <= CORRECTOR_RELATIVE * amax.max(CORRECTOR_ACCELERATION_MIN)
-                || moved <= CORRECTOR_ROUNDING
-                || stagnant
-                || negligible)
-        {
+        let noise = moved <= CORRECTOR_NOISE
+            || da <= CORRECTOR_RELATIVE * amax.max(CORRECTOR_ACCELERATION_MIN);
+        let stagnant = noise && ((fresh && da >= 0.5 * da_prev) || it + 1 == settings.maxit);
+        let negligible = position * da <= tolerance.position && velocity * da <= tolerance.velocity;
+        if phi_ok && states_ok && (negligible || stagnant) {
             converged = true;
             if !fresh {
                 // The kept matrix did the job: keep trying it first.
@@ -420,7 +450,7 @@ fn project(
     w: &mut Workspace,
     trial: &mut Step,
     position: f64,
-    tolerance: f64,
+    tolerance: StepTolerance,
 ) -> Result<(), IntegrationError> {
     let n6 = 6 * p.n();
     let length = p.model.characteristic_length;
@@ -431,7 +461,7 @@ fn project(
         for ((r, &row), &drive) in w.rhs[n6..].iter_mut().zip(p.rows).zip(&w.drives) {
             let raw = p.sys.residual(row, constrained, drive);
             within &= raw.abs()
-                <= (CORRECTOR_ERROR_FRACTION * tolerance).max(CORRECTOR_ROUNDING)
+                <= tolerance.position.max(CORRECTOR_ROUNDING)
                     * if matches!(p.sys.rows[row].unit, RowUnit::Length | RowUnit::Mixed) {
                         length
                     } else {

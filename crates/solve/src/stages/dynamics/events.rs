@@ -4,6 +4,7 @@
 //! time with the run's error control (the running integrator's own step is never rolled
 //! back). The contract of the watch is in [`crate::kernel::sensors`].
 
+use super::corrector::StepTolerance;
 use super::stepper::Stepper;
 use crate::kernel::error::IntegrationError;
 use crate::kernel::output::Output;
@@ -58,12 +59,9 @@ fn integrate_to(
         let hs = h.min(remaining);
         let last = hs >= remaining * (1.0 - 1e-12);
         let hs = if last { remaining } else { hs };
-        let tol = if per_run {
-            (settings.error * hs / span).max(LOCAL_ERROR_FLOOR)
-        } else {
-            settings.error
-        };
-        match integ.try_step(hs, tol) {
+        let within = StepTolerance::new(settings.error, per_run, hs, span, LOCAL_ERROR_FLOOR);
+        let tol = within.local;
+        match integ.try_step(hs, within) {
             Ok(err) if err <= tol || hs <= settings.hmin => {
                 integ.accept(err, tol);
                 if last {

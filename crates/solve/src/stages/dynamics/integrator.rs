@@ -3,7 +3,7 @@
 //! allocated once (module docs of [`super`]).
 
 use super::corrector::{
-    correct, project_velocities, reciprocal_length_weight, Scheme, Step, Workspace,
+    correct, project_velocities, reciprocal_length_weight, Scheme, Step, StepTolerance, Workspace,
 };
 use super::hht::Hht;
 use crate::constraints::rows::Velocities;
@@ -165,7 +165,7 @@ impl<'p, 'a> Integrator<'p, 'a> {
     /// `max_i h²|β − 1/6|·|a_{n+1} − a_n|_i` (translations over the characteristic length).
     /// An error (corrector not converged, singular matrix, a force or motion that cannot be
     /// evaluated) leaves the current step as it was and drops the iteration matrix.
-    pub fn try_step(&mut self, h: f64, tolerance: f64) -> Result<f64, IntegrationError> {
+    pub fn try_step(&mut self, h: f64, tolerance: StepTolerance) -> Result<f64, IntegrationError> {
         let r = self.corrector(h, tolerance);
         if r.is_err() {
             self.work.matrix.h = None;
@@ -193,7 +193,7 @@ impl<'p, 'a> Integrator<'p, 'a> {
 
     /// The HHT step (module docs) on the trial step: predictor, [`correct`], local error
     /// estimate.
-    fn corrector(&mut self, h: f64, tolerance: f64) -> Result<f64, IntegrationError> {
+    fn corrector(&mut self, h: f64, tolerance: StepTolerance) -> Result<f64, IntegrationError> {
         let Integrator {
             p,
             settings,

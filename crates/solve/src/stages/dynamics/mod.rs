@@ -57,6 +57,7 @@ mod simulate;
 mod stepper;
 
 pub use bdf::Bdf;
+pub use corrector::StepTolerance;
 pub use integrator::Integrator;
 // The kernel types a run takes and returns, re-exported on the dynamics paths callers use.
 pub use crate::kernel::{

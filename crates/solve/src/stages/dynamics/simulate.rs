@@ -3,6 +3,7 @@
 //! step ([`crate::kernel::sensors`], events located by [`super::events`]). A model without degrees of freedom is handed to the kinematic
 //! run.
 
+use super::corrector::StepTolerance;
 use super::events;
 use super::stepper::Stepper;
 use crate::kernel::error::IntegrationError;
@@ -72,7 +73,9 @@ pub enum AfterOutput {
 /// `h²|β − 1/6|·|Δa|` carries the α-shift of the accelerations, which does not shrink with
 /// the step fast enough to be spread over a run. CONSTANT_BDF steps at HMAX (or the output
 /// interval) and accepts every step its corrector solves. A failed step is retried at `h/4`,
-/// and at HMIN the run stops.
+/// and at HMIN the run stops. Whatever the method, the corrector's allowance is the step's
+/// share of ERROR over the run ([`StepTolerance`]), so a smaller HMAX never makes a run less
+/// accurate.
 pub fn simulate_with(
     p: &Problem,
     start: &State,
@@ -175,12 +178,9 @@ pub fn simulate_with(
         }
         // BDF spends ERROR over the run: this step may add its share `ERROR·h/T`. HHT
         // takes it per step, as Adams does.
-        let tol = if per_run {
-            (settings.error * hs / span).max(floor)
-        } else {
-            settings.error
-        };
-        let tried = integ.try_step(hs, tol);
+        let within = StepTolerance::new(settings.error, per_run, hs, span, floor);
+        let tol = within.local;
+        let tried = integ.try_step(hs, within);
         (sim.newton_iterations, sim.factorisations) = integ.statistics();
         match tried {
             Ok(err) => {

@@ -1,6 +1,7 @@
 //! The integrator a run steps with: HHT-α or BDF, behind one interface for the simulate loop.
 
 use super::bdf::Bdf;
+use super::corrector::StepTolerance;
 use super::integrator::Integrator;
 use crate::constraints::rows::Velocities;
 use crate::kernel::error::IntegrationError;
@@ -38,7 +39,7 @@ impl<'p, 'a> Stepper<'p, 'a> {
 
     /// The trial step of size `h`, allowed a local error `tolerance`, and its local error
     /// estimate.
-    pub fn try_step(&mut self, h: f64, tolerance: f64) -> Result<f64, IntegrationError> {
+    pub fn try_step(&mut self, h: f64, tolerance: StepTolerance) -> Result<f64, IntegrationError> {
         match self {
             Stepper::Hht(i) => i.try_step(h, tolerance),
             Stepper::Bdf(b) => b.try_step(h, tolerance),
