@@ -27,6 +27,7 @@ pub fn run(
         model: model.map(Path::to_path_buf),
         interrupt: Some(interrupt),
         deactivate: deactivate.to_vec(),
+        read: crate::common::read_options(),
     };
     let (summary, error) = match linkage_run::run_command_file(command_file, &options) {
         Ok(s) => (Some(s), None),

@@ -60,6 +60,8 @@ pub struct RunOptions {
     /// Statements to leave out of the dataset (`--deactivate`, as [`linkage_adm::amend::select`]
     /// reads them), as if the command file deactivated them first.
     pub deactivate: Vec<String>,
+    /// How the dataset is read (`--lenient-arguments`).
+    pub read: linkage_adm::ReadOptions,
 }
 
 impl RunOptions {
@@ -246,7 +248,7 @@ impl Runner {
                 self.out_name.as_deref().unwrap_or("linkage")
             ))?;
         }
-        let session = Session::open(dataset, &self.options.deactivate)?;
+        let session = Session::open(dataset, &self.options.deactivate, self.options.read)?;
         let stem = self.out_path("stem");
         let records = Records::create(&stem, session.dataset(), &session.built.model)?;
         self.session = Some(session);

@@ -87,9 +87,13 @@ fn build(ds: &Dataset) -> Result<Built, Diagnostics> {
 
 impl Session {
     /// Reads the dataset at `path` and builds it without the statements `deactivate` names
-    /// (see [`linkage_adm::amend::select`]).
-    pub fn open(path: &Path, deactivate: &[String]) -> Result<Session, RunError> {
-        let dataset = linkage_adm::read_dataset(path).map_err(RunError::Input)?;
+    /// (see [`linkage_adm::amend::select`]), read with `read`.
+    pub fn open(
+        path: &Path,
+        deactivate: &[String],
+        read: linkage_adm::ReadOptions,
+    ) -> Result<Session, RunError> {
+        let dataset = linkage_adm::read_dataset_with(path, read).map_err(RunError::Input)?;
         let left_out =
             linkage_adm::amend::select(&dataset.statements, deactivate).map_err(|e| {
                 RunError::Input(Diagnostics(vec![Diagnostic::error(

@@ -111,6 +111,7 @@ fn every_corpus_command_file_runs_or_stops_naming_the_place_and_the_reason() {
             model: None,
             interrupt: None,
             deactivate: Vec::new(),
+            read: Default::default(),
         };
         match run_command_file(acf, &options) {
             Ok(summary) => {
