@@ -37,6 +37,20 @@ const COLOURS: [RGBColor; 6] = [
     RGBColor(114, 183, 178),
 ];
 
+/// Why an image could not be drawn or written.
+#[derive(Debug, thiserror::Error)]
+enum PlotError {
+    /// plotters' drawing error, as it words it.
+    #[error("{0}")]
+    Draw(String),
+    #[error("the embedded font cannot be read")]
+    Font,
+    #[error(transparent)]
+    Io(#[from] std::io::Error),
+    #[error(transparent)]
+    Png(#[from] png::EncodingError),
+}
+
 /// The font family name the embedded font is registered under.
 const FONT: &str = "linkage-sans";
 
@@ -244,11 +258,11 @@ fn draw<DB: DrawingBackend>(
     series: &Series,
     picked: &[usize],
     look: Look,
-) -> Result<(), String>
+) -> Result<(), PlotError>
 where
     DB::ErrorType: 'static,
 {
-    let err = |e: DrawingAreaErrorKind<DB::ErrorType>| e.to_string();
+    let err = |e: DrawingAreaErrorKind<DB::ErrorType>| PlotError::Draw(e.to_string());
     root.fill(&WHITE).map_err(err)?;
     let ((x0, x1), (y0, y1)) = ranges(series, picked);
     let title = picked
@@ -335,20 +349,25 @@ fn downsample(pixels: &[u8], width: u32, height: u32, k: u32) -> Vec<u8> {
 }
 
 /// An 8-bit RGB PNG of `pixels` at `path`.
-fn write_png(path: &Path, pixels: &[u8], width: u32, height: u32) -> Result<(), String> {
-    let file = std::fs::File::create(path).map_err(|e| e.to_string())?;
+fn write_png(path: &Path, pixels: &[u8], width: u32, height: u32) -> Result<(), PlotError> {
+    let file = std::fs::File::create(path)?;
     let mut encoder = png::Encoder::new(std::io::BufWriter::new(file), width, height);
     encoder.set_color(png::ColorType::Rgb);
     encoder.set_depth(png::BitDepth::Eight);
-    let mut writer = encoder.write_header().map_err(|e| e.to_string())?;
-    writer.write_image_data(pixels).map_err(|e| e.to_string())?;
-    writer.finish().map_err(|e| e.to_string())
+    let mut writer = encoder.write_header()?;
+    writer.write_image_data(pixels)?;
+    Ok(writer.finish()?)
 }
 
 /// Draws the plot into `out` by a temporary file beside it and a rename.
-fn render(series: &Series, picked: &[usize], args: &PlotArgs, kind: Kind) -> Result<(), String> {
+fn render(
+    series: &Series,
+    picked: &[usize],
+    args: &PlotArgs,
+    kind: Kind,
+) -> Result<(), PlotError> {
     plotters::style::register_font(FONT, FontStyle::Normal, dejavu::sans::regular())
-        .map_err(|_| "the embedded font cannot be read".to_string())?;
+        .map_err(|_| PlotError::Font)?;
     let (width, height) = (args.width, args.height);
     match kind {
         Kind::Svg => {
@@ -365,7 +384,7 @@ fn render(series: &Series, picked: &[usize], args: &PlotArgs, kind: Kind) -> Res
                 picked,
                 look,
             )?;
-            linkage_html::write_atomically(args.out, text.as_bytes()).map_err(|e| e.to_string())
+            Ok(linkage_html::write_atomically(args.out, text.as_bytes())?)
         }
         Kind::Png => {
             // Large images are drawn at a lower supersampling, within about 100 MB.
@@ -399,7 +418,7 @@ fn render(series: &Series, picked: &[usize], args: &PlotArgs, kind: Kind) -> Res
                 .map_or_else(|| "plot".into(), |n| n.to_string_lossy().into_owned());
             let tmp = dir.join(format!(".{name}.{}.tmp.png", std::process::id()));
             let written = write_png(&tmp, &small, width, height)
-                .and_then(|()| std::fs::rename(&tmp, out).map_err(|e| e.to_string()));
+                .and_then(|()| Ok(std::fs::rename(&tmp, out)?));
             if written.is_err() {
                 let _ = std::fs::remove_file(&tmp);
             }

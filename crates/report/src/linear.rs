@@ -384,7 +384,44 @@ pub fn to_text(j: &LinearJson) -> String {
 
 #[cfg(test)]
 mod tests {
-    use super::fortran_e;
+    use super::{fortran_e, shown_damping, zero_modes, ModeJson};
+
+    fn mode(frequency: f64, real: f64, imag: f64) -> ModeJson {
+        ModeJson {
+            number: 0,
+            frequency,
+            damping_ratio: if frequency > 0.0 { -real / frequency } else { 0.0 },
+            real,
+            imag,
+            zero: false,
+            shape: None,
+        }
+    }
+
+    #[test]
+    fn the_zero_eigenvalues_are_the_smallest_modes_a_pair_counting_two() {
+        // Cylindrical_Case02 of the corpus: a real 6.9e-18 Hz eigenvalue and a 1.4e-17 Hz
+        // pair are the 3 zero eigenvalues; the 2.5 Hz pair is a mode.
+        let modes = [
+            mode(2.5, -0.01, 2.49998),
+            mode(6.9e-18, -6.9e-18, 0.0),
+            mode(1.4e-17, 2.7e-18, 1.38e-17),
+        ];
+        assert_eq!(zero_modes(&modes, 3), [false, true, true]);
+        assert_eq!(zero_modes(&modes, 1), [false, true, false]);
+        // A count that would split a pair leaves the pair listed.
+        assert_eq!(zero_modes(&modes, 2), [false, true, false]);
+        assert_eq!(zero_modes(&modes, 0), [false, false, false]);
+    }
+
+    #[test]
+    fn a_real_part_at_rounding_noise_has_no_damping() {
+        // MODEL_test10 of the corpus: -5.5e-16 ± 0.54 Hz is undamped; -0.01 ± 2.5 Hz is not.
+        let noisy = mode(0.539767, -5.45553e-16, 0.539767);
+        assert_eq!(shown_damping(&noisy, 0.539767), (0.0, 0.0));
+        let damped = mode(2.5, -0.01, 2.49998);
+        assert_eq!(shown_damping(&damped, 2.5), (-0.01, 0.004));
+    }
 
     #[test]
     fn numbers_print_like_adams() {
