@@ -46,10 +46,9 @@ pub fn python_terms(message: &str) -> String {
                         .chars()
                         .take_while(|c| !c.is_whitespace() && *c != ',' && *c != ';')
                         .collect();
-                    let is_value = word
-                        .chars()
-                        .next()
-                        .is_some_and(|c| c.is_ascii_digit() || c == '-' || c == '.' || c.is_ascii_uppercase());
+                    let is_value = word.chars().next().is_some_and(|c| {
+                        c.is_ascii_digit() || c == '-' || c == '.' || c.is_ascii_uppercase()
+                    });
                     if is_value && word != "-" {
                         out.push('=');
                         out.push_str(&word);
@@ -80,7 +79,10 @@ mod tests {
             "the equilibrium is UNSTABLE: try settle=True (damped dynamics finds a stable \
              one), or pass allow_unstable=True to accept it"
         );
-        assert_eq!(python_terms("--steps must be at least 1"), "steps must be at least 1");
+        assert_eq!(
+            python_terms("--steps must be at least 1"),
+            "steps must be at least 1"
+        );
         assert_eq!(
             python_terms("--dtout 0.001 over --end 1000 asks for 1000000 outputs"),
             "dtout=0.001 over end=1000 asks for 1000000 outputs"

@@ -70,7 +70,10 @@ impl Source {
     }
 
     /// [`Source::read`] with `options` (lenient arguments).
-    pub fn read_with(path: &Path, options: linkage_adm::ReadOptions) -> Result<Source, Diagnostics> {
+    pub fn read_with(
+        path: &Path,
+        options: linkage_adm::ReadOptions,
+    ) -> Result<Source, Diagnostics> {
         Ok(Source::from_dataset(linkage_adm::read_dataset_with(
             path, options,
         )?))

@@ -7,8 +7,8 @@ use std::process::ExitCode;
 
 // Loading a dataset and the analyses' shared pieces live in the library that the Python
 // package and sweeps use too.
-pub use linkage_api::{output_times, Loaded};
 use linkage_adm::ReadOptions;
+pub use linkage_api::{output_times, Loaded};
 use linkage_solve::coverage::Analysis;
 use std::sync::OnceLock;
 

@@ -360,12 +360,7 @@ fn write_png(path: &Path, pixels: &[u8], width: u32, height: u32) -> Result<(), 
 }
 
 /// Draws the plot into `out` by a temporary file beside it and a rename.
-fn render(
-    series: &Series,
-    picked: &[usize],
-    args: &PlotArgs,
-    kind: Kind,
-) -> Result<(), PlotError> {
+fn render(series: &Series, picked: &[usize], args: &PlotArgs, kind: Kind) -> Result<(), PlotError> {
     plotters::style::register_font(FONT, FontStyle::Normal, dejavu::sans::regular())
         .map_err(|_| PlotError::Font)?;
     let (width, height) = (args.width, args.height);
@@ -400,8 +395,7 @@ fn render(
             };
             let mut big = vec![255u8; look.width as usize * look.height as usize * 3];
             draw(
-                BitMapBackend::with_buffer(&mut big, (look.width, look.height))
-                    .into_drawing_area(),
+                BitMapBackend::with_buffer(&mut big, (look.width, look.height)).into_drawing_area(),
                 series,
                 picked,
                 look,

@@ -174,7 +174,7 @@ fn ic_static_series_and_linear_pages_are_written() {
     assert_eq!(code, 0, "{out}{err}");
     let html = read(&lin);
     assert!(html.contains("mode 1 ("), "a mode-shape animation");
-    assert!(html.contains("<h3>Modes (1 rows)</h3>"), "the mode table");
+    assert!(html.contains("<h3>Modes (1 row)</h3>"), "the mode table");
 }
 
 #[test]
@@ -233,7 +233,13 @@ fn svg_texts(svg: &str) -> Vec<String> {
     svg.split("<text")
         .skip(1)
         .filter_map(|t| t.split_once('>').map(|(_, rest)| rest))
-        .map(|rest| rest.split("</text>").next().unwrap_or("").trim().to_string())
+        .map(|rest| {
+            rest.split("</text>")
+                .next()
+                .unwrap_or("")
+                .trim()
+                .to_string()
+        })
         .collect()
 }
 
@@ -307,7 +313,11 @@ fn linkage_plot_labels_its_axes_with_units_and_draws_a_smooth_png_of_the_size_as
     )
     .unwrap();
     let acf = dir.join("sm.acf");
-    std::fs::write(&acf, "spring_mass\nsm\nSIMULATE/DYNAMIC, END = 1, STEPS = 10\nSTOP\n").unwrap();
+    std::fs::write(
+        &acf,
+        "spring_mass\nsm\nSIMULATE/DYNAMIC, END = 1, STEPS = 10\nSTOP\n",
+    )
+    .unwrap();
     let (code, out, err) = run(&[
         "run",
         acf.to_str().unwrap(),
@@ -540,7 +550,11 @@ fn every_page_kind_opens_with_its_verdict_and_its_plots_follow_the_time_slider()
     let inverted = dir.join("inverted.adm");
     let text = read(&pendulum);
     assert!(text.contains("JGRAV = -9.80665"));
-    std::fs::write(&inverted, text.replace("JGRAV = -9.80665", "JGRAV = 9.80665")).unwrap();
+    std::fs::write(
+        &inverted,
+        text.replace("JGRAV = -9.80665", "JGRAV = 9.80665"),
+    )
+    .unwrap();
     let acf = root().join("examples/fourbar.acf");
     let out_dir = dir.display().to_string();
     // (name, arguments, exit code, verdict class, whether the page has plots against time)
@@ -638,7 +652,13 @@ fn every_page_kind_opens_with_its_verdict_and_its_plots_follow_the_time_slider()
             );
         }
         let profile = dir.join(format!("profile-{name}"));
-        let first = headless_at(&browser, &profile, &["--dump-dom"], &page, "#paused&frame=0");
+        let first = headless_at(
+            &browser,
+            &profile,
+            &["--dump-dom"],
+            &page,
+            "#paused&frame=0",
+        );
         let status = status_of(&first);
         assert!(status.starts_with("ok frames="), "{name}: {status}");
         // Laid out by the browser: the verdict's box ends above the first plot.
@@ -848,4 +868,46 @@ fn plot_picks_the_columns_of_a_simulate_page() {
     ]);
     assert_eq!(code, 2);
     assert!(err.contains("--plot crank.q: no such column"), "{err}");
+}
+
+#[test]
+fn a_windshield_over_the_wiper_starts_transparent_and_the_view_frames_the_mechanism() {
+    let (Some(browser), Some(corpus)) = (chromium(), corpus()) else {
+        return;
+    };
+    let dir = scratch("framing");
+    // The wiper: a 2.5 m × 1.7 m windshield BOX over the linkage; the four-bar example: no
+    // solid as large as its scene.
+    let wiper = corpus
+        .join("Dinh-Hao-Nguyen__MSCAdams_Wiper_Project__ControlSimulink__Controls_Plant_5.adm");
+    let fast = corpus.join("old-NWTC__FAST__CertTest__Old_Adams_files__Test02_ADAMS.adm");
+    for (name, model, transparent) in [
+        ("wiper", wiper, 1),
+        ("turbine", fast, 0),
+        ("fourbar", root().join("examples/fourbar.adm"), 0),
+    ] {
+        let page = dir.join(format!("{name}.html"));
+        run(&[
+            "verify",
+            model.to_str().unwrap(),
+            "--html",
+            page.to_str().unwrap(),
+        ]);
+        let dom = headless_at(
+            &browser,
+            &dir.join(format!("profile-{name}")),
+            &["--dump-dom"],
+            &page,
+            "#paused",
+        );
+        let status = status_of(&dom);
+        assert_eq!(
+            status_number(&status, "transparent"),
+            Some(transparent as f64),
+            "{name}: {status}"
+        );
+        // Framed: the mechanism fills a good part of the 900 × 520 canvas.
+        let pixels = status_number(&status, "drawn_pixels").unwrap();
+        assert!(pixels > 5_000.0, "{name}: {status}");
+    }
 }

@@ -34,7 +34,10 @@ fn a_misspelt_argument_is_an_input_error_that_names_the_argument_meant() {
         "{err}"
     );
     // The hint lists what PART takes and names the way out.
-    assert!(err.contains("hint: PART takes ") && err.contains("--lenient-arguments"), "{err}");
+    assert!(
+        err.contains("hint: PART takes ") && err.contains("--lenient-arguments"),
+        "{err}"
+    );
     assert!(!out.contains("verified successfully"), "{out}");
     // Every analysis refuses it the same way.
     for args in [
@@ -45,7 +48,10 @@ fn a_misspelt_argument_is_an_input_error_that_names_the_argument_meant() {
     ] {
         let (code, _, err) = run(&args);
         assert_eq!(code, 2, "{args:?}: {err}");
-        assert!(err.contains("unknown argument 'MASSS' of PART"), "{args:?}: {err}");
+        assert!(
+            err.contains("unknown argument 'MASSS' of PART"),
+            "{args:?}: {err}"
+        );
     }
 }
 
@@ -68,8 +74,11 @@ fn lenient_arguments_reads_on_with_a_warning_on_every_command() {
     // A command file reads its dataset the same way.
     let dir = PathBuf::from(model).parent().unwrap().to_path_buf();
     let acf = dir.join("masss.acf");
-    std::fs::write(&acf, "masss\nmasss_run\nSIMULATE/KINEMATIC, END = 0.1, STEPS = 2\nSTOP\n")
-        .unwrap();
+    std::fs::write(
+        &acf,
+        "masss\nmasss_run\nSIMULATE/KINEMATIC, END = 0.1, STEPS = 2\nSTOP\n",
+    )
+    .unwrap();
     let acf = acf.to_str().unwrap();
     let out_dir = dir.to_str().unwrap();
     let (code, _, err) = run(&["run", acf, "--out-dir", out_dir]);
@@ -93,7 +102,8 @@ fn moved_parts_never_print_a_negative_zero() {
     assert_eq!(moved.len(), 3, "{out}");
     assert!(!out.contains("-0.000000"), "{out}");
     assert!(
-        moved[0].contains("crank") && moved[0].contains("translation (0.002386, -0.001386, 0.000000)"),
+        moved[0].contains("crank")
+            && moved[0].contains("translation (0.002386, -0.001386, 0.000000)"),
         "{out}"
     );
 }
@@ -110,7 +120,9 @@ fn zero_frequency_modes_are_counted_not_listed() {
     assert!(!out.contains("E-09"), "{out}");
     assert!(!out.contains("Mode 1:"), "{out}");
     assert!(
-        out.contains("(2 modes at zero frequency, rounding noise of rigid-body motions, not listed"),
+        out.contains(
+            "(2 modes at zero frequency, rounding noise of rigid-body motions, not listed"
+        ),
         "{out}"
     );
     assert!(out.contains("2 zero eigenvalues"), "{out}");

@@ -15,8 +15,8 @@
 
 use crate::scene::{Frames, Scene};
 use crate::svg::{self, Plot};
-use crate::verdict::{verdict, Level};
 use crate::text::{escape, script_json};
+use crate::verdict::{verdict, Level};
 use glam::DVec3;
 use serde::Serialize;
 use std::fmt::Write;
@@ -283,7 +283,7 @@ pub fn render(page: &Page) -> String {
         }
         s.push_str("</select>");
     }
-    s.push_str("</div><p class=\"note\">Drag to orbit, wheel to zoom; click a part to make it transparent, again to hide it (the list beside the view shows it again). Geometry much larger than the mechanism starts transparent.");
+    s.push_str("</div><p class=\"note\">Drag to orbit, wheel to zoom; click a part to make it transparent, again to hide it (the list beside the view shows it again). A solid whose surface spans much of the scene (a windshield, a base plate) starts transparent.");
     let budget = frame_budget(page.scene.parts.len());
     for a in &page.animations {
         let total = a.total.max(a.times.len());

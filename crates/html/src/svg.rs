@@ -30,6 +30,9 @@ pub const NOISE_SPAN: f64 = 1e-6;
 /// The half-height of the y range of a flat plot, as a fraction of the quantity's scale.
 const FLAT_PAD: f64 = 0.05;
 
+/// The y range extends this fraction of the values' range beyond them, on each side.
+const EDGE_MARGIN: f64 = 0.04;
+
 /// Line colours, in order of series.
 const COLOURS: [&str; 6] = [
     "#4c78a8", "#f58518", "#54a24b", "#e45756", "#b279a2", "#72b7b2",
@@ -119,7 +122,9 @@ pub fn magnitude(plot: &Plot) -> f64 {
 fn y_range(y0: f64, y1: f64, scale: f64) -> (f64, f64) {
     let scale = scale.max(y0.abs()).max(y1.abs());
     if y1 - y0 > NOISE_SPAN * scale && y1 > y0 {
-        return (y0, y1);
+        // A margin, so that a line along the range's edge is not drawn on the frame.
+        let margin = EDGE_MARGIN * (y1 - y0);
+        return (y0 - margin, y1 + margin);
     }
     let mid = 0.5 * (y0 + y1);
     let mid = if mid.abs() <= NOISE_SPAN * scale {
@@ -326,10 +331,12 @@ mod tests {
         assert_eq!(y_ticks(&s), ["-0.02", "-0.01", "0", "0.01", "0.02"], "{s}");
         // Alone, its scale is its own: the noise is all there is to show.
         assert_eq!(y_ticks(&svg(&plot))[0], "-1.00e-20");
-        // A real variation of 1 mm in 0.5 m is drawn as it is.
-        assert_eq!(y_range(0.499, 0.5, 0.5), (0.499, 0.5));
-        // A constant away from zero: centred on it.
-        assert_eq!(y_range(0.3, 0.3, 0.5), (0.275, 0.325));
+        // A real variation of 1 mm in 0.5 m is drawn as it is (with 4 % margins).
+        let (lo, hi) = y_range(0.499, 0.5, 0.5);
+        assert!((lo - 0.49896).abs() < 1e-12 && (hi - 0.50004).abs() < 1e-12);
+        // A constant away from zero: centred on it, ±5 % of the scale.
+        let (lo, hi) = y_range(0.3, 0.3, 0.5);
+        assert!((lo - 0.275).abs() < 1e-12 && (hi - 0.325).abs() < 1e-12);
     }
 
     #[test]

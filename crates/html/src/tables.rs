@@ -237,9 +237,10 @@ fn list_table(
     let shown = rows.len().min(MAX_ROWS);
     let _ = write!(
         s,
-        "<h{level}>{} ({} rows",
+        "<h{level}>{} ({} row{}",
         escape(&title_words(title)),
-        rows.len()
+        rows.len(),
+        if rows.len() == 1 { "" } else { "s" }
     );
     if shown < rows.len() {
         let _ = write!(s, ", the first {shown} shown");
@@ -307,11 +308,14 @@ mod tests {
         // The zero-frequency mode is counted, not listed; eigenvalues are not repeated.
         assert!(
             html.contains(
-                "<h3>Modes (1 rows; 1 at zero frequency (rigid-body motions) not listed)</h3>"
+                "<h3>Modes (1 row; 1 at zero frequency (rigid-body motions) not listed)</h3>"
             ),
             "{html}"
         );
-        assert!(!html.contains("2.3e-12") && !html.contains("Eigenvalues"), "{html}");
+        assert!(
+            !html.contains("2.3e-12") && !html.contains("Eigenvalues"),
+            "{html}"
+        );
     }
 
     #[test]

@@ -48,10 +48,9 @@ fn flag(report: &Value, key: &str) -> Option<bool> {
 }
 
 fn count(report: &Value, key: &str) -> Option<u64> {
-    report.get(key).and_then(|v| {
-        v.as_u64()
-            .or_else(|| v.as_array().map(|a| a.len() as u64))
-    })
+    report
+        .get(key)
+        .and_then(|v| v.as_u64().or_else(|| v.as_array().map(|a| a.len() as u64)))
 }
 
 fn plural(n: u64, one: &str, many: &str) -> String {
@@ -77,7 +76,10 @@ fn facts(analysis: &str, report: &Value) -> String {
         }
         "ic" => {
             if let Some(i) = count(report, "iterations") {
-                parts.push(format!("assembled in {}", plural(i, "iteration", "iterations")));
+                parts.push(format!(
+                    "assembled in {}",
+                    plural(i, "iteration", "iterations")
+                ));
             }
             if let Some(d) = dof {
                 parts.push(plural(d, "degree of freedom", "degrees of freedom"));

@@ -71,42 +71,58 @@
   }
 
   // Framing: each item's box over frames sampled through the first animation (a turning
-  // blade sweeps beyond its first pose). A solid much larger than the typical item (a
-  // windshield around a wiper mechanism) starts transparent and does not set the view.
+  // blade sweeps beyond its first pose). A solid whose surface (half its triangles' area:
+  // one side of a plate) is at least LARGE_AREA of the whole scene's box (its two largest
+  // sides) — a windshield over a wiper mechanism, a base plate — starts transparent and does
+  // not set the view.
   var A0 = S.anims[0];
   var nframes = A0 && A0.poses.length ? A0.poses.length : 1;
   var vertexCount = S.items.reduce(function (n, it) { return n + it.p.length / 3; }, 0);
   var samples = Math.max(1, Math.min(40, nframes, Math.floor(2e6 / Math.max(vertexCount, 1))));
-  var boxes = S.items.map(function () {
-    return { lo: [Infinity, Infinity, Infinity], hi: [-Infinity, -Infinity, -Infinity] };
-  });
+  function emptyBox() { return { lo: [Infinity, Infinity, Infinity], hi: [-Infinity, -Infinity, -Infinity] }; }
+  function grow(into, bx) {
+    for (var i = 0; i < 3; i++) { into.lo[i] = Math.min(into.lo[i], bx.lo[i]); into.hi[i] = Math.max(into.hi[i], bx.hi[i]); }
+  }
+  var boxes = S.items.map(emptyBox), firstBoxes = S.items.map(emptyBox);
   for (var s = 0; s < samples; s++) {
     var f = samples > 1 ? Math.round(s * (nframes - 1) / (samples - 1)) : 0;
     worldVertices(pose(0, f)).forEach(function (vs, n) {
-      var bx = boxes[n];
       vs.forEach(function (v) {
-        for (var i = 0; i < 3; i++) { bx.lo[i] = Math.min(bx.lo[i], v[i]); bx.hi[i] = Math.max(bx.hi[i], v[i]); }
+        grow(boxes[n], { lo: v, hi: v });
+        if (s === 0) grow(firstBoxes[n], { lo: v, hi: v });
       });
     });
   }
   function diagonal(bx) { var d = sub(bx.hi, bx.lo); return bx.lo[0] <= bx.hi[0] ? Math.sqrt(dot(d, d)) : 0; }
-  var sizes = boxes.map(diagonal);
-  var sorted = sizes.filter(function (d) { return d > 0; }).sort(function (a, b) { return a - b; });
-  var typical = sorted.length ? sorted[Math.floor(sorted.length / 2)] : 0;
-  var LARGE = 4;
-  S.items.forEach(function (it, n) {
-    if (it.t.length && typical > 0 && sizes[n] > LARGE * typical && S.items.length > 2) display[n] = 1;
-  });
-  var lo = [Infinity, Infinity, Infinity], hi = [-Infinity, -Infinity, -Infinity];
-  boxes.forEach(function (bx, n) {
-    if (display[n] !== 0 || !(bx.lo[0] <= bx.hi[0])) return;
-    for (var i = 0; i < 3; i++) { lo[i] = Math.min(lo[i], bx.lo[i]); hi[i] = Math.max(hi[i], bx.hi[i]); }
-  });
-  if (!(lo[0] <= hi[0])) {
-    boxes.forEach(function (bx) {
-      for (var i = 0; i < 3; i++) { lo[i] = Math.min(lo[i], bx.lo[i]); hi[i] = Math.max(hi[i], bx.hi[i]); }
+  // The product of the two largest sides of a box.
+  function area(bx) {
+    if (!(bx.lo[0] <= bx.hi[0])) return 0;
+    var d = sub(bx.hi, bx.lo).map(Math.abs).sort(function (a, b) { return b - a; });
+    return d[0] * d[1];
+  }
+  var LARGE_AREA = 0.4;
+  // (At the first frame: a part's sweep over the run is not its size.)
+  var scene = emptyBox();
+  firstBoxes.forEach(function (bx) { if (bx.lo[0] <= bx.hi[0]) grow(scene, bx); });
+  var firstWorld = worldVertices(pose(0, 0));
+  function surface(it, vs) {
+    var sum = 0;
+    for (var k = 0; k < it.t.length; k += 3) {
+      var a = vs[it.t[k]], b = vs[it.t[k + 1]], c = vs[it.t[k + 2]];
+      var x = cross(sub(b, a), sub(c, a));
+      sum += 0.5 * Math.sqrt(dot(x, x));
+    }
+    return 0.5 * sum;
+  }
+  if (S.items.length >= 3 && area(scene) > 0) {
+    S.items.forEach(function (it, n) {
+      if (it.t.length && surface(it, firstWorld[n]) >= LARGE_AREA * area(scene)) display[n] = 1;
     });
   }
+  var frame0 = emptyBox();
+  boxes.forEach(function (bx, n) { if (display[n] === 0 && bx.lo[0] <= bx.hi[0]) grow(frame0, bx); });
+  if (!(frame0.lo[0] <= frame0.hi[0])) boxes.forEach(function (bx) { if (bx.lo[0] <= bx.hi[0]) grow(frame0, bx); });
+  var lo = frame0.lo, hi = frame0.hi;
   if (!(lo[0] <= hi[0])) { lo = [-1, -1, -1]; hi = [1, 1, 1]; }
   var centre = mul(add(lo, hi), 0.5);
   var radius = Math.max(Math.sqrt(dot(sub(hi, lo), sub(hi, lo))) * 0.5, 1e-9);

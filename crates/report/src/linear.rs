@@ -355,7 +355,11 @@ pub fn to_text(j: &LinearJson) -> String {
                 .map(|c| {
                     // The phase of a component that rounds to zero is noise: shown as 0.
                     let magnitude = crate::poses::fixed(c.magnitude, 4);
-                    let phase = if magnitude == "0.0000" { 0.0 } else { c.phase_deg };
+                    let phase = if magnitude == "0.0000" {
+                        0.0
+                    } else {
+                        c.phase_deg
+                    };
                     format!("{magnitude} @ {:>7.2}°", crate::num::denoise(phase, 1.0))
                 })
                 .collect();
@@ -390,7 +394,11 @@ mod tests {
         ModeJson {
             number: 0,
             frequency,
-            damping_ratio: if frequency > 0.0 { -real / frequency } else { 0.0 },
+            damping_ratio: if frequency > 0.0 {
+                -real / frequency
+            } else {
+                0.0
+            },
             real,
             imag,
             zero: false,
