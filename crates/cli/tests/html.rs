@@ -732,11 +732,8 @@ fn the_page_runs_in_a_browser_and_its_3d_view_draws_the_mechanism() {
     let status = status.as_str();
     // "ok frames=101 items=9 triangles=… drawn_pixels=N": the scripts ran without error.
     assert!(status.starts_with("ok frames=101 items=9 "), "{status}");
-    let pixels: usize = status
-        .split("drawn_pixels=")
-        .nth(1)
-        .and_then(|n| n.trim().parse().ok())
-        .unwrap_or_else(|| panic!("{status}"));
+    let pixels =
+        status_number(status, "drawn_pixels").unwrap_or_else(|| panic!("{status}")) as usize;
     // The four-bar spans a good part of the 900 × 520 canvas: thousands of pixels, far
     // from all of them.
     assert!((2_000..200_000).contains(&pixels), "{status}");
