@@ -41,18 +41,6 @@ fn errors(body: &str) -> Vec<(u32, u32, String)> {
         .collect()
 }
 
-fn warnings(body: &str) -> Vec<(u32, u32, String)> {
-    run(&format!("title\n{body}"))
-        .diagnostics
-        .into_iter()
-        .filter(|d| d.severity == Severity::Warning)
-        .map(|d| {
-            let s = d.span.unwrap_or_default();
-            (s.line, s.col, d.message)
-        })
-        .collect()
-}
-
 fn numbers(st: &Statement, key: &str) -> Vec<f64> {
     st.arg(key)
         .map(|a| {
