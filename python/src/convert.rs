@@ -3,7 +3,8 @@
 //! A JSON array whose items are all numbers becomes a 1-D `float64` numpy array; an array of
 //! such arrays, all of one length (at least one row), a 2-D array; other arrays become
 //! lists, objects dicts, integers ints, and the rest their Python equivalents. A CSV becomes
-//! `{column name: 1-D float64 array}` in column order.
+//! `{column name: 1-D float64 array}` in column order, the names without the header's unit
+//! suffix (`"crank.x"` for `crank.x [m]`), and `{column name: unit}` beside it.
 
 use numpy::{PyArray1, PyArray2};
 use pyo3::prelude::*;
@@ -85,9 +86,10 @@ fn fields(line: &str) -> Vec<String> {
     out
 }
 
-/// The CSV `text` (a header line, then rows of numbers) as {column: float64 array}. A field
-/// that is not a number (`NaN` included) is NaN.
-pub fn csv_columns(py: Python<'_>, text: &str) -> PyResult<PyObject> {
+/// The CSV `text` (a header line, then rows of numbers) as {column: float64 array}, the
+/// names plain, and {column: unit} for the columns whose header states one. A field that is
+/// not a number (`NaN` included) is NaN.
+pub fn csv_columns(py: Python<'_>, text: &str) -> PyResult<(PyObject, PyObject)> {
     let mut lines = text.lines().filter(|l| !l.trim().is_empty());
     let header = lines.next().map(fields).unwrap_or_default();
     let mut columns: Vec<Vec<f64>> = vec![Vec::new(); header.len()];
@@ -102,8 +104,35 @@ pub fn csv_columns(py: Python<'_>, text: &str) -> PyResult<PyObject> {
         }
     }
     let dict = PyDict::new(py);
-    for (name, column) in header.into_iter().zip(columns) {
+    let units = PyDict::new(py);
+    for (field, column) in header.iter().zip(columns) {
+        let (name, unit) = name_and_unit(field);
         dict.set_item(name, PyArray1::from_vec(py, column))?;
+        if let Some(unit) = unit {
+            units.set_item(name, unit)?;
+        }
     }
-    Ok(dict.into_any().unbind())
+    Ok((dict.into_any().unbind(), units.into_any().unbind()))
+}
+
+/// A CSV header field's name and unit: `crank.x [m]` → (`crank.x`, `m`).
+pub fn name_and_unit(field: &str) -> (&str, Option<&str>) {
+    let field = field.trim();
+    match field.strip_suffix(']').and_then(|f| f.rsplit_once(" [")) {
+        Some((name, unit)) if !unit.is_empty() => (name.trim_end(), Some(unit)),
+        _ => (field, None),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn header_fields_split_into_name_and_unit() {
+        assert_eq!(super::name_and_unit("time [s]"), ("time", Some("s")));
+        assert_eq!(
+            super::name_and_unit(" JOINT_1.tz [N·mm]"),
+            ("JOINT_1.tz", Some("N·mm"))
+        );
+        assert_eq!(super::name_and_unit("REQUEST_1.f2"), ("REQUEST_1.f2", None));
+    }
 }

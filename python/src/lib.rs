@@ -4,9 +4,13 @@
 //!
 //! Every analysis is `linkage_api`'s, the same code the `linkage` binary runs. Errors are
 //! exceptions: `InputError` (the CLI's exit code 2: file:line:column messages in `.messages`)
-//! and `AnalysisError` (exit code 1: the report in `.report`), both `LinkageError`s.
+//! and `AnalysisError` (exit code 1: the report in `.report`), both `LinkageError`s. Their
+//! messages name keyword arguments where the CLI's name its flags ([`terms::python_terms`]).
 
 mod convert;
+mod terms;
+
+use terms::python_terms;
 
 use linkage_api::job::{Job, Outcome};
 use linkage_api::simulate::CsvTarget;
@@ -35,6 +39,7 @@ create_exception!(
 
 /// An `InputError` carrying `messages` (joined as its text).
 fn input_error(py: Python<'_>, messages: Vec<String>) -> PyErr {
+    let messages: Vec<String> = messages.iter().map(|m| python_terms(m)).collect();
     let err = InputError::new_err(messages.join("\n"));
     if let Ok(list) = PyList::new(py, &messages) {
         let _ = err.value(py).setattr("messages", list);
@@ -49,7 +54,7 @@ fn analysis_error(py: Python<'_>, report: &serde_json::Value, extra: &[(&str, Py
         .and_then(|e| e.as_array())
         .map(|e| {
             e.iter()
-                .filter_map(|m| m.as_str().map(String::from))
+                .filter_map(|m| m.as_str().map(python_terms))
                 .collect()
         })
         .unwrap_or_default();
@@ -72,6 +77,8 @@ struct Model {
     deactivate: Vec<String>,
     /// The report of the last analysis (for `simulate`, its summary).
     last_report: Option<PyObject>,
+    /// The unit of each column of the last `simulate` ({"time": "s", "crank.x": "m", …}).
+    units: Option<PyObject>,
 }
 
 /// A value for `Model.set`: a number, a sequence of numbers or an expression.
@@ -200,8 +207,9 @@ impl Model {
         )
     }
 
-    /// `linkage simulate --out`: the time histories as {column name: numpy array} (the
-    /// summary report is then `last_report`).
+    /// `linkage simulate --out`: the time histories as {column name: numpy array}, the names
+    /// plain (`"time"`, `"crank.x"`: the CSV header's unit suffix is in `units`); the summary
+    /// report is then `last_report`.
     #[pyo3(signature = (end, steps=None, dtout=None, start_at_equilibrium=false, settle=false, allow_unstable=false, time_limit=None))]
     #[allow(clippy::too_many_arguments)]
     fn simulate(
@@ -235,7 +243,8 @@ impl Model {
             .lock()
             .map(|b| String::from_utf8_lossy(&b).into_owned())
             .unwrap_or_default();
-        let columns = convert::csv_columns(py, &text)?;
+        let (columns, units) = convert::csv_columns(py, &text)?;
+        self.units = Some(units);
         if code != 0 {
             return Err(analysis_error(py, &report, &[("columns", columns)]));
         }
@@ -246,6 +255,13 @@ impl Model {
     #[getter]
     fn last_report(&self, py: Python<'_>) -> Option<PyObject> {
         self.last_report.as_ref().map(|r| r.clone_ref(py))
+    }
+
+    /// The unit of each column the last `simulate` returned, {"time": "s", "crank.x": "m",
+    /// …} (a column without a stated unit is absent); `None` before the first.
+    #[getter]
+    fn units(&self, py: Python<'_>) -> Option<PyObject> {
+        self.units.as_ref().map(|u| u.clone_ref(py))
     }
 
     /// The dataset's file name.
@@ -276,17 +292,25 @@ impl std::io::Write for SharedBuffer {
     }
 }
 
-/// Reads the dataset at `path` (`deactivate`: statements to leave out, as `--deactivate`).
+/// Reads the dataset at `path` (`deactivate`: statements to leave out; `lenient_arguments`:
+/// an argument a statement does not take is a warning, not an `InputError`).
 #[pyfunction]
-#[pyo3(signature = (path, deactivate=None))]
-fn load(py: Python<'_>, path: PathBuf, deactivate: Option<Vec<String>>) -> PyResult<Model> {
+#[pyo3(signature = (path, deactivate=None, lenient_arguments=false))]
+fn load(
+    py: Python<'_>,
+    path: PathBuf,
+    deactivate: Option<Vec<String>>,
+    lenient_arguments: bool,
+) -> PyResult<Model> {
+    let options = linkage_adm::ReadOptions { lenient_arguments };
     let source = py
-        .allow_threads(|| Source::read(&path))
+        .allow_threads(|| Source::read_with(&path, options))
         .map_err(|d| input_error(py, d.0.iter().map(ToString::to_string).collect()))?;
     let model = Model {
         source,
         deactivate: deactivate.unwrap_or_default(),
         last_report: None,
+        units: None,
     };
     // A name that leaves nothing out is an input error now rather than at the first analysis.
     if !model.deactivate.is_empty() {
@@ -302,7 +326,7 @@ fn load(py: Python<'_>, path: PathBuf, deactivate: Option<Vec<String>>) -> PyRes
 /// `out_dir`, default the working directory); returns {commands, outputs, halted, msg, req, csv}
 /// (`halted`: `SENSOR_1 at time 2.5` when a SENSOR's HALT ended the file, else None).
 #[pyfunction]
-#[pyo3(signature = (path, out_dir=None, model=None, deactivate=None, allow_unstable=false))]
+#[pyo3(signature = (path, out_dir=None, model=None, deactivate=None, allow_unstable=false, lenient_arguments=false))]
 fn run_acf(
     py: Python<'_>,
     path: PathBuf,
@@ -310,6 +334,7 @@ fn run_acf(
     model: Option<PathBuf>,
     deactivate: Option<Vec<String>>,
     allow_unstable: bool,
+    lenient_arguments: bool,
 ) -> PyResult<PyObject> {
     let options = linkage_run::RunOptions {
         out_dir,
@@ -317,6 +342,7 @@ fn run_acf(
         interrupt: None,
         deactivate: deactivate.unwrap_or_default(),
         allow_unstable,
+        read: linkage_adm::ReadOptions { lenient_arguments },
     };
     let result = py.allow_threads(|| linkage_run::run_command_file(&path, &options));
     let summary = |s: &linkage_run::RunSummary| -> PyResult<PyObject> {
@@ -332,7 +358,7 @@ fn run_acf(
     match result {
         Ok(s) => summary(&s),
         Err(stopped) => {
-            let message = stopped.error.to_string();
+            let message = python_terms(&stopped.error.to_string());
             let err = if stopped.error.exit_code() == 2 {
                 input_error(py, vec![message])
             } else {

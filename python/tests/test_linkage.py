@@ -89,15 +89,23 @@ def test_simulate_equals_the_cli_csv_and_summary(cli, tmp_path):
     header, body = rows[0], rows[1:]
     m = linkage.load(str(SPRING_MASS))
     columns = m.simulate(end=0.5, steps=50)
-    assert list(columns) == header
-    for k, name in enumerate(header):
+    # Plain names as keys ("time", "block.z"); the CSV header's unit suffixes in m.units.
+    names = [h.rsplit(" [", 1)[0] for h in header]
+    assert list(columns) == names
+    assert names[:2] == ["time", "block.x"]
+    for k, name in enumerate(names):
         assert isinstance(columns[name], np.ndarray)
         assert columns[name].tolist() == [float(r[k]) for r in body], name
+        if header[k].endswith("]"):
+            assert header[k] == f"{name} [{m.units[name]}]"
+        else:
+            assert name not in m.units
+    assert m.units["time"] == "s" and m.units["block.z"] == "m"
     assert plain(m.last_report) == json.loads(stdout)
     # The motion itself: z(t) = -0.1 + 0.1 cos(ω t), ω = sqrt(k/m) = 20 rad/s; the default
     # integrator ERROR (1e-3) keeps it within 1 % of the 0.1 m amplitude.
-    t = columns["time [s]"]
-    z = columns["block.z [m]"]
+    t = columns["time"]
+    z = columns["block.z"]
     assert len(t) == 51
     assert np.max(np.abs(z - (-0.1 + 0.1 * np.cos(20.0 * t)))) < 1e-3
 
@@ -144,6 +152,26 @@ def test_input_errors_are_exceptions_with_file_line_column(cli, tmp_path):
         m.set("SPRINGDAMPER/7", "K", 1.0)
     with pytest.raises(linkage.InputError):
         linkage.load(str(tmp_path / "missing.adm"))
+
+
+def test_errors_name_keyword_arguments_not_cli_flags():
+    m = linkage.load(str(SPRING_MASS))
+    with pytest.raises(linkage.InputError) as caught:
+        m.simulate(end=1.0, steps=0)
+    message = str(caught.value)
+    assert "steps must be at least 1" in message, message
+    assert "--" not in message, message
+
+
+def test_a_misspelt_argument_is_an_input_error_unless_read_leniently(tmp_path):
+    bad = tmp_path / "masss.adm"
+    bad.write_text(SPRING_MASS.read_text().replace("MASS = 2,", "MASSS = 2,"))
+    with pytest.raises(linkage.InputError, match=r"unknown argument 'MASSS' of PART \(did you mean MASS\?\)"):
+        linkage.load(str(bad))
+    # Leniently: read, the argument ignored with a warning (the part has no mass then).
+    m = linkage.load(str(bad), lenient_arguments=True)
+    warnings = m.verify()["warnings"]
+    assert any("unknown argument 'MASSS' of PART ignored" in w for w in warnings), warnings
 
 
 def test_failed_analyses_raise_analysis_error_with_the_report(cli):

@@ -85,7 +85,7 @@ pub fn parse_commands(file: Arc<str>, text: &str) -> Result<CommandFile, Diagnos
         let prefix = Some(line(1).to_string()).filter(|p| !p.is_empty());
         (Some(first.to_string()), prefix, 2)
     };
-    let parsed = parse::parse(file.clone(), text, start, Language::Commands);
+    let parsed = parse::parse(file.clone(), text, start, Language::Commands, true);
     let (errors, warnings): (Vec<_>, Vec<_>) = parsed
         .diagnostics
         .into_iter()

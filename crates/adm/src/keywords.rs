@@ -162,6 +162,29 @@ pub(crate) fn lookup_arg(word: &str, def: &'static StatementDef) -> Lookup<&'sta
     lookup(word, def.args, |a| a.spelling, |a| a.canonical)
 }
 
+/// The argument of `def` a misspelt `word` most likely means: the canonical name at the
+/// smallest Damerau–Levenshtein distance (an edit is a letter added, dropped, changed or two
+/// letters swapped), when that distance is at most a third of the word's length (at least 1)
+/// and no other argument is as close; `None` otherwise.
+pub(crate) fn closest_arg(word: &str, def: &StatementDef) -> Option<&'static str> {
+    let word = word.to_ascii_uppercase();
+    let limit = (word.chars().count() / 3).max(1);
+    let mut best: Option<(usize, &'static str)> = None;
+    let mut tie = false;
+    for a in def.args {
+        let d = strsim::damerau_levenshtein(&word, a.canonical);
+        match best {
+            Some((b, name)) if d == b && name != a.canonical => tie = true,
+            Some((b, _)) if d >= b => {}
+            _ => {
+                best = Some((d, a.canonical));
+                tie = false;
+            }
+        }
+    }
+    best.filter(|(d, _)| *d <= limit && !tie).map(|(_, n)| n)
+}
+
 /// The entry of `def` whose canonical name is `key` (used after canonicalisation).
 pub(crate) fn arg_def(def: &StatementDef, key: &str) -> Option<&'static ArgDef> {
     def.args.iter().find(|a| a.canonical == key)

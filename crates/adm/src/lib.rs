@@ -48,13 +48,27 @@ pub use typing::graphics;
 use std::path::Path;
 use std::sync::Arc;
 
+/// How a dataset is read.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct ReadOptions {
+    /// An argument a statement does not take (a misspelling such as `MASSS = 1` in a PART)
+    /// is a warning and ignored, instead of an input error with a "did you mean"
+    /// suggestion (Adams stops on it). The CLI's `--lenient-arguments`.
+    pub lenient_arguments: bool,
+}
+
 /// Reads and types a dataset file. I/O failures become a diagnostic naming the file.
 pub fn read_dataset(path: &Path) -> Result<Dataset, Diagnostics> {
+    read_dataset_with(path, ReadOptions::default())
+}
+
+/// [`read_dataset`] with `options`.
+pub fn read_dataset_with(path: &Path, options: ReadOptions) -> Result<Dataset, Diagnostics> {
     let file: Arc<str> = Arc::from(path.display().to_string());
     match crate::input::read_input(path) {
         Ok(bytes) => {
             let text = crate::input::text_of(bytes);
-            parse_dataset(file, &text)
+            parse_dataset_with(file, &text, options)
         }
         Err(e) => Err(Diagnostics(vec![Diagnostic::error(
             file,
@@ -74,7 +88,22 @@ pub fn dataset_keywords() -> impl Iterator<Item = &'static str> {
 ///
 /// Returns the dataset (with its warnings) or every error found.
 pub fn parse_dataset(file: Arc<str>, text: &str) -> Result<Dataset, Diagnostics> {
+    parse_dataset_with(file, text, ReadOptions::default())
+}
+
+/// [`parse_dataset`] with `options`.
+pub fn parse_dataset_with(
+    file: Arc<str>,
+    text: &str,
+    options: ReadOptions,
+) -> Result<Dataset, Diagnostics> {
     // Line 1 is the title: statements start at line index 1.
-    let parsed = parse::parse(file.clone(), text, 1, parse::Language::Dataset);
+    let parsed = parse::parse(
+        file.clone(),
+        text,
+        1,
+        parse::Language::Dataset,
+        options.lenient_arguments,
+    );
     typing::type_dataset(file, text, parsed)
 }

@@ -56,8 +56,16 @@ pub(crate) struct Parsed {
     pub diagnostics: Vec<Diagnostic>,
 }
 
-/// Parses the statements of `text` from 0-based line index `first_line` on.
-pub(crate) fn parse(file: Arc<str>, text: &str, first_line: usize, lang: Language) -> Parsed {
+/// Parses the statements of `text` from 0-based line index `first_line` on. An argument that
+/// a statement with a complete table does not take is an error (Adams stops on it), or with
+/// `lenient_arguments` a warning and the argument kept as written.
+pub(crate) fn parse(
+    file: Arc<str>,
+    text: &str,
+    first_line: usize,
+    lang: Language,
+    lenient_arguments: bool,
+) -> Parsed {
     let mut lexer = Lexer::new(file.clone(), text, first_line, lang.stop_word());
     let mut parsed = Parsed {
         statements: Vec::new(),
@@ -69,7 +77,8 @@ pub(crate) fn parse(file: Arc<str>, text: &str, first_line: usize, lang: Languag
         match item {
             LexItem::Error(d) => parsed.diagnostics.push(d),
             LexItem::Statement(raw) => {
-                let (statement, diagnostics) = parse_statement(&file, &raw, lang, &mut scratch);
+                let (statement, diagnostics) =
+                    parse_statement(&file, &raw, lang, lenient_arguments, &mut scratch);
                 lexer.recycle(raw);
                 parsed.diagnostics.extend(diagnostics);
                 if let Some(st) = statement {
@@ -90,6 +99,7 @@ fn parse_statement(
     file: &Arc<str>,
     raw: &RawStatement,
     lang: Language,
+    lenient_arguments: bool,
     scratch: &mut Scratch,
 ) -> (Option<Statement>, Vec<Diagnostic>) {
     scratch.args.clear();
@@ -98,6 +108,7 @@ fn parse_statement(
         chars: &raw.chars,
         pos: 0,
         lang,
+        lenient_arguments,
         def: None,
         warnings: Vec::new(),
         scratch,
@@ -174,7 +185,11 @@ struct StatementParser<'a> {
     chars: &'a [SrcChar],
     pos: usize,
     lang: Language,
+    /// Unknown arguments of complete tables are warnings, not errors.
+    lenient_arguments: bool,
     def: Option<&'static StatementDef>,
+    /// Findings that do not stop the argument list (warnings; unknown-argument errors, so
+    /// that every misspelling of a statement is reported at once).
     warnings: Vec<Diagnostic>,
     /// Buffers shared with the other statements of the text.
     scratch: &'a mut Scratch,
@@ -464,12 +479,28 @@ impl StatementParser<'_> {
                 ),
             )),
             Lookup::NotFound if def.complete => {
-                let msg = format!(
-                    "unknown argument '{}' of {} ignored",
-                    word.to_ascii_uppercase(),
-                    def.name
-                );
-                self.warn(span, msg);
+                let upper = word.to_ascii_uppercase();
+                let guess = keywords::closest_arg(word, def)
+                    .map(|g| format!(" (did you mean {g}?)"))
+                    .unwrap_or_default();
+                let d = if self.lenient_arguments {
+                    let msg = format!("unknown argument '{upper}' of {} ignored{guess}", def.name);
+                    Diagnostic::warning(self.file.clone(), Some(span), msg)
+                } else {
+                    let msg = format!("unknown argument '{upper}' of {}{guess}", def.name);
+                    let mut takes: Vec<&str> = def.args.iter().map(|a| a.canonical).collect();
+                    takes.sort_unstable();
+                    takes.dedup();
+                    Diagnostic::error(self.file.clone(), Some(span), msg).with_hint(format!(
+                        "{} takes {}. Adams stops on an argument a statement does not take; \
+                         the lenient-arguments option (`--lenient-arguments`, Python \
+                         `lenient_arguments=True`, sweep `lenient_arguments = true`) reads \
+                         the dataset anyway, ignoring it with a warning",
+                        def.name,
+                        takes.join(", ")
+                    ))
+                };
+                self.warnings.push(d);
                 Ok(as_written())
             }
             Lookup::Ambiguous(_) | Lookup::NotFound => Ok(as_written()),

@@ -124,8 +124,21 @@ fn malformed_requests_are_errors_and_empty_ones_warnings() {
         .warnings
         .iter()
         .any(|w| w.message.contains("defines no output")));
-    // Arguments REQUEST does not have are ignored with a warning.
-    let ds = ok("REQUEST/1,ACCELERATION,I=1,J=2,COMMENTS=L01");
+    // An argument REQUEST does not have is an input error naming the one meant, or read
+    // leniently, ignored with a warning.
+    let e = errors("REQUEST/1,ACCELERATION,I=1,J=2,COMMENTS=L01");
+    assert_eq!(
+        e[0].2,
+        "unknown argument 'COMMENTS' of REQUEST (did you mean COMMENT?)"
+    );
+    let ds = parse_dataset_with(
+        Arc::from("t.adm"),
+        "title\nREQUEST/1,ACCELERATION,I=1,J=2,COMMENTS=L01\nEND\n",
+        ReadOptions {
+            lenient_arguments: true,
+        },
+    )
+    .unwrap_or_else(|e| panic!("{e}"));
     assert_eq!(ds.requests[0].kind, Some(RequestKind::Acceleration));
     assert!(ds
         .warnings

@@ -133,7 +133,17 @@ pub struct Source {
 impl Source {
     /// Reads the dataset at `path` (syntax and typing errors come with file:line:column).
     pub fn read(path: &Path) -> Result<Source, Diagnostics> {
-        Ok(Source::from_dataset(linkage_adm::read_dataset(path)?))
+        Source::read_with(path, linkage_adm::ReadOptions::default())
+    }
+
+    /// [`Source::read`] with `options` (lenient arguments).
+    pub fn read_with(
+        path: &Path,
+        options: linkage_adm::ReadOptions,
+    ) -> Result<Source, Diagnostics> {
+        Ok(Source::from_dataset(linkage_adm::read_dataset_with(
+            path, options,
+        )?))
     }
 
     pub fn from_dataset(read: Dataset) -> Source {

@@ -7,7 +7,42 @@ use std::process::ExitCode;
 
 // Loading a dataset and the analyses' shared pieces live in the library that the Python
 // package and sweeps use too.
-pub use linkage_api::{load, output_times, Loaded};
+use linkage_adm::ReadOptions;
+pub use linkage_api::{output_times, Loaded};
+use linkage_solve::coverage::Analysis;
+use std::sync::OnceLock;
+
+/// How this process reads datasets: the command line's `--lenient-arguments`, set once by
+/// `main` before any command runs.
+static READ_OPTIONS: OnceLock<ReadOptions> = OnceLock::new();
+
+/// Sets how every dataset of this process is read (the first call wins).
+pub fn set_read_options(options: ReadOptions) {
+    let _ = READ_OPTIONS.set(options);
+}
+
+/// How datasets are read (strict unless `--lenient-arguments`).
+pub fn read_options() -> ReadOptions {
+    READ_OPTIONS.get().copied().unwrap_or_default()
+}
+
+/// [`linkage_api::load`] with the command line's read options.
+pub fn load(
+    path: &Path,
+    deactivate: &[String],
+    analysis: Option<Analysis>,
+) -> Result<Loaded, Diagnostics> {
+    linkage_api::Source::read_with(path, read_options())?.into_loaded(deactivate, analysis)
+}
+
+/// [`linkage_api::load_model`] with the command line's read options.
+pub fn load_model(
+    path: &Path,
+    deactivate: &[String],
+    analysis: Option<Analysis>,
+) -> Result<Loaded, Diagnostics> {
+    linkage_api::Source::read_with(path, read_options())?.into_model(deactivate, analysis)
+}
 
 #[derive(Clone, Copy, ValueEnum, PartialEq, Eq, Debug)]
 pub enum Format {

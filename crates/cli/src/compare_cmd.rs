@@ -78,6 +78,8 @@ pub(crate) struct Signal {
     request: Option<(u64, String)>,
     /// Degrees, compared modulo 360.
     angle: bool,
+    /// The unit its CSV header states (`crank.x [m]`), when it states one.
+    pub(crate) unit: Option<String>,
     pub(crate) values: Vec<f64>,
 }
 
@@ -86,6 +88,8 @@ pub(crate) struct Series {
     pub(crate) file: Arc<str>,
     source: Source,
     pub(crate) times: Vec<f64>,
+    /// The unit of the times, when the file states it (`time [s]`).
+    pub(crate) time_unit: Option<String>,
     /// The line of each output time (CSV only), for messages.
     lines: Vec<u32>,
     pub(crate) signals: Vec<Signal>,
@@ -127,6 +131,7 @@ fn from_request_file(f: RequestFile) -> Series {
                 name: format!("REQUEST_{}.{comp}", r.id),
                 request: Some((r.id, comp.to_string())),
                 angle: r.type_code == 1 && is_angle(comp),
+                unit: None,
                 values: r.component(c),
             });
         }
@@ -135,6 +140,7 @@ fn from_request_file(f: RequestFile) -> Series {
         file: f.file,
         source: Source::RequestFile,
         times: f.times,
+        time_unit: None,
         lines: Vec::new(),
         signals,
     }
@@ -159,6 +165,17 @@ fn field_column(line: &str, k: usize) -> u32 {
     u32::try_from(before + 1).unwrap_or(u32::MAX)
 }
 
+/// The unit suffix of a CSV header field (`crank.x [m]` → `m`), if it has one.
+fn column_unit(field: &str) -> Option<String> {
+    let field = field.trim();
+    let name = linkage_report::units::column_name(field);
+    field
+        .get(name.len()..)
+        .map(|rest| rest.trim().trim_start_matches('[').trim_end_matches(']'))
+        .filter(|u| !u.is_empty())
+        .map(str::to_string)
+}
+
 /// A linkage CSV: a header whose first column is `time`, then rows of numbers.
 fn parse_csv(file: Arc<str>, text: &str) -> Result<Series, Diagnostics> {
     let mut lines = text.lines().enumerate().map(|(k, l)| {
@@ -179,6 +196,7 @@ fn parse_csv(file: Arc<str>, text: &str) -> Result<Series, Diagnostics> {
         .split(',')
         .map(linkage_report::units::column_name)
         .collect();
+    let units: Vec<Option<String>> = header.split(',').map(column_unit).collect();
     if names.first() != Some(&"time") {
         return Err(error(
             &file,
@@ -209,10 +227,12 @@ fn parse_csv(file: Arc<str>, text: &str) -> Result<Series, Diagnostics> {
     }
     let mut signals: Vec<Signal> = names[1..]
         .iter()
-        .map(|n| Signal {
+        .zip(&units[1..])
+        .map(|(n, unit)| Signal {
             name: n.to_string(),
             request: column_request(n),
             angle: n.rsplit('.').next().is_some_and(is_angle),
+            unit: unit.clone(),
             values: Vec::new(),
         })
         .collect();
@@ -255,6 +275,7 @@ fn parse_csv(file: Arc<str>, text: &str) -> Result<Series, Diagnostics> {
         file,
         source: Source::Csv,
         times,
+        time_unit: units[0].clone(),
         lines: rows,
         signals,
     })

@@ -34,6 +34,11 @@ use std::process::ExitCode;
 struct Cli {
     #[command(subcommand)]
     command: Command,
+    /// Read on when a statement has an argument it does not take (a misspelling such as
+    /// `MASSS = 1` in a PART): a warning, the argument ignored. Without it that is an input
+    /// error with a "did you mean" suggestion, as Adams stops on it.
+    #[arg(long, global = true)]
+    lenient_arguments: bool,
 }
 
 #[derive(Subcommand)]
@@ -231,18 +236,30 @@ enum Command {
         #[arg(long, value_name = "COLUMN", value_delimiter = ',', requires = "html")]
         plot: Vec<String>,
     },
-    /// Plot columns of a time history (CSV written by `simulate --out`, or a .req file)
-    /// against time, as SVG or PNG (by the extension of --out).
+    /// Plot columns of a time history (CSV written by `simulate --out` or `run`, or an Adams
+    /// .req file) against time, as SVG or PNG (by the extension of --out). The axes carry
+    /// the columns' units from the CSV header; columns of different units are refused.
     Plot {
         /// The time history (.csv or .req).
         file: PathBuf,
-        /// The columns to plot, by name without the unit suffix (`crank.x`), or for a .req
-        /// file `ID.COMPONENT` (`3.x` … as `compare` names them); comma-separated.
+        /// The columns to plot, comma-separated: CSV column names without the unit suffix
+        /// (`crank.x,crank.y` for the header `crank.x [m]`), or in a .req file
+        /// `REQUEST_<id>.<component>` (`REQUEST_3.x`; `3.x` also works), as `compare`
+        /// names them. All of one unit.
         #[arg(long, value_delimiter = ',', required = true)]
         columns: Vec<String>,
-        /// The image to write: .svg or .png.
+        /// The image to write: .svg or .png (anti-aliased).
         #[arg(long, value_name = "plot.svg|plot.png")]
         out: PathBuf,
+        /// Image width in pixels.
+        #[arg(long, default_value_t = plot_cmd::WIDTH)]
+        width: u32,
+        /// Image height in pixels.
+        #[arg(long, default_value_t = plot_cmd::HEIGHT)]
+        height: u32,
+        /// Line width in pixels.
+        #[arg(long, default_value_t = 2)]
+        line_width: u32,
     },
     /// Parameter sweep: run SPEC.toml's analysis over its varied arguments, each run's JSON
     /// report (and CSV for simulate) under --out DIR; `linkage sweep merge DIR` writes
@@ -346,6 +363,9 @@ fn main() -> ExitCode {
     common::restore_sigpipe();
     common::keep_freed_memory();
     let cli = Cli::parse();
+    common::set_read_options(linkage_adm::ReadOptions {
+        lenient_arguments: cli.lenient_arguments,
+    });
     for (input, output) in input_and_output(&cli.command) {
         if let Err(e) = common::check_output(input, output) {
             eprintln!("error: {e}");
@@ -370,7 +390,21 @@ fn main() -> ExitCode {
             &deactivate,
             allow_unstable,
         ),
-        Command::Plot { file, columns, out } => plot_cmd::run(&file, &columns, &out),
+        Command::Plot {
+            file,
+            columns,
+            out,
+            width,
+            height,
+            line_width,
+        } => plot_cmd::run(&plot_cmd::PlotArgs {
+            file: &file,
+            columns: &columns,
+            out: &out,
+            width,
+            height,
+            line_width,
+        }),
         Command::Verify {
             model,
             format,

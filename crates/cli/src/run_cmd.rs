@@ -42,6 +42,7 @@ pub fn run(
         interrupt: Some(interrupt),
         deactivate: deactivate.to_vec(),
         allow_unstable,
+        read: crate::common::read_options(),
     };
     let (summary, error) = match linkage_run::run_command_file(command_file, &options) {
         Ok(s) => (Some(s), None),

@@ -40,7 +40,7 @@ fn verify_one(args: &VerifyArgs, model: &Path) -> Verified {
     // memory of a large model: about 8 kB per part of a four-bar chain) are freed as soon as
     // the model no longer needs them.
     let loaded = if args.apply.is_none() {
-        linkage_api::load_model(model, args.deactivate, None)
+        crate::common::load_model(model, args.deactivate, None)
     } else {
         load(model, args.deactivate, None)
     };

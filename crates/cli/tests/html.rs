@@ -113,7 +113,7 @@ fn a_verify_page_draws_the_misaligned_hinge_in_red() {
         "highlight note"
     );
     assert!(html.contains("\"c\":[220,0,0]"), "a red joint symbol");
-    assert!(html.contains("<h3>redundant ("), "redundant table");
+    assert!(html.contains("<h3>Redundant ("), "redundant table");
 }
 
 #[test]
@@ -174,7 +174,7 @@ fn ic_static_series_and_linear_pages_are_written() {
     assert_eq!(code, 0, "{out}{err}");
     let html = read(&lin);
     assert!(html.contains("mode 1 ("), "a mode-shape animation");
-    assert!(html.contains("<h3>modes (1 rows)</h3>"), "the mode table");
+    assert!(html.contains("<h3>Modes (1 row)</h3>"), "the mode table");
 }
 
 #[test]
@@ -226,6 +226,124 @@ fn png_size(bytes: &[u8]) -> (u32, u32) {
     assert_eq!(&bytes[12..16], b"IHDR");
     let be = |k: usize| u32::from_be_bytes([bytes[k], bytes[k + 1], bytes[k + 2], bytes[k + 3]]);
     (be(16), be(20))
+}
+
+/// The text of every `<text>` element of an SVG.
+fn svg_texts(svg: &str) -> Vec<String> {
+    svg.split("<text")
+        .skip(1)
+        .filter_map(|t| t.split_once('>').map(|(_, rest)| rest))
+        .map(|rest| {
+            rest.split("</text>")
+                .next()
+                .unwrap_or("")
+                .trim()
+                .to_string()
+        })
+        .collect()
+}
+
+#[test]
+fn linkage_plot_labels_its_axes_with_units_and_draws_a_smooth_png_of_the_size_asked() {
+    let dir = scratch("plot-labels");
+    let csv = dir.join("fourbar.csv");
+    let (code, _, err) = run(&[
+        "simulate",
+        &example(),
+        "--end",
+        "1",
+        "--steps",
+        "50",
+        "--out",
+        csv.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let svg = dir.join("forces.svg");
+    let (code, _, err) = run(&[
+        "plot",
+        csv.to_str().unwrap(),
+        "--columns",
+        "crank_pivot.fx,crank_pivot.fy",
+        "--out",
+        svg.to_str().unwrap(),
+        "--width",
+        "640",
+        "--height",
+        "400",
+        "--line-width",
+        "3",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let text = read(&svg);
+    assert!(text.contains("width=\"640\" height=\"400\""), "{text:.300}");
+    let labels = svg_texts(&text);
+    assert!(labels.iter().any(|t| t == "time [s]"), "{labels:?}");
+    assert!(
+        labels
+            .iter()
+            .any(|t| t == "crank_pivot.fx, crank_pivot.fy [N]"),
+        "{labels:?}"
+    );
+    assert!(text.contains("stroke-width=\"3\""), "line width");
+    // The PNG: the size asked, and anti-aliased: the lines' edges are blends of the line
+    // colour and the white background, so far more colours than the six lines, the grid and
+    // the text would have without it.
+    let png = dir.join("forces.png");
+    let (code, _, err) = run(&[
+        "plot",
+        csv.to_str().unwrap(),
+        "--columns",
+        "crank_pivot.fx,crank_pivot.fy",
+        "--out",
+        png.to_str().unwrap(),
+        "--width",
+        "640",
+        "--height",
+        "400",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    assert_eq!(png_size(&std::fs::read(&png).unwrap()), (640, 400));
+    let colours = decode_png_colours(&png);
+    assert!(colours > 300, "{colours} colours");
+    // A .req column by the name `compare` gives it, and by its short form: the spring-mass
+    // example's REQUEST/1 written by a command file.
+    std::fs::copy(
+        root().join("examples/spring_mass.adm"),
+        dir.join("spring_mass.adm"),
+    )
+    .unwrap();
+    let acf = dir.join("sm.acf");
+    std::fs::write(
+        &acf,
+        "spring_mass\nsm\nSIMULATE/DYNAMIC, END = 1, STEPS = 10\nSTOP\n",
+    )
+    .unwrap();
+    let (code, out, err) = run(&[
+        "run",
+        acf.to_str().unwrap(),
+        "--out-dir",
+        dir.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{out}{err}");
+    let req = dir.join("sm.req");
+    for column in ["REQUEST_1.x", "1.x"] {
+        let (code, _, err) = run(&[
+            "plot",
+            req.to_str().unwrap(),
+            "--columns",
+            column,
+            "--out",
+            svg.to_str().unwrap(),
+        ]);
+        assert_eq!(code, 0, "{column}: {err}");
+        let labels = svg_texts(&read(&svg));
+        assert!(
+            labels
+                .iter()
+                .any(|t| t == "REQUEST_1.x [no unit in the file]"),
+            "{labels:?}"
+        );
+    }
 }
 
 #[test]
@@ -290,6 +408,20 @@ fn linkage_plot_writes_an_svg_and_a_png_of_csv_columns() {
     ]);
     assert_eq!(code, 2);
     assert!(err.contains("no column 'nope.x'"), "{err}");
+    // Columns of different units are refused, naming each column's unit.
+    let (code, _, err) = run(&[
+        "plot",
+        csv.to_str().unwrap(),
+        "--columns",
+        "crank_pivot.fy,crank.wz",
+        "--out",
+        svg.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 2, "{err}");
+    assert!(
+        err.contains("crank_pivot.fy [N], crank.wz [rad/s]: the columns have different units"),
+        "{err}"
+    );
     // The input is never the output.
     let (code, _, _) = run(&[
         "plot",
@@ -336,7 +468,21 @@ fn chromium() -> Option<PathBuf> {
 
 /// Chromium headless on `page` with `extra` arguments; its standard output.
 fn headless(browser: &Path, profile: &Path, extra: &[&str], page: &Path) -> String {
-    let url = format!("file://{}", page.canonicalize().unwrap().display());
+    headless_at(browser, profile, extra, page, "")
+}
+
+/// [`headless`] on `page` with the address fragment `fragment` (`#paused&frame=3`).
+fn headless_at(
+    browser: &Path,
+    profile: &Path,
+    extra: &[&str],
+    page: &Path,
+    fragment: &str,
+) -> String {
+    let url = format!(
+        "file://{}{fragment}",
+        page.canonicalize().unwrap().display()
+    );
     let out = Command::new(browser)
         .args([
             "--headless",
@@ -357,6 +503,206 @@ fn headless(browser: &Path, profile: &Path, extra: &[&str], page: &Path) -> Stri
     String::from_utf8_lossy(&out.stdout).into_owned()
 }
 
+/// The text of the page's hidden `#status` element in a DOM dump.
+fn status_of(dom: &str) -> String {
+    dom.split("<div id=\"status\" hidden=\"\">")
+        .nth(1)
+        .and_then(|s| s.split("</div>").next())
+        .unwrap_or_else(|| panic!("no status element in the DOM: {dom:.500}"))
+        .to_string()
+}
+
+/// The number after `key=` in a status text.
+fn status_number(status: &str, key: &str) -> Option<f64> {
+    status
+        .split_whitespace()
+        .find_map(|w| w.strip_prefix(&format!("{key}=")))
+        .and_then(|v| v.parse().ok())
+}
+
+/// The x of the first plot's time cursor and whether it is shown, in a DOM dump.
+fn first_cursor(dom: &str) -> (f64, bool) {
+    let line = dom
+        .split("<line class=\"cursor\"")
+        .nth(1)
+        .and_then(|s| s.split('>').next())
+        .unwrap_or_else(|| panic!("no time cursor in the DOM"));
+    let attr = |name: &str| {
+        line.split(&format!(" {name}=\""))
+            .nth(1)
+            .and_then(|v| v.split('"').next())
+            .unwrap_or_else(|| panic!("no {name} in {line}"))
+            .to_string()
+    };
+    (attr("x1").parse().unwrap(), attr("visibility") == "visible")
+}
+
+#[test]
+fn every_page_kind_opens_with_its_verdict_and_its_plots_follow_the_time_slider() {
+    let Some(browser) = chromium() else {
+        return;
+    };
+    let dir = scratch("kinds");
+    let ex = example();
+    let pendulum = root().join("mechanisms/pendulum.adm");
+    // The pendulum with gravity reversed: it hangs in an unstable equilibrium, so the
+    // quasi-static series fails with its error (exit 1) and still has its plots.
+    let inverted = dir.join("inverted.adm");
+    let text = read(&pendulum);
+    assert!(text.contains("JGRAV = -9.80665"));
+    std::fs::write(
+        &inverted,
+        text.replace("JGRAV = -9.80665", "JGRAV = 9.80665"),
+    )
+    .unwrap();
+    let acf = root().join("examples/fourbar.acf");
+    let out_dir = dir.display().to_string();
+    // (name, arguments, exit code, verdict class, whether the page has plots against time)
+    let kinds: Vec<(&str, Vec<String>, u8, &str, bool)> = vec![
+        ("verify", vec!["verify".into(), ex.clone()], 0, "ok", false),
+        ("ic", vec!["ic".into(), ex.clone()], 0, "ok", false),
+        (
+            "linear",
+            vec!["linear".into(), pendulum.display().to_string()],
+            0,
+            "ok",
+            false,
+        ),
+        (
+            "simulate",
+            vec![
+                "simulate".into(),
+                ex.clone(),
+                "--end".into(),
+                "1".into(),
+                "--steps".into(),
+                "20".into(),
+            ],
+            0,
+            "ok",
+            true,
+        ),
+        (
+            "series",
+            vec![
+                "static".into(),
+                ex.clone(),
+                "--end".into(),
+                "1".into(),
+                "--steps".into(),
+                "4".into(),
+            ],
+            0,
+            "ok",
+            true,
+        ),
+        (
+            "unstable",
+            vec![
+                "static".into(),
+                inverted.display().to_string(),
+                "--end".into(),
+                "1".into(),
+                "--steps".into(),
+                "4".into(),
+            ],
+            1,
+            "failed",
+            true,
+        ),
+        (
+            "run",
+            vec![
+                "run".into(),
+                acf.display().to_string(),
+                "--out-dir".into(),
+                out_dir.clone(),
+            ],
+            0,
+            "ok",
+            true,
+        ),
+    ];
+    for (name, mut args, code, class, timed) in kinds {
+        let page = dir.join(format!("{name}.html"));
+        args.push("--html".into());
+        args.push(page.display().to_string());
+        let argv: Vec<&str> = args.iter().map(String::as_str).collect();
+        let (got, out, err) = run(&argv);
+        assert_eq!(got, i32::from(code), "{name}: {out}{err}");
+        let html = read(&page);
+        // The verdict comes first, in words, with the errors; no debug line is shown.
+        let verdict = html
+            .find("<section id=\"verdict\"")
+            .unwrap_or_else(|| panic!("{name}: no verdict"));
+        assert!(
+            html[verdict..].starts_with(&format!(
+                "<section id=\"verdict\" class=\"verdict {class}\">"
+            )),
+            "{name}: {}",
+            &html[verdict..verdict + 200]
+        );
+        assert!(verdict < html.find("<canvas").unwrap(), "{name}");
+        if class == "failed" {
+            let errors = &html[verdict..html[verdict..].find("</section>").unwrap() + verdict];
+            assert!(errors.contains("FAILED"), "{name}: {errors}");
+            assert!(
+                errors.contains("<li>the equilibrium at time 0 is UNSTABLE"),
+                "{name}: {errors}"
+            );
+        }
+        let profile = dir.join(format!("profile-{name}"));
+        let first = headless_at(
+            &browser,
+            &profile,
+            &["--dump-dom"],
+            &page,
+            "#paused&frame=0",
+        );
+        let status = status_of(&first);
+        assert!(status.starts_with("ok frames="), "{name}: {status}");
+        // Laid out by the browser: the verdict's box ends above the first plot.
+        let bottom = status_number(&status, "verdict_bottom").expect("verdict_bottom");
+        match status_number(&status, "first_plot_top") {
+            Some(top) => assert!(bottom < top, "{name}: {status}"),
+            None => assert!(!timed, "{name}: no plot: {status}"),
+        }
+        if !timed {
+            continue;
+        }
+        // The slider at the first output puts the cursor on the plots' left edge, at the
+        // last output on their right edge (every plot spans the run's times: x from 70 to
+        // 70 + 438 in the SVG's units).
+        let frames = status_number(&status, "frames").unwrap() as usize;
+        assert_eq!(first_cursor(&first), (70.0, true), "{name}");
+        let last = headless_at(
+            &browser,
+            &profile,
+            &["--dump-dom"],
+            &page,
+            &format!("#paused&frame={}", frames - 1),
+        );
+        assert_eq!(first_cursor(&last), (508.0, true), "{name}");
+        assert_eq!(
+            status_number(&status_of(&last), "cursor"),
+            Some(508.0),
+            "{name}"
+        );
+        // Half-way through the run (the simulate page: 21 outputs over a second, frame 10 at
+        // t = 0.5) the cursor is half-way along the axis.
+        if name == "simulate" {
+            let mid = headless_at(
+                &browser,
+                &profile,
+                &["--dump-dom"],
+                &page,
+                "#paused&frame=10",
+            );
+            assert_eq!(first_cursor(&mid), (289.0, true), "{name}");
+        }
+    }
+}
+
 #[test]
 fn the_page_runs_in_a_browser_and_its_3d_view_draws_the_mechanism() {
     let Some(browser) = chromium() else {
@@ -375,19 +721,19 @@ fn the_page_runs_in_a_browser_and_its_3d_view_draws_the_mechanism() {
         page.to_str().unwrap(),
     ]);
     assert_eq!(code, 0, "{err}");
-    let dom = headless(&browser, &dir.join("profile"), &["--dump-dom"], &page);
-    let status = dom
-        .split("<div id=\"status\">")
-        .nth(1)
-        .and_then(|s| s.split("</div>").next())
-        .unwrap_or_else(|| panic!("no status element in the DOM: {dom:.500}"));
+    let dom = headless_at(
+        &browser,
+        &dir.join("profile"),
+        &["--dump-dom"],
+        &page,
+        "#paused",
+    );
+    let status = status_of(&dom);
+    let status = status.as_str();
     // "ok frames=101 items=9 triangles=… drawn_pixels=N": the scripts ran without error.
     assert!(status.starts_with("ok frames=101 items=9 "), "{status}");
-    let pixels: usize = status
-        .split("drawn_pixels=")
-        .nth(1)
-        .and_then(|n| n.trim().parse().ok())
-        .unwrap_or_else(|| panic!("{status}"));
+    let pixels =
+        status_number(status, "drawn_pixels").unwrap_or_else(|| panic!("{status}")) as usize;
     // The four-bar spans a good part of the 900 × 520 canvas: thousands of pixels, far
     // from all of them.
     assert!((2_000..200_000).contains(&pixels), "{status}");
@@ -519,4 +865,46 @@ fn plot_picks_the_columns_of_a_simulate_page() {
     ]);
     assert_eq!(code, 2);
     assert!(err.contains("--plot crank.q: no such column"), "{err}");
+}
+
+#[test]
+fn a_windshield_over_the_wiper_starts_transparent_and_the_view_frames_the_mechanism() {
+    let (Some(browser), Some(corpus)) = (chromium(), corpus()) else {
+        return;
+    };
+    let dir = scratch("framing");
+    // The wiper: a 2.5 m × 1.7 m windshield BOX over the linkage; the four-bar example: no
+    // solid as large as its scene.
+    let wiper = corpus
+        .join("Dinh-Hao-Nguyen__MSCAdams_Wiper_Project__ControlSimulink__Controls_Plant_5.adm");
+    let fast = corpus.join("old-NWTC__FAST__CertTest__Old_Adams_files__Test02_ADAMS.adm");
+    for (name, model, transparent) in [
+        ("wiper", wiper, 1),
+        ("turbine", fast, 0),
+        ("fourbar", root().join("examples/fourbar.adm"), 0),
+    ] {
+        let page = dir.join(format!("{name}.html"));
+        run(&[
+            "verify",
+            model.to_str().unwrap(),
+            "--html",
+            page.to_str().unwrap(),
+        ]);
+        let dom = headless_at(
+            &browser,
+            &dir.join(format!("profile-{name}")),
+            &["--dump-dom"],
+            &page,
+            "#paused",
+        );
+        let status = status_of(&dom);
+        assert_eq!(
+            status_number(&status, "transparent"),
+            Some(transparent as f64),
+            "{name}: {status}"
+        );
+        // Framed: the mechanism fills a good part of the 900 × 520 canvas.
+        let pixels = status_number(&status, "drawn_pixels").unwrap();
+        assert!(pixels > 5_000.0, "{name}: {status}");
+    }
 }

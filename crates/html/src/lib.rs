@@ -1,6 +1,7 @@
 //! # linkage-html — one self-contained HTML page per analysis
 //!
-//! A page holds the analysis report as tables (the JSON structures of `linkage-report`,
+//! A page opens with the verdict of the analysis in words and every error ([`verdict`]),
+//! then holds the analysis report as tables (the JSON structures of `linkage-report`,
 //! serialised, with units), inline SVG plots of the run, and a 3-D view of the mechanism
 //! drawn by a small canvas renderer of its own (`viewer.js`, inline): the GRAPHICS of the
 //! dataset tessellated here in Rust ([`mesh`], [`scene`]), joint symbols, part poses animated
@@ -23,6 +24,7 @@ pub mod series;
 pub mod svg;
 pub mod tables;
 pub mod text;
+pub mod verdict;
 
 pub use page::{render, Page};
 

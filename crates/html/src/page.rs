@@ -1,15 +1,22 @@
 //! The HTML document: one file, every style and script inline, no network reference.
 //!
-//! Layout: a header (analysis, file, title), the 3-D view with its controls and notes, the
-//! plots, then the report tables. The scene goes into the page as JSON
+//! Layout: a header (analysis, file, title), the verdict in words with every error of the
+//! report ([`crate::verdict`]), the 3-D view with its controls, parts list and notes, the
+//! plots (each against time with a time cursor the view's slider moves), then the report
+//! tables. The scene goes into the page as JSON
 //! (`<script type="application/json" id="scene-data">`): meshes in body frames as flat `f32`
 //! lists, and per animation one flat list per frame of `x y z qw qx qy qz` for each moving
-//! part. A first inline script catches every script error into `#status`; the viewer writes
-//! `ok frames=… drawn_pixels=…` there once it has drawn its first frame.
+//! part. A first inline script catches every script error into the hidden `#status`; the
+//! viewer writes `ok frames=… drawn_pixels=…` and the layout facts a test reads there once it
+//! has drawn its first frame (the element is never shown).
+//!
+//! The page's address may carry `#paused` (no autoplay) and `frame=K` (the slider moved to
+//! output K, as a user would): `page.html#paused&frame=40`.
 
 use crate::scene::{Frames, Scene};
 use crate::svg::{self, Plot};
 use crate::text::{escape, script_json};
+use crate::verdict::{verdict, Level};
 use glam::DVec3;
 use serde::Serialize;
 use std::fmt::Write;
@@ -181,7 +188,62 @@ h1{font-size:20px}h2{font-size:17px;margin-top:28px}h3,h4{font-size:15px}\
 table{border-collapse:collapse;margin:6px 0 14px}td,th{border:1px solid #ccc;padding:2px 6px;text-align:left;font-variant-numeric:tabular-nums}\
 th{background:#f3f3f6}.kv th{width:240px}canvas{border:1px solid #bbb;background:#fafafc;cursor:grab;max-width:100%}\
 .controls{margin:6px 0}.plots svg{margin:4px;font-size:11px}.plots .pt{font-size:13px;font-weight:600}\
-.errors{color:#b00}.warnings{color:#850}.note{color:#555}#status{color:#777;font-size:12px}";
+.errors{color:#b00}.warnings{color:#850}.note{color:#555}\
+.verdict{border:2px solid;border-radius:6px;padding:8px 12px;margin:10px 0 16px}\
+.verdict .headline{font-size:16px;font-weight:600;margin:2px 0}\
+.verdict.ok{border-color:#4a4;background:#f2fbf2}.verdict.attention{border-color:#c80;background:#fff8ec}\
+.verdict.failed{border-color:#c00;background:#fff1f1}.verdict.failed .headline{color:#b00}\
+.view{display:flex;gap:10px;align-items:flex-start}#parts{max-height:520px;overflow:auto;font-size:12px;min-width:140px}\
+#parts label{display:block;white-space:nowrap}";
+
+/// The verdict box: the headline, every error, the warnings folded.
+fn verdict_html(page: &Page) -> String {
+    let v = verdict(&page.analysis, &page.report);
+    let class = match v.level {
+        Level::Ok => "ok",
+        Level::Attention => "attention",
+        Level::Failed => "failed",
+    };
+    let mut s = format!(
+        "<section id=\"verdict\" class=\"verdict {class}\"><p class=\"headline\">{}</p>",
+        escape(&v.headline)
+    );
+    if !v.errors.is_empty() {
+        s.push_str("<ul class=\"errors\">");
+        for e in &v.errors {
+            let _ = write!(s, "<li>{}</li>", escape(e));
+        }
+        s.push_str("</ul>");
+    }
+    if !v.warnings.is_empty() {
+        let _ = write!(
+            s,
+            "<details class=\"warnings\"><summary>{} warning{}</summary><ul>",
+            v.warnings.len(),
+            if v.warnings.len() == 1 { "" } else { "s" }
+        );
+        for w in &v.warnings {
+            let _ = write!(s, "<li>{}</li>", escape(w));
+        }
+        s.push_str("</ul></details>");
+    }
+    s.push_str("</section>");
+    s
+}
+
+/// The plots, each with its y noise judged against the largest magnitude of its quantity
+/// (the plots of the same y label) on the page.
+fn plots_html(plots: &[Plot]) -> String {
+    let mut scale: std::collections::HashMap<&str, f64> = std::collections::HashMap::new();
+    for p in plots {
+        let m = scale.entry(p.y_label.as_str()).or_insert(0.0);
+        *m = m.max(svg::magnitude(p));
+    }
+    plots
+        .iter()
+        .map(|p| svg::svg_scaled(p, scale.get(p.y_label.as_str()).copied().unwrap_or(0.0)))
+        .collect()
+}
 
 /// The whole page.
 pub fn render(page: &Page) -> String {
@@ -201,7 +263,7 @@ pub fn render(page: &Page) -> String {
         "<!DOCTYPE html><html lang=\"en\"><head><meta charset=\"utf-8\">\
          <title>linkage {} — {}</title><style>{STYLE}</style></head><body>\
          <h1>linkage {}: {}</h1><p>{}</p>\
-         <div id=\"status\">loading</div>\
+         <div id=\"status\" hidden>loading</div>\
          <script>window.__linkageErrors=[];window.onerror=function(m,s,l,c){{\
          window.__linkageErrors.push(m+' at '+l+':'+c);\
          var e=document.getElementById('status');if(e)e.textContent='error: '+window.__linkageErrors.join('; ');}};</script>",
@@ -211,8 +273,9 @@ pub fn render(page: &Page) -> String {
         escape(file),
         escape(title),
     );
-    s.push_str("<h2>3-D view</h2><canvas id=\"view\" width=\"900\" height=\"520\"></canvas><div class=\"controls\">");
-    s.push_str("<button id=\"play\">play</button> <input id=\"frame\" type=\"range\" min=\"0\" max=\"0\" value=\"0\" style=\"width:60%\"> <span id=\"clock\"></span>");
+    s.push_str(&verdict_html(page));
+    s.push_str("<h2>3-D view</h2><div class=\"view\"><canvas id=\"view\" width=\"900\" height=\"520\"></canvas><div id=\"parts\"></div></div><div class=\"controls\">");
+    s.push_str("<button id=\"play\">play</button> <input id=\"frame\" type=\"range\" min=\"0\" max=\"0\" value=\"0\" style=\"width:55%\"> <span id=\"clock\"></span> <label><input id=\"autoplay\" type=\"checkbox\" checked> autoplay</label>");
     if page.animations.len() > 1 {
         s.push_str(" <select id=\"anim\">");
         for (k, a) in page.animations.iter().enumerate() {
@@ -220,7 +283,7 @@ pub fn render(page: &Page) -> String {
         }
         s.push_str("</select>");
     }
-    s.push_str("</div><p class=\"note\">Drag to orbit, wheel to zoom.");
+    s.push_str("</div><p class=\"note\">Drag to orbit, wheel to zoom; click a part to make it transparent, again to hide it (the list beside the view shows it again). A solid whose surface spans much of the scene (a windshield, a base plate) starts transparent.");
     let budget = frame_budget(page.scene.parts.len());
     for a in &page.animations {
         let total = a.total.max(a.times.len());
@@ -254,9 +317,7 @@ pub fn render(page: &Page) -> String {
             let _ = write!(s, "<p class=\"note\">{}</p>", escape(n));
         }
         s.push_str("<div class=\"plots\">");
-        for p in &page.plots {
-            s.push_str(&svg::svg(p));
-        }
+        s.push_str(&plots_html(&page.plots));
         s.push_str("</div>");
     }
     s.push_str("<h2>Report</h2>");

@@ -190,6 +190,7 @@ mod tests {
             damping_ratio: 0.0,
             real: 0.0,
             imag: 2.0,
+            zero: false,
             shape: Some(vec![PartShapeJson {
                 name: "p".into(),
                 translation: vec![

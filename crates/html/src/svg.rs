@@ -1,5 +1,12 @@
 //! Inline SVG line plots: one or more series against a common x axis, with ticks, labels and
 //! a legend. Non-finite points are left out (a gap is not drawn as a line through it).
+//!
+//! The y axis never magnifies rounding noise: its span is at least [`NOISE_SPAN`] of the
+//! quantity's scale (the largest magnitude of that quantity on the page, [`svg_scaled`]), so a
+//! coordinate that stays at 0 ± 1e-20 m among parts that move by metres is a flat line at 0.
+//! A plot against time carries a time cursor (`<line class="cursor">`, hidden until the page's
+//! view moves it) and the mapping of time to its x coordinate (`data-t0`, `data-t1`,
+//! `data-left`, `data-width`).
 
 use crate::text::escape;
 use std::fmt::Write;
@@ -14,6 +21,17 @@ const LEFT: f64 = 70.0;
 const RIGHT: f64 = 12.0;
 const TOP: f64 = 28.0;
 const BOTTOM: f64 = 44.0;
+
+/// A plot's y span is at least this fraction of its quantity's scale: below it a variation is
+/// rounding noise (the solver resolves about 1e-10 of the model's size; a 280-pixel plot shows
+/// 1e-3 of its span), drawn flat.
+pub const NOISE_SPAN: f64 = 1e-6;
+
+/// The half-height of the y range of a flat plot, as a fraction of the quantity's scale.
+const FLAT_PAD: f64 = 0.05;
+
+/// The y range extends this fraction of the values' range beyond them, on each side.
+const EDGE_MARGIN: f64 = 0.04;
 
 /// Line colours, in order of series.
 const COLOURS: [&str; 6] = [
@@ -62,9 +80,10 @@ fn ticks(lo: f64, hi: f64) -> Vec<f64> {
         .map(|m| m * mag)
         .find(|s| span / s <= 6.0)
         .unwrap_or(10.0 * mag);
-    let first = (lo / step).ceil() * step;
+    // Integer multiples of the step: a tick at zero is exactly zero.
+    let first = (lo / step).ceil();
     (0..=12)
-        .map(|k| first + k as f64 * step)
+        .map(|k| (first + k as f64) * step)
         .take_while(|t| *t <= hi + step * 1e-9)
         .collect()
 }
@@ -81,8 +100,45 @@ fn label(v: f64) -> String {
     }
 }
 
-/// The plot as an `<svg>` element (thinned to [`MAX_POINTS`] per series).
+/// The plot as an `<svg>` element (thinned to [`MAX_POINTS`] per series), its noise judged
+/// against its own largest magnitude.
 pub fn svg(plot: &Plot) -> String {
+    svg_scaled(plot, 0.0)
+}
+
+/// The largest finite magnitude of the y values of `plot`.
+pub fn magnitude(plot: &Plot) -> f64 {
+    plot.series
+        .iter()
+        .flat_map(|s| s.points.iter())
+        .filter(|p| p.0.is_finite() && p.1.is_finite())
+        .fold(0.0, |m: f64, p| m.max(p.1.abs()))
+}
+
+/// The y range shown for values in `y0..=y1` of a quantity of scale `scale` (the largest
+/// magnitude of that quantity among the plots it is shown with): the values' range, or when
+/// it is narrower than [`NOISE_SPAN`] of the scale, a flat range about their middle (0 when
+/// the middle itself is noise).
+fn y_range(y0: f64, y1: f64, scale: f64) -> (f64, f64) {
+    let scale = scale.max(y0.abs()).max(y1.abs());
+    if y1 - y0 > NOISE_SPAN * scale && y1 > y0 {
+        // A margin, so that a line along the range's edge is not drawn on the frame.
+        let margin = EDGE_MARGIN * (y1 - y0);
+        return (y0 - margin, y1 + margin);
+    }
+    let mid = 0.5 * (y0 + y1);
+    let mid = if mid.abs() <= NOISE_SPAN * scale {
+        0.0
+    } else {
+        mid
+    };
+    let pad = if scale > 0.0 { FLAT_PAD * scale } else { 1.0 };
+    (mid - pad, mid + pad)
+}
+
+/// The plot as an `<svg>` element, its y noise judged against `scale` (or its own largest
+/// magnitude when that is larger).
+pub fn svg_scaled(plot: &Plot, scale: f64) -> String {
     let finite = |p: &&(f64, f64)| p.0.is_finite() && p.1.is_finite();
     let all = plot
         .series
@@ -107,17 +163,20 @@ pub fn svg(plot: &Plot) -> String {
     if x1 - x0 <= 0.0 {
         x1 = x0 + 1.0;
     }
-    if y1 - y0 <= 1e-12 * y0.abs().max(y1.abs()) {
-        let pad = y0.abs().max(1.0) * 0.05;
-        (y0, y1) = (y0 - pad, y1 + pad);
-    }
+    (y0, y1) = y_range(y0, y1, scale);
     let (pw, ph) = (WIDTH - LEFT - RIGHT, HEIGHT - TOP - BOTTOM);
     let sx = |x: f64| LEFT + (x - x0) / (x1 - x0) * pw;
     let sy = |y: f64| TOP + (1.0 - (y - y0) / (y1 - y0)) * ph;
     let mut s = String::new();
+    let timed = plot.x_label.starts_with("time");
+    let cursor_data = if timed {
+        format!(" data-t0=\"{x0}\" data-t1=\"{x1}\" data-left=\"{LEFT}\" data-width=\"{pw}\"")
+    } else {
+        String::new()
+    };
     let _ = write!(
         s,
-        "<svg class=\"plot\" viewBox=\"0 0 {WIDTH} {HEIGHT}\" \
+        "<svg class=\"plot\" viewBox=\"0 0 {WIDTH} {HEIGHT}\"{cursor_data} \
          width=\"{WIDTH}\" height=\"{HEIGHT}\" role=\"img\"><title>{}</title>\
          <rect x=\"{LEFT}\" y=\"{TOP}\" width=\"{pw}\" height=\"{ph}\" fill=\"#fff\" stroke=\"#999\"/>\
          <text x=\"{}\" y=\"16\" text-anchor=\"middle\" class=\"pt\">{}</text>",
@@ -175,6 +234,14 @@ pub fn svg(plot: &Plot) -> String {
             LEFT + 6.0 + (k % 3) as f64 * (pw / 3.0),
             TOP + 14.0 + (k / 3) as f64 * 13.0,
             escape(&series.name)
+        );
+    }
+    if timed {
+        let _ = write!(
+            s,
+            "<line class=\"cursor\" x1=\"{LEFT}\" y1=\"{TOP}\" x2=\"{LEFT}\" y2=\"{}\" \
+             stroke=\"#c00\" stroke-width=\"1.5\" visibility=\"hidden\"/>",
+            TOP + ph
         );
     }
     s.push_str("</svg>");
@@ -235,6 +302,59 @@ mod tests {
         // x from 0 to 2 maps onto the plot's width.
         assert!(s.contains(&format!("{:.2},", LEFT)), "{s}");
         assert!(s.contains(&format!("{:.2},", WIDTH - RIGHT)), "{s}");
+    }
+
+    fn y_ticks(svg: &str) -> Vec<String> {
+        svg.split("text-anchor=\"end\">")
+            .skip(1)
+            .map(|t| t.split('<').next().unwrap_or("").to_string())
+            .collect()
+    }
+
+    #[test]
+    fn rounding_noise_on_the_y_axis_is_a_flat_line_at_zero() {
+        // z of a planar part: ±1e-20 m; the page's positions reach 0.5 m. The axis spans
+        // ±5 % of 0.5 m about 0, not ±1e-20.
+        let pts: Vec<(f64, f64)> = (0..50)
+            .map(|k| (k as f64 * 0.02, if k % 2 == 0 { 1e-20 } else { -1e-20 }))
+            .collect();
+        let plot = Plot {
+            title: "z".into(),
+            x_label: "time [s]".into(),
+            y_label: "position [m]".into(),
+            series: vec![Series {
+                name: "z".into(),
+                points: pts,
+            }],
+        };
+        let s = svg_scaled(&plot, 0.5);
+        assert_eq!(y_ticks(&s), ["-0.02", "-0.01", "0", "0.01", "0.02"], "{s}");
+        // Alone, its scale is its own: the noise is all there is to show.
+        assert_eq!(y_ticks(&svg(&plot))[0], "-1.00e-20");
+        // A real variation of 1 mm in 0.5 m is drawn as it is (with 4 % margins).
+        let (lo, hi) = y_range(0.499, 0.5, 0.5);
+        assert!((lo - 0.49896).abs() < 1e-12 && (hi - 0.50004).abs() < 1e-12);
+        // A constant away from zero: centred on it, ±5 % of the scale.
+        let (lo, hi) = y_range(0.3, 0.3, 0.5);
+        assert!((lo - 0.275).abs() < 1e-12 && (hi - 0.325).abs() < 1e-12);
+    }
+
+    #[test]
+    fn a_plot_against_time_carries_a_hidden_time_cursor() {
+        let plot = |x_label: &str| Plot {
+            title: "t".into(),
+            x_label: x_label.into(),
+            y_label: "y".into(),
+            series: vec![Series {
+                name: "s".into(),
+                points: vec![(0.0, 0.0), (2.0, 1.0)],
+            }],
+        };
+        let s = svg(&plot("time [s]"));
+        assert!(s.contains("data-t0=\"0\" data-t1=\"2\""), "{s}");
+        assert!(s.contains("<line class=\"cursor\""), "{s}");
+        let s = svg(&plot("Newton iteration"));
+        assert!(!s.contains("cursor"), "{s}");
     }
 
     #[test]

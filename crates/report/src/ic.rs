@@ -1,7 +1,7 @@
 //! The initial-conditions report: text and JSON.
 
 use crate::num::sci;
-use crate::poses::{a3, part_states, PartStateJson};
+use crate::poses::{a3, fixed, part_states, PartStateJson};
 use crate::reactions::reaction_table;
 use crate::reactions::{reactions_json, ReactionJson};
 use crate::units::{text_line, units_json, Angle, UnitsJson};
@@ -225,11 +225,15 @@ pub fn to_text(j: &IcJson) -> String {
         let _ = writeln!(s);
         let _ = writeln!(s, "Moved parts:");
         for m in &j.moved_parts {
-            let t = m.translation;
+            let t = m.translation.map(|x| fixed(x, 6));
             let _ = writeln!(
                 s,
-                "   {:<24} translation ({:.6}, {:.6}, {:.6})  rotation {:.4} deg",
-                m.name, t[0], t[1], t[2], m.rotation_deg
+                "   {:<24} translation ({}, {}, {})  rotation {} deg",
+                m.name,
+                t[0],
+                t[1],
+                t[2],
+                fixed(m.rotation_deg, 4)
             );
         }
     }

@@ -40,8 +40,43 @@ pub struct ModeJson {
     pub damping_ratio: f64,
     pub real: f64,
     pub imag: f64,
+    /// A zero eigenvalue (a rigid-body motion at rounding-noise frequency): counted in
+    /// `zero_eigenvalues`, not listed in the text report and the page.
+    pub zero: bool,
     #[serde(skip_serializing_if = "Option::is_none")]
     pub shape: Option<Vec<PartShapeJson>>,
+}
+
+/// Which of `modes` are the `zero_eigenvalues` zero eigenvalues the solver counted: the modes
+/// of smallest undamped frequency, a complex pair counting two eigenvalues, as long as they
+/// fit in the count (the solver counts `|λ|` at or below its zero tolerance, so these are
+/// exactly the smallest ones).
+pub fn zero_modes(modes: &[ModeJson], zero_eigenvalues: usize) -> Vec<bool> {
+    let mut order: Vec<usize> = (0..modes.len()).collect();
+    order.sort_by(|&a, &b| modes[a].frequency.total_cmp(&modes[b].frequency));
+    let mut zero = vec![false; modes.len()];
+    let mut counted = 0;
+    for k in order {
+        let eigenvalues = if modes[k].imag > 0.0 { 2 } else { 1 };
+        if counted + eigenvalues > zero_eigenvalues {
+            break;
+        }
+        counted += eigenvalues;
+        zero[k] = true;
+    }
+    zero
+}
+
+/// The real part and damping ratio of `mode` as the text shows them: zero when the real
+/// part is rounding noise next to the largest `|λ|` of the table (`scale`, cycles per time
+/// unit; [`crate::num::NOISE_RELATIVE`]).
+fn shown_damping(mode: &ModeJson, scale: f64) -> (f64, f64) {
+    let real = crate::num::denoise(mode.real, scale);
+    if real == 0.0 {
+        (0.0, 0.0)
+    } else {
+        (real, mode.damping_ratio)
+    }
 }
 
 /// The JSON document of `linkage linear --format json`.
@@ -86,6 +121,7 @@ fn modes_json(model: &Model, l: &Linearization) -> Vec<ModeJson> {
             damping_ratio: m.damping_ratio,
             real: m.real / TAU,
             imag: m.imag / TAU,
+            zero: false,
             shape: m.shape.as_ref().map(|sh| {
                 sh.iter()
                     .map(|p| PartShapeJson {
@@ -150,9 +186,14 @@ pub fn to_json(
                     l.zero_eigenvalues, l.expected_zero_eigenvalues
                 ));
             }
+            let mut modes = modes_json(model, l);
+            let zero = zero_modes(&modes, l.zero_eigenvalues);
+            for (m, zero) in modes.iter_mut().zip(zero) {
+                m.zero = zero;
+            }
             (
                 l.dof,
-                modes_json(model, l),
+                modes,
                 l.zero_eigenvalues,
                 l.expected_zero_eigenvalues,
             )
@@ -265,7 +306,10 @@ pub fn to_text(j: &LinearJson) -> String {
         fortran_e(j.time, 5)
     );
     let _ = writeln!(s, "    Number    Real(cycles/second)      Imag.(cycles/second)   Undamped freq.   Damping ratio");
-    for m in &j.modes {
+    let listed: Vec<&ModeJson> = j.modes.iter().filter(|m| !m.zero).collect();
+    let scale = crate::num::scale_of(listed.iter().map(|m| m.frequency));
+    for m in &listed {
+        let (real, ratio) = shown_damping(m, scale);
         let imag = if m.imag > 0.0 {
             format!("+/- {:>16}", fortran_e(m.imag, 5))
         } else {
@@ -275,12 +319,20 @@ pub fn to_text(j: &LinearJson) -> String {
             s,
             "    {:>6}    {:>16}      {imag}   {:>14}   {:>13}",
             m.number,
-            fortran_e(m.real, 5),
+            fortran_e(real, 5),
             fortran_e(m.frequency, 5),
-            fortran_e(m.damping_ratio, 5)
+            fortran_e(ratio, 5)
         );
     }
-    for m in &j.modes {
+    let hidden = j.modes.len() - listed.len();
+    if hidden > 0 {
+        let _ = writeln!(
+            s,
+            "    ({hidden} mode{} at zero frequency, rounding noise of rigid-body motions, not listed: see the zero eigenvalues below)",
+            if hidden == 1 { "" } else { "s" }
+        );
+    }
+    for m in &listed {
         let Some(shape) = &m.shape else { continue };
         let _ = writeln!(s);
         let _ = writeln!(
@@ -288,7 +340,7 @@ pub fn to_text(j: &LinearJson) -> String {
             "Mode {}: undamped natural freq. = {}, damping ratio = {}",
             m.number,
             fortran_e(m.frequency, 6),
-            fortran_e(m.damping_ratio, 6)
+            fortran_e(shown_damping(m, scale).1, 6)
         );
         let _ = writeln!(
             s,
@@ -300,7 +352,16 @@ pub fn to_text(j: &LinearJson) -> String {
                 .translation
                 .iter()
                 .chain(p.rotation.iter())
-                .map(|c| format!("{:.4} @ {:>7.2}°", c.magnitude, c.phase_deg))
+                .map(|c| {
+                    // The phase of a component that rounds to zero is noise: shown as 0.
+                    let magnitude = crate::poses::fixed(c.magnitude, 4);
+                    let phase = if magnitude == "0.0000" {
+                        0.0
+                    } else {
+                        c.phase_deg
+                    };
+                    format!("{magnitude} @ {:>7.2}°", crate::num::denoise(phase, 1.0))
+                })
                 .collect();
             let _ = writeln!(
                 s,
@@ -327,7 +388,48 @@ pub fn to_text(j: &LinearJson) -> String {
 
 #[cfg(test)]
 mod tests {
-    use super::fortran_e;
+    use super::{fortran_e, shown_damping, zero_modes, ModeJson};
+
+    fn mode(frequency: f64, real: f64, imag: f64) -> ModeJson {
+        ModeJson {
+            number: 0,
+            frequency,
+            damping_ratio: if frequency > 0.0 {
+                -real / frequency
+            } else {
+                0.0
+            },
+            real,
+            imag,
+            zero: false,
+            shape: None,
+        }
+    }
+
+    #[test]
+    fn the_zero_eigenvalues_are_the_smallest_modes_a_pair_counting_two() {
+        // Cylindrical_Case02 of the corpus: a real 6.9e-18 Hz eigenvalue and a 1.4e-17 Hz
+        // pair are the 3 zero eigenvalues; the 2.5 Hz pair is a mode.
+        let modes = [
+            mode(2.5, -0.01, 2.49998),
+            mode(6.9e-18, -6.9e-18, 0.0),
+            mode(1.4e-17, 2.7e-18, 1.38e-17),
+        ];
+        assert_eq!(zero_modes(&modes, 3), [false, true, true]);
+        assert_eq!(zero_modes(&modes, 1), [false, true, false]);
+        // A count that would split a pair leaves the pair listed.
+        assert_eq!(zero_modes(&modes, 2), [false, true, false]);
+        assert_eq!(zero_modes(&modes, 0), [false, false, false]);
+    }
+
+    #[test]
+    fn a_real_part_at_rounding_noise_has_no_damping() {
+        // MODEL_test10 of the corpus: -5.5e-16 ± 0.54 Hz is undamped; -0.01 ± 2.5 Hz is not.
+        let noisy = mode(0.539767, -5.45553e-16, 0.539767);
+        assert_eq!(shown_damping(&noisy, 0.539767), (0.0, 0.0));
+        let damped = mode(2.5, -0.01, 2.49998);
+        assert_eq!(shown_damping(&damped, 2.5), (-0.01, 0.004));
+    }
 
     #[test]
     fn numbers_print_like_adams() {

@@ -84,7 +84,7 @@ pub fn pose_line(name: &str, position: [f64; 3], reuler: [f64; 3]) -> String {
 }
 
 /// `x` with `decimals` decimals, never `-0.000…` (a value that rounds to zero prints as 0).
-fn fixed(x: f64, decimals: usize) -> String {
+pub(crate) fn fixed(x: f64, decimals: usize) -> String {
     let s = format!("{x:.decimals$}");
     if s.starts_with('-') && s[1..].chars().all(|c| c == '0' || c == '.') {
         s[1..].to_string()

@@ -59,6 +59,8 @@ pub struct RunOptions {
     /// Accept an unstable static equilibrium (`--allow-unstable`); otherwise it stops the run,
     /// as `linkage static` refuses it.
     pub allow_unstable: bool,
+    /// How the dataset is read (`--lenient-arguments`).
+    pub read: linkage_adm::ReadOptions,
 }
 
 impl RunOptions {
@@ -256,7 +258,7 @@ impl Runner {
                 self.out_name.as_deref().unwrap_or("linkage")
             ))?;
         }
-        let session = Session::open(dataset, &self.options.deactivate)?;
+        let session = Session::open(dataset, &self.options.deactivate, self.options.read)?;
         let stem = self.out_path("stem");
         let records = Records::create(&stem, &session.loaded.dataset, &session.loaded.model)?;
         self.session = Some(session);

@@ -75,10 +75,14 @@ fn load(source: &Source) -> Result<Loaded, Diagnostics> {
 }
 
 impl Session {
-    /// Reads the dataset at `path` and loads it without the statements `deactivate` names
-    /// (see [`linkage_adm::amend::select`]).
-    pub fn open(path: &Path, deactivate: &[String]) -> Result<Session, RunError> {
-        let mut source = Source::read(path).map_err(RunError::Input)?;
+    /// Reads the dataset at `path` (as `read` says) and loads it without the statements
+    /// `deactivate` names (see [`linkage_adm::amend::select`]).
+    pub fn open(
+        path: &Path,
+        deactivate: &[String],
+        read: linkage_adm::ReadOptions,
+    ) -> Result<Session, RunError> {
+        let mut source = Source::read_with(path, read).map_err(RunError::Input)?;
         source.leave_out(deactivate).map_err(RunError::Input)?;
         let loaded = load(&source).map_err(RunError::Input)?;
         Ok(Session {

@@ -6,7 +6,7 @@ use crate::diagnostic::Severity;
 use crate::statement::ExprText;
 
 fn run(text: &str) -> Parsed {
-    parse(Arc::from("t.adm"), text, 1, Language::Dataset)
+    parse(Arc::from("t.adm"), text, 1, Language::Dataset, false)
 }
 
 /// Parses `body` as the statements after a title line; panics on errors.
@@ -34,18 +34,6 @@ fn errors(body: &str) -> Vec<(u32, u32, String)> {
         .diagnostics
         .into_iter()
         .filter(|d| d.is_error())
-        .map(|d| {
-            let s = d.span.unwrap_or_default();
-            (s.line, s.col, d.message)
-        })
-        .collect()
-}
-
-fn warnings(body: &str) -> Vec<(u32, u32, String)> {
-    run(&format!("title\n{body}"))
-        .diagnostics
-        .into_iter()
-        .filter(|d| d.severity == Severity::Warning)
         .map(|d| {
             let s = d.span.unwrap_or_default();
             (s.line, s.col, d.message)
@@ -320,16 +308,51 @@ fn argument_keys_are_canonicalised_in_typed_statements() {
 }
 
 #[test]
-fn unknown_argument_of_typed_statement_is_a_warning_with_position() {
-    let w = warnings("PART/90, GROUND, TUASORELLA;");
+fn unknown_argument_of_typed_statement_is_an_error_with_position() {
+    let e = errors("PART/90, GROUND, TUASORELLA;");
     assert_eq!(
-        w,
-        [(
-            2,
-            18,
-            "unknown argument 'TUASORELLA' of PART ignored".to_string()
-        )]
+        e,
+        [(2, 18, "unknown argument 'TUASORELLA' of PART".to_string())]
     );
+    // Leniently read: a warning, and the statement kept.
+    let p = parse(
+        Arc::from("t.adm"),
+        "title\nPART/90, GROUND, TUASORELLA;",
+        1,
+        Language::Dataset,
+        true,
+    );
+    assert_eq!(p.statements.len(), 1);
+    assert_eq!(p.diagnostics.len(), 1);
+    assert_eq!(p.diagnostics[0].severity, Severity::Warning);
+    assert_eq!(
+        p.diagnostics[0].message,
+        "unknown argument 'TUASORELLA' of PART ignored"
+    );
+}
+
+#[test]
+fn a_misspelt_argument_is_an_error_that_suggests_the_argument_meant() {
+    // MASSS for MASS: one letter too many. Every misspelling of the statement is reported,
+    // and the statement is not read (its mass would silently be zero).
+    let p = run("title\nPART/2, MASSS = 1, CM = 3, IPP = 1, 1, 1\n");
+    assert!(p.statements.is_empty());
+    let e: Vec<String> = p.diagnostics.iter().map(|d| d.message.clone()).collect();
+    assert_eq!(
+        e,
+        [
+            "unknown argument 'MASSS' of PART (did you mean MASS?)",
+            "unknown argument 'IPP' of PART (did you mean IP?)",
+        ]
+    );
+    assert!(p.diagnostics.iter().all(|d| d.is_error()));
+    assert!(p.diagnostics[0]
+        .hint
+        .as_deref()
+        .is_some_and(|h| h.contains("--lenient-arguments")));
+    // Nothing close: no guess.
+    let e = errors("PART/2, QUUXQUUX = 1");
+    assert_eq!(e[0].2, "unknown argument 'QUUXQUUX' of PART");
 }
 
 #[test]
@@ -539,7 +562,7 @@ fn never_panics_on_odd_input() {
     ];
     for s in samples {
         let _ = run(s);
-        let _ = parse(Arc::from("t"), s, 0, Language::Commands);
+        let _ = parse(Arc::from("t"), s, 0, Language::Commands, true);
     }
 }
 

@@ -86,12 +86,19 @@ mod tests {
         .map(|d| d.to_string())
         .unwrap_or_default();
         assert!(e.contains("EXACT names a rotation"), "{e}");
-        // IP is not an argument of POINT_MASS: reported (a warning) and not used.
-        let ds = parse_dataset(
-            Arc::from("m.adm"),
-            "t\nPART/1, GROUND\nPOINT_MASS/4, MASS = 1, IP = 1, 1, 1\nEND\n",
-        )
-        .unwrap_or_else(|e| panic!("{e}"));
+        // IP is not an argument of POINT_MASS: an input error, or read leniently a warning
+        // and not used.
+        let text = "t\nPART/1, GROUND\nPOINT_MASS/4, MASS = 1, IP = 1, 1, 1\nEND\n";
+        let e = parse_dataset(Arc::from("m.adm"), text)
+            .err()
+            .map(|d| d.to_string())
+            .unwrap_or_default();
+        assert!(e.contains("unknown argument 'IP' of POINT_MASS"), "{e}");
+        let lenient = crate::ReadOptions {
+            lenient_arguments: true,
+        };
+        let ds = crate::parse_dataset_with(Arc::from("m.adm"), text, lenient)
+            .unwrap_or_else(|e| panic!("{e}"));
         assert!(
             ds.warnings.iter().any(|w| w.to_string().contains("IP")),
             "{:?}",

@@ -215,7 +215,10 @@ pub fn run(
     jobs: usize,
     done: &(dyn Fn(&RunRecord) + Sync),
 ) -> Result<SweepDone, SweepError> {
-    let base = Source::read(&spec.model).map_err(SweepError::Input)?;
+    let options = linkage_adm::ReadOptions {
+        lenient_arguments: spec.lenient_arguments,
+    };
+    let base = Source::read_with(&spec.model, options).map_err(SweepError::Input)?;
     // The first run's changes are checked before any run: a statement or argument that
     // cannot be changed is a mistake in the spec, not a result.
     amended(&base, spec, &spec.values(0)).map_err(SweepError::Input)?;

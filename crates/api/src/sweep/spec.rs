@@ -4,6 +4,7 @@
 //! ```toml
 //! model = "spring_mass.adm"        # relative to the spec's folder
 //! deactivate = []                  # optional, as --deactivate
+//! lenient_arguments = false        # optional, as --lenient-arguments
 //! [analysis]
 //! kind = "linear"                  # verify | ic | static | linear | simulate, + CLI options
 //! [sampling]                       # only with distributions
@@ -88,6 +89,8 @@ struct SpecFile {
     model: PathBuf,
     #[serde(default)]
     deactivate: Vec<String>,
+    #[serde(default)]
+    lenient_arguments: bool,
     analysis: Job,
     sampling: Option<Sampling>,
     #[serde(default)]
@@ -122,6 +125,9 @@ pub struct Spec {
     /// The dataset (relative paths resolved against the spec's folder).
     pub model: PathBuf,
     pub deactivate: Vec<String>,
+    /// An argument a statement does not take is a warning, not an input error
+    /// (`--lenient-arguments`).
+    pub lenient_arguments: bool,
     pub analysis: Job,
     pub sampling: Option<Sampling>,
     pub vary: Vec<Varied>,
@@ -246,6 +252,7 @@ impl Spec {
         let spec = Spec {
             model: base.join(&file.model),
             deactivate: file.deactivate,
+            lenient_arguments: file.lenient_arguments,
             analysis: file.analysis,
             sampling: file.sampling,
             vary,
