@@ -2,12 +2,12 @@
 
 use crate::source::Loaded;
 use linkage_report::verify::VerifyJson;
-use linkage_solve::stages::verify::Verification;
+use linkage_solve::pipeline::verify::Verification;
 use linkage_solve::tolerances::Tolerances;
 
 /// The verification of `loaded` (rank analysis at the input configuration).
 pub fn verification(loaded: &Loaded, tol: &Tolerances) -> Verification {
-    linkage_solve::stages::verify::verify(&loaded.model, &loaded.drivers, tol)
+    linkage_solve::pipeline::verify::verify(&loaded.model, &loaded.drivers, tol)
 }
 
 /// The verify report of `loaded` from its verification `v`: DOF, redundant and misaligned
@@ -19,9 +19,9 @@ pub fn report(loaded: &Loaded, v: &Verification) -> VerifyJson {
         // Not assembled at the input: also the counts at the pose the assembly reaches,
         // which every analysis uses (no forces are needed for the displacements).
         let input = linkage_solve::state::State::input(&loaded.model);
-        let ic = linkage_solve::stages::ic::initial_conditions(
+        let ic = linkage_solve::pipeline::ic::initial_conditions(
             &loaded.model,
-            &linkage_solve::stages::verify::compile(&loaded.model, &input, &[]),
+            &linkage_solve::pipeline::verify::compile(&loaded.model, &input, &[]),
             &loaded.drivers,
             &linkage_solve::physics::applied::NoForces,
             &Tolerances::default(),

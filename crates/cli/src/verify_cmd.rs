@@ -233,7 +233,7 @@ fn apply(
         .model;
     let drivers = linkage_solve::constraints::drivers::ExpressionDrivers::new(&model)
         .map_err(ApplyError::Functions)?;
-    let v = linkage_solve::stages::verify::verify(&model, &drivers, tol);
+    let v = linkage_solve::pipeline::verify::verify(&model, &drivers, tol);
     let input = State::input(&model);
     let length = model.characteristic_length;
     let base = dense::analyse(&v.system, &input, &v.topology, length, tol);

@@ -9,8 +9,8 @@ use crate::verify::{equation_ref, to_json as verify_json, EquationRef, Redundant
 use linkage_adm::Diagnostic;
 use linkage_model::Model;
 use linkage_solve::constraints::system::RowUnit;
-use linkage_solve::stages::assemble::Equation;
-use linkage_solve::stages::ic::InitialConditions;
+use linkage_solve::pipeline::assemble::Equation;
+use linkage_solve::pipeline::ic::InitialConditions;
 use serde::Serialize;
 use std::fmt::Write;
 

@@ -4,7 +4,7 @@ use crate::units::{text_line, units_json, Angle, UnitsJson};
 use linkage_adm::Diagnostic;
 use linkage_model::Model;
 use linkage_solve::constraints::system::RowUnit;
-use linkage_solve::stages::verify::Verification;
+use linkage_solve::pipeline::verify::Verification;
 use serde::Serialize;
 use std::borrow::Cow;
 use std::fmt::Write;

@@ -16,7 +16,7 @@
 
 use linkage_solve::constraints::drivers::NoDrivers;
 use linkage_solve::generate::parallelogram_chain;
-use linkage_solve::stages::verify::verify;
+use linkage_solve::pipeline::verify::verify;
 use linkage_solve::tolerances::Tolerances;
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::sync::atomic::{AtomicUsize, Ordering};

@@ -5,7 +5,7 @@
 
 use linkage_solve::constraints::drivers::NoDrivers;
 use linkage_solve::generate::{parallelogram_chain, pendulum_chain};
-use linkage_solve::stages::verify::verify;
+use linkage_solve::pipeline::verify::verify;
 use linkage_solve::tolerances::Tolerances;
 use std::sync::Arc;
 

@@ -5,11 +5,11 @@
 use linkage_adm::{JointType, JprimType};
 use linkage_model::{ConstraintKind, Model};
 use linkage_solve::constraints::drivers::ExpressionDrivers;
+use linkage_solve::pipeline::verify::{verify, Verification};
 use linkage_solve::stages::explain::repair::realize;
 use linkage_solve::stages::explain::{
     explain, ConflictKind, Direction, ElementType, Explanation, Proposal,
 };
-use linkage_solve::stages::verify::{verify, Verification};
 use linkage_solve::tolerances::Tolerances;
 use std::path::Path;
 

@@ -22,10 +22,10 @@ use common::beam_modes::{
 };
 use glam::DVec3;
 use linkage_model::Model;
+use linkage_solve::pipeline::verify::verify;
 use linkage_solve::pipeline::Assembled;
 use linkage_solve::stages::dynamics::{run, IntegratorSettings, Start};
 use linkage_solve::stages::statics::Equilibrium;
-use linkage_solve::stages::verify::verify;
 use linkage_solve::tolerances::Tolerances;
 use std::f64::consts::TAU;
 use std::fmt::Write;

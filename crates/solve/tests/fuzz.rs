@@ -29,8 +29,8 @@
 //! [`fuzz_regressions_are_handled`] runs every time.
 
 use linkage_solve::constraints::drivers::ExpressionDrivers;
+use linkage_solve::pipeline::verify::verify;
 use linkage_solve::stages::explain::explain;
-use linkage_solve::stages::verify::verify;
 use linkage_solve::tolerances::Tolerances;
 use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::path::{Path, PathBuf};

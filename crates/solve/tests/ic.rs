@@ -3,7 +3,7 @@
 
 use linkage_model::Model;
 use linkage_solve::constraints::drivers::ExpressionDrivers;
-use linkage_solve::stages::ic::{initial_conditions, InitialConditions};
+use linkage_solve::pipeline::ic::{initial_conditions, InitialConditions};
 use linkage_solve::tolerances::Tolerances;
 use std::path::Path;
 use std::sync::Arc;

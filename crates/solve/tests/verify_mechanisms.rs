@@ -3,7 +3,7 @@
 
 use linkage_model::Model;
 use linkage_solve::constraints::drivers::NoDrivers;
-use linkage_solve::stages::verify::{verify, Verification};
+use linkage_solve::pipeline::verify::{verify, Verification};
 use linkage_solve::tolerances::Tolerances;
 use std::path::Path;
 

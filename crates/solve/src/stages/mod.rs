@@ -11,8 +11,3 @@ pub mod linearize;
 pub mod plant;
 pub mod settle;
 pub mod statics;
-
-// The initial-conditions rungs live in the pipeline layer and the FE_PART reduction in physics;
-// their former paths stay valid for the crates that call them.
-pub use crate::physics::fe_modes;
-pub use crate::pipeline::{assemble, ic, verify};
