@@ -20,6 +20,13 @@ pub enum Error {
     /// Errors in the dataset or in what it refers to (file:line:column each).
     #[error("{0}")]
     Input(Diagnostics),
+    /// Statements the analysis refuses (not modelled, or not run by it), every one at once
+    /// with the way to leave it out: an input error.
+    #[error("{diagnostics}")]
+    Refused {
+        analysis: linkage_solve::coverage::Analysis,
+        diagnostics: Diagnostics,
+    },
     /// Output times that cannot be (`--end`, `--steps`, `--dtout`).
     #[error("{0}")]
     Times(#[from] crate::times::OutputTimesError),
@@ -48,7 +55,7 @@ impl Error {
     /// The exit code of the CLI: 2 for input errors, 1 for an output that failed.
     pub fn exit_code(&self) -> u8 {
         match self {
-            Error::Input(_) | Error::Times(_) | Error::Argument(_) => 2,
+            Error::Input(_) | Error::Refused { .. } | Error::Times(_) | Error::Argument(_) => 2,
             Error::Output(_) | Error::Sink(_) | Error::Failed(_) => 1,
         }
     }
@@ -56,7 +63,9 @@ impl Error {
     /// One message per error (a diagnostic each, with its file:line:column).
     pub fn messages(&self) -> Vec<String> {
         match self {
-            Error::Input(d) => d.0.iter().map(ToString::to_string).collect(),
+            Error::Input(d) | Error::Refused { diagnostics: d, .. } => {
+                d.0.iter().map(ToString::to_string).collect()
+            }
             other => vec![other.to_string()],
         }
     }

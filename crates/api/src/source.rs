@@ -40,19 +40,22 @@ impl Loaded {
     /// The applied force elements for `analysis` (gravity is applied by the analyses), or its
     /// input errors: every statement it refuses, all at once, each saying how to leave it out
     /// ([`Loaded::refusal`]).
-    pub fn forces(&self, analysis: Analysis) -> Result<&ForceSet, Diagnostics> {
+    pub fn forces(&self, analysis: Analysis) -> Result<&ForceSet, crate::Error> {
         let refused = self.refusals(analysis);
         if !refused.is_empty() {
-            return Err(Diagnostics(refused));
+            return Err(crate::Error::Refused {
+                analysis,
+                diagnostics: Diagnostics(refused),
+            });
         }
         match &self.forces {
             Some(f) => Ok(f),
             // Built on demand only for a model loaded for verify (no analysis named).
-            None => Err(Diagnostics(vec![Diagnostic::error(
+            None => Err(crate::Error::Input(Diagnostics(vec![Diagnostic::error(
                 self.dataset.file.clone(),
                 None,
                 "the model was loaded for verify only: its forces were not built".to_string(),
-            )])),
+            )]))),
         }
     }
 

@@ -67,7 +67,9 @@ pub fn input_error(d: &Diagnostics, format: Format) -> ExitCode {
 /// error on standard error with its exit code.
 pub fn analysis_error(e: &linkage_api::Error, format: Format) -> ExitCode {
     match e {
-        linkage_api::Error::Input(d) => input_error(d, format),
+        linkage_api::Error::Input(d) | linkage_api::Error::Refused { diagnostics: d, .. } => {
+            input_error(d, format)
+        }
         other => {
             eprintln!("error: {other}");
             ExitCode::from(other.exit_code())

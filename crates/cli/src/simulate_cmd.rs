@@ -112,11 +112,7 @@ pub fn run_simulate(args: &SimulateArgs) -> ExitCode {
     bar.finish();
     let mut report = match result {
         Ok(r) => r,
-        Err(linkage_api::Error::Input(d)) => return input_error(&d, args.format),
-        Err(e) => {
-            eprintln!("error: {e}");
-            return ExitCode::from(e.exit_code());
-        }
+        Err(e) => return crate::common::analysis_error(&e, args.format),
     };
     if let (Some(out), Some(h)) = (args.html, history.as_mut()) {
         h.finish();

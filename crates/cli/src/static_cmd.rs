@@ -68,11 +68,7 @@ pub fn run_static(args: &StaticArgs) -> ExitCode {
     bar.finish();
     let run = match run {
         Ok(r) => r,
-        Err(linkage_api::Error::Input(d)) => return input_error(&d, json_errors),
-        Err(e) => {
-            eprintln!("error: {e}");
-            return ExitCode::from(e.exit_code());
-        }
+        Err(e) => return crate::common::analysis_error(&e, json_errors),
     };
     let mut report = run.report;
     let ok = run.ok;

@@ -47,6 +47,15 @@ impl Place<'_> {
     pub fn analysis_error(&self, e: linkage_api::Error) -> RunError {
         match e {
             linkage_api::Error::Input(d) => RunError::Input(d),
+            linkage_api::Error::Refused {
+                analysis,
+                diagnostics,
+            } => self.refused(format!(
+                "{} refuses this model ({} statement(s) linkage does not model or run):\n{}",
+                analysis.name(),
+                diagnostics.0.len(),
+                diagnostics
+            )),
             linkage_api::Error::Sink(SinkError::Interrupted { time }) => {
                 RunError::Interrupted { time }
             }
