@@ -89,14 +89,23 @@ fn column(model: &Model, requests: &[String], name: &str) -> Option<Column> {
         .map(|a| Column::Force(e, a))
 }
 
+/// A `--plot` name that is no column of the run.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+#[error(
+    "--plot {0}: no such column (PART.x|y|z|vx|vy|vz, ELEMENT.fx|fy|fz or a REQUEST column such \
+     as REQUEST_1.x)"
+)]
+pub struct UnknownColumn(pub String);
+
 /// Checks the `--plot` names against the columns a run of `model` writes: the first unknown
 /// one is the error.
-pub fn check_columns(model: &Model, requests: &[String], names: &[String]) -> Result<(), String> {
+pub fn check_columns(
+    model: &Model,
+    requests: &[String],
+    names: &[String],
+) -> Result<(), UnknownColumn> {
     match names.iter().find(|n| column(model, requests, n).is_none()) {
-        Some(n) => Err(format!(
-            "--plot {n}: no such column (PART.x|y|z|vx|vy|vz, ELEMENT.fx|fy|fz or a REQUEST \
-             column such as REQUEST_1.x)"
-        )),
+        Some(n) => Err(UnknownColumn(n.clone())),
         None => Ok(()),
     }
 }
