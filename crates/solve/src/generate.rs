@@ -113,6 +113,37 @@ pub fn pendulum_chain(n: usize) -> String {
     t
 }
 
+/// A chain of `n` unit rods (1 m, 1 kg) hanging straight down from ground along −y, each
+/// joined to the one above by a spherical joint (a tree: 6n coordinates, 3n rows, DOF 2n
+/// pendulum motions plus n free spins of the rods about their own axes).
+///
+/// As `n` grows its swinging frequencies tend to those of the heavy hanging chain of length
+/// `ℓ = n`: `ω_k = (j₀ₖ/2)·√(g/ℓ)`, `j₀ₖ` the zeros of the Bessel function J₀, each twice
+/// (two planes of swing).
+pub fn hanging_chain(n: usize) -> String {
+    let mut t = String::with_capacity(400 * n);
+    let _ = writeln!(t, "Adams View model name: hanging_chain_{n}");
+    t.push_str("UNITS/\n, FORCE = NEWTON\n, MASS = KILOGRAM\n, LENGTH = METER\n, TIME = SECOND\n");
+    t.push_str("ACCGRAV/\n, JGRAV = -9.80665\n");
+    t.push_str("PART/1\n, GROUND\nMARKER/1, PART = 1\n");
+    for k in 0..n {
+        let (p, m) = (2 + k, 100 + 10 * k);
+        let y = -(k as f64);
+        let _ = writeln!(
+            t,
+            "PART/{p}, MASS = 1, CM = {}, IP = 0.0833333333333, 0.001, 0.0833333333333",
+            m + 2
+        );
+        let _ = writeln!(t, "MARKER/{m}, PART = {p}, QP = 0, {y}, 0");
+        let _ = writeln!(t, "MARKER/{}, PART = {p}, QP = 0, {}, 0", m + 1, y - 1.0);
+        let _ = writeln!(t, "MARKER/{}, PART = {p}, QP = 0, {}, 0", m + 2, y - 0.5);
+        let j = if k == 0 { 1 } else { 100 + 10 * (k - 1) + 1 };
+        let _ = writeln!(t, "JOINT/{}, SPHERICAL, I = {m}, J = {j}", 1 + k);
+    }
+    t.push_str("END\n");
+    t
+}
+
 /// The IFToMM A02 dataset for `n` loops: n + 1 cranks of length 1 m pinned to ground at
 /// x = 0, 1, …, n (initially vertical, angle φ = π/2 from +x), n couplers of 1 m joining the
 /// crank tips; every link 1 kg, uniform (transverse inertia m L²/12, axial m r²/2 with

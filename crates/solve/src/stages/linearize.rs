@@ -424,7 +424,7 @@ pub fn linearize(
 ) -> Result<Linearization, LinearizeError> {
     let eq = assemble(model, sys, rows, forces, at, opts.damping)?;
     let dof = eq.coordinates.saturating_sub(eq.constraints);
-    match opts.method {
+    let mut l = match opts.method {
         EigenMethod::Dense => solve_dense(&eq, opts.vectors),
         _ if eq.controls.is_some() => solve_dense(&eq, opts.vectors),
         EigenMethod::Auto if dof <= DENSE_MAX_DOF && eq.coordinates <= DENSE_MAX_COORDINATES => {
@@ -434,6 +434,30 @@ pub fn linearize(
         EigenMethod::ShiftInvert { modes, shift } => {
             solve_shift_invert(&eq, modes, shift, opts.vectors)
         }
+    }?;
+    // `modes` asked for is what is listed, whichever solution ran (the solutions may have
+    // computed more: every zero eigenvalue, a converged neighbour, the dense spectrum).
+    if let EigenMethod::ShiftInvert { modes, shift } = opts.method {
+        keep_nearest(&mut l.modes, modes, shift.map_or(0.0, f64::abs));
+    }
+    Ok(l)
+}
+
+/// Keeps the `count` modes nearest the frequency `omega_f` (radians per time unit; 0: the
+/// lowest, ties to the more negative real part as [`sort_modes`] orders them), in the order of
+/// [`sort_modes`].
+fn keep_nearest(modes: &mut Vec<Mode>, count: usize, omega_f: f64) {
+    if modes.len() <= count {
+        return;
+    }
+    if omega_f > 0.0 {
+        let distance = |m: &Mode| cplx_abs(m.real, m.imag - omega_f);
+        modes.sort_by(|a, b| distance(a).total_cmp(&distance(b)));
+        modes.truncate(count);
+        sort_modes(modes);
+    } else {
+        sort_modes(modes);
+        modes.truncate(count);
     }
 }
 
@@ -1053,6 +1077,11 @@ fn solve_shift_invert(
         damped_modes(eq, &pencil, search)?
     };
     sort_modes(&mut sm.modes);
+    // The free motions of single parts were deflated: each is two zero eigenvalues, known
+    // without being computed one by one.
+    let local = pencil.local_free_motions();
+    sm.computed += 2 * local;
+    sm.zeros += 2 * local;
     let mut solves = sm.solves;
     let free = match sm.free.take() {
         Some(found) => Ok(found),
@@ -1076,7 +1105,7 @@ fn solve_shift_invert(
             let pc = Mat::<f64>::from_fn(basis.len(), basis.len(), |i, j| {
                 basis[i].iter().zip(&cp[j]).map(|(a, b)| a * b).sum()
             });
-            expected_zeros(free, &pc)
+            expected_zeros(free + local, &pc)
         }
         Err(_) => sm.zeros,
     };

@@ -93,6 +93,7 @@
 //! # Layout
 //!
 //! * [`sparse`]: the compressed-row matrices of the pencil;
+//! * [`deflate`]: free motions of single parts, counted and projected out of the operators;
 //! * [`pencil`]: the constrained pencil, its KKT factorisations and the two eigen problems;
 //! * [`shift_invert`]: the shift-invert operators applied by the Krylov iteration;
 //! * [`metric`]: the mass metric of the Krylov spaces;
@@ -102,6 +103,7 @@
 //! * [`vectors`]: small dense vector helpers.
 
 pub mod arnoldi;
+pub mod deflate;
 pub mod krylov;
 pub mod metric;
 pub mod pencil;
