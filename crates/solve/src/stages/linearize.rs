@@ -18,8 +18,16 @@
 //!   lowest, or around a frequency) by Arnoldi on one sparse KKT factorisation
 //!   ([`crate::linalg::eigs`]), without N: without damping on `K x + Jᵀμ = ν M x` (`ν = −λ²`), with
 //!   damping on the first-order form. The free motions without stiffness are counted on the
-//!   same kind of problem with the symmetric part of K. Cost grows with `K` and the sparse
-//!   factor (linear in the length of a chain), not with `n³`.
+//!   same kind of problem with the symmetric part of K. Free motions of single parts without
+//!   stiffness or damping (a rod's spin between two spherical joints, a free-floating body)
+//!   are found structurally and deflated first ([`crate::linalg::eigs::deflate`]): their zero
+//!   eigenvalues are counted, not listed, so `K` modes are the `K` lowest others. Cost grows
+//!   with `K` and the sparse factor (linear in the length of a chain), not with `n³`: the
+//!   20 lowest modes of a chain of 1,000 rods on spherical joints (6,000 coordinates, 1,000
+//!   free spins) take about 0.1 s.
+//!
+//! With [`EigenMethod::ShiftInvert`] the `K` modes nearest the shift are listed whichever
+//! solution ran (a model with control states is solved densely).
 //!
 //! [`EigenMethod::Auto`] solves densely up to [`DENSE_MAX_DOF`] free motions and
 //! [`DENSE_MAX_COORDINATES`] coordinates, and otherwise computes the [`DEFAULT_MODES`] lowest
@@ -137,7 +145,9 @@ pub struct Linearization {
     /// Independent motions (the DOF) and states (2 × DOF).
     pub dof: usize,
     pub modes: Vec<Mode>,
-    /// Eigenvalues computed (a complex pair counts 2), out of `2 · dof`.
+    /// Eigenvalues computed (a complex pair counts 2), out of `2 · dof`; on the shift-invert
+    /// path including the zero eigenvalues of the deflated free motions of single parts, which
+    /// are known without being computed one by one.
     pub computed_eigenvalues: usize,
     /// Eigenvalues at zero (rigid-body modes) found.
     pub zero_eigenvalues: usize,
