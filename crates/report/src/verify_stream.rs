@@ -142,9 +142,7 @@ impl Serialize for StreamedVerify {
         // The shell's keys are sorted (serde_json's map without `preserve_order`).
         for (k, v) in &self.shell {
             match k.as_str() {
-                "redundant" => {
-                    map.serialize_entry(k, &Sorted(&self.redundant, SortedRedundant))?
-                }
+                "redundant" => map.serialize_entry(k, &Sorted(&self.redundant, SortedRedundant))?,
                 "near_ties" => map.serialize_entry(k, &Sorted(&self.near_ties, SortedEquation))?,
                 "misaligned" => map.serialize_entry(k, &EntryByEntry(&self.misaligned))?,
                 _ => map.serialize_entry(k, v)?,

@@ -118,10 +118,8 @@ fn rigid_body_and_spin_modes_are_counted_not_listed() {
 fn the_modes_asked_for_are_what_every_solution_lists() {
     // A control state makes the solution dense whatever was asked; `modes: 2` still lists 2
     // (the lowest: zero modes of the free body first), out of every eigenvalue computed.
-    let text = chain_and_a_free_body().replace(
-        "END",
-        "DIFF/1, IC = 1, FUNCTION = -DIF(1)/0.5\nEND",
-    );
+    let text =
+        chain_and_a_free_body().replace("END", "DIFF/1, IC = 1, FUNCTION = -DIF(1)/0.5\nEND");
     let m = model("chain_diff.adm", &text);
     let forces = ForceSet::new(&m).unwrap();
     let all = linear(&m, &forces, EigenMethod::Dense);
@@ -147,5 +145,8 @@ fn the_modes_asked_for_are_what_every_solution_lists() {
         },
     );
     assert_eq!(near.modes.len(), 2);
-    assert!(near.modes.iter().any(|m| (m.frequency - f).abs() < 1e-12 * f));
+    assert!(near
+        .modes
+        .iter()
+        .any(|m| (m.frequency - f).abs() < 1e-12 * f));
 }

@@ -106,9 +106,7 @@ impl ConstrainedPencil {
     /// `op` with the local free motions projected out, and the dimension of what is left
     /// (`copies` consecutive `n`-vectors per state).
     fn deflated<'a>(&'a self, op: &'a dyn KrylovOperator, copies: usize) -> (Deflated<'a>, usize) {
-        let left = self
-            .free_motions()
-            .saturating_sub(self.local_free.count());
+        let left = self.free_motions().saturating_sub(self.local_free.count());
         (
             Deflated {
                 op,
