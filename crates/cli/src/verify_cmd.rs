@@ -1,8 +1,9 @@
 //! `linkage verify` (with `--explain`, `--apply K --save OUT.adm`).
 
-use crate::common::{load, print_json, Format, Loaded};
+use crate::common::{load, Format, Loaded};
 use linkage_adm::Diagnostics;
 use linkage_report::explain::AppliedJson;
+use linkage_report::verify_stream::{write_documents, StreamedVerify, VerifyDocument};
 use linkage_solve::stages::explain::repair::realize;
 use linkage_solve::stages::explain::{dense, explain, generic, Mobility, Proposal};
 use linkage_solve::state::State;
@@ -123,42 +124,40 @@ pub fn run(args: &VerifyArgs) -> ExitCode {
     for (k, model) in args.models.iter().enumerate() {
         let one = verify_one(args, model);
         worst = worst.max(one.code);
-        match (&one.report, args.format) {
+        match (one.report, args.format) {
             (Err(d), Format::Text) => eprintln!("{d}"),
             (Err(d), Format::Json) => {
                 eprintln!("{d}");
                 let errors: Vec<String> = d.0.iter().map(|e| e.to_string()).collect();
-                documents.push(serde_json::json!({
+                documents.push(VerifyDocument::InputErrors(serde_json::json!({
                     "file": model.display().to_string(),
                     "errors": errors,
                     "warnings": [],
-                }));
+                })));
             }
             (Ok(r), Format::Text) => {
                 if k > 0 {
                     println!();
                 }
-                print_text(r);
+                print_text(&r);
                 crate::common::errors_to_stderr(&r.errors, crate::common::stdout_is_terminal());
             }
             (Ok(r), Format::Json) => {
-                match serde_json::to_value(r) {
-                    Ok(v) => documents.push(v),
+                crate::common::errors_to_stderr(&r.errors, false);
+                match StreamedVerify::new(r) {
+                    Ok(s) => documents.push(VerifyDocument::Report(Box::new(s))),
                     Err(e) => {
                         eprintln!("error: cannot write JSON: {e}");
                         worst = worst.max(1);
                     }
                 }
-                crate::common::errors_to_stderr(&r.errors, false);
             }
         }
     }
     if args.format == Format::Json {
-        let ok = match documents.len() {
-            1 => print_json(&documents[0]),
-            _ => print_json(&documents),
-        };
-        if !ok {
+        // Streamed: the document is never held as a value tree or a string.
+        if let Err(e) = write_documents(std::io::stdout().lock(), &documents) {
+            eprintln!("error: cannot write JSON: {e}");
             worst = worst.max(1);
         }
     }

@@ -21,6 +21,7 @@ pub mod simulate;
 pub mod statics;
 pub mod units;
 pub mod verify;
+pub mod verify_stream;
 
 /// The version of the JSON reports' layout, stated in every report as `schema_version`
 /// (raised when a key is removed or changes meaning; added keys keep it).

@@ -22,7 +22,8 @@ pub fn parallelogram_chain(n: usize, crank_deg: f64) -> String {
     for k in 0..=n {
         let _ = writeln!(t, "MARKER/{}, PART = 1, QP = {k}, 0, 0", 1 + k);
     }
-    // Cranks: part 2 + k; markers 10_000 + 10k + {0: base, 1: tip, 2: cm}.
+    // Cranks: part 2 + k; markers 100_000 + 10k + {0: base, 1: tip, 2: cm} (distinct from the
+    // couplers' up to 90,000 loops).
     for k in 0..=n {
         let (p, m) = (2 + k, 100_000 + 10 * k);
         let x = k as f64;
@@ -44,9 +45,9 @@ pub fn parallelogram_chain(n: usize, crank_deg: f64) -> String {
             crank_deg - 90.0
         );
     }
-    // Couplers: part 2 + (n + 1) + k; markers 500_000 + 10k + {0: left, 1: right, 2: cm}.
+    // Couplers: part 2 + (n + 1) + k; markers 1_000_000 + 10k + {0: left, 1: right, 2: cm}.
     for k in 0..n {
-        let (p, m) = (3 + n + k, 500_000 + 10 * k);
+        let (p, m) = (3 + n + k, 1_000_000 + 10 * k);
         let x = k as f64 + c;
         let _ = writeln!(t, "!                  adams_view_name='coupler_{k}'");
         let _ = writeln!(
@@ -69,7 +70,7 @@ pub fn parallelogram_chain(n: usize, crank_deg: f64) -> String {
         );
     }
     for k in 0..n {
-        let (left, right) = (500_000 + 10 * k, 500_000 + 10 * k + 1);
+        let (left, right) = (1_000_000 + 10 * k, 1_000_000 + 10 * k + 1);
         let _ = writeln!(
             t,
             "JOINT/{}, REVOLUTE, I = {left}, J = {}",
@@ -90,8 +91,25 @@ pub fn parallelogram_chain(n: usize, crank_deg: f64) -> String {
 /// A chain of `n` pendulum links hanging from ground, each a unit rod joined to the previous by
 /// a revolute about global z (a tree: DOF n, no redundancy).
 pub fn pendulum_chain(n: usize) -> String {
+    rod_chain(n, "pendulum_chain", "REVOLUTE")
+}
+
+/// A chain of `n` unit rods (1 m, 1 kg) hanging straight down from ground along −y, each
+/// joined to the one above by a spherical joint (a tree: 6n coordinates, 3n rows, DOF 2n
+/// pendulum motions plus n free spins of the rods about their own axes).
+///
+/// As `n` grows its swinging frequencies tend to those of the heavy hanging chain of length
+/// `ℓ = n`: `ω_k = (j₀ₖ/2)·√(g/ℓ)`, `j₀ₖ` the zeros of the Bessel function J₀, each twice
+/// (two planes of swing).
+pub fn hanging_chain(n: usize) -> String {
+    rod_chain(n, "hanging_chain", "SPHERICAL")
+}
+
+/// `n` unit rods hanging along −y from ground, each joined to the one above by `joint` (its
+/// axis, for a revolute, global z).
+fn rod_chain(n: usize, title: &str, joint: &str) -> String {
     let mut t = String::with_capacity(400 * n);
-    let _ = writeln!(t, "Adams View model name: pendulum_chain_{n}");
+    let _ = writeln!(t, "Adams View model name: {title}_{n}");
     t.push_str("UNITS/\n, FORCE = NEWTON\n, MASS = KILOGRAM\n, LENGTH = METER\n, TIME = SECOND\n");
     t.push_str("ACCGRAV/\n, JGRAV = -9.80665\n");
     t.push_str("PART/1\n, GROUND\nMARKER/1, PART = 1\n");
@@ -107,7 +125,7 @@ pub fn pendulum_chain(n: usize) -> String {
         let _ = writeln!(t, "MARKER/{}, PART = {p}, QP = 0, {}, 0", m + 1, y - 1.0);
         let _ = writeln!(t, "MARKER/{}, PART = {p}, QP = 0, {}, 0", m + 2, y - 0.5);
         let j = if k == 0 { 1 } else { 100 + 10 * (k - 1) + 1 };
-        let _ = writeln!(t, "JOINT/{}, REVOLUTE, I = {m}, J = {j}", 1 + k);
+        let _ = writeln!(t, "JOINT/{}, {joint}, I = {m}, J = {j}", 1 + k);
     }
     t.push_str("END\n");
     t

@@ -129,6 +129,13 @@ pub const ZERO_EIGENVALUE: f64 = 1e-6;
 /// A free motion carries no stiffness when its eigenvalue of the symmetric part of the
 /// (reduced) stiffness is at or below this × `‖K‖` (`ω_ref²` on the shift-invert path).
 pub const FREE_MOTION: f64 = 1e-10;
+/// A motion of one part alone is a free motion without stiffness or damping (deflated before
+/// the shift-invert eigen solution) when, as a unit vector, it leaves the part's constraint
+/// rows (each normalised) and its columns and rows of K and C (divided by their largest
+/// entries) at or below this: `ZERO_EIGENVALUE²`, so that the eigenvalues it stands for are
+/// zero by [`ZERO_EIGENVALUE`] (`|λ|² ≲ ‖Kz‖/m ≤ 1e-12 ω_ref²`), far above the rounding
+/// (≈ 1e-16) of a true free motion.
+pub const LOCAL_FREE_MOTION: f64 = 1e-12;
 /// An eigenvalue whose imaginary part is below this × the largest `|λ|` (at least 1) is real:
 /// the imaginary part is round-off.
 pub const REAL_PAIR: f64 = 1e-12;

@@ -69,6 +69,14 @@ impl MassMetric {
         }
     }
 
+    /// `out = Lᵀ z` for the 6 coordinates `z` of part `part` alone (block metric only).
+    pub(super) fn block_metric_of(&self, part: usize, z: &[f64; BLOCK], out: &mut [f64; BLOCK]) {
+        let l = &self.blocks[part];
+        for (i, o) in out.iter_mut().enumerate() {
+            *o = (i..BLOCK).map(|r| l[r * BLOCK + i] * z[r]).sum();
+        }
+    }
+
     /// `out = L⁻ᵀ x̃`.
     pub(super) fn unmetric(&self, xt: &[f64], out: &mut [f64]) {
         if self.blocks.is_empty() {

@@ -54,6 +54,11 @@
 //! blocks at the free motions (`ν = 0` is semisimple, while `λ = 0` of an undamped free motion
 //! is a 2 × 2 Jordan block of `A`).
 //!
+//! Free motions of single parts without stiffness or damping ([`deflate`]) are found before
+//! the iteration and projected out of both operators (their span and its mass-orthogonal
+//! complement are invariant): the iteration never meets their zero eigenvalues, which are
+//! counted instead ([`ConstrainedPencil::local_free_motions`]).
+//!
 //! The KKT matrix is factorised once (sparse LU, [`crate::linalg::linear::SparseLu`]); its `J` block is
 //! scaled by the magnitude of the top-left block (the multiplier is not used). One application
 //! costs one triangular solve pair and a few sparse products: `O(nnz(L + U))`, linear in the
@@ -93,6 +98,7 @@
 //! # Layout
 //!
 //! * [`sparse`]: the compressed-row matrices of the pencil;
+//! * [`deflate`]: free motions of single parts, counted and projected out of the operators;
 //! * [`pencil`]: the constrained pencil, its KKT factorisations and the two eigen problems;
 //! * [`shift_invert`]: the shift-invert operators applied by the Krylov iteration;
 //! * [`metric`]: the mass metric of the Krylov spaces;
@@ -102,6 +108,7 @@
 //! * [`vectors`]: small dense vector helpers.
 
 pub mod arnoldi;
+pub mod deflate;
 pub mod krylov;
 pub mod metric;
 pub mod pencil;

@@ -2,7 +2,8 @@
 //! (first-order shift-invert, and the undamped linear one).
 
 use super::arnoldi::largest_ritz_pairs;
-use super::krylov::Wanted;
+use super::deflate::{Deflated, LocalFreeMotions};
+use super::krylov::{KrylovOperator, Wanted};
 use super::metric::MassMetric;
 use super::shift_invert::{LinearShiftInvert, PencilView, QuadraticShiftInvert};
 use super::vectors::orthonormal_columns;
@@ -34,6 +35,8 @@ pub struct ConstrainedPencil {
     /// Independent rows only (`r × n`).
     pub jacobian: SparseMatrix,
     metric: MassMetric,
+    /// Free motions of single parts, deflated from both eigen problems.
+    local_free: LocalFreeMotions,
 }
 
 /// Result of [`ConstrainedPencil::nearest`].
@@ -55,12 +58,14 @@ impl ConstrainedPencil {
         jacobian: SparseMatrix,
     ) -> ConstrainedPencil {
         let metric = MassMetric::new(&mass);
+        let local_free = LocalFreeMotions::find(&metric, &damping, &stiffness, &jacobian);
         ConstrainedPencil {
             mass,
             damping,
             stiffness,
             jacobian,
             metric,
+            local_free,
         }
     }
 
@@ -89,6 +94,28 @@ impl ConstrainedPencil {
     /// Free motions `f = n − r` (rows independent).
     pub fn free_motions(&self) -> usize {
         self.coordinates().saturating_sub(self.jacobian.nrows())
+    }
+
+    /// Free motions of single parts without stiffness or damping ([`super::deflate`]): each
+    /// is `ν = 0` of the undamped problem and a double `λ = 0`. Neither eigen problem returns
+    /// them; they are counted here.
+    pub fn local_free_motions(&self) -> usize {
+        self.local_free.count()
+    }
+
+    /// `op` with the local free motions projected out, and the dimension of what is left
+    /// (`copies` consecutive `n`-vectors per state).
+    fn deflated<'a>(&'a self, op: &'a dyn KrylovOperator, copies: usize) -> (Deflated<'a>, usize) {
+        let left = self.free_motions().saturating_sub(self.local_free.count());
+        (
+            Deflated {
+                op,
+                motions: &self.local_free,
+                coordinates: self.coordinates(),
+                copies,
+            },
+            copies * left,
+        )
     }
 
     /// Factorises `[Σ cᵢAᵢ, αJᵀ; αJ, 0]`, `α` the bound `Σ|cᵢ| max|Aᵢ|` on the top-left block.
@@ -184,7 +211,8 @@ impl ConstrainedPencil {
             sigma: (sr, if complex { si } else { 0.0 }),
             scale,
         };
-        let ritz = largest_ritz_pairs(&op, 2 * self.free_motions(), wanted)?;
+        let (op, available) = self.deflated(&op, 2);
+        let ritz = largest_ritz_pairs(&op, available, wanted)?;
         let n = self.coordinates();
         let mut eigenvalues = 0;
         let mut pairs = Vec::with_capacity(ritz.pairs.len());
@@ -278,7 +306,8 @@ impl ConstrainedPencil {
             pencil: self.view(),
             lu,
         };
-        let ritz = largest_ritz_pairs(&op, self.free_motions(), wanted)?;
+        let (op, available) = self.deflated(&op, 1);
+        let ritz = largest_ritz_pairs(&op, available, wanted)?;
         let pairs = ritz
             .pairs
             .into_iter()
