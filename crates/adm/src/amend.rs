@@ -187,6 +187,20 @@ pub struct Selected {
 }
 
 impl Selected {
+    /// The statement `st` as a selected one (its view name, else `KEYWORD_id`).
+    pub fn of(st: &Statement) -> Selected {
+        let id = st.id.unwrap_or(0);
+        Selected {
+            keyword: st.keyword.clone(),
+            id,
+            name: st
+                .view_name
+                .clone()
+                .unwrap_or_else(|| format!("{}_{id}", st.keyword)),
+            line: st.span.line,
+        }
+    }
+
     /// `SENSOR/3`.
     pub fn element(&self) -> String {
         format!("{}/{}", self.keyword, self.id)
@@ -242,19 +256,7 @@ pub fn select(statements: &[Statement], names: &[String]) -> Result<Vec<Selected
     }
     Ok(chosen
         .into_iter()
-        .map(|k| {
-            let st = &statements[k];
-            let id = st.id.unwrap_or(0);
-            Selected {
-                keyword: st.keyword.clone(),
-                id,
-                name: st
-                    .view_name
-                    .clone()
-                    .unwrap_or_else(|| format!("{}_{id}", st.keyword)),
-                line: st.span.line,
-            }
-        })
+        .map(|k| Selected::of(&statements[k]))
         .collect())
 }
 

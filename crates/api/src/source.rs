@@ -434,20 +434,11 @@ impl Source {
     fn selected(&self, inactive: &BTreeSet<(String, u64)>) -> Vec<Selected> {
         self.statements()
             .iter()
-            .filter_map(|st| {
-                let id = st.id?;
-                inactive
-                    .contains(&(st.keyword.clone(), id))
-                    .then(|| Selected {
-                        keyword: st.keyword.clone(),
-                        id,
-                        name: st
-                            .view_name
-                            .clone()
-                            .unwrap_or_else(|| format!("{}_{id}", st.keyword)),
-                        line: st.span.line,
-                    })
+            .filter(|st| {
+                st.id
+                    .is_some_and(|id| inactive.contains(&(st.keyword.clone(), id)))
             })
+            .map(Selected::of)
             .collect()
     }
 }
