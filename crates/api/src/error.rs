@@ -12,6 +12,12 @@ pub enum ArgumentError {
     /// A quasi-static series with only one of its end time and step count.
     #[error("a quasi-static series needs both end and steps")]
     IncompleteSeries,
+    /// A wall-clock limit that is not a positive finite number of seconds up to a year.
+    #[error(
+        "--time-limit must be a positive number of seconds up to {}, not {secs}",
+        crate::budget::MAX_TIME_LIMIT
+    )]
+    TimeLimit { secs: f64 },
 }
 
 /// Why an analysis produced no report.

@@ -27,6 +27,10 @@ pub enum RunError {
     /// The run was interrupted (Ctrl-C): it stopped after the output at `time`.
     #[error("interrupted at time {time}: the files hold every output up to it")]
     Interrupted { time: f64 },
+    /// An output file of the run is one of the files it reads (by identity: another
+    /// spelling, a symbolic or a hard link): refused before anything is written to it.
+    #[error(transparent)]
+    OutputIsInput(#[from] linkage_api::OutputIsInput),
     /// An output file cannot be written.
     #[error("cannot write {path}: {cause}")]
     Write { path: String, cause: std::io::Error },
@@ -38,7 +42,7 @@ impl RunError {
     /// for an interrupted run.
     pub fn exit_code(&self) -> u8 {
         match self {
-            RunError::Input(_) | RunError::Refused { .. } => 2,
+            RunError::Input(_) | RunError::Refused { .. } | RunError::OutputIsInput(_) => 2,
             RunError::Failed { .. } | RunError::Write { .. } => 1,
             RunError::Interrupted { .. } => 130,
         }
