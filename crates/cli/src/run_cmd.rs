@@ -28,9 +28,9 @@ pub struct Options<'o> {
 /// Runs the command file and prints where its outputs are; exit 0 when every command was
 /// carried out or a SENSOR's HALT ended the file (a complete run: Adams' HALT terminates the
 /// solver; the line `ended by the HALT of SENSOR_1 at time …` says where), 1 when an analysis
-/// failed, 2 for input errors and commands linkage refuses,
-/// 130 when interrupted (Ctrl-C stops the run at its next output; the files keep every output
-/// written and the message file says where it stopped).
+/// failed or was interrupted (Ctrl-C stops the run at its next output; the files keep every
+/// output written and the message file says where it stopped), 2 for input errors, commands
+/// linkage refuses and command files with no dataset or no analysis.
 pub fn run(command_file: &Path, paths: Paths, options: Options) -> ExitCode {
     let Options {
         deactivate,

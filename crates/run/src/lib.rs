@@ -141,6 +141,24 @@ pub fn run_command_file(path: &Path, options: &RunOptions) -> Result<RunSummary,
         })
     };
     let (cf, typed) = read(path).map_err(stop)?;
+    let file = path.display().to_string();
+    if typed.model.is_none() && options.model.is_none() && !names_a_model(&typed) {
+        return Err(stop(RunError::Empty {
+            file,
+            why: "the command file names no dataset (line 1, FILE/MODEL) and --model gives none",
+        }));
+    }
+    if !typed.commands.iter().any(|e| {
+        matches!(
+            e.command,
+            Command::Simulate(_) | Command::Linear(_) | Command::File(_)
+        )
+    }) {
+        return Err(stop(RunError::Empty {
+            file,
+            why: "the command file has no analysis (SIMULATE, LINEAR) to run",
+        }));
+    }
     let out_name = typed
         .output_prefix
         .clone()
@@ -189,6 +207,14 @@ pub fn run_command_file(path: &Path, options: &RunOptions) -> Result<RunSummary,
         }
         Err(error) => Err(Box::new(Stopped { error, summary })),
     }
+}
+
+/// Whether a FILE/MODEL of the command file names a dataset.
+fn names_a_model(typed: &TypedCommandFile) -> bool {
+    typed
+        .commands
+        .iter()
+        .any(|e| matches!(&e.command, Command::File(f) if f.model.is_some() || f.command.is_some()))
 }
 
 fn read(path: &Path) -> Result<(CommandFile, TypedCommandFile), RunError> {
@@ -255,7 +281,14 @@ impl Runner {
         if let Some(model) = self.options.model.clone() {
             self.open_dataset(path, &model)?;
         } else if let Some(model) = &typed.model {
-            self.open_model(path, model)?;
+            self.open_model(path, model).map_err(|e| match e {
+                RunError::Input(d) => RunError::Refused {
+                    place: format!("{}:1:1", path.display()),
+                    command: "the dataset of line 1".into(),
+                    why: d.to_string(),
+                },
+                other => other,
+            })?;
         }
         Ok(())
     }
