@@ -98,6 +98,7 @@ fn a_static_funnel_a_redefined_motion_and_a_deactivated_spring_follow_their_clos
             interrupt: None,
             deactivate: Vec::new(),
             allow_unstable: false,
+            ..Default::default()
         },
     )
     .unwrap_or_else(|s| panic!("runs: {}", s.error));
@@ -179,6 +180,7 @@ fn a_command_that_cannot_apply_names_its_line_and_leaves_whole_files() {
             interrupt: None,
             deactivate: Vec::new(),
             allow_unstable: false,
+            ..Default::default()
         },
     )
     .expect_err("VARIABLE/99 is not in the dataset");
@@ -209,6 +211,7 @@ fn unknown_commands_and_kinematics_with_freedom_are_refused_by_name() {
         interrupt: None,
         deactivate: Vec::new(),
         allow_unstable: false,
+        ..Default::default()
     };
     let acf = write(&dir, "unknown.acf", "slider\nunknown\nFROBNICATE/NOW\n");
     let stopped = run_command_file(&acf, &options).expect_err("unknown command");
@@ -245,6 +248,7 @@ fn statemat_writes_the_state_matrix_of_the_free_motion() {
         interrupt: None,
         deactivate: Vec::new(),
         allow_unstable: false,
+        ..Default::default()
     };
     run_command_file(&acf, &options).unwrap_or_else(|s| panic!("runs: {}", s.error));
     // One free coordinate (the slider; the rotor is driven): A = [0 1; −k/m 0], k/m = 50.
@@ -304,6 +308,7 @@ fn statemat_with_plant_inputs_and_outputs_has_the_spring_s_static_gain() {
         interrupt: None,
         deactivate: Vec::new(),
         allow_unstable: false,
+        ..Default::default()
     };
     run_command_file(&acf, &options).unwrap_or_else(|s| panic!("runs: {}", s.error));
     let read = |suffix: &str| -> Vec<Vec<f64>> {
@@ -366,6 +371,7 @@ fn a_nested_command_file_continues_the_same_run() {
         interrupt: None,
         deactivate: Vec::new(),
         allow_unstable: false,
+        ..Default::default()
     };
     let summary = run_command_file(&acf, &options).unwrap_or_else(|s| panic!("{}", s.error));
     assert_eq!(summary.outputs, 4);
@@ -399,6 +405,7 @@ fn file_model_switches_to_another_dataset_with_its_own_files() {
         interrupt: None,
         deactivate: Vec::new(),
         allow_unstable: false,
+        ..Default::default()
     };
     run_command_file(&acf, &options).unwrap_or_else(|s| panic!("{}", s.error));
     for (name, k) in [("soft", 100.0), ("hard", 400.0)] {
@@ -431,6 +438,7 @@ fn an_interrupted_run_stops_after_its_step_and_leaves_whole_files() {
         interrupt: Some(Arc::clone(&flag)),
         deactivate: Vec::new(),
         allow_unstable: false,
+        ..Default::default()
     };
     // Interrupt once a few outputs are on disk (as Ctrl-C would, at any moment).
     let csv_path = dir.join("long.csv");

@@ -112,6 +112,7 @@ fn every_corpus_command_file_runs_or_stops_naming_the_place_and_the_reason() {
             interrupt: None,
             deactivate: Vec::new(),
             allow_unstable: false,
+            ..Default::default()
         };
         match run_command_file(acf, &options) {
             Ok(summary) => {

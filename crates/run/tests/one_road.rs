@@ -88,6 +88,7 @@ fn run_acf(
         interrupt: Some(Arc::clone(&interrupt)),
         deactivate: Vec::new(),
         allow_unstable: false,
+        ..Default::default()
     };
     let result = run_command_file(&acf, &options).map_err(|s| s.error.to_string());
     done.store(true, Ordering::Relaxed);
