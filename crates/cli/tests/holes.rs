@@ -228,3 +228,27 @@ fn command_files_empty_cut_short_without_analysis_or_dataset_are_refused_with_th
     }
     assert!(!dir.join("out.csv").exists(), "no empty CSV is written");
 }
+
+#[test]
+fn a_request_left_out_of_a_command_file_run_leaves_the_others_in_its_files() {
+    let (dir, text) = folder("deactivate");
+    let dataset = text.replacen(
+        "ACCGRAV/",
+        "REQUEST/4, DISPLACEMENT, I = 203, J = 101\nREQUEST/5, VELOCITY, I = 203, J = 101\nACCGRAV/",
+        1,
+    );
+    std::fs::write(dir.join("rq.adm"), dataset).unwrap();
+    std::fs::write(
+        dir.join("d.acf"),
+        "rq\nd\nSIMULATE/DYNAMIC, END=0.01, STEPS=2\n",
+    )
+    .unwrap();
+    let (code, out, err) = run_in(&dir, &["run", "d.acf", "--deactivate", "REQUEST/5"]);
+    assert_eq!(code, 0, "{out}{err}");
+    assert!(out.contains("3 output(s)"), "{out}");
+    let csv = std::fs::read_to_string(dir.join("d.csv")).unwrap();
+    let header = csv.lines().next().unwrap();
+    assert!(header.contains("REQUEST_4"), "{header}");
+    assert!(!header.contains("REQUEST_5"), "{header}");
+    assert_eq!(csv.lines().count(), 4, "{csv}");
+}
