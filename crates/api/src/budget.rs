@@ -2,8 +2,15 @@
 //! gives a run a deadline, so that no run goes on without end (a MOTION of `EXP(1000*TIME)`,
 //! an `--end` of 1e200 that the step size can never reach).
 
-use crate::error::ArgumentError;
 use std::time::{Duration, Instant};
+
+/// A wall-clock limit that is not a positive finite number of seconds up to
+/// [`MAX_TIME_LIMIT`] (an input error: exit code 2).
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+#[error("--time-limit must be a positive number of seconds up to {MAX_TIME_LIMIT}, not {secs}")]
+pub struct TimeLimitError {
+    pub secs: f64,
+}
 
 /// Wall-clock seconds after which a dynamic simulation stops when no time limit is given
 /// (`--time-limit`, a command file run's `--time-limit`, Python's and a sweep's
@@ -16,19 +23,17 @@ pub const MAX_TIME_LIMIT: f64 = 365.0 * 24.0 * 3600.0;
 
 /// The deadline `time_limit` seconds (else `default`) from now; an argument error for a time
 /// limit that is not a positive finite number of seconds up to [`MAX_TIME_LIMIT`].
-pub fn deadline(time_limit: Option<f64>, default: f64) -> Result<Instant, ArgumentError> {
+pub fn deadline(time_limit: Option<f64>, default: f64) -> Result<Instant, TimeLimitError> {
     let secs = check_time_limit(time_limit)?.unwrap_or(default);
-    Ok(Instant::now()
+    Instant::now()
         .checked_add(Duration::from_secs_f64(secs))
-        .ok_or(ArgumentError::TimeLimit { secs })?)
+        .ok_or(TimeLimitError { secs })
 }
 
 /// `time_limit` when it is a positive finite number of seconds up to [`MAX_TIME_LIMIT`].
-pub fn check_time_limit(time_limit: Option<f64>) -> Result<Option<f64>, ArgumentError> {
+pub fn check_time_limit(time_limit: Option<f64>) -> Result<Option<f64>, TimeLimitError> {
     match time_limit {
-        Some(secs) if !(secs > 0.0 && secs <= MAX_TIME_LIMIT) => {
-            Err(ArgumentError::TimeLimit { secs })
-        }
+        Some(secs) if !(secs > 0.0 && secs <= MAX_TIME_LIMIT) => Err(TimeLimitError { secs }),
         other => Ok(other),
     }
 }

@@ -13,11 +13,8 @@ pub enum ArgumentError {
     #[error("a quasi-static series needs both end and steps")]
     IncompleteSeries,
     /// A wall-clock limit that is not a positive finite number of seconds up to a year.
-    #[error(
-        "--time-limit must be a positive number of seconds up to {}, not {secs}",
-        crate::budget::MAX_TIME_LIMIT
-    )]
-    TimeLimit { secs: f64 },
+    #[error(transparent)]
+    TimeLimit(#[from] crate::budget::TimeLimitError),
 }
 
 /// Why an analysis produced no report.

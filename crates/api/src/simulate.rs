@@ -199,7 +199,8 @@ pub fn run(
     let integrator = &loaded.model.integrator;
     check_hmax(loaded, end - start.time())?;
     let deadline =
-        crate::budget::deadline(args.time_limit, crate::budget::DEFAULT_SIMULATE_TIME_LIMIT)?;
+        crate::budget::deadline(args.time_limit, crate::budget::DEFAULT_SIMULATE_TIME_LIMIT)
+            .map_err(crate::error::ArgumentError::from)?;
     let mut csv = CsvFile {
         target: args.csv,
         model: &loaded.model,

@@ -122,7 +122,8 @@ pub fn run(
         let limit = loaded.model.equilibrium.settling_time;
         // Damped settling cannot bound its own wall-clock time: without a time limit, the
         // default guard stops it.
-        let deadline = crate::budget::deadline(args.time_limit, DEFAULT_SETTLE_TIME_LIMIT)?;
+        let deadline = crate::budget::deadline(args.time_limit, DEFAULT_SETTLE_TIME_LIMIT)
+            .map_err(crate::error::ArgumentError::from)?;
         let out_of_time = || Instant::now() >= deadline;
         let settled = linkage_solve::stages::settle::settle_until(
             &assembled,
