@@ -252,3 +252,40 @@ fn a_request_left_out_of_a_command_file_run_leaves_the_others_in_its_files() {
     assert!(!header.contains("REQUEST_5"), "{header}");
     assert_eq!(csv.lines().count(), 4, "{csv}");
 }
+
+#[test]
+fn a_variable_left_out_is_named_as_left_out_at_the_element_that_uses_it() {
+    let (dir, text) = folder("variable");
+    let dataset = text.replacen(
+        "ACCGRAV/",
+        "VARIABLE/7, FUNCTION = 2*TIME\nSFORCE/8, ROTATION, I = 203, J = 101, \
+         FUNCTION = VARVAL(7)\nACCGRAV/",
+        1,
+    );
+    let path = dir.join("var.adm");
+    std::fs::write(&path, dataset).unwrap();
+    let (code, _, err) = run(&[
+        "simulate",
+        s(&path),
+        "--end",
+        "0.01",
+        "--steps",
+        "2",
+        "--deactivate",
+        "VARIABLE/7",
+    ]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("SFORCE_8 (SFORCE/8"), "{err}");
+    assert!(err.contains("VARIABLE/7 (VARIABLE_7, line"), "{err}");
+    assert!(err.contains("is left out on request"), "{err}");
+    // The same in a command file's DEACTIVATE.
+    std::fs::write(
+        dir.join("v.acf"),
+        "var\nv\nDEACTIVATE/VARIABLE, ID=7\nSIMULATE/DYNAMIC, END=0.01, STEPS=2\n",
+    )
+    .unwrap();
+    let (code, _, err) = run_in(&dir, &["run", "v.acf"]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("v.acf:3:1: DEACTIVATE"), "{err}");
+    assert!(err.contains("is left out on request"), "{err}");
+}
