@@ -343,6 +343,8 @@ fn run_acf(
         deactivate: deactivate.unwrap_or_default(),
         allow_unstable,
         read: linkage_adm::ReadOptions { lenient_arguments },
+        also_writes: Vec::new(),
+        time_limit: None,
     };
     let result = py.allow_threads(|| linkage_run::run_command_file(&path, &options));
     let summary = |s: &linkage_run::RunSummary| -> PyResult<PyObject> {

@@ -20,7 +20,7 @@ mod typing;
 pub use typed::*;
 pub use typing::type_commands;
 
-use crate::diagnostic::{Diagnostic, Diagnostics};
+use crate::diagnostic::{Diagnostic, Diagnostics, Span};
 use crate::lexer::split_lines;
 use crate::parse::{self, Language};
 use crate::statement::Statement;
@@ -85,6 +85,9 @@ pub fn parse_commands(file: Arc<str>, text: &str) -> Result<CommandFile, Diagnos
         let prefix = Some(line(1).to_string()).filter(|p| !p.is_empty());
         (Some(first.to_string()), prefix, 2)
     };
+    if let Some(cut) = cut_short(&file, &lines, start) {
+        return Err(Diagnostics(vec![cut]));
+    }
     let parsed = parse::parse(file.clone(), text, start, Language::Commands, true);
     let (errors, warnings): (Vec<_>, Vec<_>) = parsed
         .diagnostics
@@ -103,6 +106,29 @@ pub fn parse_commands(file: Arc<str>, text: &str) -> Result<CommandFile, Diagnos
     })
 }
 
+/// The error of a command file whose last command ends with a continuation (`,` or `&`):
+/// the rest of it is missing (a truncated file), so the command is not run with what is left.
+/// Lines before `start` are the header; comments (`!` on) are not code.
+fn cut_short(file: &Arc<str>, lines: &[&str], start: usize) -> Option<Diagnostic> {
+    let (k, code) = lines
+        .iter()
+        .enumerate()
+        .skip(start)
+        .map(|(k, l)| (k, l.split('!').next().unwrap_or("").trim_end()))
+        .rfind(|(_, code)| !code.trim().is_empty())?;
+    let last = code.chars().last()?;
+    (last == ',' || last == '&').then(|| {
+        Diagnostic::error(
+            file.clone(),
+            Some(Span::new(k as u32 + 1, code.chars().count() as u32)),
+            format!(
+                "the command file ends inside a command (its last line ends with '{last}'): \
+                 the rest of the command is missing"
+            ),
+        )
+    })
+}
+
 #[cfg(test)]
 #[path = "commands/tests/typing.rs"]
 mod typing_tests;
@@ -114,6 +140,19 @@ mod tests {
 
     fn parse(text: &str) -> CommandFile {
         parse_commands(Arc::from("t.acf"), text).unwrap_or_else(|e| panic!("{e}"))
+    }
+
+    #[test]
+    fn a_file_cut_after_a_dangling_comma_is_an_error_at_that_comma() {
+        let e = parse_commands(
+            Arc::from("t.acf"),
+            "in\nout\nSIMULATE/DYNAMIC, END=1,\n! comment\n\n",
+        )
+        .unwrap_err()
+        .to_string();
+        assert!(e.contains("t.acf:3:24"), "{e}");
+        assert!(e.contains("ends inside a command"), "{e}");
+        assert!(parse_commands(Arc::from("t.acf"), "in\nout\nSIMULATE/DYNAMIC, END=1\n").is_ok());
     }
 
     #[test]

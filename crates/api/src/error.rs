@@ -12,6 +12,9 @@ pub enum ArgumentError {
     /// A quasi-static series with only one of its end time and step count.
     #[error("a quasi-static series needs both end and steps")]
     IncompleteSeries,
+    /// A wall-clock limit that is not a positive finite number of seconds up to a year.
+    #[error(transparent)]
+    TimeLimit(#[from] crate::budget::TimeLimitError),
 }
 
 /// Why an analysis produced no report.

@@ -13,7 +13,9 @@
 //! call gives) and runs it to a JSON value and an exit code. Input errors are
 //! [`Error::Input`] (exit code 2), with file:line:column.
 
+pub mod budget;
 pub mod error;
+pub mod files;
 pub mod ic;
 pub mod job;
 pub mod linear;
@@ -27,6 +29,7 @@ pub mod times;
 pub mod verify;
 
 pub use error::Error;
+pub use files::{check_outputs, dataset_files, same_file, OutputIsInput};
 pub use sink::{CsvSink, NoSink, OutputSink, SinkError};
 pub use source::{load, load_model, ArgValue, Loaded, Refusal, Source};
 pub use start::{Left, Start};

@@ -143,6 +143,7 @@ pub fn run(
     if found.is_some() {
         report.operating_point = "the state the previous analysis left, assembled at its time";
     }
+    report.errors.extend(non_finite(&report));
     if !args.allow_unstable && report.errors.is_empty() {
         report.errors.extend(unstable_operating_point(&result));
     }
@@ -208,4 +209,39 @@ pub fn state_matrices(
         time,
         left: left_as_found(found, a),
     })
+}
+
+/// The finite-value guard of a linear report: an error naming the first eigenvalue, frequency
+/// or mode-shape component that is not a finite number (a model whose scale is beyond double
+/// precision: an ACCGRAV of 1e200, an IP of 1e300), so that no NaN is reported as a result.
+pub fn non_finite(report: &LinearJson) -> Option<String> {
+    let eigen = report
+        .eigenvalues
+        .iter()
+        .position(|e| !(e.real.is_finite() && e.imag.is_finite()));
+    if let Some(k) = eigen {
+        return Some(format!(
+            "eigenvalue {} is not a finite number: the model's scale is beyond double \
+             precision",
+            k + 1
+        ));
+    }
+    for m in &report.modes {
+        let shape_ok = m.shape.iter().flatten().all(|p| {
+            p.translation
+                .iter()
+                .chain(&p.rotation)
+                .all(|c| c.magnitude.is_finite() && c.phase_deg.is_finite())
+        });
+        let values_ok = [m.frequency, m.damping_ratio, m.real, m.imag]
+            .iter()
+            .all(|v| v.is_finite());
+        if !(shape_ok && values_ok) {
+            return Some(format!(
+                "mode {} is not a finite number: the model's scale is beyond double precision",
+                m.number
+            ));
+        }
+    }
+    None
 }

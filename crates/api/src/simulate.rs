@@ -15,7 +15,7 @@ use linkage_solve::stages::dynamics::{
     Stream, UnstableStart,
 };
 use std::io::Write;
-use std::time::{Duration, Instant};
+use std::time::Instant;
 
 /// The most integration steps an HMAX may imply (about a day of computing for a small model).
 const MAX_STEPS: f64 = 1e9;
@@ -198,9 +198,9 @@ pub fn run(
     // HHT-α, the other Adams names the BDF with a note); the report carries its notes.
     let integrator = &loaded.model.integrator;
     check_hmax(loaded, end - start.time())?;
-    let deadline = args
-        .time_limit
-        .map(|secs| Instant::now() + Duration::from_secs_f64(secs));
+    let deadline =
+        crate::budget::deadline(args.time_limit, crate::budget::DEFAULT_SIMULATE_TIME_LIMIT)
+            .map_err(crate::error::ArgumentError::from)?;
     let mut csv = CsvFile {
         target: args.csv,
         model: &loaded.model,
@@ -240,7 +240,7 @@ pub fn run(
     let clock = Instant::now();
     let stream = Stream {
         on_output: &mut on_output,
-        stop: &|| interrupted() || deadline.is_some_and(|d| Instant::now() >= d),
+        stop: &|| interrupted() || Instant::now() >= deadline,
     };
     let result = match (&from, unopened) {
         (_, true) => linkage_solve::stages::dynamics::DynamicRun {
@@ -316,11 +316,18 @@ pub fn run(
         .as_ref()
         .and_then(|s| s.failure.as_ref())
         .is_some_and(|f| matches!(f.cause, IntegrationError::Stopped));
-    let out_of_time = deadline.is_some_and(|d| Instant::now() >= d);
-    if let (Some(secs), true, true) = (args.time_limit, out_of_time, stopped) {
-        report.errors.push(format!(
-            "the time limit of {secs} s was reached; the outputs up to it are written"
-        ));
+    let out_of_time = Instant::now() >= deadline;
+    if out_of_time && stopped {
+        report.errors.push(match args.time_limit {
+            Some(secs) => {
+                format!("the time limit of {secs} s was reached; the outputs up to it are written")
+            }
+            None => format!(
+                "the default wall-clock limit of {} s was reached (--time-limit sets another); \
+                 the outputs up to it are written",
+                crate::budget::DEFAULT_SIMULATE_TIME_LIMIT
+            ),
+        });
     }
     let left = last.map(|o| Left {
         state: o.state,

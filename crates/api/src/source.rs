@@ -532,6 +532,7 @@ fn build_found(
         Ok(b) => b,
         Err(mut d) => {
             d.0.extend(refused_as_diagnostics(&findings, analysis, &d.0));
+            explain_left_out(&mut d, &left_out);
             return Err(d);
         }
     };
@@ -540,7 +541,12 @@ fn build_found(
     // The forces of a model some statement of which every analysis refuses are not built
     // (their elements may be what is refused); each analysis then names the statements.
     let forces = match analysis {
-        Some(a) if !findings.iter().any(|f| f.refuses(a)) => Some(ForceSet::new(&built.model)?),
+        Some(a) if !findings.iter().any(|f| f.refuses(a)) => {
+            Some(ForceSet::new(&built.model).map_err(|mut d| {
+                explain_left_out(&mut d, &left_out);
+                d
+            })?)
+        }
         _ => None,
     };
     Ok(Loaded {
@@ -553,6 +559,33 @@ fn build_found(
         forces,
         refusal: Refusal::Option,
     })
+}
+
+/// Says, on each error about a reference to a statement that does not exist because it was
+/// left out on request (`--deactivate`, DEACTIVATE), that it was left out and what to do:
+/// the error itself names the element that uses it.
+fn explain_left_out(d: &mut Diagnostics, left_out: &[Selected]) {
+    for diagnostic in &mut d.0 {
+        let missing = left_out.iter().find(|s| {
+            let kw = s.keyword.to_ascii_uppercase();
+            [
+                format!("{kw}/{} does not exist", s.id),
+                format!("{kw} {} does not exist", s.id),
+                format!("{} {} does not exist", kw.to_ascii_lowercase(), s.id),
+            ]
+            .iter()
+            .any(|p| diagnostic.message.contains(p.as_str()))
+        });
+        if let Some(s) = missing {
+            diagnostic.hint = Some(format!(
+                "{} ({}, line {}) is left out on request (--deactivate or DEACTIVATE): leave \
+                 out what uses it too, or keep it",
+                s.element(),
+                s.name,
+                s.line
+            ));
+        }
+    }
 }
 
 /// The findings `analysis` refuses (verify, `None`: that any analysis refuses) as

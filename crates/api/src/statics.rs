@@ -12,7 +12,7 @@ use linkage_solve::pipeline::Assembled;
 use linkage_solve::stages::dynamics::Output;
 use linkage_solve::stages::statics::Equilibrium;
 use linkage_solve::state::State;
-use std::time::{Duration, Instant};
+use std::time::Instant;
 
 /// Wall-clock seconds after which damped settling stops when no time limit is given (the
 /// CLI's `static --settle` default, and a command file's EQUILIBRIUM/DYNAMIC).
@@ -122,8 +122,8 @@ pub fn run(
         let limit = loaded.model.equilibrium.settling_time;
         // Damped settling cannot bound its own wall-clock time: without a time limit, the
         // default guard stops it.
-        let limit_secs = args.time_limit.unwrap_or(DEFAULT_SETTLE_TIME_LIMIT);
-        let deadline = Instant::now() + Duration::from_secs_f64(limit_secs);
+        let deadline = crate::budget::deadline(args.time_limit, DEFAULT_SETTLE_TIME_LIMIT)
+            .map_err(crate::error::ArgumentError::from)?;
         let out_of_time = || Instant::now() >= deadline;
         let settled = linkage_solve::stages::settle::settle_until(
             &assembled,

@@ -90,7 +90,40 @@ pub fn output_times_after(
     if intervals > MAX_OUTPUT_TIMES {
         return Err(OutputTimesError::TooManySteps { steps: intervals });
     }
+    // The fraction first: `span * k` overflows for an `end` near the largest f64.
     Ok((1..=intervals)
-        .map(|k| t0 + span * k as f64 / intervals as f64)
+        .map(|k| t0 + span * (k as f64 / intervals as f64))
         .collect())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn output_times_up_to_the_largest_finite_end_are_finite_and_end_on_it() {
+        let end = 1.797e308;
+        let t = output_times(end, Some(10), None).unwrap();
+        assert_eq!(t.len(), 11);
+        assert!(t.iter().all(|x| x.is_finite()), "{t:?}");
+        assert!(t.windows(2).all(|w| w[1] > w[0]), "{t:?}");
+        assert_eq!(t[10], end);
+        assert!((t[1] - end / 10.0).abs() <= 1e-15 * end);
+    }
+
+    #[test]
+    fn counts_over_the_output_cap_are_refused_not_allocated() {
+        assert!(matches!(
+            output_times(1e23, None, Some(0.01)),
+            Err(OutputTimesError::TooManyIntervals { .. })
+        ));
+        assert!(matches!(
+            output_times(1.0, Some(4_000_000_000), None),
+            Err(OutputTimesError::TooManySteps { .. })
+        ));
+        assert!(matches!(
+            output_times(f64::INFINITY, Some(10), None),
+            Err(OutputTimesError::EndNotPositive { .. })
+        ));
+    }
 }

@@ -154,38 +154,10 @@ impl Progress {
     }
 }
 
-/// `path` with its links resolved; for a file that does not exist yet, its folder's (so that
-/// `./in.adm`, `in.adm` and a link to it compare equal).
-fn resolved(path: &Path) -> Option<std::path::PathBuf> {
-    if let Ok(p) = std::fs::canonicalize(path) {
-        return Some(p);
-    }
-    let name = path.file_name()?;
-    let dir = match path.parent() {
-        Some(d) if !d.as_os_str().is_empty() => d,
-        _ => Path::new("."),
-    };
-    Some(std::fs::canonicalize(dir).ok()?.join(name))
-}
-
-/// An output path that names the input file (after resolving links).
-#[derive(Debug, thiserror::Error)]
-#[error("refusing to write {output}: it is the input {input} (choose another output file)")]
-pub struct OutputIsInput {
-    pub output: String,
-    pub input: String,
-}
-
-/// An output path that would overwrite the input (after resolving links) is an input error:
-/// the message names both.
-pub fn check_output(input: &Path, output: &Path) -> Result<(), OutputIsInput> {
-    match (resolved(input), resolved(output)) {
-        (Some(a), Some(b)) if a == b => Err(OutputIsInput {
-            output: output.display().to_string(),
-            input: input.display().to_string(),
-        }),
-        _ => Ok(()),
-    }
+/// An output path that is the input file (the same file by identity: another spelling, a
+/// symbolic or a hard link) is an input error: the message names both.
+pub fn check_output(input: &Path, output: &Path) -> Result<(), linkage_api::OutputIsInput> {
+    linkage_api::check_outputs([input], [output])
 }
 
 /// Whether an output path means standard output (`-`).

@@ -187,6 +187,11 @@ enum Command {
         /// run, as `linkage static` refuses it.
         #[arg(long)]
         allow_unstable: bool,
+        /// Stop each SIMULATE/DYNAMIC after this many seconds of wall-clock time (after the
+        /// step it is in): the outputs up to there are written, and the run fails (exit 1)
+        /// saying so. Default: 3600 s.
+        #[arg(long, value_name = "SECONDS")]
+        time_limit: Option<f64>,
     },
     /// Dynamic simulation to --end with output every --dtout or in --steps intervals.
     Simulate {
@@ -229,6 +234,7 @@ enum Command {
         allow_unstable: bool,
         /// Stop the run after this many seconds of wall-clock time (after the step it is in):
         /// the outputs up to there are written, and the run fails (exit 1) saying so.
+        /// Default: 3600 s.
         #[arg(long, value_name = "SECONDS")]
         time_limit: Option<f64>,
         /// With --html: plot these columns (one plot each: PART.x|y|z|vx|vy|vz,
@@ -380,6 +386,7 @@ fn main() -> ExitCode {
             deactivate,
             html,
             allow_unstable,
+            time_limit,
         } => run_cmd::run(
             &command_file,
             run_cmd::Paths {
@@ -387,8 +394,11 @@ fn main() -> ExitCode {
                 model: model.as_deref(),
                 html: html.as_deref(),
             },
-            &deactivate,
-            allow_unstable,
+            run_cmd::Options {
+                deactivate: &deactivate,
+                allow_unstable,
+                time_limit,
+            },
         ),
         Command::Plot {
             file,

@@ -15,18 +15,32 @@ pub struct Paths<'p> {
     pub html: Option<&'p Path>,
 }
 
+/// How `linkage run` runs besides its files.
+pub struct Options<'o> {
+    /// `--deactivate`.
+    pub deactivate: &'o [String],
+    /// `--allow-unstable`.
+    pub allow_unstable: bool,
+    /// `--time-limit`: wall-clock seconds for each SIMULATE/DYNAMIC.
+    pub time_limit: Option<f64>,
+}
+
 /// Runs the command file and prints where its outputs are; exit 0 when every command was
 /// carried out or a SENSOR's HALT ended the file (a complete run: Adams' HALT terminates the
 /// solver; the line `ended by the HALT of SENSOR_1 at time …` says where), 1 when an analysis
-/// failed, 2 for input errors and commands linkage refuses,
-/// 130 when interrupted (Ctrl-C stops the run at its next output; the files keep every output
-/// written and the message file says where it stopped).
-pub fn run(
-    command_file: &Path,
-    paths: Paths,
-    deactivate: &[String],
-    allow_unstable: bool,
-) -> ExitCode {
+/// failed or was interrupted (Ctrl-C stops the run at its next output; the files keep every
+/// output written and the message file says where it stopped), 2 for input errors, commands
+/// linkage refuses and command files with no dataset or no analysis.
+pub fn run(command_file: &Path, paths: Paths, options: Options) -> ExitCode {
+    let Options {
+        deactivate,
+        allow_unstable,
+        time_limit,
+    } = options;
+    if let Err(e) = linkage_api::budget::check_time_limit(time_limit) {
+        eprintln!("error: {e}");
+        return ExitCode::from(2);
+    }
     let Paths {
         out_dir,
         model,
@@ -43,6 +57,8 @@ pub fn run(
         deactivate: deactivate.to_vec(),
         allow_unstable,
         read: crate::common::read_options(),
+        also_writes: html.map(Path::to_path_buf).into_iter().collect(),
+        time_limit,
     };
     let (summary, error) = match linkage_run::run_command_file(command_file, &options) {
         Ok(s) => (Some(s), None),
@@ -69,7 +85,8 @@ pub fn run(
             ExitCode::from(e.exit_code())
         }
     };
-    if let Some(out) = html {
+    // A run that stopped before it opened its dataset has its error above and no page.
+    if let (Some(out), Some(_)) = (html, &summary) {
         let errors: Vec<String> = error.iter().map(|e| e.to_string()).collect();
         match run_page(command_file, summary.as_ref(), deactivate, errors) {
             Ok(page) => match crate::html_out::write(&page, out) {
@@ -93,7 +110,7 @@ pub fn run(
 enum RunPageError {
     #[error("the run stopped before it opened its dataset")]
     NotOpened,
-    #[error("the command file names no dataset")]
+    #[error("the run opened no dataset")]
     NoDataset,
     /// The dataset or the run's CSV does not read.
     #[error("{0}")]

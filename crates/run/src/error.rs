@@ -27,6 +27,14 @@ pub enum RunError {
     /// The run was interrupted (Ctrl-C): it stopped after the output at `time`.
     #[error("interrupted at time {time}: the files hold every output up to it")]
     Interrupted { time: f64 },
+    /// The command file has nothing to run: no dataset (line 1, FILE/MODEL or `--model`), or
+    /// no analysis (SIMULATE, LINEAR) nor FILE/COMMAND that could hold one.
+    #[error("{file}: {why}")]
+    Empty { file: String, why: &'static str },
+    /// An output file of the run is one of the files it reads (by identity: another
+    /// spelling, a symbolic or a hard link): refused before anything is written to it.
+    #[error(transparent)]
+    OutputIsInput(#[from] linkage_api::OutputIsInput),
     /// An output file cannot be written.
     #[error("cannot write {path}: {cause}")]
     Write { path: String, cause: std::io::Error },
@@ -34,13 +42,15 @@ pub enum RunError {
 
 impl RunError {
     /// The exit code of `linkage run`: 2 for input errors and refused commands, 1 for an
-    /// analysis that failed or a file that cannot be written, 130 (as a shell reports SIGINT)
-    /// for an interrupted run.
+    /// analysis that failed, a file that cannot be written, or an interrupted run (as an
+    /// interrupted `linkage simulate`).
     pub fn exit_code(&self) -> u8 {
         match self {
-            RunError::Input(_) | RunError::Refused { .. } => 2,
-            RunError::Failed { .. } | RunError::Write { .. } => 1,
-            RunError::Interrupted { .. } => 130,
+            RunError::Input(_)
+            | RunError::Refused { .. }
+            | RunError::Empty { .. }
+            | RunError::OutputIsInput(_) => 2,
+            RunError::Failed { .. } | RunError::Write { .. } | RunError::Interrupted { .. } => 1,
         }
     }
 }

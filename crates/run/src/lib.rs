@@ -61,6 +61,13 @@ pub struct RunOptions {
     pub allow_unstable: bool,
     /// How the dataset is read (`--lenient-arguments`).
     pub read: linkage_adm::ReadOptions,
+    /// Files the caller writes after the run (`--html`): refused, as the run's own outputs
+    /// are, when one is a file the run reads.
+    pub also_writes: Vec<PathBuf>,
+    /// Wall-clock seconds each dynamic simulation may take (`--time-limit`; `None`: the
+    /// default of [`linkage_api::budget::DEFAULT_SIMULATE_TIME_LIMIT`]): a run that reaches it
+    /// fails saying so, the outputs up to there written.
+    pub time_limit: Option<f64>,
 }
 
 impl RunOptions {
@@ -113,6 +120,10 @@ struct Runner {
     commands: usize,
     /// Assemblies of the models closed before the current one.
     assemblies: usize,
+    /// Every file the run has read (command files, datasets, their MATRIX files and meshes)
+    /// and every file it writes: no output may be an input ([`linkage_api::files`]).
+    inputs: Vec<PathBuf>,
+    outputs: Vec<PathBuf>,
 }
 
 fn with_extension(name: &str, ext: &str) -> String {
@@ -132,6 +143,24 @@ pub fn run_command_file(path: &Path, options: &RunOptions) -> Result<RunSummary,
         })
     };
     let (cf, typed) = read(path).map_err(stop)?;
+    let file = path.display().to_string();
+    if typed.model.is_none() && options.model.is_none() && !names_a_model(&typed) {
+        return Err(stop(RunError::Empty {
+            file,
+            why: "the command file names no dataset (line 1, FILE/MODEL) and --model gives none",
+        }));
+    }
+    if !typed.commands.iter().any(|e| {
+        matches!(
+            e.command,
+            Command::Simulate(_) | Command::Linear(_) | Command::File(_)
+        )
+    }) {
+        return Err(stop(RunError::Empty {
+            file,
+            why: "the command file has no analysis (SIMULATE, LINEAR) to run",
+        }));
+    }
     let out_name = typed
         .output_prefix
         .clone()
@@ -146,7 +175,12 @@ pub fn run_command_file(path: &Path, options: &RunOptions) -> Result<RunSummary,
         counts: None,
         commands: 0,
         assemblies: 0,
+        inputs: Vec::new(),
+        outputs: options.also_writes.clone(),
     };
+    if let Err(e) = runner.reads(&[path.to_path_buf()]) {
+        return Err(stop(e));
+    }
     let result = runner
         .start(path, &typed)
         .and_then(|_| runner.execute(path, &cf, &typed, 0));
@@ -177,6 +211,14 @@ pub fn run_command_file(path: &Path, options: &RunOptions) -> Result<RunSummary,
     }
 }
 
+/// Whether a FILE/MODEL of the command file names a dataset.
+fn names_a_model(typed: &TypedCommandFile) -> bool {
+    typed
+        .commands
+        .iter()
+        .any(|e| matches!(&e.command, Command::File(f) if f.model.is_some() || f.command.is_some()))
+}
+
 fn read(path: &Path) -> Result<(CommandFile, TypedCommandFile), RunError> {
     let cf = linkage_adm::read_commands(path).map_err(RunError::Input)?;
     let typed = linkage_adm::type_commands(&cf).map_err(RunError::Input)?;
@@ -184,6 +226,26 @@ fn read(path: &Path) -> Result<(CommandFile, TypedCommandFile), RunError> {
 }
 
 impl Runner {
+    /// The run reads `files`: refused when one is a file it writes.
+    fn reads(&mut self, files: &[PathBuf]) -> Result<(), RunError> {
+        linkage_api::check_outputs(&self.outputs, files).map_err(|e| {
+            // Named the other way round: the output is the input.
+            RunError::OutputIsInput(linkage_api::OutputIsInput {
+                output: e.input,
+                input: e.output,
+            })
+        })?;
+        self.inputs.extend_from_slice(files);
+        Ok(())
+    }
+
+    /// The run writes `file`: refused when it is a file the run reads.
+    fn writes(&mut self, file: PathBuf) -> Result<(), RunError> {
+        linkage_api::check_outputs(&self.inputs, [&file])?;
+        self.outputs.push(file);
+        Ok(())
+    }
+
     fn out_path(&self, ext: &str) -> PathBuf {
         let name = format!("{}.{ext}", self.out_name.as_deref().unwrap_or("linkage"));
         match &self.options.out_dir {
@@ -221,7 +283,14 @@ impl Runner {
         if let Some(model) = self.options.model.clone() {
             self.open_dataset(path, &model)?;
         } else if let Some(model) = &typed.model {
-            self.open_model(path, model)?;
+            self.open_model(path, model).map_err(|e| match e {
+                RunError::Input(d) => RunError::Refused {
+                    place: format!("{}:1:1", path.display()),
+                    command: "the dataset of line 1".into(),
+                    why: d.to_string(),
+                },
+                other => other,
+            })?;
         }
         Ok(())
     }
@@ -241,7 +310,15 @@ impl Runner {
                     .map_or("linkage".to_string(), |s| s.to_string_lossy().into()),
             );
         }
+        self.reads(&[dataset.to_path_buf()])?;
+        // Read before the message file is created, so that no file the dataset reads is
+        // overwritten by it; its errors still go to the message file.
+        let session = Session::open(dataset, &self.options.deactivate, self.options.read);
+        if let Ok(s) = &session {
+            self.reads(&linkage_api::dataset_files(&s.loaded))?;
+        }
         if self.msg.is_none() {
+            self.writes(self.out_path("msg"))?;
             let mut msg = MessageFile::create(&self.out_path("msg"))?;
             msg.write(&format!(
                 " linkage {} — command file {}\n dataset {}",
@@ -258,7 +335,9 @@ impl Runner {
                 self.out_name.as_deref().unwrap_or("linkage")
             ))?;
         }
-        let session = Session::open(dataset, &self.options.deactivate, self.options.read)?;
+        let session = session?;
+        self.writes(self.out_path("req"))?;
+        self.writes(self.out_path("csv"))?;
         let stem = self.out_path("stem");
         let records = Records::create(&stem, &session.loaded.dataset, &session.loaded.model)?;
         self.session = Some(session);
@@ -339,6 +418,7 @@ impl Runner {
                     }
                     let dir = path.parent().unwrap_or(Path::new("."));
                     let nested = dir.join(with_extension(command, "acf"));
+                    self.reads(std::slice::from_ref(&nested))?;
                     let (ncf, ntyped) = read(&nested)?;
                     self.execute(&nested, &ncf, &ntyped, depth + 1)?;
                 }
@@ -504,6 +584,7 @@ fn analysis(
         records,
         counts,
         interrupt: options.interrupt.clone(),
+        time_limit: options.time_limit,
         summary: changed,
         loaded,
         assembled: false,

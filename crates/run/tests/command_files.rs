@@ -99,6 +99,7 @@ fn a_static_funnel_a_redefined_motion_and_a_deactivated_spring_follow_their_clos
             deactivate: Vec::new(),
             allow_unstable: false,
             read: Default::default(),
+            ..Default::default()
         },
     )
     .unwrap_or_else(|s| panic!("runs: {}", s.error));
@@ -181,6 +182,7 @@ fn a_command_that_cannot_apply_names_its_line_and_leaves_whole_files() {
             deactivate: Vec::new(),
             allow_unstable: false,
             read: Default::default(),
+            ..Default::default()
         },
     )
     .expect_err("VARIABLE/99 is not in the dataset");
@@ -212,6 +214,7 @@ fn unknown_commands_and_kinematics_with_freedom_are_refused_by_name() {
         deactivate: Vec::new(),
         allow_unstable: false,
         read: Default::default(),
+        ..Default::default()
     };
     let acf = write(&dir, "unknown.acf", "slider\nunknown\nFROBNICATE/NOW\n");
     let stopped = run_command_file(&acf, &options).expect_err("unknown command");
@@ -249,6 +252,7 @@ fn statemat_writes_the_state_matrix_of_the_free_motion() {
         deactivate: Vec::new(),
         allow_unstable: false,
         read: Default::default(),
+        ..Default::default()
     };
     run_command_file(&acf, &options).unwrap_or_else(|s| panic!("runs: {}", s.error));
     // One free coordinate (the slider; the rotor is driven): A = [0 1; −k/m 0], k/m = 50.
@@ -309,6 +313,7 @@ fn statemat_with_plant_inputs_and_outputs_has_the_spring_s_static_gain() {
         deactivate: Vec::new(),
         allow_unstable: false,
         read: Default::default(),
+        ..Default::default()
     };
     run_command_file(&acf, &options).unwrap_or_else(|s| panic!("runs: {}", s.error));
     let read = |suffix: &str| -> Vec<Vec<f64>> {
@@ -372,6 +377,7 @@ fn a_nested_command_file_continues_the_same_run() {
         deactivate: Vec::new(),
         allow_unstable: false,
         read: Default::default(),
+        ..Default::default()
     };
     let summary = run_command_file(&acf, &options).unwrap_or_else(|s| panic!("{}", s.error));
     assert_eq!(summary.outputs, 4);
@@ -406,6 +412,7 @@ fn file_model_switches_to_another_dataset_with_its_own_files() {
         deactivate: Vec::new(),
         allow_unstable: false,
         read: Default::default(),
+        ..Default::default()
     };
     run_command_file(&acf, &options).unwrap_or_else(|s| panic!("{}", s.error));
     for (name, k) in [("soft", 100.0), ("hard", 400.0)] {
@@ -439,6 +446,7 @@ fn an_interrupted_run_stops_after_its_step_and_leaves_whole_files() {
         deactivate: Vec::new(),
         allow_unstable: false,
         read: Default::default(),
+        ..Default::default()
     };
     // Interrupt once a few outputs are on disk (as Ctrl-C would, at any moment).
     let csv_path = dir.join("long.csv");
@@ -458,7 +466,7 @@ fn an_interrupted_run_stops_after_its_step_and_leaves_whole_files() {
         panic!("{}", stopped.error);
     };
     assert!(time > 0.0 && time < 1000.0, "{time}");
-    assert_eq!(linkage_run::RunError::Interrupted { time }.exit_code(), 130);
+    assert_eq!(linkage_run::RunError::Interrupted { time }.exit_code(), 1);
     // Every output up to the interruption, whole, in both files.
     let (header, rows) = csv(&dir.join("long.csv"));
     assert!(rows.iter().all(|r| r.len() == header.len()));

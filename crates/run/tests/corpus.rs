@@ -113,6 +113,7 @@ fn every_corpus_command_file_runs_or_stops_naming_the_place_and_the_reason() {
             deactivate: Vec::new(),
             allow_unstable: false,
             read: Default::default(),
+            ..Default::default()
         };
         match run_command_file(acf, &options) {
             Ok(summary) => {
@@ -201,6 +202,7 @@ fn distance_case03_keeps_adams_split_of_psi_and_phi_near_theta_zero() {
         deactivate: Vec::new(),
         allow_unstable: false,
         read: Default::default(),
+        ..Default::default()
     };
     let summary = run_command_file(&acf, &options).unwrap_or_else(|e| panic!("{}", e.error));
     let req = read_request_file(&summary.req.expect("a request file")).expect("reads");
@@ -295,6 +297,7 @@ fn fkinev1_assembles_and_runs_as_adams_did() {
         deactivate: Vec::new(),
         allow_unstable: false,
         read: Default::default(),
+        ..Default::default()
     };
     let summary = run_command_file(&acf, &options).unwrap_or_else(|e| panic!("{}", e.error));
     let msg = std::fs::read_to_string(&summary.msg).unwrap();

@@ -89,6 +89,7 @@ fn run_acf(
         deactivate: Vec::new(),
         allow_unstable: false,
         read: Default::default(),
+        ..Default::default()
     };
     let result = run_command_file(&acf, &options).map_err(|s| s.error.to_string());
     done.store(true, Ordering::Relaxed);

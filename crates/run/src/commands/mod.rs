@@ -73,6 +73,9 @@ pub struct Sinks<'s> {
     pub counts: &'s mut Option<(i64, usize)>,
     /// Set when the run must stop at the next output.
     pub interrupt: Option<Arc<AtomicBool>>,
+    /// Wall-clock seconds each dynamic simulation may take (`None`: the API's default,
+    /// [`linkage_api::budget::DEFAULT_SIMULATE_TIME_LIMIT`]).
+    pub time_limit: Option<f64>,
     /// The model changed since the last summary: write one when the analysis assembles.
     pub summary: bool,
     /// The model the analysis runs on (for the summary's findings and warnings).

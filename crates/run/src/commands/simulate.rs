@@ -140,7 +140,7 @@ pub fn dynamics(
         times: &with_start,
         start: linkage_solve::stages::dynamics::Start::InitialConditions,
         allow_unstable: true,
-        time_limit: None,
+        time_limit: sinks.time_limit,
         csv: None,
         progress: &mut |_| {},
         interrupted: &interrupted,
