@@ -277,6 +277,10 @@ pub fn run(
         seconds,
     });
     let mut report = linkage_report::simulate::summary(&assembled, &result, &loaded.warnings);
+    if from.is_some() {
+        // A command file's run on the last analysis's assembly, from the state it left.
+        report.start.from = "continued";
+    }
     if let Some(last) = result.simulation.as_ref().and_then(|s| s.outputs.last()) {
         let values =
             assembled

@@ -224,8 +224,9 @@ pub fn to_csv(model: &Model, run: &DynamicRun, extra: Option<&ExtraColumns>) -> 
 #[derive(Clone, Debug, Serialize, PartialEq)]
 pub struct StartJson {
     /// `initial_conditions` (the assembled configuration and its velocities),
-    /// `static_equilibrium` (Newton statics, then from rest) or `settled_equilibrium` (damped
-    /// dynamics and the Newton polish, then from rest).
+    /// `static_equilibrium` (Newton statics, then from rest), `settled_equilibrium` (damped
+    /// dynamics and the Newton polish, then from rest) or `continued` (a command file's run
+    /// from the state the last analysis left, on its assembly).
     pub from: &'static str,
     /// Whether the starting configuration was found (an equilibrium that did not converge or
     /// did not settle stops the run before it starts).
@@ -481,6 +482,13 @@ pub fn to_text(j: &SimulateJson) -> String {
             let _ = writeln!(
                 s,
                 "The initial conditions give no configuration to start from (see the error below)."
+            );
+        }
+        "continued" => {
+            let _ = writeln!(
+                s,
+                "Continued from the state the last analysis left, on its assembly (nothing \
+                 compiled or assembled again)."
             );
         }
         from => {

@@ -310,7 +310,7 @@ fn every_corpus_dataset_that_runs_gives_the_same_numbers_from_the_cli_and_a_comm
 fn an_integrator_change_between_two_runs_does_not_assemble_the_model_again() {
     let model = root().join("examples/fourbar.adm");
     let dir = scratch("integrator_change");
-    let (changed, _, changed_csv, _) = run_acf(
+    let (changed, changed_msg, changed_csv, _) = run_acf(
         &dir,
         &model,
         "SIMULATE/DYNAMIC, END = 0.5, STEPS = 10\nINTEGRATOR/ERROR = 1E-5\n\
@@ -319,6 +319,15 @@ fn an_integrator_change_between_two_runs_does_not_assemble_the_model_again() {
     let changed = changed.expect("the run ends");
     assert_eq!(changed.assemblies, 1, "{changed:?}");
     assert_eq!(changed.outputs, 21);
+    // The second run says it continued; the first started from the initial conditions.
+    assert_eq!(
+        changed_msg
+            .matches("Continued from the state the last analysis left")
+            .count(),
+        1,
+        "{changed_msg}"
+    );
+    assert!(changed_msg.contains("Started from the initial conditions"));
     // A change of the model (a redefinition) assembles it again.
     let (redefined, _, _, _) = run_acf(
         &dir,
