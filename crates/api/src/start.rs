@@ -67,22 +67,12 @@ impl Begun<'_> {
     pub fn assembled_now(&self) -> bool {
         self.from.is_none()
     }
-}
 
-impl Begun<'_> {
     /// The configuration the analysis starts from.
     pub fn state(&self) -> &State {
         match &self.from {
             Some((s, _)) => s,
             None => self.assembled.state(),
-        }
-    }
-
-    /// The velocities the analysis starts with.
-    pub fn velocities(&self) -> Velocities {
-        match &self.from {
-            Some((_, v)) => v.clone(),
-            None => self.assembled.velocities(),
         }
     }
 }

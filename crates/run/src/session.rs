@@ -97,11 +97,6 @@ impl Session {
         self.source.file()
     }
 
-    /// The dataset as read.
-    pub fn dataset(&self) -> &linkage_adm::Dataset {
-        self.source.dataset()
-    }
-
     /// The time the last analysis left the model at (0 before the first).
     pub fn time(&self) -> f64 {
         self.progress.time()
