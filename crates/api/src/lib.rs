@@ -14,6 +14,7 @@
 //! [`Error::Input`] (exit code 2), with file:line:column.
 
 pub mod budget;
+pub mod cosim;
 pub mod error;
 pub mod files;
 pub mod ic;

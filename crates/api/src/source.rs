@@ -59,6 +59,16 @@ impl Loaded {
         }
     }
 
+    /// Holds VARIABLE/`id` at `value` in the forces every later analysis of this model runs
+    /// with (its FUNCTION replaced by the number), without loading the model again: a plant
+    /// input set between co-simulation steps ([`crate::cosim`]). `false` when the model has
+    /// no such VARIABLE or its forces were not built.
+    pub fn hold_variable(&mut self, id: u32, value: f64) -> bool {
+        self.forces
+            .as_mut()
+            .is_some_and(|f| f.hold_variable(id, value))
+    }
+
     /// Every statement `analysis` refuses, as an input error with the way of leaving it out;
     /// empty when `analysis` can run.
     pub fn refusals(&self, analysis: Analysis) -> Vec<Diagnostic> {

@@ -672,8 +672,20 @@ impl ForceSet {
     /// plant input of a linearization. `None` when the model has no such VARIABLE.
     pub fn with_variable(&self, id: u32, value: f64) -> Option<ForceSet> {
         let mut set = self.clone();
-        set.data.variables.get_mut(&id)?.expr = Ok(linkage_expr::Expr::Number(value));
-        Some(set)
+        set.hold_variable(id, value).then_some(set)
+    }
+
+    /// Holds VARIABLE/`id` at `value` in this set (its FUNCTION replaced by the number): a
+    /// plant input set by a co-simulation master between steps. `false` when the model has
+    /// no such VARIABLE.
+    pub fn hold_variable(&mut self, id: u32, value: f64) -> bool {
+        match self.data.variables.get_mut(&id) {
+            Some(v) => {
+                v.expr = Ok(linkage_expr::Expr::Number(value));
+                true
+            }
+            None => false,
+        }
     }
 
     /// The value of VARIABLE/`id` at `(s, v)`.
