@@ -9,6 +9,7 @@
 
 mod common;
 mod compare_cmd;
+mod fmu_cmd;
 mod html_out;
 mod ic_cmd;
 mod linear_cmd;
@@ -290,6 +291,37 @@ enum Command {
         #[arg(long, value_name = "J", value_parser = clap::value_parser!(u64).range(1..))]
         jobs: Option<u64>,
     },
+    /// Export an Adams Controls plant (a dataset with PINPUT/POUTPUT) as a co-simulation FMU
+    /// (FMI 3.0, or 2.0 with --fmi 2): inputs the PINPUT's VARIABLEs, outputs the POUTPUT's,
+    /// the dataset in resources/ and this platform's binary (liblinkage_fmu.so beside the
+    /// linkage executable, built by `cargo build --release`).
+    Fmu {
+        /// The dataset (.adm).
+        model: PathBuf,
+        /// The FMU to write.
+        #[arg(long, value_name = "PLANT.fmu")]
+        out: PathBuf,
+        /// FMI version: 3 (3.0) or 2 (2.0).
+        #[arg(long, default_value_t = 3, value_parser = clap::value_parser!(u8).range(2..=3))]
+        fmi: u8,
+        /// The PINPUT whose VARIABLEs are the inputs (default: the last in the dataset).
+        #[arg(long, value_name = "ID")]
+        pinput: Option<u64>,
+        /// The POUTPUT whose VARIABLEs are the outputs (default: the last in the dataset).
+        #[arg(long, value_name = "ID")]
+        poutput: Option<u64>,
+        /// A statement argument the importer may set before the initialisation, as a
+        /// parameter named KEYWORD/id.ARGUMENT (SPRINGDAMPER/1.K); comma-separated or repeated.
+        #[arg(long, value_name = "KEYWORD/ID.ARG", value_delimiter = ',')]
+        parameter: Vec<String>,
+        /// Start the parameter initial_static at true: the static equilibrium (as the
+        /// dataset's EQUILIBRIUM says) before the first step.
+        #[arg(long)]
+        initial_static: bool,
+        /// The FMU binary to pack (default: liblinkage_fmu.so beside this executable).
+        #[arg(long, value_name = "LIB.so")]
+        binary: Option<PathBuf>,
+    },
     /// Compare two time histories signal by signal: request files (.req, Adams or linkage) or
     /// CSV files written by `simulate --out`, matched by request id and component or by column
     /// name, at B's output times (A interpolated linearly in time). Exit code 1 when a signal's
@@ -360,7 +392,10 @@ fn input_and_output(command: &Command) -> Vec<(&std::path::Path, &std::path::Pat
             inputs.extend(model.as_deref());
             pairs(inputs, vec![html.as_ref()])
         }
-        Command::Plot { file, out, .. } => vec![(file.as_path(), out.as_path())],
+        Command::Plot { file, out, .. }
+        | Command::Fmu {
+            model: file, out, ..
+        } => vec![(file.as_path(), out.as_path())],
         Command::Compare { .. } | Command::Sweep { .. } => Vec::new(),
     }
 }
@@ -526,6 +561,31 @@ fn main() -> ExitCode {
             action: Some(SweepAction::Merge { dir }),
             ..
         } => sweep_cmd::merge(&dir),
+        Command::Fmu {
+            model,
+            out,
+            fmi,
+            pinput,
+            poutput,
+            parameter,
+            initial_static,
+            binary,
+        } => fmu_cmd::run(
+            &model,
+            &out,
+            binary.as_deref(),
+            &linkage_fmu::export::ExportOptions {
+                version: if fmi == 2 {
+                    linkage_fmu::description::FmiVersion::V2
+                } else {
+                    linkage_fmu::description::FmiVersion::V3
+                },
+                pinput,
+                poutput,
+                parameters: parameter,
+                initial_static,
+            },
+        ),
         Command::Sweep {
             action: None,
             spec,

@@ -1,0 +1,80 @@
+//! `linkage fmu`: a dataset as a co-simulation FMU ([`linkage_fmu::export`]).
+//!
+//! The FMU's binary is the `linkage-fmu` crate built as a shared library, which
+//! `cargo build --release` puts beside the `linkage` executable (`liblinkage_fmu.so`):
+//! that is where it is looked for unless `--binary` names another.
+
+use linkage_fmu::export::{export, ExportError, ExportOptions};
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+
+/// The FMU binary's file name beside the executable.
+const BINARY: &str = "liblinkage_fmu.so";
+
+/// Where the FMU binary is looked for: beside the running executable.
+fn default_binary() -> PathBuf {
+    std::env::current_exe()
+        .ok()
+        .and_then(|exe| exe.parent().map(|d| d.join(BINARY)))
+        .unwrap_or_else(|| PathBuf::from(BINARY))
+}
+
+pub fn run(model: &Path, out: &Path, binary: Option<&Path>, options: &ExportOptions) -> ExitCode {
+    let binary = binary.map_or_else(default_binary, Path::to_path_buf);
+    match export(model, &binary, out, options) {
+        Ok(done) => {
+            let names = |ports: &[linkage_api::cosim::Port]| {
+                let v: Vec<String> = ports
+                    .iter()
+                    .map(|p| format!("{} (VARIABLE/{})", p.name, p.id))
+                    .collect();
+                if v.is_empty() {
+                    "none".to_string()
+                } else {
+                    v.join(", ")
+                }
+            };
+            println!(
+                "wrote {} (FMI {}, model identifier {}, {} bytes)",
+                out.display(),
+                match options.version {
+                    linkage_fmu::description::FmiVersion::V2 => "2.0",
+                    linkage_fmu::description::FmiVersion::V3 => "3.0",
+                },
+                done.model_identifier,
+                done.bytes
+            );
+            let list = |id: Option<u64>| id.map_or("-".to_string(), |i| i.to_string());
+            println!(
+                "  inputs (PINPUT/{}): {}",
+                list(done.ports.pinput),
+                names(&done.ports.inputs)
+            );
+            println!(
+                "  outputs (POUTPUT/{}): {}",
+                list(done.ports.poutput),
+                names(&done.ports.outputs)
+            );
+            let params: Vec<String> = done
+                .parameters
+                .iter()
+                .map(|p| format!("{} = {}", p.name(), p.start))
+                .chain([format!("initial_static = {}", options.initial_static)])
+                .collect();
+            println!("  parameters: {}", params.join(", "));
+            ExitCode::SUCCESS
+        }
+        Err(e) => {
+            let code = match &e {
+                ExportError::Input(_)
+                | ExportError::Ports(_)
+                | ExportError::Parameter { .. }
+                | ExportError::Resource { .. } => 2,
+                ExportError::Analysis(a) => a.exit_code(),
+                ExportError::Binary { .. } | ExportError::Zip(_) | ExportError::Write { .. } => 1,
+            };
+            eprintln!("{}", e.to_string().trim_end());
+            ExitCode::from(code)
+        }
+    }
+}
