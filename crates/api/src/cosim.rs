@@ -39,8 +39,8 @@ pub struct Port {
     pub start: f64,
 }
 
-/// The plant's inputs (a PINPUT's VARIABLEs in order, each once) and outputs (a POUTPUT's,
-/// each once, without those that are inputs), and which lists they came from.
+/// The plant's inputs (PINPUT VARIABLEs in order, each once) and outputs (POUTPUT VARIABLEs,
+/// each once, without those that are inputs), and the lists they came from (`None`: all).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Ports {
     pub pinput: Option<u64>,
@@ -92,8 +92,10 @@ pub enum CosimError {
     Failed(String),
 }
 
-/// The ports of `model`: the inputs of PINPUT/`pinput` and the outputs of POUTPUT/`poutput`,
-/// each the last one in the dataset when not given (the plant Adams Controls exported last).
+/// The ports of `model`: the inputs of PINPUT/`pinput` and the outputs of POUTPUT/`poutput`;
+/// without an id, every PINPUT's (POUTPUT's) VARIABLEs in statement order, each once (Adams
+/// Controls exports one of each, often repeated under several ids with the same VARIABLEs;
+/// datasets written by hand have one per signal).
 pub fn ports(
     model: &Model,
     pinput: Option<u64>,
@@ -105,29 +107,33 @@ pub fn ports(
     }
     let pin = pick(&controls.pinputs, "PINPUT", pinput)?;
     let pout = pick(&controls.poutputs, "POUTPUT", poutput)?;
-    let inputs = variables(model, pin.map_or(&[][..], |l| &l.variables), &[])?;
-    let outputs = variables(model, pout.map_or(&[][..], |l| &l.variables), &inputs)?;
+    let inputs = variables(model, &pin, &[])?;
+    let outputs = variables(model, &pout, &inputs)?;
     Ok(Ports {
-        pinput: pin.map(|l| l.origin.id),
-        poutput: pout.map(|l| l.origin.id),
+        pinput,
+        poutput,
         inputs,
         outputs,
     })
 }
 
-/// The plant list `id` of `lists` (named `keyword`), the last one when `id` is `None`.
-fn pick<'m>(
-    lists: &'m [linkage_model::controls::PlantList],
+/// The VARIABLEs (indices into the model's) of the plant list `id` of `lists` (named
+/// `keyword`), or of every list in order when `id` is `None`.
+fn pick(
+    lists: &[linkage_model::controls::PlantList],
     keyword: &'static str,
     id: Option<u64>,
-) -> Result<Option<&'m linkage_model::controls::PlantList>, CosimError> {
+) -> Result<Vec<usize>, CosimError> {
     let Some(id) = id else {
-        return Ok(lists.last());
+        return Ok(lists
+            .iter()
+            .flat_map(|l| l.variables.iter().copied())
+            .collect());
     };
     lists
         .iter()
         .find(|l| l.origin.id == id)
-        .map(Some)
+        .map(|l| l.variables.clone())
         .ok_or_else(|| {
             let ids: Vec<String> = lists.iter().map(|l| l.origin.id.to_string()).collect();
             let have = if ids.is_empty() {

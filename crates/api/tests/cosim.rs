@@ -35,8 +35,7 @@ fn step_response(f: f64, t: f64) -> f64 {
 fn plant_ports_are_the_pinput_and_poutput_variables_with_their_names() {
     let p = plant();
     let ports = p.ports();
-    assert_eq!(ports.pinput, Some(1));
-    assert_eq!(ports.poutput, Some(1));
+    assert_eq!((ports.pinput, ports.poutput), (None, None));
     let inputs: Vec<(u32, &str)> = ports
         .inputs
         .iter()
@@ -101,6 +100,46 @@ fn a_step_with_a_non_finite_input_fails_with_an_error() {
     p.set_input(0, f64::NAN).unwrap();
     let err = p.step(0.1).unwrap_err();
     assert!(matches!(err, CosimError::Failed(_)), "{err}");
+}
+
+#[test]
+fn ports_of_one_plant_list_or_of_every_one_each_variable_once() {
+    let Some(path) =
+        corpus("Dinh-Hao-Nguyen__MSCAdams_Wiper_Project__ControlSimulink__Controls_Plant_5.adm")
+    else {
+        return;
+    };
+    let loaded = linkage_api::load(&path, &[], Some(Analysis::Simulate)).unwrap();
+    // Four PINPUTs and four POUTPUTs with the same VARIABLEs: each once.
+    let all = ports(&loaded.model, None, None).unwrap();
+    let ids = |p: &[linkage_api::cosim::Port]| p.iter().map(|p| p.id).collect::<Vec<_>>();
+    assert_eq!(ids(&all.inputs), [32]);
+    assert_eq!(ids(&all.outputs), [3, 2, 34, 33, 22]);
+    assert_eq!(all.inputs[0].name, "matlab_torque");
+    let one = ports(&loaded.model, Some(2), Some(4)).unwrap();
+    assert_eq!(ids(&one.outputs), [3, 2, 34, 33, 22]);
+    let err = ports(&loaded.model, Some(9), None).unwrap_err();
+    assert_eq!(
+        err.to_string(),
+        "PINPUT/9 is not in the dataset (it has PINPUT 1, 2, 3, 4)"
+    );
+}
+
+/// A corpus dataset, or `None` (with a notice) where the corpus is missing outside CI.
+fn corpus(name: &str) -> Option<PathBuf> {
+    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("../../../shared/corpus")
+        .join(name);
+    if path.is_file() {
+        return Some(path);
+    }
+    assert!(
+        std::env::var_os("CI").is_none(),
+        "{} is missing under CI",
+        path.display()
+    );
+    eprintln!("skipped: {} is missing", path.display());
+    None
 }
 
 #[test]

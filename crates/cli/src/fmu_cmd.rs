@@ -44,15 +44,17 @@ pub fn run(model: &Path, out: &Path, binary: Option<&Path>, options: &ExportOpti
                 done.model_identifier,
                 done.bytes
             );
-            let list = |id: Option<u64>| id.map_or("-".to_string(), |i| i.to_string());
+            let list = |keyword: &str, id: Option<u64>| {
+                id.map_or(format!("every {keyword}"), |i| format!("{keyword}/{i}"))
+            };
             println!(
-                "  inputs (PINPUT/{}): {}",
-                list(done.ports.pinput),
+                "  inputs ({}): {}",
+                list("PINPUT", done.ports.pinput),
                 names(&done.ports.inputs)
             );
             println!(
-                "  outputs (POUTPUT/{}): {}",
-                list(done.ports.poutput),
+                "  outputs ({}): {}",
+                list("POUTPUT", done.ports.poutput),
                 names(&done.ports.outputs)
             );
             let params: Vec<String> = done

@@ -149,22 +149,20 @@ fn fmi3(about: &About, ports: &Ports, config: &Config) -> String {
     for (k, p) in ports.inputs.iter().enumerate() {
         let _ = writeln!(
             s,
-            r#"    <Float64 name="{}" valueReference="{}" causality="input" variability="continuous" start="{}" description="VARIABLE/{} of PINPUT/{}"/>"#,
+            r#"    <Float64 name="{}" valueReference="{}" causality="input" variability="continuous" start="{}" description="VARIABLE/{}, plant input"/>"#,
             xml(&names.inputs[k]),
             layout.input(k),
             real(p.start),
-            p.id,
-            ports.pinput.unwrap_or(0)
+            p.id
         );
     }
     for (k, p) in ports.outputs.iter().enumerate() {
         let _ = writeln!(
             s,
-            r#"    <Float64 name="{}" valueReference="{}" causality="output" variability="continuous" initial="calculated" description="VARIABLE/{} of POUTPUT/{}"/>"#,
+            r#"    <Float64 name="{}" valueReference="{}" causality="output" variability="continuous" initial="calculated" description="VARIABLE/{}, plant output"/>"#,
             xml(&names.outputs[k]),
             layout.output(k),
-            p.id,
-            ports.poutput.unwrap_or(0)
+            p.id
         );
     }
     for (k, p) in config.parameters.iter().enumerate() {
@@ -227,11 +225,10 @@ fn fmi2(about: &About, ports: &Ports, config: &Config) -> String {
         index += 1;
         let _ = writeln!(
             s,
-            r#"    <ScalarVariable name="{}" valueReference="{}" causality="input" variability="continuous" description="VARIABLE/{} of PINPUT/{}"><Real start="{}"/></ScalarVariable>"#,
+            r#"    <ScalarVariable name="{}" valueReference="{}" causality="input" variability="continuous" description="VARIABLE/{}, plant input"><Real start="{}"/></ScalarVariable>"#,
             xml(&names.inputs[k]),
             layout.input(k),
             p.id,
-            ports.pinput.unwrap_or(0),
             real(p.start)
         );
     }
@@ -240,11 +237,10 @@ fn fmi2(about: &About, ports: &Ports, config: &Config) -> String {
         output_index.push(index);
         let _ = writeln!(
             s,
-            r#"    <ScalarVariable name="{}" valueReference="{}" causality="output" variability="continuous" initial="calculated" description="VARIABLE/{} of POUTPUT/{}"><Real/></ScalarVariable>"#,
+            r#"    <ScalarVariable name="{}" valueReference="{}" causality="output" variability="continuous" initial="calculated" description="VARIABLE/{}, plant output"><Real/></ScalarVariable>"#,
             xml(&names.outputs[k]),
             layout.output(k),
-            p.id,
-            ports.poutput.unwrap_or(0)
+            p.id
         );
     }
     for (k, p) in config.parameters.iter().enumerate() {
