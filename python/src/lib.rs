@@ -374,6 +374,66 @@ fn run_acf(
     }
 }
 
+/// `linkage fmu PATH --out OUT`: writes the dataset as a co-simulation FMU (FMI 3.0, or 2.0
+/// with `fmi=2`): inputs the PINPUT VARIABLEs (or those of PINPUT `pinput`), outputs the
+/// POUTPUT ones, `parameters` (`"SPRINGDAMPER/1.K"`, …) settable before the initialisation,
+/// `initial_static` the start of the parameter of that name. The FMU's binary is `binary`,
+/// else $LINKAGE_FMU_BINARY, else liblinkage_fmu.so beside `linkage` on the PATH. Returns
+/// {model_identifier, inputs, outputs, parameters, files, bytes}.
+#[pyfunction]
+#[pyo3(signature = (path, out, fmi=3, pinput=None, poutput=None, parameters=None, initial_static=false, binary=None))]
+#[allow(clippy::too_many_arguments)]
+fn export_fmu(
+    py: Python<'_>,
+    path: PathBuf,
+    out: PathBuf,
+    fmi: u8,
+    pinput: Option<u64>,
+    poutput: Option<u64>,
+    parameters: Option<Vec<String>>,
+    initial_static: bool,
+    binary: Option<PathBuf>,
+) -> PyResult<PyObject> {
+    use linkage_fmu::description::FmiVersion;
+    use linkage_fmu::export::{export, linkage_on_path, locate_binary, ExportError, ExportOptions};
+    let version = match fmi {
+        2 => FmiVersion::V2,
+        3 => FmiVersion::V3,
+        _ => return Err(input_error(py, vec![format!("fmi={fmi}: FMI 2 or 3")])),
+    };
+    let options = ExportOptions {
+        version,
+        pinput,
+        poutput,
+        parameters: parameters.unwrap_or_default(),
+        initial_static,
+    };
+    let binary = locate_binary(binary.as_deref(), linkage_on_path().as_deref());
+    let done = py.allow_threads(|| export(&path, &binary, &out, &options));
+    let done = done.map_err(|e| match e {
+        ExportError::Input(_)
+        | ExportError::Ports(_)
+        | ExportError::Parameter { .. }
+        | ExportError::Resource { .. } => input_error(py, vec![python_terms(&e.to_string())]),
+        ExportError::Analysis(a) if a.exit_code() == 2 => {
+            input_error(py, vec![python_terms(&a.to_string())])
+        }
+        other => AnalysisError::new_err(python_terms(&other.to_string())),
+    })?;
+    let d = PyDict::new(py);
+    let names = |ports: &[linkage_api::cosim::Port]| -> Vec<String> {
+        ports.iter().map(|p| p.name.clone()).collect()
+    };
+    d.set_item("model_identifier", &done.model_identifier)?;
+    d.set_item("inputs", names(&done.ports.inputs))?;
+    d.set_item("outputs", names(&done.ports.outputs))?;
+    let params: Vec<String> = done.parameters.iter().map(|p| p.name()).collect();
+    d.set_item("parameters", params)?;
+    d.set_item("files", &done.files)?;
+    d.set_item("bytes", done.bytes)?;
+    Ok(d.into_any().unbind())
+}
+
 #[pymodule]
 fn linkage(m: &Bound<'_, PyModule>) -> PyResult<()> {
     let py = m.py();
@@ -383,5 +443,6 @@ fn linkage(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<Model>()?;
     m.add_function(wrap_pyfunction!(load, m)?)?;
     m.add_function(wrap_pyfunction!(run_acf, m)?)?;
+    m.add_function(wrap_pyfunction!(export_fmu, m)?)?;
     Ok(())
 }

@@ -127,6 +127,19 @@ def test_a_parameter_set_before_the_initialisation_changes_the_plant(export):
     assert np.max(np.abs(r["position"] - step_response(force, r["time"], k))) < 1e-3 * force / k
 
 
+def test_initial_static_starts_the_plant_at_its_equilibrium_under_the_inputs(export):
+    fmu = export(PLANT, "--fmi", "2")
+    force = 100.0
+    r = simulate_fmu(
+        str(fmu),
+        stop_time=0.2,
+        output_interval=0.01,
+        start_values={"force": force, "initial_static": True},
+    )
+    # At rest at z = F/k from the start (the step response starts at 0 without it).
+    assert np.max(np.abs(r["position"] - force / K)) < 1e-6 * force / K
+
+
 def linkage_csv(binary, model, end, steps, tmp_path):
     out = tmp_path / "run.csv"
     done = subprocess.run(
@@ -274,3 +287,25 @@ def test_a_failed_step_returns_an_error_status_and_logs_why(export, tmp_path):
     s.exitInitializationMode()
     s.doStep(0.0, 0.01)
     s.freeInstance()
+
+
+def test_python_export_equals_the_cli_export(export, binary, tmp_path):
+    if os.environ.get("CI"):
+        import linkage
+    else:
+        linkage = pytest.importorskip("linkage")
+    cli_fmu = export(PLANT, "--fmi", "2", "--parameter", "SPRINGDAMPER/1.K")
+    out = tmp_path / "python.fmu"
+    done = linkage.export_fmu(
+        str(PLANT),
+        str(out),
+        fmi=2,
+        parameters=["SPRINGDAMPER/1.K"],
+        binary=str(binary.parent / "liblinkage_fmu.so"),
+    )
+    assert done["model_identifier"] == "smd_plant"
+    assert (done["inputs"], done["outputs"]) == (["force"], ["position"])
+    assert done["parameters"] == ["SPRINGDAMPER/1.K"]
+    assert out.read_bytes() == cli_fmu.read_bytes()
+    with pytest.raises(linkage.InputError, match="no PINPUT and no POUTPUT"):
+        linkage.export_fmu(str(ROOT / "examples" / "spring_mass.adm"), str(tmp_path / "x.fmu"))

@@ -72,6 +72,20 @@ fn stepped_spring_mass_damper_follows_the_closed_form_step_response() {
 }
 
 #[test]
+fn initialisation_with_statics_starts_at_the_deflection_the_held_input_gives() {
+    let mut p = plant();
+    let force = 100.0;
+    p.set_input(0, force).unwrap();
+    p.initialize(true).unwrap();
+    // Static equilibrium under the held force: z = F/k, and the step keeps it there.
+    let z0 = p.outputs().unwrap()[0];
+    assert!((z0 - force / K).abs() < 1e-9 * force / K, "{z0}");
+    p.step(0.5).unwrap();
+    let z = p.outputs().unwrap()[0];
+    assert!((z - force / K).abs() < 1e-6 * force / K, "{z}");
+}
+
+#[test]
 fn a_restored_state_steps_to_the_same_outputs() {
     let mut p = plant();
     p.initialize(false).unwrap();

@@ -2,25 +2,16 @@
 //!
 //! The FMU's binary is the `linkage-fmu` crate built as a shared library, which
 //! `cargo build --release` puts beside the `linkage` executable (`liblinkage_fmu.so`):
-//! that is where it is looked for unless `--binary` names another.
+//! that is where it is looked for unless `--binary` or `$LINKAGE_FMU_BINARY` names another.
 
-use linkage_fmu::export::{export, ExportError, ExportOptions};
-use std::path::{Path, PathBuf};
+use linkage_fmu::export::{export, locate_binary, ExportError, ExportOptions};
+use std::path::Path;
 use std::process::ExitCode;
 
-/// The FMU binary's file name beside the executable.
-const BINARY: &str = "liblinkage_fmu.so";
-
-/// Where the FMU binary is looked for: beside the running executable.
-fn default_binary() -> PathBuf {
-    std::env::current_exe()
-        .ok()
-        .and_then(|exe| exe.parent().map(|d| d.join(BINARY)))
-        .unwrap_or_else(|| PathBuf::from(BINARY))
-}
-
 pub fn run(model: &Path, out: &Path, binary: Option<&Path>, options: &ExportOptions) -> ExitCode {
-    let binary = binary.map_or_else(default_binary, Path::to_path_buf);
+    // Beside the running executable unless --binary or $LINKAGE_FMU_BINARY names another.
+    let exe = std::env::current_exe().ok();
+    let binary = locate_binary(binary, exe.as_deref().and_then(Path::parent));
     match export(model, &binary, out, options) {
         Ok(done) => {
             let names = |ports: &[linkage_api::cosim::Port]| {

@@ -13,6 +13,32 @@ use linkage_api::Source;
 use linkage_solve::coverage::Analysis;
 use std::path::{Component, Path, PathBuf};
 
+/// The FMU binary's file name: this crate built as a shared library (`cargo build --release`
+/// puts it beside the `linkage` executable).
+pub const BINARY_NAME: &str = "liblinkage_fmu.so";
+
+/// The environment variable that may name the FMU binary (where it is not beside `linkage`).
+pub const BINARY_ENV: &str = "LINKAGE_FMU_BINARY";
+
+/// Where the FMU binary is taken from: `explicit` (`--binary`, Python's `binary=`), else
+/// `$LINKAGE_FMU_BINARY`, else [`BINARY_NAME`] in the folder `beside` (the running `linkage`
+/// executable's, or that of `linkage` on the PATH for Python), else in the working folder.
+pub fn locate_binary(explicit: Option<&Path>, beside: Option<&Path>) -> PathBuf {
+    if let Some(p) = explicit {
+        return p.to_path_buf();
+    }
+    if let Some(p) = std::env::var_os(BINARY_ENV).filter(|p| !p.is_empty()) {
+        return PathBuf::from(p);
+    }
+    beside.map_or_else(|| PathBuf::from(BINARY_NAME), |d| d.join(BINARY_NAME))
+}
+
+/// The folder of the `linkage` executable found on the PATH.
+pub fn linkage_on_path() -> Option<PathBuf> {
+    let path = std::env::var_os("PATH")?;
+    std::env::split_paths(&path).find(|d| d.join("linkage").is_file())
+}
+
 /// What `linkage fmu` asks for besides the dataset.
 #[derive(Clone, Debug)]
 pub struct ExportOptions {
@@ -44,7 +70,8 @@ pub enum ExportError {
     /// The platform binary is not where it is looked for.
     #[error(
         "the FMU binary {path} cannot be read ({cause}); it is built beside the linkage \
-         executable by `cargo build --release` (crate linkage-fmu)"
+         executable by `cargo build --release` (crate linkage-fmu), or named by --binary or \
+         $LINKAGE_FMU_BINARY"
     )]
     Binary { path: String, cause: std::io::Error },
     /// A file the dataset names cannot be packed.

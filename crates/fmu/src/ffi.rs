@@ -3,7 +3,7 @@
 //! strings and arrays, and the resource folder from FMI 2.0's URI.
 
 use crate::instance::{FmuError, Instance, SavedState, Status};
-use std::ffi::{c_char, c_int, c_void, CStr};
+use std::ffi::{c_char, c_int, c_void, CStr, CString};
 use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::path::PathBuf;
 
@@ -29,6 +29,40 @@ pub fn into_raw(instance: Instance) -> *mut c_void {
     Box::into_raw(Box::new(instance)) as *mut c_void
 }
 
+/// A new instance as the opaque pointer, or null with the reason given to `logger` (no
+/// resource folder, a configuration or dataset that cannot be read, another FMU's token).
+pub fn instantiate(
+    name: String,
+    resources: Option<PathBuf>,
+    token: Option<String>,
+    logger: impl Fn(Status, &str, &str) + Clone + 'static,
+    logging_on: bool,
+) -> *mut c_void {
+    let made = catch_unwind(AssertUnwindSafe(|| {
+        let Some(resources) = resources else {
+            return Err(FmuError::Resources {
+                path: "(none)".into(),
+                why: "the importer gave no resource location".into(),
+            });
+        };
+        Instance::new(
+            name,
+            &resources,
+            token.as_deref(),
+            Box::new(logger.clone()),
+            logging_on,
+        )
+    }));
+    match made {
+        Ok(Ok(i)) => into_raw(i),
+        Ok(Err(e)) => {
+            logger(Status::Error, "logStatusError", &e.to_string());
+            std::ptr::null_mut()
+        }
+        Err(_) => std::ptr::null_mut(),
+    }
+}
+
 /// Frees an instance made by [`into_raw`].
 ///
 /// # Safety
@@ -45,6 +79,20 @@ pub unsafe fn free(ptr: *mut c_void) {
 /// `p` is null or a NUL-terminated string.
 pub unsafe fn text(p: *const c_char) -> Option<String> {
     (!p.is_null()).then(|| CStr::from_ptr(p).to_string_lossy().into_owned())
+}
+
+/// A C string of `s` (a NUL inside becomes a space).
+pub fn c_string(s: &str) -> CString {
+    CString::new(s.replace('\0', " ")).unwrap_or_default()
+}
+
+/// A call on value references of a type this FMU has no variable of (the FMU's types are
+/// `kinds`): fine when empty.
+pub fn none_of_type(vrs: &[u32], kinds: &'static str) -> Result<(), FmuError> {
+    match vrs.first() {
+        None => Ok(()),
+        Some(&vr) => Err(FmuError::WrongType { vr, kind: kinds }),
+    }
 }
 
 /// `n` values at `p` (empty for a null pointer or 0).
@@ -196,6 +244,19 @@ pub fn path_of_uri(uri: &str) -> PathBuf {
     PathBuf::from(String::from_utf8_lossy(&out).into_owned())
 }
 
+/// FMI functions this FMU does not offer (model exchange, clocks, derivatives): each logs why
+/// on the instance it is called on and returns the error status.
+macro_rules! unsupported {
+    ($($name:ident($($arg:ident: $t:ty),*) => $why:literal;)*) => {$(
+        #[no_mangle]
+        pub unsafe extern "C" fn $name(inst: *mut c_void $(, $arg: $t)*) -> c_int {
+            $(let _ = $arg;)*
+            $crate::ffi::with(inst, |_| Err($crate::instance::FmuError::Unsupported($why)))
+        }
+    )*};
+}
+pub(crate) use unsupported;
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -211,16 +272,3 @@ mod tests {
         assert_eq!(path_of_uri("file:///x%2"), PathBuf::from("/x%2"));
     }
 }
-
-/// FMI functions this FMU does not offer (model exchange, clocks, derivatives): each logs why
-/// on the instance it is called on and returns the error status.
-macro_rules! unsupported {
-    ($($name:ident($($arg:ident: $t:ty),*) => $why:literal;)*) => {$(
-        #[no_mangle]
-        pub unsafe extern "C" fn $name(inst: *mut c_void $(, $arg: $t)*) -> c_int {
-            $(let _ = $arg;)*
-            $crate::ffi::with(inst, |_| Err($crate::instance::FmuError::Unsupported($why)))
-        }
-    )*};
-}
-pub(crate) use unsupported;

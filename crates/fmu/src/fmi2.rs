@@ -4,12 +4,13 @@
 //! input derivatives are refused); the FMU state can be got and set, not serialised.
 #![allow(clippy::missing_safety_doc)]
 
+use crate::ffi::c_string;
 use crate::ffi::{
-    free_state, get_each, guard, instance, into_raw, path_of_uri, restore_state, save_state,
-    set_each, slice, slice_mut, text, with,
+    free_state, get_each, guard, instance, path_of_uri, restore_state, save_state, set_each, slice,
+    slice_mut, text, with,
 };
 use crate::instance::{FmuError, Instance, Status};
-use std::ffi::{c_char, c_int, c_void, CString};
+use std::ffi::{c_char, c_int, c_void};
 
 /// `void (*)(fmi2ComponentEnvironment, fmi2String instanceName, fmi2Status, fmi2String
 /// category, fmi2String message, ...)`: the message is a printf format, so it is passed
@@ -30,10 +31,6 @@ pub struct CallbackFunctions {
 
 /// `fmi2CoSimulation`.
 const CO_SIMULATION: c_int = 1;
-
-fn c_string(s: &str) -> CString {
-    CString::new(s.replace('\0', " ")).unwrap_or_default()
-}
 
 #[no_mangle]
 pub extern "C" fn fmi2GetTypesPlatform() -> *const c_char {
@@ -95,30 +92,13 @@ pub unsafe extern "C" fn fmi2Instantiate(
         );
         return std::ptr::null_mut();
     }
-    let made = std::panic::catch_unwind(|| {
-        let Some(location) = text(resource_location) else {
-            return Err(FmuError::Resources {
-                path: "(none)".into(),
-                why: "the importer gave no resource location".into(),
-            });
-        };
-        let guid = text(guid);
-        Instance::new(
-            instance_name.clone(),
-            &path_of_uri(&location),
-            guid.as_deref(),
-            Box::new(logger.clone()),
-            logging_on != 0,
-        )
-    });
-    match made {
-        Ok(Ok(i)) => into_raw(i),
-        Ok(Err(e)) => {
-            logger(Status::Error, "logStatusError", &e.to_string());
-            std::ptr::null_mut()
-        }
-        Err(_) => std::ptr::null_mut(),
-    }
+    crate::ffi::instantiate(
+        instance_name,
+        text(resource_location).map(|l| path_of_uri(&l)),
+        text(guid),
+        logger,
+        logging_on != 0,
+    )
 }
 
 #[no_mangle]
@@ -211,13 +191,7 @@ pub unsafe extern "C" fn fmi2SetBoolean(
 
 /// A call on value references of a type this FMU has no variable of: fine when empty.
 fn none_of_type(vrs: &[u32]) -> Result<(), FmuError> {
-    match vrs.first() {
-        None => Ok(()),
-        Some(&vr) => Err(FmuError::WrongType {
-            vr,
-            kind: "Real or Boolean",
-        }),
-    }
+    crate::ffi::none_of_type(vrs, "Real or Boolean")
 }
 
 #[no_mangle]

@@ -5,22 +5,18 @@
 //! serialised (`canSerializeFMUState="false"`).
 #![allow(clippy::missing_safety_doc)]
 
+use crate::ffi::c_string;
 use crate::ffi::{
-    free_state, get_each, guard, instance, into_raw, restore_state, save_state, set_each, slice,
-    slice_mut, text, with,
+    free_state, get_each, guard, instance, restore_state, save_state, set_each, slice, slice_mut,
+    text, with,
 };
 use crate::instance::{FmuError, Instance, Status};
-use std::ffi::{c_char, c_int, c_void, CString};
+use std::ffi::{c_char, c_int, c_void};
 use std::path::PathBuf;
 
 /// `void (*)(fmi3InstanceEnvironment, fmi3Status, fmi3String category, fmi3String message)`.
 pub type LogMessage =
     Option<unsafe extern "C" fn(*mut c_void, c_int, *const c_char, *const c_char)>;
-
-/// A C string of `s` (a NUL inside becomes a space).
-fn c_string(s: &str) -> CString {
-    CString::new(s.replace('\0', " ")).unwrap_or_default()
-}
 
 #[no_mangle]
 pub extern "C" fn fmi3GetVersion() -> *const c_char {
@@ -90,31 +86,13 @@ pub unsafe extern "C" fn fmi3InstantiateCoSimulation(
             );
         }
     };
-    let made = std::panic::catch_unwind(|| {
-        let name = text(name).unwrap_or_default();
-        let Some(resources) = text(resources) else {
-            return Err(FmuError::Resources {
-                path: "(none)".into(),
-                why: "the importer gave no resource path".into(),
-            });
-        };
-        let token = text(token);
-        Instance::new(
-            name,
-            &PathBuf::from(resources),
-            token.as_deref(),
-            Box::new(logger),
-            logging_on,
-        )
-    });
-    match made {
-        Ok(Ok(i)) => into_raw(i),
-        Ok(Err(e)) => {
-            logger(Status::Error, "logStatusError", &e.to_string());
-            std::ptr::null_mut()
-        }
-        Err(_) => std::ptr::null_mut(),
-    }
+    crate::ffi::instantiate(
+        text(name).unwrap_or_default(),
+        text(resources).map(PathBuf::from),
+        text(token),
+        logger,
+        logging_on,
+    )
 }
 
 #[no_mangle]
@@ -236,13 +214,7 @@ pub unsafe extern "C" fn fmi3SetBoolean(
 
 /// A call on value references of a type this FMU has no variable of: fine when empty.
 fn none_of_type(vrs: &[u32]) -> Result<(), FmuError> {
-    match vrs.first() {
-        None => Ok(()),
-        Some(&vr) => Err(FmuError::WrongType {
-            vr,
-            kind: "Float64 or Boolean",
-        }),
-    }
+    crate::ffi::none_of_type(vrs, "Float64 or Boolean")
 }
 
 /// Getters and setters of the types without variables.
