@@ -18,9 +18,12 @@ pub enum Event<'a> {
     Done,
 }
 
+/// What a watcher does with each event.
+type Tell = dyn Fn(&Event) + Send + Sync;
+
 /// The watcher of a run (none by default).
 #[derive(Clone, Default)]
-pub struct Watch(Option<Arc<dyn Fn(&Event) + Send + Sync>>);
+pub struct Watch(Option<Arc<Tell>>);
 
 impl Watch {
     /// A watcher calling `tell` with every event.

@@ -485,9 +485,11 @@ fn an_interrupted_run_stops_after_its_step_and_leaves_whole_files() {
     );
 }
 
-/// The rows of the step tables of a message file: (time, step size, corrector iterations,
-/// cumulative steps, order), one table per dynamic SIMULATE.
-fn step_tables(msg: &str) -> Vec<Vec<(f64, f64, usize, usize, usize)>> {
+/// A row of a step table: time, step size, corrector iterations, cumulative steps, order.
+type StepRow = (f64, f64, usize, usize, usize);
+
+/// The rows of the step tables of a message file, one table per dynamic SIMULATE.
+fn step_tables(msg: &str) -> Vec<Vec<StepRow>> {
     let mut tables = Vec::new();
     let mut lines = msg.lines();
     while let Some(line) = lines.next() {
