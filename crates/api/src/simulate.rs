@@ -12,7 +12,7 @@ use linkage_solve::physics::requests::RequestSet;
 use linkage_solve::pipeline::Assembled;
 use linkage_solve::stages::dynamics::{
     continue_streamed, run_streamed, AfterOutput, Continue, IntegrationError, Output, RunProgress,
-    Stream, UnstableStart,
+    StepTaken, Stream, UnstableStart,
 };
 use std::io::Write;
 use std::time::Instant;
@@ -223,7 +223,11 @@ pub fn run(
     let mut sink_error = feed.assembled(&assembled, assembled_now).err();
     let unopened = sink_error.is_some();
     let mut last: Option<Output> = None;
+    // The integrator's last accepted step, handed on before each output.
+    let taken = std::cell::Cell::new(StepTaken::default());
+    let mut on_step = |s: &StepTaken| taken.set(*s);
     let mut on_output = |o: &Output| {
+        feed.steps_so_far(&taken.get());
         if let Err(e) = feed.output(&assembled, o) {
             sink_error = Some(e);
             return AfterOutput::Stop;
@@ -241,6 +245,7 @@ pub fn run(
     let stream = Stream {
         on_output: &mut on_output,
         stop: &|| interrupted() || Instant::now() >= deadline,
+        on_step: Some(&mut on_step),
     };
     let result = match (&from, unopened) {
         (_, true) => linkage_solve::stages::dynamics::DynamicRun {

@@ -18,7 +18,7 @@ use linkage_report::simulate::CsvHistory;
 use linkage_solve::physics::applied::Regime;
 use linkage_solve::physics::requests::{RequestAngles, RequestError, RequestSet};
 use linkage_solve::pipeline::Assembled;
-use linkage_solve::stages::dynamics::Output;
+use linkage_solve::stages::dynamics::{Output, StepTaken};
 use std::io::Write;
 
 /// An output stopped the analysis: why.
@@ -53,6 +53,11 @@ pub trait OutputSink {
         Ok(())
     }
 
+    /// A simulation's integrator at the output that follows: the last step it accepted, with
+    /// the counts so far (a message file's step table); before the first step, zeros. Called
+    /// before every [`OutputSink::output`] of a simulation, by no other analysis.
+    fn steps_so_far(&mut self, _at: &StepTaken) {}
+
     /// One output on `a` with its REQUEST values (see [`OutputSink::wants_requests`]). An
     /// error stops the analysis after this output.
     fn output(
@@ -82,6 +87,10 @@ impl OutputSink for Tee<'_> {
 
     fn assembled(&mut self, a: &Assembled, now: bool) -> Result<(), SinkError> {
         self.0.iter_mut().try_for_each(|s| s.assembled(a, now))
+    }
+
+    fn steps_so_far(&mut self, at: &StepTaken) {
+        self.0.iter_mut().for_each(|s| s.steps_so_far(at));
     }
 
     fn output(&mut self, a: &Assembled, o: &Output, r: RequestValues) -> Result<(), SinkError> {
@@ -246,6 +255,11 @@ impl<'s> Feed<'s> {
     /// The analysis has its assembled problem.
     pub(crate) fn assembled(&mut self, a: &Assembled, now: bool) -> Result<(), SinkError> {
         self.sink.assembled(a, now)
+    }
+
+    /// The integrator's step and counts at the output that follows.
+    pub(crate) fn steps_so_far(&mut self, at: &StepTaken) {
+        self.sink.steps_so_far(at);
     }
 
     /// One output of `a`.

@@ -152,6 +152,15 @@ impl Progress {
             b.finish_and_clear();
         }
     }
+
+    /// Clears the bar and starts it again at 0 for the next analysis.
+    pub fn clear(&self) {
+        if let Some(b) = &self.0 {
+            b.finish_and_clear();
+            b.set_message("");
+            b.reset();
+        }
+    }
 }
 
 /// An output path that is the input file (the same file by identity: another spelling, a

@@ -50,6 +50,21 @@ pub fn run(command_file: &Path, paths: Paths, options: Options) -> ExitCode {
     let flag = Arc::clone(&interrupt);
     // Without a handler (another one is installed) Ctrl-C ends the process as usual.
     let _ = ctrlc::set_handler(move || flag.store(true, Ordering::Relaxed));
+    // The bar of `linkage simulate`, on a terminal only, for each dynamic simulation.
+    let bar = Arc::new(crate::common::Progress::on_terminal());
+    let shown = Arc::clone(&bar);
+    let watch = linkage_run::watch::Watch::new(move |e| match *e {
+        linkage_run::watch::Event::Integrating {
+            command,
+            start,
+            end,
+            time,
+        } => shown.show(
+            (time - start) / (end - start),
+            format!("{command}: t = {time:.4} of {end}"),
+        ),
+        linkage_run::watch::Event::Done => shown.clear(),
+    });
     let options = linkage_run::RunOptions {
         out_dir: out_dir.map(Path::to_path_buf),
         model: model.map(Path::to_path_buf),
@@ -59,11 +74,13 @@ pub fn run(command_file: &Path, paths: Paths, options: Options) -> ExitCode {
         read: crate::common::read_options(),
         also_writes: html.map(Path::to_path_buf).into_iter().collect(),
         time_limit,
+        watch,
     };
     let (summary, error) = match linkage_run::run_command_file(command_file, &options) {
         Ok(s) => (Some(s), None),
         Err(stopped) => (stopped.summary, Some(stopped.error)),
     };
+    bar.finish();
     if let Some(s) = &summary {
         println!(
             "{} command(s) carried out, {} output(s)",

@@ -908,3 +908,46 @@ fn a_windshield_over_the_wiper_starts_transparent_and_the_view_frames_the_mechan
         assert!(pixels > 5_000.0, "{name}: {status}");
     }
 }
+
+#[test]
+fn clicking_a_part_s_entry_in_the_list_hides_it_in_the_3d_view() {
+    let Some(browser) = chromium() else {
+        return;
+    };
+    let dir = scratch("hide");
+    let page = dir.join("fourbar.html");
+    let (code, _, err) = run(&[
+        "verify",
+        root().join("examples/fourbar.adm").to_str().unwrap(),
+        "--html",
+        page.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let status = |fragment: &str, profile: &str| {
+        let dom = headless_at(
+            &browser,
+            &dir.join(profile),
+            &["--dump-dom"],
+            &page,
+            fragment,
+        );
+        status_of(&dom)
+    };
+    let all = status("#paused", "profile-all");
+    let drawn = status_number(&all, "drawn_pixels").unwrap_or_else(|| panic!("{all}"));
+    assert_eq!(status_number(&all, "hidden"), None, "{all}");
+    // The crank's entry clicked: its graphics are hidden, the view draws fewer pixels.
+    let hidden = status("#paused&hide=crank", "profile-hide");
+    assert!(hidden.starts_with("ok "), "{hidden}");
+    let items = status_number(&hidden, "hidden").unwrap_or_else(|| panic!("{hidden}"));
+    assert!(items >= 1.0, "{hidden}");
+    let left = status_number(&hidden, "drawn_pixels").unwrap();
+    assert!(
+        left < drawn - 100.0,
+        "{drawn} pixels before, {left} after: {hidden}"
+    );
+    // An entry that is not a part hides nothing.
+    let none = status("#paused&hide=no_such_part", "profile-none");
+    assert_eq!(status_number(&none, "hidden"), Some(0.0), "{none}");
+    assert_eq!(status_number(&none, "drawn_pixels"), Some(drawn), "{none}");
+}

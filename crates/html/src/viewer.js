@@ -3,7 +3,9 @@
 // Writes its state into the hidden #status: "ok frames=F items=I triangles=T drawn_pixels=P
 // verdict_bottom=Y first_plot_top=Y" after the first frame is drawn (and " cursor=X" once the
 // slider has moved a plot's time cursor), or "error: …" when a script fails (window.onerror).
-// The address may carry "#paused" (no autoplay) and "frame=K" (the slider moved to output K).
+// The address may carry "#paused" (no autoplay), "frame=K" (the slider moved to output K) and
+// "hide=NAME" (a click on that part's entry in the parts list); the status then ends with
+// " hidden=H" (items hidden).
 (function () {
   "use strict";
   var S = JSON.parse(document.getElementById("scene-data").textContent);
@@ -258,6 +260,7 @@
       label.appendChild(document.createTextNode(" " + (b < 0 ? "ground" : S.parts[b])));
       partsBox.appendChild(label);
       boxesOfBody[b] = box;
+      label.setAttribute("data-part", b < 0 ? "ground" : S.parts[b]);
     });
   })();
 
@@ -339,6 +342,12 @@
     slider.value = start;
     slider.dispatchEvent(new Event("input"));
   }
+  var toHide = hashValue("hide");
+  if (toHide !== null) {
+    // As a user clicking the part's entry in the list.
+    var entry = partsBox.querySelector('label[data-part="' + decodeURIComponent(toHide) + '"] input');
+    if (entry) entry.click();
+  }
   if (!window.__linkageErrors.length) {
     var verdict = document.getElementById("verdict");
     var firstPlot = document.querySelector("svg.plot");
@@ -347,7 +356,8 @@
       " transparent=" + display.filter(function (d) { return d === 1; }).length +
       (verdict ? " verdict_bottom=" + Math.round(verdict.getBoundingClientRect().bottom) : "") +
       (firstPlot ? " first_plot_top=" + Math.round(firstPlot.getBoundingClientRect().top) : "") +
-      (cursorX !== null ? " cursor=" + cursorX.toFixed(2) : "");
+      (cursorX !== null ? " cursor=" + cursorX.toFixed(2) : "") +
+      (toHide !== null ? " hidden=" + display.filter(function (d) { return d === 2; }).length : "");
   }
   if (!paused && autoplay.checked) setPlaying(true);
 })();

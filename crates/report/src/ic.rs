@@ -72,6 +72,10 @@ pub struct IcJson {
     pub curve_contacts: Vec<crate::curve_contacts::CurveContactJson>,
     pub warnings: Vec<String>,
     pub errors: Vec<String>,
+    /// The model's force scale ([`crate::reactions::weight_scale`]): what the text's reaction
+    /// table judges rounding noise against (not in the JSON).
+    #[serde(skip)]
+    pub force_scale: f64,
 }
 
 fn unit_name(u: RowUnit) -> &'static str {
@@ -187,6 +191,7 @@ pub fn to_json(model: &Model, ic: &InitialConditions, warnings: &[Diagnostic]) -
         curve_contacts: Vec::new(),
         warnings,
         errors,
+        force_scale: crate::reactions::weight_scale(model),
     }
 }
 
@@ -300,7 +305,7 @@ pub fn to_text(j: &IcJson) -> String {
     if !j.reactions.is_empty() {
         let _ = writeln!(s);
         let _ = writeln!(s, "Reactions on the I markers (ground axes):");
-        reaction_table(&mut s, &j.reactions);
+        reaction_table(&mut s, &j.reactions, j.force_scale);
     }
     crate::friction::friction_table(&mut s, &j.frictions);
     crate::curve_contacts::curve_contact_table(&mut s, &j.curve_contacts);

@@ -84,6 +84,10 @@ pub struct StaticJson {
     pub settling: Option<SettlingJson>,
     pub warnings: Vec<String>,
     pub errors: Vec<String>,
+    /// The model's force scale ([`crate::reactions::weight_scale`]): what the text's reaction
+    /// table judges rounding noise against (not in the JSON).
+    #[serde(skip)]
+    pub force_scale: f64,
 }
 
 /// How dynamic settling ended, with the limits it was judged against (EQUILIBRIUM/DYNAMIC).
@@ -318,6 +322,7 @@ pub fn to_json(a: &Assembled, run: &StaticRun, warnings: &[Diagnostic]) -> Stati
         settling: None,
         warnings,
         errors,
+        force_scale: crate::reactions::weight_scale(model),
     }
 }
 
@@ -467,7 +472,7 @@ pub fn to_text(j: &StaticJson) -> String {
         if !j.reactions.is_empty() {
             let _ = writeln!(s);
             let _ = writeln!(s, "Reactions on the I markers (ground axes):");
-            reaction_table(&mut s, &j.reactions);
+            reaction_table(&mut s, &j.reactions, j.force_scale);
         }
         crate::friction::friction_table(&mut s, &j.frictions);
         crate::curve_contacts::curve_contact_table(&mut s, &j.curve_contacts);

@@ -25,6 +25,8 @@ pub mod listing;
 pub mod msg;
 pub mod records;
 pub mod session;
+pub mod step_table;
+pub mod watch;
 
 pub use error::RunError;
 
@@ -68,6 +70,8 @@ pub struct RunOptions {
     /// default of [`linkage_api::budget::DEFAULT_SIMULATE_TIME_LIMIT`]): a run that reaches it
     /// fails saying so, the outputs up to there written.
     pub time_limit: Option<f64>,
+    /// Told how far each dynamic simulation has come (a terminal's progress bar).
+    pub watch: watch::Watch,
 }
 
 impl RunOptions {
@@ -591,6 +595,8 @@ fn analysis(
         failed_write: None,
         need_kinematic: false,
         refusal: None,
+        steps: None,
+        watch: options.watch.clone(),
     };
     let sinks = &mut sinks;
     let result = match &entry.command {

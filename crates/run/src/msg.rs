@@ -3,7 +3,8 @@
 //! Layout: a banner, then for every command its echo (` command: <text>`), followed by the
 //! reports of the analyses it ran (the model summary of verify before the first analysis and
 //! after every change of the model, the IC, static and linear reports, the integrator
-//! statistics of each dynamic run), warnings and errors with the simulation time. Each line is
+//! statistics of each dynamic run, written after its step table, which
+//! [`crate::step_table`] writes as the run goes), warnings and errors with the simulation time. Each line is
 //! flushed when written, so that an interrupted run leaves every line it wrote.
 
 use crate::error::RunError;

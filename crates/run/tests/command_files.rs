@@ -484,3 +484,85 @@ fn an_interrupted_run_stops_after_its_step_and_leaves_whole_files() {
         "{msg}"
     );
 }
+
+/// A row of a step table: time, step size, corrector iterations, cumulative steps, order.
+type StepRow = (f64, f64, usize, usize, usize);
+
+/// The rows of the step tables of a message file, one table per dynamic SIMULATE.
+fn step_tables(msg: &str) -> Vec<Vec<StepRow>> {
+    let mut tables = Vec::new();
+    let mut lines = msg.lines();
+    while let Some(line) = lines.next() {
+        if !line.contains("Simulation      Step") {
+            continue;
+        }
+        let rows = lines
+            .by_ref()
+            .skip(2)
+            .map_while(|l| {
+                let f: Vec<&str> = l.split_whitespace().collect();
+                let number = |k: usize| f.get(k).and_then(|x| x.parse::<f64>().ok());
+                let count = |k: usize| f.get(k).and_then(|x| x.parse::<usize>().ok());
+                Some((number(0)?, number(1)?, count(2)?, count(3)?, count(4)?))
+            })
+            .collect();
+        tables.push(rows);
+    }
+    tables
+}
+
+#[test]
+fn the_message_file_has_adams_step_table_at_each_tenth_of_a_dynamic_run() {
+    let dir = folder("steps");
+    write(&dir, "slider.adm", MODEL);
+    // The slider starts 0.1 m from its rest length and oscillates (ω = √(k/m) ≈ 7.1 rad/s);
+    // HMAX = 0.01 caps the steps: at least 100 steps per second.
+    let hmax = 0.01;
+    let acf = write(
+        &dir,
+        "steps.acf",
+        "slider\nsteps\n\
+         INTEGRATOR/GSTIFF, ERROR = 1e-6, HMAX = 0.01\n\
+         SIMULATE/DYNAMIC, END = 1, STEPS = 500\n\
+         SIMULATE/DYNAMIC, END = 2, STEPS = 4\n\
+         STOP\n",
+    );
+    let options = RunOptions {
+        out_dir: Some(dir.clone()),
+        ..Default::default()
+    };
+    run_command_file(&acf, &options).unwrap_or_else(|s| panic!("runs: {}", s.error));
+    let msg = std::fs::read_to_string(dir.join("steps.msg")).expect("message file");
+    let tables = step_tables(&msg);
+    assert_eq!(tables.len(), 2, "{msg}");
+    // 500 outputs: a row at the start and at each tenth of the span, not one per output.
+    let first = &tables[0];
+    let times: Vec<f64> = first.iter().map(|r| r.0).collect();
+    assert_eq!(times.len(), 11, "{msg}");
+    for (k, t) in times.iter().enumerate() {
+        assert!((t - 0.1 * k as f64).abs() < 1e-9, "row {k} at {t}: {msg}");
+    }
+    // Before the first step: no step yet.
+    assert_eq!(first[0].1, 0.0);
+    assert_eq!(first[0].3, 0);
+    for w in first.windows(2) {
+        // Cumulative counts never decrease; corrector iterations at least one per step.
+        assert!(w[1].3 > w[0].3 && w[1].2 >= w[0].2, "{msg}");
+    }
+    for &(t, h, iterations, steps, order) in &first[1..] {
+        // Step sizes within HMAX (to the 6 digits printed), BDF orders 1…6.
+        assert!(h > 0.0 && h <= hmax * (1.0 + 1e-5), "t = {t}: step {h}");
+        assert!((1..=6).contains(&order), "t = {t}: order {order}");
+        assert!(iterations >= steps, "t = {t}: {iterations} < {steps}");
+        // At least one step per HMAX of the time covered.
+        assert!(steps as f64 >= t / hmax - 1e-6, "t = {t}: {steps} steps");
+    }
+    // The second SIMULATE continues at t = 1 with its own counts; its 4 outputs (every 0.25,
+    // coarser than a tenth) each get a row.
+    let second: Vec<f64> = tables[1].iter().map(|r| r.0).collect();
+    assert_eq!(second, vec![1.25, 1.5, 1.75, 2.0], "{msg}");
+    assert!(
+        tables[1][3].3 >= 100 && tables[1][3].3 < first[10].3 + 50,
+        "{msg}"
+    );
+}

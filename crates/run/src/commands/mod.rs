@@ -11,10 +11,11 @@ pub mod simulate;
 use crate::error::RunError;
 use crate::msg::MessageFile;
 use crate::records::Records;
+use crate::step_table::StepTable;
 use linkage_api::sink::{OutputSink, RequestValues, SinkError};
 use linkage_api::Loaded;
 use linkage_solve::pipeline::Assembled;
-use linkage_solve::stages::dynamics::Output;
+use linkage_solve::stages::dynamics::{Output, StepTaken};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 
@@ -89,6 +90,11 @@ pub struct Sinks<'s> {
     pub need_kinematic: bool,
     /// Why the analysis was refused at its assembly.
     pub refusal: Option<String>,
+    /// The step table of a dynamic simulation (dropped at the assembly of a model without
+    /// degrees of freedom, which takes no steps).
+    pub steps: Option<StepTable>,
+    /// Told how far a dynamic simulation has come (a terminal's progress bar).
+    pub watch: crate::watch::Watch,
 }
 
 impl Sinks<'_> {
@@ -129,6 +135,9 @@ impl OutputSink for Sinks<'_> {
 
     fn assembled(&mut self, a: &Assembled, now: bool) -> Result<(), SinkError> {
         self.assembled |= now;
+        if a.is_kinematic() {
+            self.steps = None;
+        }
         if self.need_kinematic && !a.is_kinematic() {
             self.refusal = Some(format!(
                 "a kinematic analysis needs a model without degrees of freedom; this one has {} \
@@ -149,8 +158,20 @@ impl OutputSink for Sinks<'_> {
         Ok(())
     }
 
+    fn steps_so_far(&mut self, at: &StepTaken) {
+        if let Some(table) = self.steps.as_mut() {
+            table.steps_so_far(at);
+        }
+    }
+
     fn output(&mut self, a: &Assembled, o: &Output, r: RequestValues) -> Result<(), SinkError> {
         self.records.output(a, o, r)?;
+        if let Some(lines) = self.steps.as_mut().and_then(|t| t.at_output(o.time)) {
+            if let Err(e) = self.msg.write(lines.trim_end_matches('\n')) {
+                self.failed_write = Some(e);
+                return Err(SinkError::Interrupted { time: o.time });
+            }
+        }
         if self.interrupted() {
             return Err(SinkError::Interrupted { time: o.time });
         }

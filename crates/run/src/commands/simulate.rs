@@ -5,10 +5,13 @@
 use super::{Place, Sinks};
 use crate::error::RunError;
 use crate::session::Progress;
+use crate::step_table::StepTable;
+use crate::watch::Event;
 use linkage_adm::commands::SimulateKind;
 use linkage_api::statics::StaticArgs;
 use linkage_api::Start;
 use linkage_report::sensors::SensorEventJson;
+use linkage_solve::stages::dynamics::RunProgress;
 use std::sync::atomic::Ordering;
 
 /// The outcome of an analysis call: a message-file write that failed inside it comes first.
@@ -127,6 +130,19 @@ pub fn dynamics(
     times: &[f64],
 ) -> Result<(), RunError> {
     let start = progress.start();
+    let (t0, end) = (start.time(), times.last().copied().unwrap_or(start.time()));
+    sinks.steps = Some(StepTable::new(t0, end));
+    let watch = sinks.watch.clone();
+    let mut told = |p: RunProgress| {
+        if let RunProgress::Integrating(time) = p {
+            watch.tell(&Event::Integrating {
+                command: place.command,
+                start: t0,
+                end,
+                time,
+            });
+        }
+    };
     // The first analysis writes the initial conditions as its first output.
     let mut with_start = Vec::with_capacity(times.len() + 1);
     if matches!(start, Start::Input) {
@@ -142,11 +158,13 @@ pub fn dynamics(
         allow_unstable: true,
         time_limit: sinks.time_limit,
         csv: None,
-        progress: &mut |_| {},
+        progress: &mut told,
         interrupted: &interrupted,
         observe: None,
     };
     let run = linkage_api::simulate::run(sinks.loaded, start, args, sinks);
+    sinks.watch.tell(&Event::Done);
+    sinks.steps = None;
     let run = outcome(sinks, place, run)?;
     if let Some(why) = sinks.refusal.take() {
         return Err(place.refused(why));

@@ -69,5 +69,5 @@ pub use run::{
     continue_streamed, run, run_from, run_streamed, Continue, DynamicRun, RunError, RunProgress,
     Start, StartingEquilibrium, Stream, UnstableStart,
 };
-pub use simulate::{simulate, simulate_with, AfterOutput};
+pub use simulate::{simulate, simulate_stepwise, simulate_with, AfterOutput, StepTaken};
 pub use stepper::Stepper;

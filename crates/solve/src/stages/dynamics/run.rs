@@ -1,7 +1,9 @@
 //! A dynamic analysis from the dataset: initial conditions (or static equilibrium first), then
 //! the simulation.
 
-use super::{simulate, simulate_with, AfterOutput, IntegratorSettings, Output, Simulation};
+use super::{
+    simulate, simulate_stepwise, AfterOutput, IntegratorSettings, Output, Simulation, StepTaken,
+};
 use crate::constraints::system::System;
 use crate::pipeline::{Assembled, NotAssembled};
 use crate::state::State;
@@ -164,6 +166,8 @@ pub struct Stream<'s> {
     /// Asked after every integration step: `true` ends the run there
     /// ([`super::IntegrationError::Stopped`]).
     pub stop: &'s dyn Fn() -> bool,
+    /// Told every accepted step (a message file's step table), before `stop` is asked.
+    pub on_step: Option<&'s mut dyn FnMut(&StepTaken)>,
 }
 
 /// [`run_from`], handing each output to `stream.on_output` as it is computed (a CSV written
@@ -281,22 +285,30 @@ fn run_inner(
         None => simulate(&problem, &state, &v0, times, settings, |t| {
             progress(RunProgress::Integrating(t))
         }),
-        Some(Stream { on_output, stop }) => {
+        Some(Stream {
+            on_output,
+            stop,
+            mut on_step,
+        }) => {
             let (mut last, mut count) = (None, 0usize);
-            let each_step = |t| {
-                progress(RunProgress::Integrating(t));
+            let each_step = |s: &StepTaken| {
+                progress(RunProgress::Integrating(s.time));
+                if let Some(f) = on_step.as_mut() {
+                    f(s);
+                }
                 if stop() {
                     AfterOutput::Stop
                 } else {
                     AfterOutput::Continue
                 }
             };
-            let mut sim = simulate_with(&problem, &state, &v0, times, settings, each_step, |o| {
-                count += 1;
-                let next = on_output(&o);
-                last = Some(o);
-                next
-            });
+            let mut sim =
+                simulate_stepwise(&problem, &state, &v0, times, settings, each_step, |o| {
+                    count += 1;
+                    let next = on_output(&o);
+                    last = Some(o);
+                    next
+                });
             sim.output_count = count;
             sim.outputs = last.into_iter().collect();
             sim

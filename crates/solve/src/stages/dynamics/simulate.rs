@@ -45,6 +45,25 @@ pub fn simulate(
     sim
 }
 
+/// One accepted integration step, as a message file's step table shows it (Adams' columns:
+/// simulation time, step size, cumulative steps, integration order; corrector iterations in
+/// place of function evaluations). The counts are those of the run so far.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct StepTaken {
+    /// The time the step reached.
+    pub time: f64,
+    /// Its size (0 for the outputs of a kinematic run, which takes no steps).
+    pub step: f64,
+    /// The order of the method for the step (BDF 1…6, HHT and NEWMARK 2; 0: no step).
+    pub order: usize,
+    /// Steps accepted so far, this one included.
+    pub steps: usize,
+    /// Steps rejected so far.
+    pub rejected: usize,
+    /// Corrector iterations so far.
+    pub iterations: usize,
+}
+
 /// What the caller of [`simulate_with`] wants after an output.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum AfterOutput {
@@ -83,14 +102,39 @@ pub fn simulate_with(
     times: &[f64],
     settings: &IntegratorSettings,
     mut progress: impl FnMut(f64) -> AfterOutput,
+    on_output: impl FnMut(Output) -> AfterOutput,
+) -> Simulation {
+    simulate_stepwise(
+        p,
+        start,
+        v0,
+        times,
+        settings,
+        |s| progress(s.time),
+        on_output,
+    )
+}
+
+/// [`simulate_with`], `progress` seeing every accepted step whole ([`StepTaken`]: size, order
+/// and the counts so far), not only its time.
+pub fn simulate_stepwise(
+    p: &Problem,
+    start: &State,
+    v0: &[(DVec3, DVec3)],
+    times: &[f64],
+    settings: &IntegratorSettings,
+    mut progress: impl FnMut(&StepTaken) -> AfterOutput,
     mut on_output: impl FnMut(Output) -> AfterOutput,
 ) -> Simulation {
     let n = p.n();
     let m = p.rows.len();
     let mut sim = Simulation::empty(crate::pipeline::kinematic(m, n, p.controls()));
     if sim.kinematic {
-        let mut run = crate::stages::kinematics::run(p, start, v0, times, |t| {
-            let _ = progress(t);
+        let mut run = crate::stages::kinematics::run(p, start, v0, times, |time| {
+            let _ = progress(&StepTaken {
+                time,
+                ..StepTaken::default()
+            });
         });
         for o in std::mem::take(&mut run.outputs) {
             if on_output(o) == AfterOutput::Stop {
@@ -200,6 +244,7 @@ pub fn simulate_with(
                     continue;
                 }
                 sim.steps += 1;
+                let taken_order = integ.order();
                 let (err, order) = integ.accept(err, tol);
                 let now = integ.time();
                 // Force elements with a state (joint friction) take the accepted step; the
@@ -217,7 +262,15 @@ pub fn simulate_with(
                         }
                     }
                 }
-                if progress(now) == AfterOutput::Stop {
+                let taken = StepTaken {
+                    time: now,
+                    step: hs,
+                    order: taken_order,
+                    steps: sim.steps,
+                    rejected: sim.rejected,
+                    iterations: sim.newton_iterations,
+                };
+                if progress(&taken) == AfterOutput::Stop {
                     sim.failure = Some(Failure::new(now, IntegrationError::Stopped));
                     return sim;
                 }
