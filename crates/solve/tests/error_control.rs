@@ -7,8 +7,8 @@
 //! - A 3-D body on a spherical joint, spinning about a tilted axis (smooth, every rotation
 //!   axis excited), 2 s against the same run at ERROR = 1e-11: the global error against ERROR
 //!   for I3, SI2 and HHT.
-//! - Corpus `ssernap…intento2.adm`: a run that meets a singular configuration stops there and
-//!   says so.
+//! - Corpus `ssernap…intento2.adm` and a slider-crank pushed past its reach: a run that meets a
+//!   singular configuration stops there and says so, naming the joints.
 
 mod common;
 
@@ -301,4 +301,59 @@ fn intento2_stops_at_the_singular_configuration_its_motions_drive_it_into() {
             );
         }
     }
+}
+
+/// A slider-crank whose slider a MOTION pushes out at 0.5 m/s (crank 1 m at 60°, rod 2 m,
+/// slider from 2.3028 m), beside a free falling body (so the run is dynamic): at
+/// t* = (3 − 2.3028)/0.5 = 1.394 s crank and rod align at the mechanism's reach, where the
+/// loop's constraints become dependent, and beyond it the motion cannot be followed. The run
+/// stops there saying the mechanism is at a singular configuration, naming the loop's joints.
+#[test]
+fn a_slider_pushed_past_its_reach_stops_at_the_singular_configuration() {
+    let text = "slider crank at its reach
+UNITS/, FORCE = NEWTON, MASS = KILOGRAM, LENGTH = METER, TIME = SECOND
+ACCGRAV/, JGRAV = -9.81
+PART/1, GROUND
+MARKER/1, PART = 1
+MARKER/3, PART = 1, QP = 2.3027756, 0, 0, REULER = 90D, 90D, 0D
+PART/2, MASS = 1, CM = 20, IP = 0.1, 0.1, 0.1
+MARKER/20, PART = 2, QP = 0.25, 0.4330127, 0
+MARKER/21, PART = 2
+MARKER/22, PART = 2, QP = 0.5, 0.8660254, 0
+PART/3, MASS = 1, CM = 30, IP = 0.1, 0.1, 0.1
+MARKER/30, PART = 3, QP = 1.4013878, 0.4330127, 0
+MARKER/31, PART = 3, QP = 0.5, 0.8660254, 0
+MARKER/32, PART = 3, QP = 2.3027756, 0, 0
+PART/4, MASS = 1, CM = 40, IP = 0.1, 0.1, 0.1
+MARKER/40, PART = 4, QP = 2.3027756, 0, 0
+MARKER/41, PART = 4, QP = 2.3027756, 0, 0
+MARKER/42, PART = 4, QP = 2.3027756, 0, 0, REULER = 90D, 90D, 0D
+PART/5, MASS = 1, CM = 50, IP = 0.1, 0.1, 0.1
+MARKER/50, PART = 5, QP = 0, 5, 0
+JOINT/1, REVOLUTE, I = 21, J = 1
+JOINT/2, REVOLUTE, I = 31, J = 22
+JOINT/3, REVOLUTE, I = 41, J = 32
+JOINT/4, TRANSLATIONAL, I = 42, J = 3
+MOTION/1, JOINT = 4, TRANSLATION, FUNCTION = 0.5*TIME
+END
+";
+    let sim = run_model(text, 2.0, 200, &IntegratorSettings::default());
+    let failure = sim.failure.as_ref().expect("the run stops");
+    eprintln!("slider crank: {}", failure.message);
+    let IntegrationError::SingularConfiguration { time, elements, .. } = &failure.cause else {
+        panic!("not diagnosed as singular: {}", failure.message)
+    };
+    let reach = (3.0 - (0.5f64 + 3.25f64.sqrt())) / 0.5;
+    assert!(
+        (time - reach).abs() < 1e-3,
+        "stops at {time}, reach at {reach}"
+    );
+    assert!(
+        elements.contains("JOINT/1") && elements.contains("JOINT/2"),
+        "{elements}"
+    );
+    assert!(
+        !elements.contains("JOINT_"),
+        "default names repeated: {elements}"
+    );
 }

@@ -113,7 +113,8 @@ pub(super) fn singular_pose(p: &Problem, start: &State, s: &State) -> Option<Sin
         .map(|&(e, _)| {
             let o = &p.model.constraints[e].origin;
             let id = o.element();
-            if o.name == id || o.name.is_empty() {
+            // A default name (`JOINT_7`) adds nothing to `JOINT/7`.
+            if o.name.is_empty() || o.name == linkage_adm::keyword_id(o.statement, '_', o.id) {
                 id
             } else {
                 format!("{id} ({})", o.name)
