@@ -186,6 +186,17 @@ pub const MATRIX_REUSE_BACKOFF: usize = 16;
 /// the velocity constraints (at α = 0, on IFToMM A01 at ERROR = 1e-8, the step otherwise
 /// shrank without end).
 pub const HHT_UNDAMPED_RADIUS: f64 = 0.99;
+/// A dynamic run that gave up at its smallest step stands at a singular configuration when
+/// the kept constraint rows' scaled, row-normalised Jacobian has its `σ_min/σ_max` below this
+/// fraction of the start's (stages/dynamics/singular.rs). Measured on corpus
+/// `ssernap…intento2.adm`: 3.7e-3 at the start, 1e-4 at 0.689 s, 8e-8 (2e-5 of the start's)
+/// at the step where GSTIFF gives up, 0.6964 s.
+pub const SINGULAR_POSE_CONDITIONING: f64 = 1e-3;
+/// … and names the elements whose rows weigh at least this fraction of the largest entry of
+/// the dependent combination (the left singular vector of `σ_min`).
+pub const SINGULAR_POSE_SHARE: f64 = 0.1;
+/// … for models of at most this many coordinates (6 per part): a dense SVD at the failure.
+pub const SINGULAR_POSE_DENSE_COLUMNS: usize = 600;
 /// The least local error a dynamics step is ever asked for (positions, relative to the
 /// characteristic length): its share of ERROR over a long run can be smaller, but below this
 /// the estimate is rounding (MIN_INTEGRATOR_ERROR of the settings is the same level).

@@ -7,6 +7,8 @@
 //! - A 3-D body on a spherical joint, spinning about a tilted axis (smooth, every rotation
 //!   axis excited), 2 s against the same run at ERROR = 1e-11: the global error against ERROR
 //!   for I3, SI2 and HHT.
+//! - Corpus `ssernap…intento2.adm` and a slider-crank pushed past its reach: a run that meets a
+//!   singular configuration stops there and says so, naming the joints.
 
 mod common;
 
@@ -15,7 +17,9 @@ use linkage_model::settings::{Formulation, IntegratorMethod};
 use linkage_solve::constraints::drivers::ExpressionDrivers;
 use linkage_solve::physics::forces::ForceSet;
 use linkage_solve::pipeline::Assembled;
-use linkage_solve::stages::dynamics::{run, IntegratorSettings, Simulation, Start};
+use linkage_solve::stages::dynamics::{
+    run, IntegrationError, IntegratorSettings, Simulation, Start,
+};
 use linkage_solve::tolerances::Tolerances;
 use std::sync::Arc;
 
@@ -47,6 +51,14 @@ fn settings(
 
 /// `text` simulated with `settings`, `outputs` equal intervals up to `end`; the run must end.
 fn simulate(text: &str, end: f64, outputs: usize, settings: &IntegratorSettings) -> Simulation {
+    let sim = run_model(text, end, outputs, settings);
+    assert!(sim.failure.is_none(), "{:?}", sim.failure);
+    assert_eq!(sim.outputs.len(), outputs + 1);
+    sim
+}
+
+/// `text` simulated with `settings`, `outputs` equal intervals up to `end` or its failure.
+fn run_model(text: &str, end: f64, outputs: usize, settings: &IntegratorSettings) -> Simulation {
     let ds = linkage_adm::parse_dataset(Arc::from("test.adm"), text).expect("parses");
     let m = linkage_model::build_model(&ds).expect("builds").model;
     let drivers = ExpressionDrivers::new(&m).unwrap();
@@ -55,12 +67,9 @@ fn simulate(text: &str, end: f64, outputs: usize, settings: &IntegratorSettings)
         .map(|k| end * k as f64 / outputs as f64)
         .collect();
     let a = Assembled::new(&m, &drivers, &forces, &Tolerances::default());
-    let sim = run(&a, &times, settings, Start::InitialConditions, |_| {})
+    run(&a, &times, settings, Start::InitialConditions, |_| {})
         .simulation
-        .expect("ran");
-    assert!(sim.failure.is_none(), "{:?}", sim.failure);
-    assert_eq!(sim.outputs.len(), outputs + 1);
-    sim
+        .expect("ran")
 }
 
 const CART_END: f64 = 10.0;
@@ -214,25 +223,137 @@ fn global_error_follows_error_for_every_formulation() {
 }
 
 /// Corpus `ssernap…intento2.adm` (a SolidWorks Motion export: three legs of CYLINDRICAL,
-/// PLANAR and SPHERICAL joints driven by three SHF motions, heavy redundancy) runs with its own
-/// INTEGRATOR settings (GSTIFF, ERROR = 1e-4, HMIN = 1e-7) over one period of its motions,
-/// 2 s. Open (issue 31 item 3): GSTIFF I3 and SI2 stop at 0.696 s at HMIN. The rows kept at
-/// the start stay independent up to 0.69 s (rank 54 of 60 at the verify tolerance); from
-/// 0.6911 s the largest joint reaction grows like 1/(t* − t) (6e2 N at 0.690 s, 2.5e3 N at
-/// 0.6912 s, 3e6 N a step later): the motions drive the legs into a singular pose. HHT
-/// (α = −0.3) runs through it.
+/// PLANAR and SPHERICAL joints driven by three SHF motions, 6 redundant rows) with its own
+/// INTEGRATOR settings (GSTIFF, ERROR = 1e-4, HMIN = 1e-7) meets a singular configuration:
+/// the motions drive the constraint Jacobian to lose a rank at t* ≈ 0.6964 s (σ_min/σ_max of
+/// the kept rows 3.7e-3 at the start, 1e-4 at 0.689 s, 8e-8 at 0.6964 s, falling linearly in
+/// time; the redundant rows included, the full Jacobian loses the same rank, so no other
+/// choice of kept rows avoids it), and the largest reaction grows like 1/(t* − t) towards it
+/// (2.2e3 N at 0.692 s, 2.5e4 N at 0.696 s). A rigid mechanism cannot follow its motions
+/// through that pose with finite reactions: the run stops there and says so, naming the
+/// joints, as Adams stops on a singular Jacobian. (HHT, α = −0.3, steps across the pose with its
+/// constraint tolerance and runs to 2 s; up to 0.69 s it agrees with GSTIFF.)
 #[test]
-#[ignore = "issue 31 item 3 is open: the BDF stops at 0.696 s"]
-fn intento2_runs_to_its_end() {
+fn intento2_stops_at_the_singular_configuration_its_motions_drive_it_into() {
     let Some(dir) = common::corpus() else { return };
     let text = std::fs::read_to_string(dir.join("ssernap__T_MSC_ADAMS__intento2.adm")).unwrap();
     let ds = linkage_adm::parse_dataset(Arc::from("intento2.adm"), &text).expect("parses");
     let m = linkage_model::build_model(&ds).expect("builds").model;
     let s = m.integrator.settings.clone();
     assert_eq!((s.error, s.hmin), (1e-4, 1e-7));
-    let sim = simulate(&text, 2.0, 200, &s);
-    eprintln!(
-        "intento2: {} steps, {} rejected, {} iterations",
-        sim.steps, sim.rejected, sim.newton_iterations
+    let sim = run_model(&text, 2.0, 2000, &s);
+    let failure = sim.failure.as_ref().expect("the run stops");
+    let IntegrationError::SingularConfiguration {
+        time,
+        conditioning,
+        elements,
+        cause,
+    } = &failure.cause
+    else {
+        panic!("not diagnosed as singular: {}", failure.message)
+    };
+    assert!((0.695..0.697).contains(time), "stops at {time}");
+    assert!(*conditioning < 1e-6, "conditioning {conditioning:.2e}");
+    assert!(
+        matches!(**cause, IntegrationError::AtMinimumStep { .. }),
+        "{cause}"
+    );
+    assert!(elements.contains("JOINT/"), "{elements}");
+    eprintln!("intento2: {}", failure.message);
+    // The reactions grow like 1/(t* − t): their product with (t* − t) stays within a factor
+    // 2 over the last 5 ms of outputs.
+    let largest = |o: &linkage_solve::stages::dynamics::Output| {
+        o.reactions
+            .iter()
+            .map(|r| r.force.length())
+            .fold(0.0, f64::max)
+    };
+    let tail: Vec<f64> = sim
+        .outputs
+        .iter()
+        .filter(|o| o.time > time - 5.5e-3 && o.time < time - 0.5e-3)
+        .map(|o| largest(o) * (time - o.time))
+        .collect();
+    let (lo, hi) = tail
+        .iter()
+        .fold((f64::MAX, 0.0f64), |(a, b), x| (a.min(*x), b.max(*x)));
+    assert!(tail.len() >= 4 && hi < 2.0 * lo, "{tail:?}");
+    // HHT agrees with GSTIFF before the singular pose (CM positions within 1e-3 of the
+    // model's size at every output up to 0.69 s).
+    let hht = IntegratorSettings {
+        method: IntegratorMethod::Hht,
+        alpha: -0.3,
+        ..s
+    };
+    let other = run_model(&text, 2.0, 2000, &hht);
+    assert!(other.failure.is_none(), "{:?}", other.failure);
+    let length = m.characteristic_length;
+    for (a, b) in sim.outputs.iter().zip(&other.outputs) {
+        if a.time > 0.69 {
+            break;
+        }
+        for (p, q) in a.state.poses.iter().zip(&b.state.poses) {
+            assert!(
+                (p.p - q.p).length() < 1e-3 * length,
+                "t = {}: {} apart",
+                a.time,
+                (p.p - q.p).length()
+            );
+        }
+    }
+}
+
+/// A slider-crank whose slider a MOTION pushes out at 0.5 m/s (crank 1 m at 60°, rod 2 m,
+/// slider from 2.3028 m), beside a free falling body (so the run is dynamic): at
+/// t* = (3 − 2.3028)/0.5 = 1.394 s crank and rod align at the mechanism's reach, where the
+/// loop's constraints become dependent, and beyond it the motion cannot be followed. The run
+/// stops there saying the mechanism is at a singular configuration, naming the loop's joints.
+#[test]
+fn a_slider_pushed_past_its_reach_stops_at_the_singular_configuration() {
+    let text = "slider crank at its reach
+UNITS/, FORCE = NEWTON, MASS = KILOGRAM, LENGTH = METER, TIME = SECOND
+ACCGRAV/, JGRAV = -9.81
+PART/1, GROUND
+MARKER/1, PART = 1
+MARKER/3, PART = 1, QP = 2.3027756, 0, 0, REULER = 90D, 90D, 0D
+PART/2, MASS = 1, CM = 20, IP = 0.1, 0.1, 0.1
+MARKER/20, PART = 2, QP = 0.25, 0.4330127, 0
+MARKER/21, PART = 2
+MARKER/22, PART = 2, QP = 0.5, 0.8660254, 0
+PART/3, MASS = 1, CM = 30, IP = 0.1, 0.1, 0.1
+MARKER/30, PART = 3, QP = 1.4013878, 0.4330127, 0
+MARKER/31, PART = 3, QP = 0.5, 0.8660254, 0
+MARKER/32, PART = 3, QP = 2.3027756, 0, 0
+PART/4, MASS = 1, CM = 40, IP = 0.1, 0.1, 0.1
+MARKER/40, PART = 4, QP = 2.3027756, 0, 0
+MARKER/41, PART = 4, QP = 2.3027756, 0, 0
+MARKER/42, PART = 4, QP = 2.3027756, 0, 0, REULER = 90D, 90D, 0D
+PART/5, MASS = 1, CM = 50, IP = 0.1, 0.1, 0.1
+MARKER/50, PART = 5, QP = 0, 5, 0
+JOINT/1, REVOLUTE, I = 21, J = 1
+JOINT/2, REVOLUTE, I = 31, J = 22
+JOINT/3, REVOLUTE, I = 41, J = 32
+JOINT/4, TRANSLATIONAL, I = 42, J = 3
+MOTION/1, JOINT = 4, TRANSLATION, FUNCTION = 0.5*TIME
+END
+";
+    let sim = run_model(text, 2.0, 200, &IntegratorSettings::default());
+    let failure = sim.failure.as_ref().expect("the run stops");
+    eprintln!("slider crank: {}", failure.message);
+    let IntegrationError::SingularConfiguration { time, elements, .. } = &failure.cause else {
+        panic!("not diagnosed as singular: {}", failure.message)
+    };
+    let reach = (3.0 - (0.5f64 + 3.25f64.sqrt())) / 0.5;
+    assert!(
+        (time - reach).abs() < 1e-3,
+        "stops at {time}, reach at {reach}"
+    );
+    assert!(
+        elements.contains("JOINT/1") && elements.contains("JOINT/2"),
+        "{elements}"
+    );
+    assert!(
+        !elements.contains("JOINT_"),
+        "default names repeated: {elements}"
     );
 }

@@ -85,6 +85,23 @@ pub enum IntegrationError {
         step: f64,
         cause: Box<IntegrationError>,
     },
+    /// The run gave up (`cause`) at a singular configuration: the kept constraint rows have
+    /// become nearly dependent (`conditioning`: `σ_min/σ_max` of their scaled Jacobian), so
+    /// the reactions that hold the motions grow without bound; `elements` are the
+    /// constraints whose rows make up the dependent combination.
+    #[error(
+        "the mechanism is at a singular (locked) configuration at time {time}: the constraints \
+         of {elements} have become dependent (conditioning {} of the constraint Jacobian), so \
+         the reactions that hold the motions grow without bound and the motions cannot be \
+         followed; {cause}",
+        linkage_adm::num::sci(*.conditioning, 2)
+    )]
+    SingularConfiguration {
+        time: f64,
+        conditioning: f64,
+        elements: String,
+        cause: Box<IntegrationError>,
+    },
     /// A motion's displacement cannot be evaluated.
     #[error(transparent)]
     Motion(#[from] MotionError),

@@ -31,7 +31,8 @@
 //! Layout: `hht.rs` (the method's coefficients), `integrator.rs` (the HHT step), `bdf.rs` (the
 //! BDF step), `corrector.rs` (the shared Newton iteration and workspace), `stepper.rs` (either
 //! behind one interface), `simulate.rs` (step-size control, outputs), `events.rs` (SENSOR
-//! events located by re-stepping), `run.rs` (the dataset-level run). What every analysis
+//! events located by re-stepping), `singular.rs` (a run that gives up at a singular
+//! configuration says so), `run.rs` (the dataset-level run). What every analysis
 //! shares is in [`crate::kernel`]: the problem view (`problem.rs`: generalized forces,
 //! drives), the iteration matrix (`matrix.rs`), the consistent-output solve (`output.rs`), the
 //! sensor watch, the redundant-row checks, what a run returns and its errors.
@@ -54,6 +55,7 @@ mod hht;
 mod integrator;
 mod run;
 mod simulate;
+mod singular;
 mod stepper;
 
 pub use bdf::Bdf;

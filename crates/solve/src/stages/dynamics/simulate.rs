@@ -5,6 +5,7 @@
 
 use super::corrector::StepTolerance;
 use super::events;
+use super::singular;
 use super::stepper::Stepper;
 use crate::kernel::error::IntegrationError;
 use crate::kernel::output::Output;
@@ -367,6 +368,8 @@ pub fn simulate_stepwise(
                         step: hs,
                         cause: Box::new(e),
                     };
+                    // A pose where the kept rows lost their independence says so.
+                    let cause = singular::diagnose(p, start, integ.state(), cause);
                     sim.failure = Some(Failure::new(t, cause));
                     return sim;
                 }
