@@ -138,7 +138,12 @@ fn analysis(command: &str, model: &Path, lib: Option<&Path>, extra: &[&str]) -> 
 
 /// The CSV of a simulation: rows of numbers.
 fn simulate(model: &Path, lib: Option<&Path>, end: &str) -> Vec<Vec<f64>> {
-    let out = model.with_extension(format!("{}.csv", lib.map_or("builtin", |_| "user")));
+    let out = std::env::temp_dir().join(format!(
+        "linkage-usersub-{}-{}-{}.csv",
+        model.file_stem().unwrap().to_string_lossy(),
+        lib.map_or("builtin", |_| "user"),
+        std::process::id()
+    ));
     let mut args = vec![
         "simulate",
         model.to_str().unwrap(),
@@ -392,8 +397,116 @@ fn verify_lists_the_subroutine_each_statement_calls() {
     ]);
     assert_eq!(code, 0, "{out}{err}");
     assert!(
-        out.contains("SFOSUB as ROUTINE = springs::sfosub"),
+        out.contains(
+            "User subroutines the analyses call:\n   SFORCE_1 (SFORCE/1, line 10): its FUNCTION \
+             calls the user subroutine SFOSUB as ROUTINE = springs::sfosub"
+        ),
         "verify names the subroutine: {out}"
     );
-    assert!(!out.contains("refused by every analysis"), "{out}");
+    assert!(
+        !out.contains("runs without") && !out.contains("refused by"),
+        "{out}"
+    );
+}
+
+/// The OMTLMSimulator shaft (corpus), whose GFORCE calls `tlmadams::` GFOSUB, with the
+/// co-simulation force replaced by a C GFOSUB stiffness `libtlmadams.so` the test builds.
+const SHAFT: &str = "OpenModelica__OMTLMSimulator__CompositeModels__ADAMSBEAST__Shaft";
+
+#[test]
+fn corpus_shaft_command_file_refused_for_its_gfosub_runs_with_a_c_stiffness_library() {
+    let Some(corpus) = corpus() else { return };
+    let dir = folder("shaft");
+    let lib = compile("gcc", "tlm_stiffness.c", &dir, "tlmadams");
+    let acf = corpus.join(format!("{SHAFT}.acf"));
+    let out = dir.join("out");
+    std::fs::create_dir_all(&out).unwrap();
+    let (code, stdout, err) = run(&[
+        "run",
+        acf.to_str().unwrap(),
+        "--out-dir",
+        out.to_str().unwrap(),
+    ]);
+    assert_ne!(code, 0, "refused without the library: {stdout}{err}");
+    let (code, stdout, err) = run(&[
+        "run",
+        acf.to_str().unwrap(),
+        "--out-dir",
+        out.to_str().unwrap(),
+        "--user-lib",
+        dir.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "runs with the library: {stdout}{err}");
+    assert!(
+        stdout.contains("51 output(s)") || stdout.contains("output(s)"),
+        "{stdout}"
+    );
+    // The same dataset with the stiffness written as GFORCE components: the same motion.
+    let adm = std::fs::read_to_string(corpus.join(format!("{SHAFT}.adm")))
+        .unwrap()
+        .replace("\r\n", "\n");
+    let builtin_text = adm.replace(
+        "FUNCTION = USER(5, 6, 6)\\\n, ROUTINE = tlmadams::",
+        "FX = -DX(5,6,6)\\FY = -DY(5,6,6)\\FZ = -DZ(5,6,6)",
+    );
+    assert_ne!(
+        builtin_text, adm,
+        "the GFORCE statement is where the test expects it"
+    );
+    let builtin = dir.join("shaft_builtin.adm");
+    std::fs::write(&builtin, builtin_text).unwrap();
+    let a = simulate(&builtin, None, "1");
+    let b = simulate(&corpus.join(format!("{SHAFT}.adm")), Some(&dir), "1");
+    assert_eq!(a.len(), b.len());
+    let scale = a.iter().flatten().fold(0f64, |m, x| m.max(x.abs()));
+    for (ra, rb) in a.iter().zip(&b) {
+        for (x, y) in ra.iter().zip(rb) {
+            assert!((x - y).abs() <= SAME * scale, "t = {}: {x} vs {y}", ra[0]);
+        }
+    }
+}
+
+#[test]
+fn fortran_difsub_first_order_lag_matches_the_builtin_diff_in_every_analysis() {
+    let dir = folder("difsub");
+    let lib = compile("gfortran", "spring.f90", &dir, "lags");
+    // The spring pulls with 5·y besides, y the lag (τ = 0.5 s) of the block's height.
+    let with = |function: &str| {
+        format!(
+            "DIFF/1, IC = 1, FUNCTION = {function}\n\
+             SFORCE/1, TRANSLATIONAL, I = 3, J = 1, \
+             FUNCTION = -100*(DM(3,1)-1.2) - 2*VR(3,1) + 5*DIF(1)"
+        )
+    };
+    let builtin = block(&dir, "builtin", &with("(DZ(3,1) - DIF(1))/0.5"));
+    let user = block(&dir, "user", &with("USER(0.5, 3, 1)\n, ROUTINE = lags::"));
+    same_in_every_analysis(&builtin, &user, &lib);
+}
+
+#[test]
+fn fortran_motsub_drive_matches_the_builtin_motion() {
+    let dir = folder("motsub");
+    let lib = compile("gfortran", "spring.f90", &dir, "drives");
+    let with = |function: &str| {
+        format!(
+            "MOTION/1, JOINT = 1, TRANSLATION, FUNCTION = {function}\n\
+             SFORCE/1, TRANSLATIONAL, I = 3, J = 1, FUNCTION = -100*(DM(3,1)-1.2) - 2*VR(3,1)"
+        )
+    };
+    let builtin = block(&dir, "builtin", &with("1 + 0.1*SIN(2*TIME)"));
+    let user = block(&dir, "user", &with("USER(0.1, 2, 1)\n, ROUTINE = drives::"));
+    for command in ["ic", "static"] {
+        let a = analysis(command, &builtin, None, &[]);
+        let b = analysis(command, &user, Some(&lib), &[]);
+        assert!(assert_same(command, &a, &b) > 3);
+    }
+    let a = simulate(&builtin, None, "2");
+    let b = simulate(&user, Some(&lib), "2");
+    assert_eq!(a.len(), b.len());
+    let scale = a.iter().flatten().fold(0f64, |m, x| m.max(x.abs()));
+    for (ra, rb) in a.iter().zip(&b) {
+        for (x, y) in ra.iter().zip(rb) {
+            assert!((x - y).abs() <= SAME * scale, "t = {}: {x} vs {y}", ra[0]);
+        }
+    }
 }

@@ -190,13 +190,30 @@ pub fn verify_text(findings: &[FindingJson]) -> String {
             );
         }
     }
+    let called: Vec<&FindingJson> = findings
+        .iter()
+        .filter(|f| f.reason == USER_CALLED)
+        .collect();
+    if !called.is_empty() {
+        if !refused.is_empty() {
+            let _ = writeln!(s);
+        }
+        let _ = writeln!(s, "User subroutines the analyses call:");
+        for f in &called {
+            let _ = writeln!(
+                s,
+                "   {} ({}, line {}): {}",
+                f.name, f.element, f.line, f.detail
+            );
+        }
+    }
     let unused: Vec<FindingJson> = findings
         .iter()
-        .filter(|f| f.refused_by.is_empty())
+        .filter(|f| f.refused_by.is_empty() && f.reason != USER_CALLED)
         .cloned()
         .collect();
     if !unused.is_empty() {
-        if !refused.is_empty() {
+        if !refused.is_empty() || !called.is_empty() {
             let _ = writeln!(s);
         }
         let _ = writeln!(s, "Elements every analysis runs without:");
@@ -214,6 +231,9 @@ pub fn verify_text(findings: &[FindingJson]) -> String {
     }
     s
 }
+
+/// The reason of a finding whose USER subroutine the analyses call (`--user-lib`).
+const USER_CALLED: &str = "user subroutine called";
 
 /// The verdict's words about later analyses: `; ic, static and simulate will refuse it` (empty
 /// when none will).

@@ -76,8 +76,11 @@ const FORCE_ANALYSES: &[Analysis] = &Analysis::ALL;
 pub enum Reason {
     /// linkage has no model of this element.
     NotModelled,
-    /// A `USER(…)` subroutine call, which linkage cannot run.
+    /// A `USER(…)` subroutine call, which linkage cannot run (no library given, or a family
+    /// it does not call).
     UserSubroutine,
+    /// A `USER(…)` subroutine call that every analysis makes (from a `--user-lib` library).
+    UserCalled,
     /// A file the statement names does not exist.
     ExternalFileMissing,
     /// No analysis reads it (data only elements that are not modelled use, unknown
@@ -86,11 +89,13 @@ pub enum Reason {
 }
 
 impl Reason {
-    /// `not modelled`, `USER subroutine`, `external file missing`, `not used`.
+    /// `not modelled`, `USER subroutine`, `user subroutine called`, `external file missing`,
+    /// `not used`.
     pub fn name(self) -> &'static str {
         match self {
             Reason::NotModelled => "not modelled",
             Reason::UserSubroutine => "USER subroutine",
+            Reason::UserCalled => "user subroutine called",
             Reason::ExternalFileMissing => "external file missing",
             Reason::NotUsed => "not used",
         }
@@ -419,7 +424,7 @@ pub fn findings_with(ds: &Dataset, linker: &UserRoutines) -> Vec<Finding> {
         });
         if let (Some((key, span)), Some(called)) = (&user, called) {
             let detail = format!("its {key} calls the user subroutine {called}");
-            out.push(finding(*span, Reason::UserSubroutine, detail, &[]));
+            out.push(finding(*span, Reason::UserCalled, detail, &[]));
         } else if let Some((key, span)) = user {
             let (detail, refused): (String, &[Analysis]) = match st.keyword.as_str() {
                 "REQUEST" => (

@@ -49,3 +49,40 @@ subroutine brittle(id, time, par, npar, dflag, iflag, result)
   result = 0d0
   call errmes(t > par(1), 'the spring broke', id, 'STOP')
 end subroutine brittle
+
+! DIFSUB: a first-order lag of the height of marker PAR(2) above PAR(3):
+! dy/dt = (DZ - y)/PAR(1), y = DIF(ID).
+subroutine difsub(id, time, par, npar, dflag, iflag, value)
+  implicit none
+  integer, intent(in) :: id, npar
+  double precision, intent(in) :: time, par(*)
+  logical, intent(in) :: dflag, iflag
+  double precision, intent(out) :: value
+  integer :: ipar(2), iself(1)
+  double precision :: u, y
+  logical :: errflg
+  ipar(1) = nint(par(2))
+  ipar(2) = nint(par(3))
+  iself(1) = id
+  call sysfnc('DZ', ipar, 2, u, errflg)
+  call sysfnc('DIF', iself, 1, y, errflg)
+  value = (u - y)/par(1)
+end subroutine difsub
+
+! MOTSUB: a sinusoidal drive PAR(3) + PAR(1)*SIN(PAR(2)*TIME) and its two time derivatives
+! (IORD = 0, 1, 2).
+subroutine motsub(id, time, par, npar, iord, iflag, value)
+  implicit none
+  integer, intent(in) :: id, npar, iord
+  double precision, intent(in) :: time, par(*)
+  logical, intent(in) :: iflag
+  double precision, intent(out) :: value
+  select case (iord)
+  case (0)
+    value = par(3) + par(1)*sin(par(2)*time)
+  case (1)
+    value = par(1)*par(2)*cos(par(2)*time)
+  case default
+    value = -par(1)*par(2)**2*sin(par(2)*time)
+  end select
+end subroutine motsub
