@@ -417,7 +417,8 @@ const SHAFT: &str = "OpenModelica__OMTLMSimulator__CompositeModels__ADAMSBEAST__
 fn corpus_shaft_command_file_refused_for_its_gfosub_runs_with_a_c_stiffness_library() {
     let Some(corpus) = corpus() else { return };
     let dir = folder("shaft");
-    let lib = compile("gcc", "tlm_stiffness.c", &dir, "tlmadams");
+    // `ROUTINE = tlmadams::` finds libtlmadams.so in the folder given with --user-lib.
+    compile("gcc", "tlm_stiffness.c", &dir, "tlmadams");
     let acf = corpus.join(format!("{SHAFT}.acf"));
     let out = dir.join("out");
     std::fs::create_dir_all(&out).unwrap();

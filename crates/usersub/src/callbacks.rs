@@ -67,10 +67,12 @@ pub(crate) struct Frame {
     pub failure: Option<String>,
 }
 
+/// A SYSFNC name and its integer arguments as an expression, or why they are none.
+type Parsed = Result<Expr, String>;
+
 thread_local! {
     static STACK: RefCell<Vec<Frame>> = const { RefCell::new(Vec::new()) };
-    static PARSED: RefCell<HashMap<(String, Vec<i32>), Result<Expr, String>>> =
-        RefCell::new(HashMap::new());
+    static PARSED: RefCell<HashMap<(String, Vec<i32>), Parsed>> = RefCell::new(HashMap::new());
 }
 
 /// Runs `call` with a frame for `env` on this thread's stack; returns its result and the
