@@ -331,7 +331,8 @@ fn load(
 /// `out_dir`, default the working directory); returns {commands, outputs, halted, msg, req, csv}
 /// (`halted`: `SENSOR_1 at time 2.5` when a SENSOR's HALT ended the file, else None).
 #[pyfunction]
-#[pyo3(signature = (path, out_dir=None, model=None, deactivate=None, allow_unstable=false, lenient_arguments=false))]
+#[pyo3(signature = (path, out_dir=None, model=None, deactivate=None, allow_unstable=false, lenient_arguments=false, user_lib=None))]
+#[allow(clippy::too_many_arguments)]
 fn run_acf(
     py: Python<'_>,
     path: PathBuf,
@@ -340,6 +341,7 @@ fn run_acf(
     deactivate: Option<Vec<String>>,
     allow_unstable: bool,
     lenient_arguments: bool,
+    user_lib: Option<Vec<PathBuf>>,
 ) -> PyResult<PyObject> {
     let options = linkage_run::RunOptions {
         out_dir,
@@ -348,6 +350,7 @@ fn run_acf(
         deactivate: deactivate.unwrap_or_default(),
         allow_unstable,
         read: linkage_adm::ReadOptions { lenient_arguments },
+        user_libraries: user_lib.unwrap_or_default(),
         also_writes: Vec::new(),
         time_limit: None,
     };

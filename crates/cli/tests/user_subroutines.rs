@@ -284,7 +284,20 @@ fn errmes_with_stop_ends_the_simulation_with_the_message_and_the_time() {
     let all = format!("{out}{err}");
     assert_ne!(code, 0, "{all}");
     assert!(all.contains("the spring broke"), "{all}");
-    assert!(all.contains("stopped the analysis at time 0.2"), "{all}");
+    // The last accepted output, and the (trial) time the subroutine stopped at, past 0.25.
+    assert!(all.contains("simulation stopped at time 0.2:"), "{all}");
+    let at = all
+        .split("ERRMES with STOP at time ")
+        .nth(1)
+        .expect("the stop's time");
+    let t: f64 = at.split(':').next().unwrap().parse().unwrap();
+    assert!(t > 0.25 && t <= 0.3 + 1e-9, "stopped at {t}: {all}");
+    // At once, not after the integrator shrank its step to the minimum retrying.
+    assert!(!all.contains("at its minimum"), "{all}");
+    // The outputs before the stop stay whole: rows 0, 0.1 and 0.2.
+    let rows = std::fs::read_to_string(&csv).unwrap();
+    assert_eq!(rows.lines().count(), 4, "{rows}");
+    assert!(rows.ends_with('\n'), "whole rows: {rows}");
 }
 
 #[test]

@@ -14,6 +14,16 @@ use crate::error::EvalError;
 use std::fmt;
 use std::sync::Arc;
 
+/// The words every error of a subroutine that ended the analysis (ERRMES with STOP) carries:
+/// an analysis that meets them stops at once rather than retrying (a smaller step, another
+/// iteration), since the subroutine asked to stop.
+pub const STOP: &str = "ERRMES with STOP";
+
+/// Whether an error message is a subroutine's request to stop ([`STOP`]).
+pub fn is_stop(message: &str) -> bool {
+    message.contains(STOP)
+}
+
 /// A subroutine that computes one value of an element from its parameters and the model.
 pub trait UserRoutine: Send + Sync {
     /// The value for parameters `params` in `env`; with `gradient`, its partial derivatives

@@ -25,7 +25,10 @@ pub struct UserSite<'a> {
 pub trait UserLinker: Send + Sync {
     /// The routine that computes `site`'s value, or why there is none (the message names
     /// what was looked for and where; the caller adds the statement and its place).
-    fn link(&self, site: &UserSite<'_>) -> Result<Routine, String>;
+    fn link(
+        &self,
+        site: &UserSite<'_>,
+    ) -> Result<Routine, Box<dyn std::error::Error + Send + Sync>>;
 
     /// The library files loaded so far, with their full paths (for every report).
     fn loaded(&self) -> Vec<String>;
@@ -123,7 +126,7 @@ pub fn parse_component(
     let linked = e.link_user(&mut |_| match linker.link(&site) {
         Ok(r) => Some(r),
         Err(why) => {
-            failure.get_or_insert(why);
+            failure.get_or_insert(why.to_string());
             None
         }
     });

@@ -147,6 +147,12 @@ pub fn analysis_text(left_out: &[LeftOutJson], runs_without: &[FindingJson]) -> 
     let mut s = left_out_text(left_out);
     for g in groups(runs_without) {
         let kind = g[0].element.split('/').next().unwrap_or("");
+        if g[0].reason == USER_CALLED {
+            for f in &g {
+                let _ = writeln!(s, "  calls for {} (line {}): {}", f.name, f.line, f.detail);
+            }
+            continue;
+        }
         let _ = writeln!(
             s,
             "  runs without {} {kind} ({}): {}: {}",

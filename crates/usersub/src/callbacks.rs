@@ -9,6 +9,7 @@
 //! measure the language has (DX…, VX…, WX…, ACCX…, PSI/THETA/PHI, FX…, element forces,
 //! VARVAL, DIF, ARYVAL, PINVAL, …) is available with the same meaning.
 
+use crate::error::ReadError;
 use linkage_expr::{evaluate, evaluate_with_gradient, parse, Dual, Env, Expr};
 use std::cell::RefCell;
 use std::collections::HashMap;
@@ -68,7 +69,7 @@ pub(crate) struct Frame {
 }
 
 /// A SYSFNC name and its integer arguments as an expression, or why they are none.
-type Parsed = Result<Expr, String>;
+type Parsed = Result<Expr, ReadError>;
 
 thread_local! {
     static STACK: RefCell<Vec<Frame>> = const { RefCell::new(Vec::new()) };
@@ -103,10 +104,10 @@ pub(crate) fn with_frame<R>(
 
 /// The value of `key` in the current call, recorded (and perturbed when it is the perturbed
 /// quantity). `None` outside a call.
-pub(crate) fn read(key: Key) -> Result<f64, String> {
+pub(crate) fn read(key: Key) -> Result<f64, ReadError> {
     let (env, gradient) = STACK
         .with(|s| s.borrow().last().map(|f| (f.env, f.gradient)))
-        .ok_or("a utility routine was called outside a subroutine call")?;
+        .ok_or(ReadError::NoCall)?;
     // SAFETY: the frame is on the stack, so the environment is alive (see `with_frame`).
     let env: &dyn Env = unsafe { &*env };
     let d = match &key {
@@ -126,7 +127,10 @@ pub(crate) fn read(key: Key) -> Result<f64, String> {
             } else {
                 evaluate(&expr, env).map(Dual::constant)
             };
-            value.map_err(|e| format!("{expr}: {}", e.message))?
+            value.map_err(|e| ReadError::Evaluate {
+                what: expr.to_string(),
+                why: e.message,
+            })?
         }
     };
     Ok(STACK.with(|s| {
@@ -146,12 +150,16 @@ pub(crate) fn read(key: Key) -> Result<f64, String> {
 
 /// `NAME(ipar…)` as an expression of the language; the name must be a plain word (no
 /// expression can be smuggled in through it).
-fn measure_expr(name: &str, ipar: &[i32]) -> Result<Expr, String> {
+fn measure_expr(name: &str, ipar: &[i32]) -> Parsed {
+    let bad = |why: Option<String>| ReadError::BadName {
+        name: name.to_string(),
+        why,
+    };
     if name.is_empty() || !name.chars().all(|c| c.is_ascii_alphanumeric() || c == '_') {
-        return Err(format!("'{name}' is not a function name"));
+        return Err(bad(None));
     }
     let args: Vec<String> = ipar.iter().map(|i| i.to_string()).collect();
-    parse(&format!("{name}({})", args.join(","))).map_err(|e| format!("{name}: {}", e.message))
+    parse(&format!("{name}({})", args.join(","))).map_err(|e| bad(Some(e.message)))
 }
 
 /// Records a failed read in the current frame (the first one is kept).
@@ -198,7 +206,7 @@ unsafe extern "C" fn sysfnc(
     let name = text(name, name_len).to_ascii_uppercase();
     let ipar = ints(ipar, nsize).to_vec();
     let r = std::panic::catch_unwind(|| read(Key::Measure(name.clone(), ipar)))
-        .unwrap_or_else(|_| Err(format!("SYSFNC {name} failed")));
+        .unwrap_or_else(|_| Err(ReadError::Panicked(format!("SYSFNC {name}"))));
     match r {
         Ok(v) => {
             *states = v;
@@ -245,7 +253,7 @@ unsafe extern "C" fn sysary(
     let Some(parts) = sysary_names(&name) else {
         *nstates = 0;
         *errflg = 1;
-        fail(format!("SYSARY: unknown name '{name}'"));
+        fail(ReadError::UnknownArray(name).to_string());
         return;
     };
     let r = std::panic::catch_unwind(|| {
@@ -261,9 +269,9 @@ unsafe extern "C" fn sysary(
                 let args = ipar.iter().copied().take(n).collect();
                 read(Key::Measure((*m).to_string(), args))
             })
-            .collect::<Result<Vec<f64>, String>>()
+            .collect::<Result<Vec<f64>, ReadError>>()
     })
-    .unwrap_or_else(|_| Err(format!("SYSARY {name} failed")));
+    .unwrap_or_else(|_| Err(ReadError::Panicked(format!("SYSARY {name}"))));
     match r {
         Ok(values) => {
             for (k, v) in values.iter().enumerate() {

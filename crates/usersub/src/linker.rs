@@ -1,13 +1,14 @@
 //! The linker the model asks for each `USER(…)` call: ROUTINE parsed, the library found and
 //! loaded (once), the entry point found in either convention.
 
-use crate::error::UserError;
+use crate::error::{LinkError, UserError};
 use crate::kind::{Kind, Shape};
 use crate::routine::{Entry, Linked};
 use crate::search::Search;
 use libloading::os::unix::{Library, RTLD_LOCAL, RTLD_NOW};
 use linkage_expr::Routine;
 use linkage_model::functions::{UserLinker, UserRoutines, UserSite};
+use std::error::Error;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::AtomicBool;
 use std::sync::{Arc, Mutex};
@@ -76,7 +77,7 @@ pub fn candidates(name: &str, default: bool) -> Vec<(String, bool)> {
 
 impl Linker {
     /// The library at `path`, loaded once.
-    fn load(&self, path: &Path) -> Result<Arc<Library>, String> {
+    fn load(&self, path: &Path) -> Result<Arc<Library>, LinkError> {
         let mut loaded = self.loaded.lock().unwrap_or_else(|e| e.into_inner());
         if let Some((_, l)) = loaded.iter().find(|(p, _)| p == path) {
             return Ok(l.clone());
@@ -84,8 +85,12 @@ impl Linker {
         // SAFETY: the user chose this library (--user-lib, the dataset's folder or
         // LD_LIBRARY_PATH); loading runs its initialisers. RTLD_NOW: a reference it cannot
         // resolve is an error here rather than a crash at its first call.
-        let lib = unsafe { Library::open(Some(path), RTLD_NOW | RTLD_LOCAL) }
-            .map_err(|e| format!("{} cannot be loaded: {e}", path.display()))?;
+        let lib = unsafe { Library::open(Some(path), RTLD_NOW | RTLD_LOCAL) }.map_err(|e| {
+            LinkError::Load {
+                path: path.to_path_buf(),
+                why: e.to_string(),
+            }
+        })?;
         let lib = Arc::new(lib);
         loaded.push((path.to_path_buf(), lib.clone()));
         Ok(lib)
@@ -108,21 +113,17 @@ impl Linker {
 }
 
 impl UserLinker for Linker {
-    fn link(&self, site: &UserSite<'_>) -> Result<Routine, String> {
+    fn link(&self, site: &UserSite<'_>) -> Result<Routine, Box<dyn Error + Send + Sync>> {
         let statement = site.origin.statement;
-        let kind = Kind::of_statement(statement).ok_or_else(|| {
-            format!("linkage does not call the USER subroutines of {statement} statements yet")
-        })?;
+        let kind = Kind::of_statement(statement)
+            .ok_or_else(|| LinkError::Unsupported(statement.to_string()))?;
         let (lib, name) = split_routine(site.routine);
         let libraries = match lib {
             Some(lib) => vec![self.search.library(lib)?],
             None => self.search.given(),
         };
         if libraries.is_empty() {
-            return Err(format!(
-                "{} is in no library: the --user-lib folders hold no .so file",
-                name.unwrap_or(kind.name())
-            ));
+            return Err(LinkError::NoLibraries(name.unwrap_or(kind.name()).to_string()).into());
         }
         let symbols = candidates(name.unwrap_or(kind.name()), name.is_none());
         for path in &libraries {
@@ -143,13 +144,11 @@ impl UserLinker for Linker {
                 }
             }
         }
-        let tried: Vec<&str> = symbols.iter().map(|(s, _)| s.as_str()).collect();
-        let places: Vec<String> = libraries.iter().map(|p| p.display().to_string()).collect();
-        Err(format!(
-            "no symbol {} in {}",
-            tried.join(", "),
-            places.join(", ")
-        ))
+        Err(LinkError::NoSymbol {
+            tried: symbols.into_iter().map(|(s, _)| s).collect(),
+            libraries,
+        }
+        .into())
     }
 
     fn calls(&self, keyword: &str, routine: Option<&str>) -> Option<String> {

@@ -119,9 +119,10 @@ impl Linked {
             return Err(EvalError::new(
                 EvalErrorKind::UserSubroutine,
                 format!(
-                    "{} of {} stopped the analysis at time {}: {msg}",
+                    "{} of {}: {} at time {}: {msg}",
                     self.symbol,
                     self.element,
+                    linkage_expr::user::STOP,
                     env.time()
                 ),
             ));

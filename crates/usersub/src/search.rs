@@ -8,7 +8,7 @@
 //! the code that runs. Without a library in ROUTINE, the subroutine is looked for in the
 //! libraries the user gave: the files, then the `.so` files of the folders (in name order).
 
-use crate::error::UserError;
+use crate::error::{LinkError, UserError};
 use std::path::{Path, PathBuf};
 
 /// The places the user chose.
@@ -55,15 +55,12 @@ impl Search {
     }
 
     /// The file of library `lib` (as ROUTINE spells it), or why there is none.
-    pub fn library(&self, lib: &str) -> Result<PathBuf, String> {
+    pub fn library(&self, lib: &str) -> Result<PathBuf, LinkError> {
         if lib.contains('/') {
             let wanted = Path::new(lib).canonicalize().ok();
             return match wanted.filter(|w| self.files.contains(w)) {
                 Some(w) => Ok(w),
-                None => Err(format!(
-                    "its ROUTINE names the file {lib}, which linkage loads only when you give \
-                     that file with --user-lib"
-                )),
+                None => Err(LinkError::SpelledPath(lib.to_string())),
             };
         }
         let names = if lib.ends_with(".so") {
@@ -86,20 +83,11 @@ impl Search {
                 }
             }
         }
-        let places: Vec<String> = self
-            .folders
-            .iter()
-            .map(|d| d.display().to_string())
-            .collect();
-        Err(format!(
-            "library '{lib}' ({}) is not among the --user-lib files nor in {}",
-            names.join(", "),
-            if places.is_empty() {
-                "any folder (none given)".to_string()
-            } else {
-                places.join(", ")
-            }
-        ))
+        Err(LinkError::NoLibrary {
+            lib: lib.to_string(),
+            names,
+            folders: self.folders.clone(),
+        })
     }
 
     /// The libraries the user gave, for a subroutine without a library in ROUTINE.

@@ -14,18 +14,19 @@ use std::sync::OnceLock;
 static SHIM: &[u8] = include_bytes!(concat!(env!("OUT_DIR"), "/liblinkage_utilities.so"));
 
 /// The loaded shim (kept for the life of the process; user libraries refer to it).
-static LOADED: OnceLock<Result<Library, String>> = OnceLock::new();
+static LOADED: OnceLock<Result<Library, Box<dyn std::error::Error + Send + Sync>>> =
+    OnceLock::new();
 
 /// Loads the shim and installs the callbacks, once per process.
 pub(crate) fn ensure() -> Result<(), UserError> {
     LOADED
-        .get_or_init(|| load().map_err(|e| e.to_string()))
+        .get_or_init(load)
         .as_ref()
         .map(|_| ())
-        .map_err(|why| UserError::Shim(why.clone()))
+        .map_err(|why| UserError::Shim(why.to_string()))
 }
 
-fn load() -> Result<Library, Box<dyn std::error::Error>> {
+fn load() -> Result<Library, Box<dyn std::error::Error + Send + Sync>> {
     // SAFETY: memfd_create with a NUL-terminated name and no flags has no preconditions.
     let fd = unsafe { libc::memfd_create(c"linkage-utilities".as_ptr(), 0) };
     if fd < 0 {
