@@ -167,3 +167,39 @@ impl UserLinker for Linker {
             .collect()
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn routine_splits_into_library_and_name() {
+        assert_eq!(split_routine(Some("tlmadams::")), (Some("tlmadams"), None));
+        assert_eq!(
+            split_routine(Some(" adrill_solver::StringForces ")),
+            (Some("adrill_solver"), Some("StringForces"))
+        );
+        assert_eq!(split_routine(Some("myforce")), (None, Some("myforce")));
+        assert_eq!(split_routine(Some("::f")), (None, Some("f")));
+        assert_eq!(split_routine(None), (None, None));
+    }
+
+    #[test]
+    fn mixed_case_names_are_c_style_and_the_default_is_tried_as_c_then_fortran() {
+        let names = |n: &str, d: bool| candidates(n, d);
+        assert_eq!(
+            names("SFOSUB", true),
+            [
+                ("Sfosub".to_string(), true),
+                ("sfosub_".to_string(), false),
+                ("sfosub".to_string(), false),
+                ("SFOSUB".to_string(), false)
+            ]
+        );
+        assert_eq!(
+            names("StringForces", false)[0],
+            ("StringForces".into(), true)
+        );
+        assert!(names("myforce", false).iter().all(|(_, c)| !c));
+    }
+}

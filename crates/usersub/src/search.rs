@@ -106,3 +106,42 @@ impl Search {
         out
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_path_spelled_in_the_dataset_loads_only_when_the_user_gave_that_file() {
+        let dir = std::env::temp_dir().join(format!("linkage-search-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let lib = dir.join("libforces.so");
+        std::fs::write(&lib, b"").unwrap();
+        let spelled = lib.display().to_string();
+        let none = Search::new(&[], None).unwrap();
+        assert!(matches!(
+            none.library(&spelled),
+            Err(LinkError::SpelledPath(_))
+        ));
+        let given = Search::new(std::slice::from_ref(&lib), None).unwrap();
+        assert_eq!(
+            given.library(&spelled).unwrap(),
+            lib.canonicalize().unwrap()
+        );
+        // By name: liblib.so in a given folder; the folder's .so files are the defaults.
+        let folder = Search::new(std::slice::from_ref(&dir), None).unwrap();
+        assert_eq!(
+            folder.library("forces").unwrap(),
+            lib.canonicalize().unwrap()
+        );
+        assert!(folder.given().contains(&lib.canonicalize().unwrap()));
+        assert!(matches!(
+            folder.library("absent"),
+            Err(LinkError::NoLibrary { .. })
+        ));
+        assert!(matches!(
+            Search::new(&[dir.join("nothing")], None),
+            Err(UserError::NoSuchPath(_))
+        ));
+    }
+}
