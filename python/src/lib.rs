@@ -293,18 +293,23 @@ impl std::io::Write for SharedBuffer {
 }
 
 /// Reads the dataset at `path` (`deactivate`: statements to leave out; `lenient_arguments`:
-/// an argument a statement does not take is a warning, not an `InputError`).
+/// an argument a statement does not take is a warning, not an `InputError`; `user_lib`:
+/// libraries or folders of the dataset's user subroutines, as `--user-lib`).
 #[pyfunction]
-#[pyo3(signature = (path, deactivate=None, lenient_arguments=false))]
+#[pyo3(signature = (path, deactivate=None, lenient_arguments=false, user_lib=None))]
 fn load(
     py: Python<'_>,
     path: PathBuf,
     deactivate: Option<Vec<String>>,
     lenient_arguments: bool,
+    user_lib: Option<Vec<PathBuf>>,
 ) -> PyResult<Model> {
     let options = linkage_adm::ReadOptions { lenient_arguments };
+    let user_lib = user_lib.unwrap_or_default();
     let source = py
-        .allow_threads(|| Source::read_with(&path, options))
+        .allow_threads(|| {
+            Source::read_with(&path, options).and_then(|s| s.with_user_libraries(&user_lib))
+        })
         .map_err(|d| input_error(py, d.0.iter().map(ToString::to_string).collect()))?;
     let model = Model {
         source,
@@ -326,7 +331,8 @@ fn load(
 /// `out_dir`, default the working directory); returns {commands, outputs, halted, msg, req, csv}
 /// (`halted`: `SENSOR_1 at time 2.5` when a SENSOR's HALT ended the file, else None).
 #[pyfunction]
-#[pyo3(signature = (path, out_dir=None, model=None, deactivate=None, allow_unstable=false, lenient_arguments=false))]
+#[pyo3(signature = (path, out_dir=None, model=None, deactivate=None, allow_unstable=false, lenient_arguments=false, user_lib=None))]
+#[allow(clippy::too_many_arguments)]
 fn run_acf(
     py: Python<'_>,
     path: PathBuf,
@@ -335,6 +341,7 @@ fn run_acf(
     deactivate: Option<Vec<String>>,
     allow_unstable: bool,
     lenient_arguments: bool,
+    user_lib: Option<Vec<PathBuf>>,
 ) -> PyResult<PyObject> {
     let options = linkage_run::RunOptions {
         out_dir,
@@ -343,6 +350,7 @@ fn run_acf(
         deactivate: deactivate.unwrap_or_default(),
         allow_unstable,
         read: linkage_adm::ReadOptions { lenient_arguments },
+        user_libraries: user_lib.unwrap_or_default(),
         also_writes: Vec::new(),
         time_limit: None,
     };

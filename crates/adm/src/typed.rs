@@ -325,6 +325,9 @@ pub struct Function {
     pub expr: ExprText,
     /// True when the expression is a `USER(...)` subroutine call.
     pub user: bool,
+    /// The statement's `ROUTINE = lib::name` (as written) when the expression is a `USER(...)`
+    /// call and the statement has one.
+    pub routine: Option<String>,
 }
 
 /// Which coordinate a joint motion drives (needed only for CYLINDRICAL joints).

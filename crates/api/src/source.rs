@@ -9,12 +9,13 @@
 use linkage_adm::amend::{Redefined, Selected};
 use linkage_adm::statement::{Argument, ExprText, Statement, Value};
 use linkage_adm::{Dataset, Diagnostic, Diagnostics, Span};
+use linkage_model::functions::UserRoutines;
 use linkage_model::Model;
 use linkage_solve::constraints::drivers::ExpressionDrivers;
 use linkage_solve::coverage::{self, Analysis, Finding};
 use linkage_solve::physics::forces::ForceSet;
 use std::collections::BTreeSet;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 /// A dataset read, built and with its functions parsed: the one loaded-model type of every
 /// front end (CLI, command files, Python, sweeps).
@@ -141,6 +142,8 @@ pub struct Source {
     /// Statements left out by a command (DEACTIVATE) or by [`Source::leave_out`], as
     /// `(keyword, id)`.
     inactive: BTreeSet<(String, u64)>,
+    /// The linker of the dataset's `USER(…)` calls ([`Source::with_user_libraries`]).
+    user: UserRoutines,
 }
 
 impl Source {
@@ -164,7 +167,29 @@ impl Source {
             read,
             amended: None,
             inactive: BTreeSet::new(),
+            user: UserRoutines::default(),
         }
+    }
+
+    /// Links the dataset's `USER(…)` calls to the subroutines of the libraries `paths` (files
+    /// or folders: `--user-lib`), looked for as [`linkage_usersub::search`] says (those
+    /// places, the dataset's folder, `LD_LIBRARY_PATH`). No paths: USER calls stay refused.
+    /// Errors: a path that names nothing; the utility routines cannot be loaded.
+    pub fn with_user_libraries(mut self, paths: &[PathBuf]) -> Result<Source, Diagnostics> {
+        let dataset = Path::new(&*self.read.file);
+        self.user = linkage_usersub::user_routines(paths, Some(dataset)).map_err(|e| {
+            Diagnostics(vec![Diagnostic::error(
+                self.read.file.clone(),
+                None,
+                e.to_string(),
+            )])
+        })?;
+        Ok(self)
+    }
+
+    /// The library files the dataset's `USER(…)` calls loaded so far, with their full paths.
+    pub fn user_libraries_loaded(&self) -> Vec<String> {
+        self.user.0.as_ref().map_or_else(Vec::new, |l| l.loaded())
     }
 
     /// The dataset as read.
@@ -376,7 +401,7 @@ impl Source {
             Some(amended) => amended,
             None => (self.read.clone(), Vec::new()),
         };
-        build(dataset, left_out, analysis)
+        build(dataset, left_out, analysis, &self.user)
     }
 
     /// [`Source::load`] for a source used once: the dataset as read is moved into the
@@ -390,7 +415,7 @@ impl Source {
             Some(amended) => amended,
             None => (self.read, Vec::new()),
         };
-        build(dataset, left_out, analysis)
+        build(dataset, left_out, analysis, &self.user)
     }
 
     /// [`Source::into_loaded`] for a caller that needs only the model (verify without a
@@ -406,13 +431,13 @@ impl Source {
             Some(amended) => amended,
             None => (self.read, Vec::new()),
         };
-        let findings = coverage::findings(&dataset);
+        let findings = coverage::findings_with(&dataset, &self.user);
         dataset.text = String::new();
         dataset
             .statements
             .retain(|s| !linkage_model::TYPED_ONLY.contains(&s.keyword.as_str()));
         dataset.statements.shrink_to_fit();
-        let mut loaded = build_found(dataset, left_out, analysis, findings)?;
+        let mut loaded = build_found(dataset, left_out, analysis, findings, &self.user)?;
         loaded.dataset = Dataset::empty(loaded.dataset.file.clone());
         Ok(loaded)
     }
@@ -524,9 +549,10 @@ fn build(
     dataset: Dataset,
     left_out: Vec<Selected>,
     analysis: Option<Analysis>,
+    user: &UserRoutines,
 ) -> Result<Loaded, Diagnostics> {
-    let findings = coverage::findings(&dataset);
-    build_found(dataset, left_out, analysis, findings)
+    let findings = coverage::findings_with(&dataset, user);
+    build_found(dataset, left_out, analysis, findings, user)
 }
 
 /// [`build`] with the dataset's findings already made.
@@ -535,8 +561,9 @@ fn build_found(
     left_out: Vec<Selected>,
     analysis: Option<Analysis>,
     findings: Vec<Finding>,
+    user: &UserRoutines,
 ) -> Result<Loaded, Diagnostics> {
-    let built = linkage_model::build_model(&dataset)
+    let built = linkage_model::build_model_with(&dataset, user)
         .and_then(|b| ExpressionDrivers::new(&b.model).map(|d| (b, d)));
     let (built, drivers) = match built {
         Ok(b) => b,
@@ -559,6 +586,19 @@ fn build_found(
         }
         _ => None,
     };
+    if let Some(linker) = &user.0 {
+        // Every report names the foreign code the run loaded, with full paths.
+        for lib in linker.loaded() {
+            warnings.push(Diagnostic {
+                severity: linkage_adm::Severity::Note,
+                ..Diagnostic::error(
+                    dataset.file.clone(),
+                    None,
+                    format!("user subroutines loaded from {lib}"),
+                )
+            });
+        }
+    }
     Ok(Loaded {
         dataset,
         model: built.model,

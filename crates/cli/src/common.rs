@@ -2,7 +2,7 @@
 
 use clap::ValueEnum;
 use linkage_adm::Diagnostics;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 // Loading a dataset and the analyses' shared pieces live in the library that the Python
@@ -26,22 +26,41 @@ pub fn read_options() -> ReadOptions {
     READ_OPTIONS.get().copied().unwrap_or_default()
 }
 
-/// [`linkage_api::load`] with the command line's read options.
+/// The command line's `--user-lib` paths, set once by `main`.
+static USER_LIBRARIES: OnceLock<Vec<PathBuf>> = OnceLock::new();
+
+/// Sets the user-subroutine libraries of every dataset of this process (the first call wins).
+pub fn set_user_libraries(paths: Vec<PathBuf>) {
+    let _ = USER_LIBRARIES.set(paths);
+}
+
+/// The `--user-lib` paths (none unless given).
+pub fn user_libraries() -> &'static [PathBuf] {
+    USER_LIBRARIES.get().map_or(&[], Vec::as_slice)
+}
+
+/// The dataset at `path` read with the command line's read options, its USER calls linked to
+/// the `--user-lib` libraries.
+fn source(path: &Path) -> Result<linkage_api::Source, Diagnostics> {
+    linkage_api::Source::read_with(path, read_options())?.with_user_libraries(user_libraries())
+}
+
+/// [`linkage_api::load`] with the command line's read options and user libraries.
 pub fn load(
     path: &Path,
     deactivate: &[String],
     analysis: Option<Analysis>,
 ) -> Result<Loaded, Diagnostics> {
-    linkage_api::Source::read_with(path, read_options())?.into_loaded(deactivate, analysis)
+    source(path)?.into_loaded(deactivate, analysis)
 }
 
-/// [`linkage_api::load_model`] with the command line's read options.
+/// [`linkage_api::load_model`] with the command line's read options and user libraries.
 pub fn load_model(
     path: &Path,
     deactivate: &[String],
     analysis: Option<Analysis>,
 ) -> Result<Loaded, Diagnostics> {
-    linkage_api::Source::read_with(path, read_options())?.into_model(deactivate, analysis)
+    source(path)?.into_model(deactivate, analysis)
 }
 
 #[derive(Clone, Copy, ValueEnum, PartialEq, Eq, Debug)]

@@ -40,6 +40,11 @@ struct Cli {
     /// error with a "did you mean" suggestion, as Adams stops on it.
     #[arg(long, global = true)]
     lenient_arguments: bool,
+    /// A shared library of Adams user subroutines (Fortran or C), or a folder of them, for the
+    /// dataset's `FUNCTION = USER(…)` calls; repeatable. Libraries load only from these, the
+    /// dataset's folder and LD_LIBRARY_PATH, never from a path the dataset spells alone.
+    #[arg(long, global = true, value_name = "PATH")]
+    user_lib: Vec<PathBuf>,
 }
 
 #[derive(Subcommand)]
@@ -407,6 +412,7 @@ fn main() -> ExitCode {
     common::set_read_options(linkage_adm::ReadOptions {
         lenient_arguments: cli.lenient_arguments,
     });
+    common::set_user_libraries(cli.user_lib.clone());
     for (input, output) in input_and_output(&cli.command) {
         if let Err(e) = common::check_output(input, output) {
             eprintln!("error: {e}");

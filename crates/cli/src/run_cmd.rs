@@ -72,6 +72,7 @@ pub fn run(command_file: &Path, paths: Paths, options: Options) -> ExitCode {
         deactivate: deactivate.to_vec(),
         allow_unstable,
         read: crate::common::read_options(),
+        user_libraries: crate::common::user_libraries().to_vec(),
         also_writes: html.map(Path::to_path_buf).into_iter().collect(),
         time_limit,
         watch,

@@ -9,13 +9,15 @@ use std::process::ExitCode;
 /// failing run is a result: its status says so), 1 when a record could not be written, 2
 /// for an invalid spec, dataset or shard.
 pub fn run(spec: &Path, out: &Path, shard: Option<&str>, jobs: Option<usize>) -> ExitCode {
-    let spec = match Spec::read(spec) {
+    let mut spec = match Spec::read(spec) {
         Ok(s) => s,
         Err(e) => {
             eprintln!("error: {e}");
             return ExitCode::from(2);
         }
     };
+    spec.user_libraries
+        .extend(crate::common::user_libraries().iter().cloned());
     let shard = match Shard::choose(shard, |name| std::env::var(name).ok()) {
         Ok(s) => s,
         Err(e) => {

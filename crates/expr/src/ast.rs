@@ -81,9 +81,17 @@ pub enum Expr {
         /// Its arguments, in order.
         args: Vec<Expr>,
     },
-    /// `USER(r1, ..., rn)`: a user subroutine. It cannot be evaluated; callers should refuse
-    /// the element (see [`Expr::contains_user`]).
+    /// `USER(r1, ..., rn)`: a user subroutine not linked to any code. It cannot be
+    /// evaluated; callers should refuse the element (see [`Expr::contains_user`]) or link it
+    /// ([`Expr::link_user`]).
     User(Vec<Expr>),
+    /// `USER(r1, ..., rn)` linked to the subroutine that computes it.
+    Linked {
+        /// The subroutine.
+        routine: crate::user::Routine,
+        /// The parameters r1 … rn.
+        args: Vec<Expr>,
+    },
 }
 
 impl Expr {
@@ -104,7 +112,9 @@ impl Expr {
                 eq.walk(visit);
                 gt.walk(visit);
             }
-            Expr::Call { args, .. } | Expr::User(args) => args.iter().for_each(|e| e.walk(visit)),
+            Expr::Call { args, .. } | Expr::User(args) | Expr::Linked { args, .. } => {
+                args.iter().for_each(|e| e.walk(visit))
+            }
         }
     }
 
@@ -119,10 +129,55 @@ impl Expr {
         found
     }
 
-    /// True if the expression calls `USER(...)` anywhere. Such an expression cannot be
-    /// evaluated; the caller should report "user subroutine cannot be run" for the element.
+    /// True if the expression calls `USER(...)` anywhere without a linked subroutine. Such an
+    /// expression cannot be evaluated; the caller should report "user subroutine cannot be
+    /// run" for the element.
     pub fn contains_user(&self) -> bool {
         self.any(&mut |e| matches!(e, Expr::User(_)))
+    }
+
+    /// True if the expression calls a linked subroutine anywhere.
+    pub fn contains_linked(&self) -> bool {
+        self.any(&mut |e| matches!(e, Expr::Linked { .. }))
+    }
+
+    /// The expression with every unlinked `USER(…)` call linked to the routine `link`
+    /// returns for it (`None`: left unlinked).
+    pub fn link_user(self, link: &mut dyn FnMut(&[Expr]) -> Option<crate::user::Routine>) -> Expr {
+        let mut go = |e: Box<Expr>| Box::new(e.link_user(link));
+        match self {
+            Expr::User(args) => match link(&args) {
+                Some(routine) => Expr::Linked { routine, args },
+                None => Expr::User(args),
+            },
+            Expr::Neg(x) => Expr::Neg(go(x)),
+            Expr::Binary { op, lhs, rhs } => {
+                let lhs = go(lhs);
+                Expr::Binary {
+                    op,
+                    lhs,
+                    rhs: go(rhs),
+                }
+            }
+            Expr::Vector(items) => {
+                let [a, b, c] = *items;
+                Expr::Vector(Box::new([
+                    a.link_user(link),
+                    b.link_user(link),
+                    c.link_user(link),
+                ]))
+            }
+            Expr::If { test, lt, eq, gt } => {
+                let (test, lt) = (go(test), go(lt));
+                let (eq, gt) = (go(eq), go(gt));
+                Expr::If { test, lt, eq, gt }
+            }
+            Expr::Call { func, args } => Expr::Call {
+                func,
+                args: args.into_iter().map(|a| a.link_user(link)).collect(),
+            },
+            e @ (Expr::Number(_) | Expr::Degrees(_) | Expr::Constant(_) | Expr::Linked { .. }) => e,
+        }
     }
 
     /// True if the expression uses `TIME`.
@@ -225,7 +280,7 @@ impl fmt::Display for Expr {
                 write_list(f, args)?;
                 f.write_str(")")
             }
-            Expr::User(args) => {
+            Expr::User(args) | Expr::Linked { args, .. } => {
                 f.write_str("USER(")?;
                 write_list(f, args)?;
                 f.write_str(")")

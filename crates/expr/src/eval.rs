@@ -152,6 +152,14 @@ impl<E: Env + ?Sized> Evaluator<'_, E> {
                     "USER subroutine cannot be run",
                 ))
             }
+            Expr::Linked { routine, args } => {
+                let params = args
+                    .iter()
+                    .map(|a| self.scalar::<f64>(a))
+                    .collect::<Result<Vec<f64>, EvalError>>()?;
+                let env = crate::user::Forward(self.env);
+                Val::S(N::user(&*routine.0, &params, &env)?)
+            }
         })
     }
 

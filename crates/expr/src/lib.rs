@@ -62,7 +62,8 @@
 //!   `2**3**2 = 512`, `-2**2 = -4`, `2*-3 = -6`, `-A**-B = -(A**(-B))`.
 //! * Function calls `NAME(arg, ...)`; arithmetic `IF(test: lt, eq, gt)` (only the selected
 //!   branch is evaluated); `USER(...)` parses into [`Expr::User`] and cannot be evaluated
-//!   (check [`Expr::contains_user`] and report "user subroutine cannot be run").
+//!   (check [`Expr::contains_user`] and report "user subroutine cannot be run") until it is
+//!   linked to a subroutine ([`Expr::link_user`] → [`Expr::Linked`], [`user`]).
 //! * Vectors `[x, y, z]` with `v+v`, `v-v`, `s*v`, `v*s`, `v/s`, `-v`, `v*v` (dot product →
 //!   scalar) and `v%v` (cross product). Shapes are checked by the parser; the whole expression
 //!   and every function argument must be scalar.
@@ -142,6 +143,7 @@ pub mod orient;
 pub mod parser;
 pub mod spline;
 mod taylor;
+pub mod user;
 
 pub use ast::{BinOp, Expr};
 pub use catalog::{
@@ -155,3 +157,4 @@ pub use eval::{evaluate, evaluate_path_series, evaluate_time_series, evaluate_wi
 pub use orient::{orient, OrientSystem};
 pub use parser::{parse, MAX_DEPTH, MAX_NESTING};
 pub use spline::{SplineData, SplineError, SplineMethod};
+pub use user::{Routine, UserRoutine};

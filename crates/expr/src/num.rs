@@ -48,6 +48,12 @@ pub(crate) trait Num: Clone + Sized {
     fn rotation<E: Env + ?Sized>(env: &E, i: u32, j: u32) -> Result<[Self; 9], EvalError>;
     /// Converts a value supplied by the environment for `what` (an element force or a state).
     fn from_env(d: Dual, what: &str) -> Result<Self, EvalError>;
+    /// The value of a linked user subroutine with parameters `params`.
+    fn user(
+        routine: &dyn crate::user::UserRoutine,
+        params: &[f64],
+        env: &dyn Env,
+    ) -> Result<Self, EvalError>;
 }
 
 impl Num for f64 {
@@ -107,6 +113,13 @@ impl Num for f64 {
     }
     fn from_env(d: Dual, _what: &str) -> Result<Self, EvalError> {
         Ok(d.value())
+    }
+    fn user(
+        routine: &dyn crate::user::UserRoutine,
+        params: &[f64],
+        env: &dyn Env,
+    ) -> Result<Self, EvalError> {
+        routine.evaluate(params, env, false).map(|d| d.value())
     }
 }
 
@@ -171,6 +184,13 @@ impl Num for Dual {
     fn from_env(d: Dual, _what: &str) -> Result<Self, EvalError> {
         Ok(d)
     }
+    fn user(
+        routine: &dyn crate::user::UserRoutine,
+        params: &[f64],
+        env: &dyn Env,
+    ) -> Result<Self, EvalError> {
+        routine.evaluate(params, env, true)
+    }
 }
 
 impl Num for Taylor {
@@ -233,5 +253,12 @@ impl Num for Taylor {
     }
     fn from_env(_d: Dual, what: &str) -> Result<Self, EvalError> {
         Err(EvalError::not_time_only(what))
+    }
+    fn user(
+        routine: &dyn crate::user::UserRoutine,
+        params: &[f64],
+        env: &dyn Env,
+    ) -> Result<Self, EvalError> {
+        routine.series(params, env).map(Taylor::from_derivatives)
     }
 }

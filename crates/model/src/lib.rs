@@ -31,5 +31,5 @@ pub mod sensors;
 pub mod settings;
 pub mod units;
 
-pub use build::{build_model, TYPED_ONLY};
+pub use build::{build_model, build_model_with, TYPED_ONLY};
 pub use model::*;

@@ -272,6 +272,8 @@ pub struct Model {
     /// their node equations constraints, their modal stiffness and damping bushings
     /// ([`crate::flex_bodies`]).
     pub flex_bodies: Vec<crate::flex_bodies::FlexBody>,
+    /// The linker of the `USER(…)` calls (none unless the user gave subroutine libraries).
+    pub user: crate::functions::UserRoutines,
 }
 
 impl Model {

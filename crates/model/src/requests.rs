@@ -72,6 +72,7 @@ pub fn resolve_requests(
     markers: &[Marker],
     forces: &[ForceElement],
     dataset: &Dataset,
+    user: &crate::functions::UserRoutines,
 ) -> Requests {
     let file = &dataset.file;
     let mut errors = Vec::new();
@@ -118,7 +119,7 @@ pub fn resolve_requests(
                 for (k, f) in r.functions.iter().enumerate() {
                     let Some(f) = f else { continue };
                     let key = format!("F{}", k + 1);
-                    match parse_function(file, f, &origin, &key) {
+                    match parse_function(file, f, &origin, &key, user) {
                         Ok(e) => {
                             if let Some(why) = wrong_force_component(forces, &e) {
                                 errors.push(Diagnostic::error(

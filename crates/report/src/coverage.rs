@@ -147,6 +147,12 @@ pub fn analysis_text(left_out: &[LeftOutJson], runs_without: &[FindingJson]) -> 
     let mut s = left_out_text(left_out);
     for g in groups(runs_without) {
         let kind = g[0].element.split('/').next().unwrap_or("");
+        if g[0].reason == USER_CALLED {
+            for f in &g {
+                let _ = writeln!(s, "  calls for {} (line {}): {}", f.name, f.line, f.detail);
+            }
+            continue;
+        }
         let _ = writeln!(
             s,
             "  runs without {} {kind} ({}): {}: {}",
@@ -190,13 +196,30 @@ pub fn verify_text(findings: &[FindingJson]) -> String {
             );
         }
     }
+    let called: Vec<&FindingJson> = findings
+        .iter()
+        .filter(|f| f.reason == USER_CALLED)
+        .collect();
+    if !called.is_empty() {
+        if !refused.is_empty() {
+            let _ = writeln!(s);
+        }
+        let _ = writeln!(s, "User subroutines the analyses call:");
+        for f in &called {
+            let _ = writeln!(
+                s,
+                "   {} ({}, line {}): {}",
+                f.name, f.element, f.line, f.detail
+            );
+        }
+    }
     let unused: Vec<FindingJson> = findings
         .iter()
-        .filter(|f| f.refused_by.is_empty())
+        .filter(|f| f.refused_by.is_empty() && f.reason != USER_CALLED)
         .cloned()
         .collect();
     if !unused.is_empty() {
-        if !refused.is_empty() {
+        if !refused.is_empty() || !called.is_empty() {
             let _ = writeln!(s);
         }
         let _ = writeln!(s, "Elements every analysis runs without:");
@@ -214,6 +237,9 @@ pub fn verify_text(findings: &[FindingJson]) -> String {
     }
     s
 }
+
+/// The reason of a finding whose USER subroutine the analyses call (`--user-lib`).
+const USER_CALLED: &str = "user subroutine called";
 
 /// The verdict's words about later analyses: `; ic, static and simulate will refuse it` (empty
 /// when none will).

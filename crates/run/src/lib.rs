@@ -63,6 +63,8 @@ pub struct RunOptions {
     pub allow_unstable: bool,
     /// How the dataset is read (`--lenient-arguments`).
     pub read: linkage_adm::ReadOptions,
+    /// Libraries (or folders of them) of the dataset's user subroutines (`--user-lib`).
+    pub user_libraries: Vec<PathBuf>,
     /// Files the caller writes after the run (`--html`): refused, as the run's own outputs
     /// are, when one is a file the run reads.
     pub also_writes: Vec<PathBuf>,
@@ -317,7 +319,7 @@ impl Runner {
         self.reads(&[dataset.to_path_buf()])?;
         // Read before the message file is created, so that no file the dataset reads is
         // overwritten by it; its errors still go to the message file.
-        let session = Session::open(dataset, &self.options.deactivate, self.options.read);
+        let session = Session::open(dataset, &self.options);
         if let Ok(s) = &session {
             self.reads(&linkage_api::dataset_files(&s.loaded))?;
         }

@@ -75,15 +75,16 @@ fn load(source: &Source) -> Result<Loaded, Diagnostics> {
 }
 
 impl Session {
-    /// Reads the dataset at `path` (as `read` says) and loads it without the statements
-    /// `deactivate` names (see [`linkage_adm::amend::select`]).
-    pub fn open(
-        path: &Path,
-        deactivate: &[String],
-        read: linkage_adm::ReadOptions,
-    ) -> Result<Session, RunError> {
-        let mut source = Source::read_with(path, read).map_err(RunError::Input)?;
-        source.leave_out(deactivate).map_err(RunError::Input)?;
+    /// Reads the dataset at `path` (as `options.read` says), links its USER calls to
+    /// `options.user_libraries` and loads it without the statements `options.deactivate`
+    /// names (see [`linkage_adm::amend::select`]).
+    pub fn open(path: &Path, options: &crate::RunOptions) -> Result<Session, RunError> {
+        let mut source = Source::read_with(path, options.read)
+            .and_then(|s| s.with_user_libraries(&options.user_libraries))
+            .map_err(RunError::Input)?;
+        source
+            .leave_out(&options.deactivate)
+            .map_err(RunError::Input)?;
         let loaded = load(&source).map_err(RunError::Input)?;
         Ok(Session {
             source,

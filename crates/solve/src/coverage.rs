@@ -14,8 +14,9 @@
 //! - [`Use::Named`]: linkage does not model it; every such statement is a [`Finding`].
 //!
 //! [`findings`] lists, for a dataset, every statement some analysis refuses or runs without:
-//! statements linkage does not model, `USER(…)` subroutine calls (linkage has no interface to
-//! Fortran or C subroutines), external files that are missing or that linkage does not read,
+//! statements linkage does not model, `USER(…)` subroutine calls (refused unless the user gave
+//! subroutine libraries and linkage calls the statement's family: then [`findings_with`]
+//! lists the subroutine each calls, refused by no analysis), external files that are missing or that linkage does not read,
 //! statements that no analysis reads. Each finding names the element, its place and the
 //! analyses that refuse a model holding it ([`Finding::refused_by`]); `verify` lists them all,
 //! and every other analysis refuses with all of its own at once ([`refusals`]). Unknown
@@ -26,6 +27,7 @@ mod curve_use;
 mod flex_body;
 
 use linkage_adm::{Dataset, Diagnostic, Span, Statement, Value};
+use linkage_model::functions::UserRoutines;
 use std::path::Path;
 use std::sync::Arc;
 
@@ -74,8 +76,11 @@ const FORCE_ANALYSES: &[Analysis] = &Analysis::ALL;
 pub enum Reason {
     /// linkage has no model of this element.
     NotModelled,
-    /// A `USER(…)` subroutine call, which linkage cannot run.
+    /// A `USER(…)` subroutine call, which linkage cannot run (no library given, or a family
+    /// it does not call).
     UserSubroutine,
+    /// A `USER(…)` subroutine call that every analysis makes (from a `--user-lib` library).
+    UserCalled,
     /// A file the statement names does not exist.
     ExternalFileMissing,
     /// No analysis reads it (data only elements that are not modelled use, unknown
@@ -84,11 +89,13 @@ pub enum Reason {
 }
 
 impl Reason {
-    /// `not modelled`, `USER subroutine`, `external file missing`, `not used`.
+    /// `not modelled`, `USER subroutine`, `user subroutine called`, `external file missing`,
+    /// `not used`.
     pub fn name(self) -> &'static str {
         match self {
             Reason::NotModelled => "not modelled",
             Reason::UserSubroutine => "USER subroutine",
+            Reason::UserCalled => "user subroutine called",
             Reason::ExternalFileMissing => "external file missing",
             Reason::NotUsed => "not used",
         }
@@ -270,6 +277,15 @@ fn calls_user(text: &str) -> bool {
     false
 }
 
+/// The statement's `ROUTINE = …` text, trimmed.
+fn routine_text(st: &Statement) -> Option<String> {
+    match st.arg("ROUTINE")?.values.first()? {
+        Value::Expr(e) => Some(e.text.trim().to_string()),
+        Value::Str { text, .. } | Value::Word { text, .. } => Some(text.trim().to_string()),
+        Value::Number { .. } => None,
+    }
+}
+
 /// The first `USER(…)` call among the statement's arguments: the argument's key and place.
 fn user_call(st: &Statement) -> Option<(String, Span)> {
     st.args.iter().find_map(|a| {
@@ -306,6 +322,13 @@ fn file_exists(dataset_file: &str, name: &str) -> bool {
 /// Every statement of `ds` that some analysis refuses or runs without, in dataset order (see
 /// the module documentation). Cost: one pass over the statements and their arguments.
 pub fn findings(ds: &Dataset) -> Vec<Finding> {
+    findings_with(ds, &UserRoutines::default())
+}
+
+/// [`findings`] when the user gave subroutine libraries (`user`): a statement whose USER
+/// subroutine linkage calls is listed with the subroutine it calls, refused by no analysis
+/// (a library or symbol that cannot be found is an input error when the model is built).
+pub fn findings_with(ds: &Dataset, linker: &UserRoutines) -> Vec<Finding> {
     let mut out = Vec::new();
     let contacts = contact::ContactGeometries::new(ds);
     let curves = curve_use::CurveUse::new(ds);
@@ -393,7 +416,16 @@ pub fn findings(ds: &Dataset) -> Vec<Finding> {
             }
             continue;
         }
-        if let Some((key, span)) = user {
+        let called = user.as_ref().and_then(|_| {
+            linker
+                .0
+                .as_ref()?
+                .calls(&st.keyword, routine_text(st).as_deref())
+        });
+        if let (Some((key, span)), Some(called)) = (&user, called) {
+            let detail = format!("its {key} calls the user subroutine {called}");
+            out.push(finding(*span, Reason::UserCalled, detail, &[]));
+        } else if let Some((key, span)) = user {
             let (detail, refused): (String, &[Analysis]) = match st.keyword.as_str() {
                 "REQUEST" => (
                     format!(

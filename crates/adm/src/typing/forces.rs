@@ -542,6 +542,20 @@ mod tests {
             .function
             .as_ref()
             .is_some_and(|f| f.value.user));
+        // ROUTINE = lib::name is kept as written (case matters for a C routine's name).
+        assert_eq!(
+            ds.gforces[1]
+                .function
+                .as_ref()
+                .and_then(|f| f.value.routine.as_deref()),
+            Some("tlm::f")
+        );
+        assert_eq!(
+            ds.gforces[0].force[0]
+                .as_ref()
+                .map(|f| f.value.routine.clone()),
+            Some(None)
+        );
         assert_eq!(
             errors("VFORCE/9, I = 5, RM = 5, FX = 1"),
             [(

@@ -208,6 +208,17 @@ impl Typer {
         }
     }
 
+    /// The statement's `ROUTINE = lib::name` text, trimmed (`None`: absent or empty).
+    fn routine(st: &Statement) -> Option<String> {
+        let text = match st.arg("ROUTINE")?.values.first()? {
+            Value::Expr(e) => e.text.clone(),
+            Value::Str { text, .. } | Value::Word { text, .. } => text.clone(),
+            Value::Number { .. } => return None,
+        };
+        let text = text.trim().to_string();
+        (!text.is_empty()).then_some(text)
+    }
+
     pub(super) fn flag(st: &Statement, key: &str) -> bool {
         st.arg(key).is_some()
     }
@@ -219,6 +230,9 @@ impl Typer {
                 value: Function {
                     expr: expr.clone(),
                     user: is_user_call(&expr.text),
+                    routine: is_user_call(&expr.text)
+                        .then(|| Self::routine(st))
+                        .flatten(),
                 },
                 span: expr.span_at(0),
             }),

@@ -218,7 +218,9 @@ pub fn run(
     let options = linkage_adm::ReadOptions {
         lenient_arguments: spec.lenient_arguments,
     };
-    let base = Source::read_with(&spec.model, options).map_err(SweepError::Input)?;
+    let base = Source::read_with(&spec.model, options)
+        .and_then(|s| s.with_user_libraries(&spec.user_libraries))
+        .map_err(SweepError::Input)?;
     // The first run's changes are checked before any run: a statement or argument that
     // cannot be changed is a mistake in the spec, not a result.
     amended(&base, spec, &spec.values(0)).map_err(SweepError::Input)?;

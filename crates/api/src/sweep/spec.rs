@@ -5,6 +5,7 @@
 //! model = "spring_mass.adm"        # relative to the spec's folder
 //! deactivate = []                  # optional, as --deactivate
 //! lenient_arguments = false        # optional, as --lenient-arguments
+//! user_lib = ["libforces.so"]      # optional, as --user-lib (relative to the spec's folder)
 //! [analysis]
 //! kind = "linear"                  # verify | ic | static | linear | simulate, + CLI options
 //! [sampling]                       # only with distributions
@@ -91,6 +92,8 @@ struct SpecFile {
     deactivate: Vec<String>,
     #[serde(default)]
     lenient_arguments: bool,
+    #[serde(default)]
+    user_lib: Vec<PathBuf>,
     analysis: Job,
     sampling: Option<Sampling>,
     #[serde(default)]
@@ -128,6 +131,8 @@ pub struct Spec {
     /// An argument a statement does not take is a warning, not an input error
     /// (`--lenient-arguments`).
     pub lenient_arguments: bool,
+    /// Libraries (or folders) of the model's user subroutines (`--user-lib`).
+    pub user_libraries: Vec<PathBuf>,
     pub analysis: Job,
     pub sampling: Option<Sampling>,
     pub vary: Vec<Varied>,
@@ -253,6 +258,7 @@ impl Spec {
             model: base.join(&file.model),
             deactivate: file.deactivate,
             lenient_arguments: file.lenient_arguments,
+            user_libraries: file.user_lib.iter().map(|p| base.join(p)).collect(),
             analysis: file.analysis,
             sampling: file.sampling,
             vary,

@@ -11,6 +11,8 @@ use std::sync::Arc;
 /// with errors returns them all, in the order the builders found them.
 pub(crate) struct Ctx {
     pub file: Arc<str>,
+    /// The linker of `USER(…)` calls.
+    pub user: crate::functions::UserRoutines,
     pub errors: Vec<Diagnostic>,
     pub warnings: Vec<Diagnostic>,
 }

@@ -92,6 +92,7 @@ pub(crate) fn flex_bodies(
     // The MATRIX values (controls reports their own errors; a scratch context here).
     let mut scratch = Ctx {
         file: cx.file.clone(),
+        user: cx.user.clone(),
         errors: Vec::new(),
         warnings: Vec::new(),
     };

@@ -33,6 +33,7 @@ mod units;
 mod vector_forces;
 
 use crate::forces::ForceElement;
+use crate::functions::UserRoutines;
 use crate::model::{Constraint, Model};
 use context::{v3, Ctx};
 use glam::DVec3;
@@ -60,7 +61,14 @@ pub struct Built {
 /// carriers linkage does not model (FLEX_BODY) used by constraints or
 /// forces, invalid force or data elements ([`crate::forces`]), …
 pub fn build_model(ds: &Dataset) -> Result<Built, Diagnostics> {
+    build_model_with(ds, &UserRoutines::default())
+}
+
+/// [`build_model`] with the `USER(…)` calls linked through `user` (the subroutine libraries
+/// the user gave).
+pub fn build_model_with(ds: &Dataset, user: &UserRoutines) -> Result<Built, Diagnostics> {
     let mut cx = Ctx {
+        user: user.clone(),
         file: ds.file.clone(),
         errors: Vec::new(),
         warnings: ds.warnings.clone(),
@@ -151,9 +159,11 @@ pub fn build_model(ds: &Dataset) -> Result<Built, Diagnostics> {
         fe_parts,
         curves,
         flex_bodies,
+        user: user.clone(),
     };
     model.characteristic_length = characteristic_length(&model);
-    model.requests = crate::requests::resolve_requests(&model.markers, &model.forces, ds);
+    model.requests =
+        crate::requests::resolve_requests(&model.markers, &model.forces, ds, &model.user);
     Ok(Built {
         model,
         warnings: cx.warnings,

@@ -14,10 +14,10 @@ pub(crate) fn sensors(ds: &Dataset, cx: &mut Ctx) -> Vec<Sensor> {
         let origin = origin("SENSOR", &s.header);
         let mut parse = |f: &Option<Located<linkage_adm::Function>>, what: &str| {
             let f = f.as_ref()?;
-            if f.value.user {
+            if f.value.user && !cx.user.given() {
                 return None;
             }
-            match parse_function(&ds.file, f, &origin, what) {
+            match parse_function(&ds.file, f, &origin, what, &cx.user) {
                 Ok(e) if e.contains_user() => None,
                 Ok(e) => Some(Arc::new(e)),
                 Err(d) => {

@@ -10,6 +10,7 @@ use crate::tolerances::MOTION_QUADRATURE;
 use crate::tolerances::UNDERFLOW_FLOOR;
 use linkage_adm::{Diagnostic, Diagnostics, MotionLevel};
 use linkage_expr::{evaluate, evaluate_time_series, parse, Expr, TimeEnv};
+use linkage_model::functions::parse_function;
 use linkage_model::{ConstraintKind, Model};
 
 /// Supplies motion functions `f(t)` (and whether they can be evaluated) to the analyses.
@@ -220,7 +221,22 @@ impl ExpressionDrivers {
                 continue;
             };
             let text = &f.value.expr;
-            match parse(&text.text) {
+            // A USER call with libraries given: MOTSUB, linked (or an input error naming the
+            // library or symbol that is missing).
+            let parsed = match parse(&text.text) {
+                Ok(e) if e.contains_user() && model.user.given() => {
+                    match parse_function(&model.file, f, &c.origin, "FUNCTION", &model.user) {
+                        Ok(linked) => Ok(linked),
+                        Err(d) => {
+                            errors.push(d);
+                            functions.push(None);
+                            continue;
+                        }
+                    }
+                }
+                other => other,
+            };
+            match parsed {
                 Ok(e) if e.contains_user() => {
                     warnings.push(Diagnostic::warning(
                         model.file.clone(),

@@ -95,7 +95,11 @@ fn variable(model: &Model, id: u64) -> Result<Expr, MotionDataError> {
 fn expand(model: &Model, e: &Expr, active: &mut Vec<u64>) -> Result<Expr, MotionDataError> {
     let go = |x: &Expr, active: &mut Vec<u64>| expand(model, x, active).map(Box::new);
     Ok(match e {
-        Expr::Number(_) | Expr::Degrees(_) | Expr::Constant(_) | Expr::User(_) => e.clone(),
+        Expr::Number(_)
+        | Expr::Degrees(_)
+        | Expr::Constant(_)
+        | Expr::User(_)
+        | Expr::Linked { .. } => e.clone(),
         Expr::Neg(x) => Expr::Neg(go(x, active)?),
         Expr::Binary { op, lhs, rhs } => Expr::Binary {
             op: *op,

@@ -175,7 +175,13 @@ pub(crate) fn marker_frame(model: &Model, m: usize) -> BodyFrame {
     }
 }
 
+use linkage_model::functions::parse_component;
 pub(crate) use linkage_model::functions::parse_function;
+
+/// The elements whose USER subroutines linkage does not call yet (FIELD's FIESUB, FE_LOAD):
+/// their USER calls are refused as unlinked.
+const NO_LINKER: &linkage_model::functions::UserRoutines =
+    &linkage_model::functions::UserRoutines(None);
 
 /// The label used in messages: `SFORCE_3 (SFORCE/3, line 12)`.
 fn label(o: &Origin) -> String {
@@ -346,7 +352,7 @@ struct Builder<'m> {
 impl Builder<'_> {
     /// Parses and checks one expression argument; `None` (with diagnostics) when unusable.
     fn expr(&mut self, f: &Located<Function>, origin: &Origin, what: &str) -> Option<Expr> {
-        match parse_function(&self.model.file, f, origin, what) {
+        match parse_function(&self.model.file, f, origin, what, &self.model.user) {
             Err(d) => {
                 self.errors.push(d);
                 None
@@ -370,6 +376,29 @@ impl Builder<'_> {
                     None
                 }
             },
+        }
+    }
+
+    /// Value `component` (0-based) of the USER subroutine of `FUNCTION = USER(…)` `u`; `None`
+    /// (with the diagnostic, `ok` cleared) when it cannot be linked.
+    fn user_component(
+        &mut self,
+        u: &Located<Function>,
+        origin: &Origin,
+        component: usize,
+        ok: &mut bool,
+    ) -> Option<Expr> {
+        let model = self.model;
+        match parse_component(&model.file, u, origin, "FUNCTION", &model.user, component) {
+            Ok(e) => Some(e),
+            Err(d) => {
+                // One diagnostic per statement, not one per component.
+                if *ok {
+                    self.errors.push(d);
+                }
+                *ok = false;
+                None
+            }
         }
     }
 
@@ -422,8 +451,9 @@ impl Builder<'_> {
             ))),
             ForceKind::Field(f) => {
                 if let Some(u) = &f.user {
-                    self.errors
-                        .extend(parse_function(&model.file, u, origin, "FUNCTION").err());
+                    self.errors.extend(
+                        parse_function(&model.file, u, origin, "FUNCTION", NO_LINKER).err(),
+                    );
                     return None;
                 }
                 Law::SixDof(Box::new(six_dof::SixDofLaw::field(
@@ -434,17 +464,28 @@ impl Builder<'_> {
             }
             ForceKind::Beam(b) => Law::Beam(Box::new(beam::law(frame(b.i), frame(b.j), b))),
             ForceKind::Vector(v) => {
-                if let Some(u) = &v.user {
-                    self.errors
-                        .extend(parse_function(&model.file, u, origin, "FUNCTION").err());
-                    return None;
-                }
                 let mut ok = true;
                 let names: [&str; 6] = ["FX", "FY", "FZ", "TX", "TY", "TZ"];
-                let force =
-                    [0, 1, 2].map(|c| self.optional(&v.force[c], origin, names[c], &mut ok));
-                let torque =
-                    [0, 1, 2].map(|c| self.optional(&v.torque[c], origin, names[3 + c], &mut ok));
+                let (force, torque) = match &v.user {
+                    // GFOSUB (6 values), VFOSUB or VTOSUB (3): one linked call per component.
+                    Some(u) => {
+                        let (first, count) = match v.kind {
+                            VectorKind::Vforce => (0, 3),
+                            VectorKind::Vtorque => (3, 3),
+                            VectorKind::Gforce => (0, 6),
+                        };
+                        let mut part = |k: usize| {
+                            let c = k.checked_sub(first).filter(|&c| c < count)?;
+                            self.user_component(u, origin, c, &mut ok)
+                        };
+                        ([0, 1, 2].map(&mut part), [3, 4, 5].map(&mut part))
+                    }
+                    None => (
+                        [0, 1, 2].map(|c| self.optional(&v.force[c], origin, names[c], &mut ok)),
+                        [0, 1, 2]
+                            .map(|c| self.optional(&v.torque[c], origin, names[3 + c], &mut ok)),
+                    ),
+                };
                 if !ok {
                     return None;
                 }
@@ -500,8 +541,9 @@ impl Builder<'_> {
             }
             for l in &p.loads {
                 if let Some(u) = &l.user {
-                    self.errors
-                        .extend(parse_function(&model.file, u, &l.origin, "FUNCTION").err());
+                    self.errors.extend(
+                        parse_function(&model.file, u, &l.origin, "FUNCTION", NO_LINKER).err(),
+                    );
                     continue;
                 }
                 let mut ok = true;

@@ -129,14 +129,17 @@ impl DataElements {
                 continue;
             };
             let expr = match &v.function {
-                Some(f) if !f.value.user => parse_function(&model.file, f, &v.origin, "FUNCTION")
-                    .map_err(|d| {
-                        if d.message.contains("USER subroutine") {
-                            VariableProblem::User
-                        } else {
-                            VariableProblem::Syntax(d)
-                        }
-                    }),
+                Some(f) if !f.value.user || model.user.given() => {
+                    parse_function(&model.file, f, &v.origin, "FUNCTION", &model.user).map_err(
+                        |d| {
+                            if d.message.contains("USER subroutine") && !model.user.given() {
+                                VariableProblem::User
+                            } else {
+                                VariableProblem::Syntax(d)
+                            }
+                        },
+                    )
+                }
                 _ => Err(VariableProblem::User),
             };
             data.variables.insert(

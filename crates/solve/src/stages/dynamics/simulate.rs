@@ -363,6 +363,11 @@ pub fn simulate_stepwise(
                 }
             }
             Err(e) => {
+                // A user subroutine's ERRMES with STOP ends the run here, not after retries.
+                if linkage_expr::user::is_stop(&e.to_string()) {
+                    sim.failure = Some(Failure::new(t, e));
+                    return sim;
+                }
                 if at_min_step(hs) {
                     let cause = IntegrationError::AtMinimumStep {
                         step: hs,

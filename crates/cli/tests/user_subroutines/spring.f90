@@ -1,0 +1,88 @@
+! SFOSUB: a spring-damper between markers PAR(4) and PAR(5),
+! F = -PAR(1)*(DM - PAR(3)) - PAR(2)*VR (repulsive positive), reading DM and VR with SYSFNC.
+subroutine sfosub(id, time, par, npar, dflag, iflag, result)
+  implicit none
+  integer, intent(in) :: id, npar
+  double precision, intent(in) :: time, par(*)
+  logical, intent(in) :: dflag, iflag
+  double precision, intent(out) :: result
+  integer :: ipar(2)
+  double precision :: dm, vr
+  logical :: errflg
+  ipar(1) = nint(par(4))
+  ipar(2) = nint(par(5))
+  call sysfnc('DM', ipar, 2, dm, errflg)
+  call errmes(errflg, 'DM cannot be read', id, 'STOP')
+  call sysfnc('VR', ipar, 2, vr, errflg)
+  call errmes(errflg, 'VR cannot be read', id, 'STOP')
+  result = -par(1)*(dm - par(3)) - par(2)*vr
+end subroutine sfosub
+
+! VARSUB: a PD control law on the height of marker PAR(3) above PAR(4) (ground axes):
+! u = -PAR(1)*(DZ - PAR(5)) - PAR(2)*VZ.
+subroutine varsub(id, time, par, npar, dflag, iflag, value)
+  implicit none
+  integer, intent(in) :: id, npar
+  double precision, intent(in) :: time, par(*)
+  logical, intent(in) :: dflag, iflag
+  double precision, intent(out) :: value
+  integer :: ipar(4)
+  double precision :: dz, vz
+  logical :: errflg
+  ipar = 0
+  ipar(1) = nint(par(3))
+  ipar(2) = nint(par(4))
+  call sysfnc('DZ', ipar, 3, dz, errflg)
+  call sysfnc('VZ', ipar, 4, vz, errflg)
+  value = -par(1)*(dz - par(5)) - par(2)*vz
+end subroutine varsub
+
+! A subroutine that gives up: ERRMES with STOP once TIME passes PAR(1).
+subroutine brittle(id, time, par, npar, dflag, iflag, result)
+  implicit none
+  integer, intent(in) :: id, npar
+  double precision, intent(in) :: time, par(*)
+  logical, intent(in) :: dflag, iflag
+  double precision, intent(out) :: result
+  double precision :: t
+  call timget(t)
+  result = 0d0
+  call errmes(t > par(1), 'the spring broke', id, 'STOP')
+end subroutine brittle
+
+! DIFSUB: a first-order lag of the height of marker PAR(2) above PAR(3):
+! dy/dt = (DZ - y)/PAR(1), y = DIF(ID).
+subroutine difsub(id, time, par, npar, dflag, iflag, value)
+  implicit none
+  integer, intent(in) :: id, npar
+  double precision, intent(in) :: time, par(*)
+  logical, intent(in) :: dflag, iflag
+  double precision, intent(out) :: value
+  integer :: ipar(2), iself(1)
+  double precision :: u, y
+  logical :: errflg
+  ipar(1) = nint(par(2))
+  ipar(2) = nint(par(3))
+  iself(1) = id
+  call sysfnc('DZ', ipar, 2, u, errflg)
+  call sysfnc('DIF', iself, 1, y, errflg)
+  value = (u - y)/par(1)
+end subroutine difsub
+
+! MOTSUB: a sinusoidal drive PAR(3) + PAR(1)*SIN(PAR(2)*TIME) and its two time derivatives
+! (IORD = 0, 1, 2).
+subroutine motsub(id, time, par, npar, iord, iflag, value)
+  implicit none
+  integer, intent(in) :: id, npar, iord
+  double precision, intent(in) :: time, par(*)
+  logical, intent(in) :: iflag
+  double precision, intent(out) :: value
+  select case (iord)
+  case (0)
+    value = par(3) + par(1)*sin(par(2)*time)
+  case (1)
+    value = par(1)*par(2)*cos(par(2)*time)
+  case default
+    value = -par(1)*par(2)**2*sin(par(2)*time)
+  end select
+end subroutine motsub
