@@ -28,6 +28,7 @@ mod mass;
 mod motions;
 mod parts;
 pub mod point_masses;
+mod references;
 mod sensors;
 mod units;
 mod vector_forces;
@@ -120,6 +121,11 @@ pub fn build_model(ds: &Dataset) -> Result<Built, Diagnostics> {
         &mut markers,
         &mut constraints,
         &mut forces,
+    );
+    references::check(
+        ds,
+        &references::Known::new(ds, &marker_statements.index),
+        &mut cx,
     );
     if !cx.errors.is_empty() {
         return Err(Diagnostics(cx.errors));
