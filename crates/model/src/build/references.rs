@@ -11,7 +11,7 @@
 //! evaluation; an expression that does not parse or calls USER is reported elsewhere.
 
 use super::context::Ctx;
-use linkage_adm::{keyword_id, Dataset, ExprText, Statement, Value};
+use linkage_adm::{keyword_id, Dataset, ExprText, Value};
 use linkage_expr::{Expr, Function, MeasureKind, Special, StateKind};
 use std::collections::{HashMap, HashSet};
 
@@ -121,6 +121,18 @@ impl<'a> Known<'a> {
                 ids.entry(s.keyword.as_str()).or_default().insert(id);
             }
         }
+        // The kinds a large model's loader keeps only typed ([`super::TYPED_ONLY`]).
+        let typed = [
+            (
+                "JOINT",
+                ds.joints.iter().map(|j| j.header.id).collect::<Vec<_>>(),
+            ),
+            ("JPRIM", ds.jprims.iter().map(|j| j.header.id).collect()),
+            ("MOTION", ds.motions.iter().map(|m| m.header.id).collect()),
+        ];
+        for (keyword, list) in typed {
+            ids.entry(keyword).or_default().extend(list);
+        }
         Known { ids, markers }
     }
 
@@ -134,20 +146,53 @@ impl<'a> Known<'a> {
 }
 
 /// Errors (at the call, `file:line:column`) for every reference to an object that does not
-/// exist in every expression of `ds`.
+/// exist in every expression of `ds` (the raw statements, and the MOTIONs, which a large
+/// model's loader keeps only typed).
 pub(crate) fn check(ds: &Dataset, known: &Known, cx: &mut Ctx) {
     for s in &ds.statements {
         for a in &s.args {
             for v in &a.values {
                 if let Value::Expr(text) = v {
-                    check_expression(s, &a.key, text, known, cx);
+                    let element = || match s.id {
+                        Some(id) => label(
+                            s.view_name
+                                .clone()
+                                .unwrap_or_else(|| keyword_id(&s.keyword, '_', id)),
+                            &s.keyword,
+                            id,
+                            s.span.line,
+                        ),
+                        None => format!("{} (line {})", s.keyword, s.span.line),
+                    };
+                    check_expression(&element, &a.key, text, known, cx);
                 }
             }
         }
     }
+    if ds.statements.iter().any(|s| s.keyword == "MOTION") {
+        return;
+    }
+    for m in &ds.motions {
+        if let Some(f) = &m.function {
+            let h = &m.header;
+            let element = || label(h.name.clone(), "MOTION", h.id, h.span.line);
+            check_expression(&element, "FUNCTION", &f.value.expr, known, cx);
+        }
+    }
 }
 
-fn check_expression(s: &Statement, key: &str, text: &ExprText, known: &Known, cx: &mut Ctx) {
+/// `NAME (KEYWORD/id, line N)`, as elements are named in messages.
+fn label(name: String, keyword: &str, id: u64, line: u32) -> String {
+    format!("{name} ({}, line {line})", keyword_id(keyword, '/', id))
+}
+
+fn check_expression(
+    element: &dyn Fn() -> String,
+    key: &str,
+    text: &ExprText,
+    known: &Known,
+    cx: &mut Ctx,
+) {
     let Ok(e) = linkage_expr::parse(&text.text) else {
         return;
     };
@@ -158,24 +203,11 @@ fn check_expression(s: &Statement, key: &str, text: &ExprText, known: &Known, cx
         if known.exists(r.statement, r.id) {
             continue;
         }
-        let element = match s.id {
-            Some(id) => {
-                let name = s
-                    .view_name
-                    .clone()
-                    .unwrap_or_else(|| keyword_id(&s.keyword, '_', id));
-                format!(
-                    "{name} ({}, line {})",
-                    keyword_id(&s.keyword, '/', id),
-                    s.span.line
-                )
-            }
-            None => format!("{} (line {})", s.keyword, s.span.line),
-        };
         cx.error(
             text.span_at(call_offset(&text.text, r.call, r.rank)),
             format!(
-                "{element}: {key}: {}(…): {} does not exist",
+                "{}: {key}: {}(…): {} does not exist",
+                element(),
                 r.call,
                 keyword_id(r.statement, '/', r.id)
             ),
@@ -224,5 +256,34 @@ mod tests {
         assert_eq!(call_offset("2*dx(1) + DX (999)", "DX", 1), 10);
         assert_eq!(call_offset("IDX(1)+DX(2)", "DX", 0), 7);
         assert_eq!(call_offset("TIME", "DX", 0), 0);
+    }
+}
+
+#[cfg(test)]
+mod dataset_tests {
+    use crate::build::test_support::{build, errors};
+
+    #[test]
+    fn an_element_force_function_of_an_existing_element_is_accepted() {
+        let extra = "JOINT/5, REVOLUTE, I = 20, J = 1\nREQUEST/6, F2 = JOINT(5, 0, 2, 0)";
+        if let Err(e) = build(extra) {
+            panic!("{e}");
+        }
+        // Also when the loader has dropped the raw statements of the typed-only kinds.
+        let text = format!("{}{extra}\nEND\n", crate::build::test_support::BASE);
+        let mut ds = linkage_adm::parse_dataset(std::sync::Arc::from("m.adm"), &text).unwrap();
+        ds.statements
+            .retain(|s| !crate::TYPED_ONLY.contains(&s.keyword.as_str()));
+        if let Err(e) = crate::build_model(&ds) {
+            panic!("{e}");
+        }
+    }
+
+    #[test]
+    fn a_measure_of_a_missing_marker_is_an_error_at_the_call() {
+        let e = errors("SFORCE/7, ROTATION, I = 20, J = 1, FUNCTION = 2*DX(20, 999)");
+        assert_eq!(e.len(), 1, "{e:?}");
+        assert_eq!((e[0].0, e[0].1), (12, 49), "{e:?}");
+        assert!(e[0].2.contains("DX(…): MARKER/999 does not exist"), "{e:?}");
     }
 }
