@@ -466,3 +466,28 @@ fn a_zero_dof_run_streams_its_rows_and_stops_on_sigint_with_whole_rows() {
         }
     }
 }
+
+#[test]
+fn a_run_html_whose_dataset_fails_says_why_and_keeps_the_input_error_exit_code() {
+    let (dir, text) = folder("html-reason");
+    with_statement(
+        &dir,
+        &text,
+        "bad.adm",
+        "SFORCE/8, ROTATION, I = 203, J = 101, FUNCTION = DX(999)",
+    );
+    std::fs::write(
+        dir.join("b.acf"),
+        "bad\nb\nSIMULATE/DYNAMIC, END=0.1, STEPS=2\n",
+    )
+    .unwrap();
+    let (code, _, err) = run_in(&dir, &["run", "b.acf", "--html", "b.html"]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("bad.adm:75:50: error: SFORCE_8"), "{err}");
+    assert!(
+        err.contains("no html page: the dataset of the command file could not be opened"),
+        "{err}"
+    );
+    assert!(!err.contains("opened no dataset"), "{err}");
+    assert!(!dir.join("b.html").exists());
+}
