@@ -491,3 +491,29 @@ fn a_run_html_whose_dataset_fails_says_why_and_keeps_the_input_error_exit_code()
     assert!(!err.contains("opened no dataset"), "{err}");
     assert!(!dir.join("b.html").exists());
 }
+
+#[test]
+fn a_command_file_lists_every_refused_statement_at_once_as_simulate_does() {
+    let (dir, text) = folder("at-once");
+    let path = with_statement(
+        &dir,
+        &text,
+        "u.adm",
+        "REQUEST/5, FUNCTION = USER(1)\nSFORCE/8, ROTATION, I = 203, J = 101, FUNCTION = USER(2)",
+    );
+    let (code, _, simulate) = run(&["simulate", s(&path), "--end", "0.1", "--steps", "2"]);
+    assert_eq!(code, 2, "{simulate}");
+    std::fs::write(
+        dir.join("u.acf"),
+        "u\nu\nSIMULATE/DYNAMIC, END=0.1, STEPS=2\n",
+    )
+    .unwrap();
+    let (code, _, err) = run_in(&dir, &["run", "u.acf"]);
+    assert_eq!(code, 2, "{err}");
+    // simulate (which writes no REQUEST) names the SFORCE (line 76); run, which writes the
+    // REQUESTs, names the REQUEST (line 75) and the SFORCE in one go.
+    assert!(simulate.contains("u.adm:76:50: "), "{simulate}");
+    for place in ["u.adm:75:", "u.adm:76:50: "] {
+        assert!(err.contains(place), "run: {place}: {err}");
+    }
+}
