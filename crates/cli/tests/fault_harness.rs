@@ -146,7 +146,7 @@ fn cases() -> Vec<Case> {
 /// The command line of run `k`: a command, its options (some values mutated) and, one time
 /// in ten, an input named as its output.
 fn command(rng: &mut Lcg) -> Vec<String> {
-    let mut o = |v: &str| v.to_string();
+    let o = |v: &str| v.to_string();
     let limit = ["1", "5", "0.5"][rng.below(3)];
     let clash = rng.below(10) == 0;
     let mut args: Vec<String> = match rng.below(6) {

@@ -493,6 +493,24 @@ mod tests {
     use super::*;
 
     #[test]
+    fn the_sparse_solver_failures_are_words_not_debug_text() {
+        let oom: LinearError =
+            faer::sparse::linalg::LuError::Generic(faer::sparse::FaerError::OutOfMemory).into();
+        assert_eq!(
+            oom.to_string(),
+            "the matrix could not be factorised: out of memory"
+        );
+        let singular: LinearError =
+            faer::sparse::linalg::LuError::SymbolicSingular { index: 3 }.into();
+        assert!(singular
+            .to_string()
+            .contains("structurally singular (no pivot in column 3)"));
+        for e in [oom, singular] {
+            assert!(!format!("{e}").contains("Generic"), "{e}");
+        }
+    }
+
+    #[test]
     fn solves_a_small_kkt_system() {
         // [2 0 1; 0 2 1; 1 1 0] x = [1, 3, 2] → x = (0.5, 1.5, 0).
         let e = [
