@@ -335,23 +335,33 @@ fn a_function_naming_a_missing_marker_or_element_fails_verify_at_its_place() {
             "{function}: {err}"
         );
     }
-    // A VARIABLE no force uses is checked too, and so is a REQUEST's F2.
-    let path = with_statement(
-        &dir,
-        &text,
-        "v.adm",
-        "VARIABLE/3, FUNCTION = VX(203, 996)\nREQUEST/4, F2 = DM(995)",
-    );
+    // A VARIABLE no force uses is checked too; a REQUEST's F2 by every analysis that
+    // writes REQUESTs (here simulate --out), before it runs.
+    let path = with_statement(&dir, &text, "v.adm", "VARIABLE/3, FUNCTION = VX(203, 996)");
     let (code, _, err) = run(&["verify", s(&path)]);
     assert_eq!(code, 2, "{err}");
     assert!(
         err.contains("v.adm:75:24: ") && err.contains("VX(…): MARKER/996 does not exist"),
         "{err}"
     );
+    let path = with_statement(&dir, &text, "q.adm", "REQUEST/4, F2 = DM(995)");
+    let csv = dir.join("q.csv");
+    let (code, _, err) = run(&[
+        "simulate",
+        s(&path),
+        "--end",
+        "0.1",
+        "--steps",
+        "2",
+        "--out",
+        s(&csv),
+    ]);
+    assert_eq!(code, 2, "{err}");
     assert!(
-        err.contains("v.adm:76:17: ") && err.contains("DM(…): MARKER/995 does not exist"),
+        err.contains("q.adm:75:17: ") && err.contains("DM(…): MARKER/995 does not exist"),
         "{err}"
     );
+    assert!(!csv.exists());
     // Existing references, ground (marker 0) and a computed id are accepted.
     let path = with_statement(
         &dir,

@@ -28,7 +28,7 @@ mod mass;
 mod motions;
 mod parts;
 pub mod point_masses;
-mod references;
+pub(crate) mod references;
 mod sensors;
 mod units;
 mod vector_forces;

@@ -11,7 +11,7 @@
 //! evaluation; an expression that does not parse or calls USER is reported elsewhere.
 
 use super::context::Ctx;
-use linkage_adm::{keyword_id, Dataset, ExprText, Value};
+use linkage_adm::{keyword_id, Dataset, ExprText, Span, Value};
 use linkage_expr::{Expr, Function, MeasureKind, Special, StateKind};
 use std::collections::{HashMap, HashSet};
 
@@ -150,6 +150,11 @@ impl<'a> Known<'a> {
 /// model's loader keeps only typed).
 pub(crate) fn check(ds: &Dataset, known: &Known, cx: &mut Ctx) {
     for s in &ds.statements {
+        // A REQUEST's problems are reported by the analyses that write REQUESTs
+        // ([`crate::requests::resolve_requests`] checks its references with [`missing`]).
+        if s.keyword == "REQUEST" {
+            continue;
+        }
         for a in &s.args {
             for v in &a.values {
                 if let Value::Expr(text) = v {
@@ -199,20 +204,28 @@ fn check_expression(
     if e.contains_user() {
         return;
     }
-    for r in named(&e) {
-        if known.exists(r.statement, r.id) {
-            continue;
-        }
-        cx.error(
-            text.span_at(call_offset(&text.text, r.call, r.rank)),
-            format!(
-                "{}: {key}: {}(…): {} does not exist",
-                element(),
-                r.call,
-                keyword_id(r.statement, '/', r.id)
-            ),
-        );
+    for (span, why) in missing(&e, text, known) {
+        cx.error(span, format!("{}: {key}: {why}", element()));
     }
+}
+
+/// Every object the parsed expression `e` (of `text`) names that does not exist: the place
+/// of its call and `DX(…): MARKER/999 does not exist`.
+pub(crate) fn missing(e: &Expr, text: &ExprText, known: &Known) -> Vec<(Span, String)> {
+    named(e)
+        .into_iter()
+        .filter(|r| !known.exists(r.statement, r.id))
+        .map(|r| {
+            (
+                text.span_at(call_offset(&text.text, r.call, r.rank)),
+                format!(
+                    "{}(…): {} does not exist",
+                    r.call,
+                    keyword_id(r.statement, '/', r.id)
+                ),
+            )
+        })
+        .collect()
 }
 
 #[cfg(test)]
