@@ -159,6 +159,7 @@ impl Model {
     }
 
     /// `linkage static --format json` (a quasi-static series with `end` and `steps`).
+    /// `time_limit`: wall-clock seconds for settling (`settle=True`; default 3600 s).
     #[pyo3(signature = (end=None, steps=None, settle=false, allow_unstable=false, time_limit=None))]
     fn r#static(
         &mut self,
@@ -209,7 +210,8 @@ impl Model {
 
     /// `linkage simulate --out`: the time histories as {column name: numpy array}, the names
     /// plain (`"time"`, `"crank.x"`: the CSV header's unit suffix is in `units`); the summary
-    /// report is then `last_report`.
+    /// report is then `last_report`. `time_limit`: wall-clock seconds after which the run
+    /// stops (default 3600 s), raising `AnalysisError` with the outputs up to there.
     #[pyo3(signature = (end, steps=None, dtout=None, start_at_equilibrium=false, settle=false, allow_unstable=false, time_limit=None))]
     #[allow(clippy::too_many_arguments)]
     fn simulate(

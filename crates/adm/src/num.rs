@@ -66,6 +66,12 @@ pub fn scale_of(values: impl IntoIterator<Item = f64>) -> f64 {
         .fold(0.0, |m, v| m.max(v.abs()))
 }
 
+/// A time in a message: [`general`] with [`TIME_DIGITS`] digits, so that `1e200` prints as
+/// `1E+200`, not as 201 digits.
+pub fn time_text(t: f64) -> String {
+    general(t, TIME_DIGITS)
+}
+
 /// `x` with at most `digits` significant digits, in the shortest form that keeps them: plain
 /// for magnitudes in [1e-4, 1e`digits`), `mantissaE±XX` otherwise; trailing zeros dropped,
 /// `-0` printed as `0`. `general(59.99999999999999, 12) == "60"`.
@@ -122,6 +128,14 @@ mod tests {
         assert_eq!(sci(9.99999999, 3), "1.00E+01");
         assert_eq!(sci(f64::NAN, 3), "NaN");
         assert_eq!(sci(f64::NEG_INFINITY, 3), "-Inf");
+    }
+
+    #[test]
+    fn times_in_messages_are_short_at_any_magnitude() {
+        assert_eq!(time_text(1e200), "1E+200");
+        assert_eq!(time_text(5e199), "5E+199");
+        assert_eq!(time_text(0.707445495894123), "0.707445495894");
+        assert_eq!(time_text(-0.0), "0");
     }
 
     #[test]

@@ -119,14 +119,14 @@ pub enum RequestWriteError {
     #[error("the scale of a request file must be a finite number, not {scale}")]
     BadScale { scale: f64 },
     /// An output block with another number of requests than the header describes.
-    #[error("output at time {time}: values of {given} requests given, the file has {expected}")]
+    #[error("output at time {}: values of {given} requests given, the file has {expected}", crate::num::time_text(*.time))]
     RequestCount {
         time: f64,
         given: usize,
         expected: usize,
     },
     /// A time or value that is NaN or infinite (nothing of the block is written).
-    #[error("output at time {time}: {what} is {value}, not a finite number")]
+    #[error("output at time {}: {what} is {value}, not a finite number", crate::num::time_text(*.time))]
     NotFinite { time: f64, what: String, value: f64 },
 }
 

@@ -31,7 +31,7 @@ pub enum SinkError {
     #[error("cannot write {path}: {cause}")]
     Write { path: String, cause: std::io::Error },
     /// The front end was asked to stop (Ctrl-C) after the output at `time`.
-    #[error("interrupted at time {time}")]
+    #[error("interrupted at time {}", linkage_adm::num::time_text(*.time))]
     Interrupted { time: f64 },
 }
 

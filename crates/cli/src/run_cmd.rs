@@ -96,13 +96,15 @@ pub fn run(command_file: &Path, paths: Paths, options: Options) -> ExitCode {
             println!("time histories: {}", csv.display());
         }
     }
-    let mut code = match &error {
-        None => ExitCode::SUCCESS,
+    let mut code: u8 = match &error {
+        None => 0,
         Some(e) => {
             eprintln!("error: {e}");
-            ExitCode::from(e.exit_code())
+            e.exit_code()
         }
     };
+    // A page that cannot be made fails a run that succeeded; a failed run keeps its code.
+    let page_failed = |code: u8| if code == 0 { 1 } else { code };
     // A run that stopped before it opened its dataset has its error above and no page.
     if let (Some(out), Some(_)) = (html, &summary) {
         let errors: Vec<String> = error.iter().map(|e| e.to_string()).collect();
@@ -111,16 +113,16 @@ pub fn run(command_file: &Path, paths: Paths, options: Options) -> ExitCode {
                 Ok(()) => println!("html page: {}", out.display()),
                 Err(e) => {
                     eprintln!("error: {e}");
-                    code = ExitCode::from(1);
+                    code = page_failed(code);
                 }
             },
             Err(e) => {
                 eprintln!("error: no html page: {e}");
-                code = ExitCode::from(1);
+                code = page_failed(code);
             }
         }
     }
-    code
+    ExitCode::from(code)
 }
 
 /// Why a command-file run has no page.
@@ -130,6 +132,9 @@ enum RunPageError {
     NotOpened,
     #[error("the run opened no dataset")]
     NoDataset,
+    /// The run's dataset could not be read or built (its errors are printed above).
+    #[error("the dataset of the command file could not be opened (the error above)")]
+    DatasetFailed,
     /// The dataset or the run's CSV does not read.
     #[error("{0}")]
     Input(linkage_adm::Diagnostics),
@@ -144,7 +149,11 @@ fn run_page(
     errors: Vec<String>,
 ) -> Result<linkage_html::Page, RunPageError> {
     let summary = summary.ok_or(RunPageError::NotOpened)?;
-    let dataset = summary.dataset.as_ref().ok_or(RunPageError::NoDataset)?;
+    let dataset = summary.dataset.as_ref().ok_or(if errors.is_empty() {
+        RunPageError::NoDataset
+    } else {
+        RunPageError::DatasetFailed
+    })?;
     let loaded = crate::common::load(dataset, deactivate, None).map_err(RunPageError::Input)?;
     let report = serde_json::json!({
         "file": command_file.display().to_string(),

@@ -289,3 +289,255 @@ fn a_variable_left_out_is_named_as_left_out_at_the_element_that_uses_it() {
     assert!(err.contains("v.acf:3:1: DEACTIVATE"), "{err}");
     assert!(err.contains("is left out on request"), "{err}");
 }
+
+/// `mechanisms/pendulum.adm` with `statement` added before its ACCGRAV, written as `name`.
+fn with_statement(dir: &Path, text: &str, name: &str, statement: &str) -> PathBuf {
+    let path = dir.join(name);
+    std::fs::write(
+        &path,
+        text.replacen("ACCGRAV/", &format!("{statement}\nACCGRAV/"), 1),
+    )
+    .unwrap();
+    path
+}
+
+#[test]
+fn a_function_naming_a_missing_marker_or_element_fails_verify_at_its_place() {
+    let (dir, text) = folder("references");
+    // The SFORCE is line 75 of the file; its FUNCTION starts at column 50.
+    let head = "SFORCE/8, ROTATION, I = 203, J = 101, FUNCTION = ";
+    for (k, (function, call, missing)) in [
+        ("DX(999)", "DX", "MARKER/999"),
+        ("DX(203, 101, 998)", "DX", "MARKER/998"),
+        ("ORIENT(1, 1, 203, 997)", "ORIENT", "MARKER/997"),
+    ]
+    .into_iter()
+    .enumerate()
+    {
+        let name = format!("r{k}.adm");
+        let path = with_statement(&dir, &text, &name, &format!("{head}{function}"));
+        let (code, out, err) = run(&["verify", s(&path)]);
+        assert_eq!(code, 2, "{function}: {out}{err}");
+        assert!(!out.contains("verified successfully"), "{function}: {out}");
+        let column = head.len() + 1 + function.find(call).unwrap();
+        let place = format!("{name}:75:{column}: ");
+        let says =
+            format!("SFORCE_8 (SFORCE/8, line 75): FUNCTION: {call}(…): {missing} does not exist");
+        assert!(
+            err.contains(&place) && err.contains(&says),
+            "{function}: {err}"
+        );
+    }
+    // Data elements a force uses: refused by every analysis before it runs, at the force.
+    for (k, (function, missing)) in [
+        ("VARVAL(99)", "VARIABLE/99 does not exist"),
+        ("DIF(5)", "DIFF/5 does not exist"),
+        ("ARYVAL(6, 1)", "ARRAY/6 does not exist"),
+        ("SENVAL(7)", "SENSOR/7 does not exist"),
+        ("AKISPL(TIME, 0, 8)", "SPLINE/8 does not exist"),
+        ("PINVAL(9, 1)", "PINPUT/9 does not exist"),
+    ]
+    .into_iter()
+    .enumerate()
+    {
+        let name = format!("d{k}.adm");
+        let path = with_statement(&dir, &text, &name, &format!("{head}{function}"));
+        let (code, _, err) = run(&["simulate", s(&path), "--end", "0.1", "--steps", "2"]);
+        assert_eq!(code, 2, "{function}: {err}");
+        assert!(
+            err.contains(&format!("{name}:75:50: ")) && err.contains(missing),
+            "{function}: {err}"
+        );
+    }
+    // A VARIABLE no force uses is checked too; a REQUEST's F2 by every analysis that
+    // writes REQUESTs (here simulate --out), before it runs.
+    let path = with_statement(&dir, &text, "v.adm", "VARIABLE/3, FUNCTION = VX(203, 996)");
+    let (code, _, err) = run(&["verify", s(&path)]);
+    assert_eq!(code, 2, "{err}");
+    assert!(
+        err.contains("v.adm:75:24: ") && err.contains("VX(…): MARKER/996 does not exist"),
+        "{err}"
+    );
+    let path = with_statement(&dir, &text, "q.adm", "REQUEST/4, F2 = DM(995)");
+    let csv = dir.join("q.csv");
+    let (code, _, err) = run(&[
+        "simulate",
+        s(&path),
+        "--end",
+        "0.1",
+        "--steps",
+        "2",
+        "--out",
+        s(&csv),
+    ]);
+    assert_eq!(code, 2, "{err}");
+    assert!(
+        err.contains("q.adm:75:17: ") && err.contains("DM(…): MARKER/995 does not exist"),
+        "{err}"
+    );
+    assert!(!csv.exists());
+    // Existing references, ground (marker 0) and a computed id are accepted.
+    let path = with_statement(
+        &dir,
+        &text,
+        "ok.adm",
+        &format!("{head}DX(203, 0) + DY(200 + 3)"),
+    );
+    let (code, out, err) = run(&["verify", s(&path)]);
+    assert_eq!(code, 0, "{out}{err}");
+}
+
+#[test]
+fn a_kinematic_run_to_1e200_fails_with_a_short_time_and_writes_no_row_there() {
+    let dir = std::env::temp_dir().join(format!("linkage-holes-horizon-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    std::fs::copy(
+        root().join("mechanisms/fourbar_motion.adm"),
+        dir.join("fm.adm"),
+    )
+    .unwrap();
+    std::fs::write(
+        dir.join("fm.acf"),
+        "fm\nfm\nSIMULATE/KINEMATIC, END = 1E200, STEPS = 2\n",
+    )
+    .unwrap();
+    let (code, _, err) = run_in(&dir, &["run", "fm.acf"]);
+    // The crank's motion (30 deg/s) at 5E+199 s is an angle no double resolves: the
+    // positions cannot be found and the run says so at that time, in a few characters.
+    assert_eq!(code, 1, "{err}");
+    assert!(err.contains("at time 5E+199"), "{err}");
+    assert!(!err.contains("0000000000"), "{err}");
+    let csv = std::fs::read_to_string(dir.join("fm.csv")).unwrap();
+    let times: Vec<&str> = csv
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').next().unwrap())
+        .collect();
+    assert_eq!(times, ["0"], "only the start is a result: {times:?}");
+}
+
+/// Starts `linkage args…` in `dir`, waits until `csv` has more than `rows` lines, sends
+/// SIGINT, and returns the exit code and the CSV.
+fn interrupted(dir: &Path, args: &[&str], csv: &str, rows: usize) -> (i32, String) {
+    let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_linkage"))
+        .args(args)
+        .current_dir(dir)
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::null())
+        .spawn()
+        .unwrap();
+    let started = std::time::Instant::now();
+    loop {
+        let lines = std::fs::read_to_string(dir.join(csv)).map_or(0, |t| t.lines().count());
+        if lines > rows {
+            break;
+        }
+        assert!(
+            started.elapsed().as_secs() < 60,
+            "{args:?}: {lines} CSV lines after 60 s: outputs are not streamed"
+        );
+        assert!(child.try_wait().unwrap().is_none(), "{args:?} ended early");
+        std::thread::sleep(std::time::Duration::from_millis(50));
+    }
+    // SAFETY: kill sends a signal to the child this test started; no memory is involved.
+    unsafe {
+        libc::kill(child.id() as libc::pid_t, libc::SIGINT);
+    }
+    let status = child.wait().unwrap();
+    let text = std::fs::read_to_string(dir.join(csv)).unwrap();
+    (status.code().unwrap_or(-1), text)
+}
+
+#[test]
+fn a_zero_dof_run_streams_its_rows_and_stops_on_sigint_with_whole_rows() {
+    let dir = std::env::temp_dir().join(format!("linkage-holes-stream-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    std::fs::copy(
+        root().join("mechanisms/fourbar_motion.adm"),
+        dir.join("fm.adm"),
+    )
+    .unwrap();
+    std::fs::write(
+        dir.join("k.acf"),
+        "fm\nk\nSIMULATE/KINEMATIC, END = 1000, STEPS = 999999\n",
+    )
+    .unwrap();
+    for (args, csv) in [
+        (
+            vec![
+                "simulate", "fm.adm", "--end", "1000", "--steps", "999999", "--out", "s.csv",
+            ],
+            "s.csv",
+        ),
+        (vec!["run", "k.acf"], "k.csv"),
+    ] {
+        let (code, text) = interrupted(&dir, &args, csv, 200);
+        // Interrupted: exit 1 for both commands, as a run that did not finish.
+        assert_eq!(code, 1, "{args:?}");
+        let mut lines = text.lines();
+        let fields = lines.next().unwrap().split(',').count();
+        let rows: Vec<&str> = lines.collect();
+        assert!(
+            rows.len() > 200 && rows.len() < 1_000_000,
+            "{args:?}: {}",
+            rows.len()
+        );
+        assert!(text.ends_with('\n'), "{args:?}: the last row is whole");
+        for row in &rows {
+            assert_eq!(row.split(',').count(), fields, "{args:?}: {row}");
+        }
+    }
+}
+
+#[test]
+fn a_run_html_whose_dataset_fails_says_why_and_keeps_the_input_error_exit_code() {
+    let (dir, text) = folder("html-reason");
+    with_statement(
+        &dir,
+        &text,
+        "bad.adm",
+        "SFORCE/8, ROTATION, I = 203, J = 101, FUNCTION = DX(999)",
+    );
+    std::fs::write(
+        dir.join("b.acf"),
+        "bad\nb\nSIMULATE/DYNAMIC, END=0.1, STEPS=2\n",
+    )
+    .unwrap();
+    let (code, _, err) = run_in(&dir, &["run", "b.acf", "--html", "b.html"]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("bad.adm:75:50: error: SFORCE_8"), "{err}");
+    assert!(
+        err.contains("no html page: the dataset of the command file could not be opened"),
+        "{err}"
+    );
+    assert!(!err.contains("opened no dataset"), "{err}");
+    assert!(!dir.join("b.html").exists());
+}
+
+#[test]
+fn a_command_file_lists_every_refused_statement_at_once_as_simulate_does() {
+    let (dir, text) = folder("at-once");
+    let path = with_statement(
+        &dir,
+        &text,
+        "u.adm",
+        "REQUEST/5, FUNCTION = USER(1)\nSFORCE/8, ROTATION, I = 203, J = 101, FUNCTION = USER(2)",
+    );
+    let (code, _, simulate) = run(&["simulate", s(&path), "--end", "0.1", "--steps", "2"]);
+    assert_eq!(code, 2, "{simulate}");
+    std::fs::write(
+        dir.join("u.acf"),
+        "u\nu\nSIMULATE/DYNAMIC, END=0.1, STEPS=2\n",
+    )
+    .unwrap();
+    let (code, _, err) = run_in(&dir, &["run", "u.acf"]);
+    assert_eq!(code, 2, "{err}");
+    // simulate (which writes no REQUEST) names the SFORCE (line 76); run, which writes the
+    // REQUESTs, names the REQUEST (line 75) and the SFORCE in one go.
+    assert!(simulate.contains("u.adm:76:50: "), "{simulate}");
+    for place in ["u.adm:75:", "u.adm:76:50: "] {
+        assert!(err.contains(place), "run: {place}: {err}");
+    }
+}

@@ -160,8 +160,9 @@ fn request_input_errors_exit_2_only_when_a_csv_is_written() {
 
 #[test]
 fn request_evaluation_errors_leave_nan_and_exit_1() {
-    // DX(201, 999): marker 999 does not exist, which only evaluation finds.
-    let src = pendulum_with("eval", "REQUEST/7, F1 = DX(201, 999)\\F2 = TIME");
+    // DX(201, 998 + 1): marker 999 does not exist, which only evaluation finds (a literal
+    // id is checked when the model is read).
+    let src = pendulum_with("eval", "REQUEST/7, F1 = DX(201, 998 + 1)\\F2 = TIME");
     let out = std::env::temp_dir().join(format!("linkage-req-nan-{}.csv", std::process::id()));
     let (code, stdout, stderr) = run(&[
         "simulate",
@@ -175,7 +176,7 @@ fn request_evaluation_errors_leave_nan_and_exit_1() {
     ]);
     assert_eq!(code, 1, "{stdout}\n{stderr}");
     assert!(
-        stderr.contains("REQUEST_7 (REQUEST/7, line 83) at time 0: F1 = DX(201, 999): marker 999 does not exist"),
+        stderr.contains("REQUEST_7 (REQUEST/7, line 83) at time 0: F1 = DX(201, 998 + 1): marker 999 does not exist"),
         "{stderr}"
     );
     assert!(

@@ -72,6 +72,19 @@ fn spring_mass_frequencies_follow_sqrt_k_over_m() {
             (f - expected).abs() <= 1e-9 * expected,
             "k {k}: {f} vs {expected}"
         );
+        // Results keep at most 12 significant digits (as every CSV of linkage); no field
+        // is written as minus zero.
+        let digits = row["frequency_1"]
+            .chars()
+            .filter(char::is_ascii_digit)
+            .count();
+        assert!(digits <= 13, "{}", row["frequency_1"]);
+        for (column, value) in row {
+            assert!(
+                !value.starts_with("-0") || value.parse::<f64>().unwrap() != 0.0,
+                "{column}: {value}"
+            );
+        }
     }
     let _ = std::fs::remove_dir_all(&dir);
 }
@@ -139,13 +152,36 @@ fn merge_refuses_missing_and_doubly_recorded_runs() {
     );
     assert!(!out.join("summary.csv").exists());
     assert_eq!(sweep(&[spec, "--out", o, "--shard", "2/2"]).0, 0);
-    // The same runs again under another split.
-    assert_eq!(sweep(&[spec, "--out", o, "--shard", "1/3"]).0, 0);
+    let (code, _, err) = sweep(&["merge", o]);
+    assert_eq!(code, 0, "{err}");
+    assert!(out.join("summary.csv").exists());
+    // A shard of another split of the same spec is refused when it starts, before any run.
+    let (code, _, err) = sweep(&[spec, "--out", o, "--shard", "1/3"]);
+    assert_eq!(code, 2, "{err}");
+    assert!(
+        err.contains("a split of this sweep into 2 shards") && err.contains("--shard K/2"),
+        "{err}"
+    );
+    assert!(!out.join("shard-1-of-3").exists());
+    // Records of another split put there by hand: the merge refuses them, and the summary
+    // of the earlier merge, which no longer describes the folder, is removed.
+    std::fs::create_dir_all(out.join("shard-1-of-3/runs")).unwrap();
+    for name in ["000000.json", "000000.status.json"] {
+        std::fs::copy(
+            out.join("shard-1-of-2/runs").join(name),
+            out.join("shard-1-of-3/runs").join(name),
+        )
+        .unwrap();
+    }
     let (code, _, err) = sweep(&["merge", o]);
     assert_eq!(code, 1);
     assert!(
         err.contains("run 0 in shard-1-of-2 and shard-1-of-3"),
         "{err}"
+    );
+    assert!(
+        !out.join("summary.csv").exists(),
+        "a refused merge leaves no summary"
     );
     // Another spec into the same folder is refused before any run.
     let other = dir.join("other.toml");

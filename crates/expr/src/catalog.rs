@@ -254,6 +254,26 @@ named_enum! {
     }
 }
 
+impl ElementForce {
+    /// The statement keyword of the elements this function reads (`BUSH` reads `BUSHING/id`).
+    pub fn statement(self) -> &'static str {
+        match self {
+            ElementForce::Joint => "JOINT",
+            ElementForce::Jprim => "JPRIM",
+            ElementForce::Motion => "MOTION",
+            ElementForce::Sforce => "SFORCE",
+            ElementForce::Spdp => "SPRINGDAMPER",
+            ElementForce::Bush => "BUSHING",
+            ElementForce::Field => "FIELD",
+            ElementForce::Beam => "BEAM",
+            ElementForce::Vforce => "VFORCE",
+            ElementForce::Vtorque => "VTORQUE",
+            ElementForce::Gforce => "GFORCE",
+            ElementForce::Contact => "CONTACT",
+        }
+    }
+}
+
 named_enum! {
     /// References to solver states, evaluated by [`crate::Env::state`].
     StateKind {

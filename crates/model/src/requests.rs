@@ -76,6 +76,9 @@ pub fn resolve_requests(
 ) -> Requests {
     let file = &dataset.file;
     let mut errors = Vec::new();
+    let marker_ids: std::collections::HashMap<u64, usize> =
+        markers.iter().enumerate().map(|(k, m)| (m.id, k)).collect();
+    let known = crate::build::references::Known::new(dataset, &marker_ids);
     let mut defs = Vec::new();
     for r in &dataset.requests {
         let origin = request_origin(r);
@@ -121,6 +124,15 @@ pub fn resolve_requests(
                     let key = format!("F{}", k + 1);
                     match parse_function(file, f, &origin, &key, user) {
                         Ok(e) => {
+                            for (span, why) in
+                                crate::build::references::missing(&e, &f.value.expr, &known)
+                            {
+                                errors.push(Diagnostic::error(
+                                    file.clone(),
+                                    Some(span),
+                                    format!("{label}: {key}: {why}"),
+                                ));
+                            }
                             if let Some(why) = wrong_force_component(forces, &e) {
                                 errors.push(Diagnostic::error(
                                     file.clone(),

@@ -25,7 +25,7 @@ pub enum RunError {
         why: String,
     },
     /// The run was interrupted (Ctrl-C): it stopped after the output at `time`.
-    #[error("interrupted at time {time}: the files hold every output up to it")]
+    #[error("interrupted at time {}: the files hold every output up to it", linkage_adm::num::time_text(*.time))]
     Interrupted { time: f64 },
     /// The command file has nothing to run: no dataset (line 1, FILE/MODEL or `--model`), or
     /// no analysis (SIMULATE, LINEAR) nor FILE/COMMAND that could hold one.

@@ -345,7 +345,22 @@ impl Runner {
         self.writes(self.out_path("req"))?;
         self.writes(self.out_path("csv"))?;
         let stem = self.out_path("stem");
-        let records = Records::create(&stem, &session.loaded.dataset, &session.loaded.model)?;
+        let records = match Records::create(&stem, &session.loaded.dataset, &session.loaded.model) {
+            Ok(r) => r,
+            // The REQUESTs cannot be written: listed with every statement the analyses
+            // refuse, so that one run names everything to leave out (as `simulate` does).
+            Err(RunError::Input(mut d)) => {
+                d.0.extend(
+                    session
+                        .loaded
+                        .refusals(linkage_solve::coverage::Analysis::Ic),
+                );
+                d.0.sort_by_key(|x| x.span);
+                d.0.dedup_by(|a, b| a.span == b.span && a.message == b.message);
+                return Err(RunError::Input(d));
+            }
+            Err(e) => return Err(e),
+        };
         self.session = Some(session);
         self.records = Some(records);
         self.changed = true;

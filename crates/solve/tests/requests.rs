@@ -375,7 +375,9 @@ fn input_errors_are_located_and_name_the_request() {
 
 #[test]
 fn evaluation_errors_name_request_time_and_function() {
-    let model = model_of(&format!("{SMALL}REQUEST/9, F1=TIME\\F2=DIF(4)\nEND\n"));
+    // A computed id: only evaluation finds that DIFF/4 does not exist (a literal one is an
+    // input error of the REQUEST).
+    let model = model_of(&format!("{SMALL}REQUEST/9, F1=TIME\\F2=DIF(2+2)\nEND\n"));
     let set = RequestSet::new(&model).unwrap_or_else(|e| panic!("{e}"));
     let o = Output {
         time: 0.25,
@@ -389,7 +391,7 @@ fn evaluation_errors_name_request_time_and_function() {
         .unwrap_err()
         .to_string();
     assert!(
-        e.starts_with("REQUEST_9 (REQUEST/9, line 6) at time 0.25: F2 = DIF(4): "),
+        e.starts_with("REQUEST_9 (REQUEST/9, line 6) at time 0.25: F2 = DIF(2+2): "),
         "{e}"
     );
     assert!(e.contains("DIFF"), "{e}");

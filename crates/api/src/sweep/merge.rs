@@ -2,10 +2,17 @@
 //! row per run in index order: `index`, the varied values, `status`, `exit_code`, `message`,
 //! then the scalar results found in the reports (see [`scalars`]).
 //!
-//! The merge refuses (and writes nothing) when a run is recorded by more than one shard
-//! (shards of two different splits in one DIR) or when a run of the plan has no record.
+//! The merge refuses when a run is recorded by more than one shard (shards of two different
+//! splits in one DIR) or when a run of the plan has no record; it then removes the
+//! `summary.csv` of an earlier merge, which no longer describes DIR. A summary is written
+//! whole (a temporary file renamed), so a reader never sees a part of one.
+//!
+//! Numbers: the varied values in their shortest text that reads back to the same double
+//! (`0.1`, `2.5E+20`); the results with at most [`CSV_DIGITS`] significant digits, as every
+//! CSV of linkage ([`linkage_adm::num::general`]); `-0` is written `0`.
 
 use super::{run_file, Plan, RunRecord};
+use linkage_adm::num::{general, CSV_DIGITS};
 use serde_json::Value;
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -39,6 +46,34 @@ pub struct Merged {
     pub failed: usize,
 }
 
+/// A varied value: the shortest text that reads back to `x`, plain for magnitudes in
+/// [1e-4, 1e16), `mantissaE±XX` otherwise; `-0` is `0`.
+fn shortest(x: f64) -> String {
+    if x == 0.0 {
+        return "0".to_string();
+    }
+    if !x.is_finite() {
+        return general(x, 17);
+    }
+    if (1e-4..1e16).contains(&x.abs()) {
+        return format!("{x}");
+    }
+    let s = format!("{x:e}");
+    let (mantissa, exponent) = s.split_once('e').unwrap_or((&s, "0"));
+    let e: i32 = exponent.parse().unwrap_or(0);
+    let sign = if e < 0 { '-' } else { '+' };
+    format!("{mantissa}E{sign}{:02}", e.unsigned_abs())
+}
+
+/// A result of a report as the summary writes it: numbers with at most [`CSV_DIGITS`]
+/// significant digits (`-0` as `0`), anything else as JSON.
+fn result(v: &Value) -> String {
+    match v.as_f64() {
+        Some(x) if v.is_f64() => general(x, CSV_DIGITS),
+        _ => v.to_string(),
+    }
+}
+
 /// The scalar results of a report, in order: `dof`, `redundant` (the number of redundant
 /// equations), `frequency_N` (undamped natural frequency of mode N, cycles per time unit),
 /// and each part's final state (`simulate`'s `final_state`; the equilibrium or assembled
@@ -59,7 +94,7 @@ pub fn scalars(report: &Value) -> Vec<(String, String)> {
         .flatten()
     {
         if let (Some(n), Some(f)) = (mode.get("number"), mode.get("frequency")) {
-            out.push((format!("frequency_{n}"), f.to_string()));
+            out.push((format!("frequency_{n}"), result(f)));
         }
     }
     let parts = report
@@ -79,7 +114,7 @@ pub fn scalars(report: &Value) -> Vec<(String, String)> {
         for (field, names) in FIELDS {
             if let Some(xyz) = part.get(field).and_then(Value::as_array) {
                 for (v, c) in xyz.iter().zip(names) {
-                    out.push((format!("{name} {c}"), v.to_string()));
+                    out.push((format!("{name} {c}"), result(v)));
                 }
             }
         }
@@ -150,8 +185,29 @@ fn locate(dir: &Path) -> Result<BTreeMap<usize, Vec<PathBuf>>, MergeError> {
     Ok(found)
 }
 
-/// Merges the records under `dir` into `dir/summary.csv` (see the module documentation).
+/// Merges the records under `dir` into `dir/summary.csv` (see the module documentation); a
+/// refused merge removes the summary of an earlier one.
 pub fn merge(dir: &Path) -> Result<Merged, MergeError> {
+    let merged = merge_records(dir);
+    if merged.is_err() {
+        let summary = dir.join("summary.csv");
+        match std::fs::remove_file(&summary) {
+            Ok(()) => {}
+            Err(e) if e.kind() == std::io::ErrorKind::NotFound => {}
+            Err(e) => {
+                return Err(MergeError::Write {
+                    path: summary.display().to_string(),
+                    why: format!(
+                        "the merge was refused and the old summary cannot be removed: {e}"
+                    ),
+                })
+            }
+        }
+    }
+    merged
+}
+
+fn merge_records(dir: &Path) -> Result<Merged, MergeError> {
     let plan_path = dir.join("plan.json");
     let plan: Plan = serde_json::from_str(&std::fs::read_to_string(&plan_path).map_err(|e| {
         MergeError::NoPlan {
@@ -231,7 +287,7 @@ pub fn merge(dir: &Path) -> Result<Merged, MergeError> {
         failed += usize::from(record.exit_code != 0);
         let row: Vec<String> = [record.index.to_string()]
             .into_iter()
-            .chain(record.values.iter().map(f64::to_string))
+            .chain(record.values.iter().map(|&x| shortest(x)))
             .chain([
                 field(&record.status),
                 record.exit_code.to_string(),
@@ -256,4 +312,33 @@ pub fn merge(dir: &Path) -> Result<Merged, MergeError> {
         runs: rows.len(),
         failed,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn varied_values_are_their_shortest_round_trip_text_and_never_minus_zero() {
+        for (x, text) in [
+            (0.1, "0.1"),
+            (0.1 + 0.2, "0.30000000000000004"),
+            (-0.0, "0"),
+            (2.5e20, "2.5E+20"),
+            (1e-7, "1E-07"),
+            (200.0, "200"),
+        ] {
+            assert_eq!(shortest(x), text);
+            if x != 0.0 {
+                assert_eq!(text.parse::<f64>().unwrap(), x, "{text} reads back");
+            }
+        }
+    }
+
+    #[test]
+    fn results_keep_the_csv_digits_and_write_minus_zero_as_zero() {
+        let v: Value = serde_json::from_str("[-0.0, 0.30000000000000004, 3.0, 12]").unwrap();
+        let texts: Vec<String> = v.as_array().unwrap().iter().map(result).collect();
+        assert_eq!(texts, ["0", "0.3", "3", "12"]);
+    }
 }

@@ -40,6 +40,15 @@ pub enum SweepError {
     /// DIR holds the plan of another sweep (exit code 2).
     #[error("{dir} holds another sweep (its plan.json differs from this spec's): choose another --out, or remove it")]
     OtherSweep { dir: String },
+    /// DIR holds the records of another split of the same sweep (exit code 2): the two
+    /// splits would record some runs twice.
+    #[error("{dir} holds {found}, a split of this sweep into {other} shards; this shard splits it into {count}: use --shard K/{other}, or another --out")]
+    OtherSplit {
+        dir: String,
+        found: String,
+        other: usize,
+        count: usize,
+    },
     /// A file could not be written or read (exit code 1).
     #[error("{0}")]
     Io(String),
@@ -206,6 +215,33 @@ fn settle_plan(out: &Path, plan: &Plan) -> Result<(), SweepError> {
     }
 }
 
+/// Refuses a shard whose DIR holds the folder of a shard of a different split
+/// (`shard-K-of-M`, M ≠ N): a merge could not tell which records count.
+fn same_split(out: &Path, shard: Shard) -> Result<(), SweepError> {
+    let Ok(entries) = std::fs::read_dir(out) else {
+        return Ok(());
+    };
+    for entry in entries.filter_map(Result::ok) {
+        let name = entry.file_name();
+        let Some(name) = name.to_str() else { continue };
+        let other = name
+            .strip_prefix("shard-")
+            .and_then(|rest| rest.split_once("-of-"))
+            .and_then(|(k, m)| Some((k.parse::<usize>().ok()?, m.parse::<usize>().ok()?)));
+        if let Some((_, m)) = other {
+            if m != shard.count && entry.path().is_dir() {
+                return Err(SweepError::OtherSplit {
+                    dir: out.display().to_string(),
+                    found: name.to_string(),
+                    other: m,
+                    count: shard.count,
+                });
+            }
+        }
+    }
+    Ok(())
+}
+
 /// Runs this shard's runs of `spec` with `jobs` threads, writing under `out` (see the module
 /// documentation); `done` is told of each run as it ends (from the worker threads).
 pub fn run(
@@ -224,10 +260,13 @@ pub fn run(
     // The first run's changes are checked before any run: a statement or argument that
     // cannot be changed is a mistake in the spec, not a result.
     amended(&base, spec, &spec.values(0)).map_err(SweepError::Input)?;
+    std::fs::create_dir_all(out)
+        .map_err(|e| SweepError::Io(format!("cannot create {}: {e}", out.display())))?;
+    settle_plan(out, &Plan::of(spec))?;
+    same_split(out, shard)?;
     let runs_dir = out.join(shard.folder()).join("runs");
     std::fs::create_dir_all(&runs_dir)
         .map_err(|e| SweepError::Io(format!("cannot create {}: {e}", runs_dir.display())))?;
-    settle_plan(out, &Plan::of(spec))?;
     let total = spec.run_count().unwrap_or(0);
     let mine: Vec<usize> = (0..total).filter(|&i| shard.has(i)).collect();
     let next = AtomicUsize::new(0);

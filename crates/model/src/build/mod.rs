@@ -28,6 +28,7 @@ mod mass;
 mod motions;
 mod parts;
 pub mod point_masses;
+pub(crate) mod references;
 mod sensors;
 mod units;
 mod vector_forces;
@@ -128,6 +129,11 @@ pub fn build_model_with(ds: &Dataset, user: &UserRoutines) -> Result<Built, Diag
         &mut markers,
         &mut constraints,
         &mut forces,
+    );
+    references::check(
+        ds,
+        &references::Known::new(ds, &marker_statements.index),
+        &mut cx,
     );
     if !cx.errors.is_empty() {
         return Err(Diagnostics(cx.errors));

@@ -156,7 +156,10 @@ pub fn state_matrices(
         " State matrices at time {}: {states} states ({f} independent coordinates and their \
          rates, {} control states), {} input(s), {} output(s); A, B, C, D in {name}a, {name}b, \
          {name}c, {name}d, the coordinate basis in {name}st.",
-        sm.time, m.controls, pl.inputs, pl.outputs
+        linkage_adm::num::time_text(sm.time),
+        m.controls,
+        pl.inputs,
+        pl.outputs
     ))?;
     progress.leave(sm.left);
     Ok(())

@@ -120,7 +120,7 @@ impl Sinks<'_> {
                  constraint equations; verified and assembled again at time {}.",
                 now.0,
                 now.1,
-                a.state().time
+                linkage_adm::num::time_text(a.state().time)
             ))?;
         }
         *self.counts = Some(now);

@@ -110,14 +110,14 @@ fn sensor_stop(
     let halt = ended.ends_with("(HALT)");
     sinks.msg.write(&format!(
         " {ended} ended the {what} at time {}{}",
-        e.time,
+        linkage_adm::num::time_text(e.time),
         if halt {
             "; the command file ends here"
         } else {
             "; the command file goes on"
         }
     ))?;
-    Ok(halt.then(|| format!("{} at time {}", e.name, e.time)))
+    Ok(halt.then(|| format!("{} at time {}", e.name, linkage_adm::num::time_text(e.time))))
 }
 
 /// `SIMULATE/{DYNAMIC | KINEMATIC | TRANSIENT}` to the last of `times` (the current time

@@ -56,7 +56,7 @@ pub enum DriveError {
     Function { cause: String },
     /// The expression cannot be evaluated at `time`, inside the quadrature of a velocity or
     /// acceleration motion.
-    #[error("FUNCTION at time {time}: {cause}")]
+    #[error("FUNCTION at time {}: {cause}", linkage_adm::num::time_text(*.time))]
     FunctionAt { time: f64, cause: String },
     /// The quadrature of a velocity or acceleration motion does not converge.
     #[error("the integral of FUNCTION does not converge")]
@@ -74,7 +74,7 @@ fn level_name(level: &MotionLevel) -> &'static str {
 /// A motion whose displacement cannot be evaluated at a time:
 /// `NAME (MOTION/id, line N): the motion's displacement cannot be evaluated at time t: why`.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
-#[error("{element}: the motion's displacement cannot be evaluated at time {time}: {cause}")]
+#[error("{element}: the motion's displacement cannot be evaluated at time {}: {cause}", linkage_adm::num::time_text(*.time))]
 pub struct MotionError {
     /// The motion's label (name, statement and line).
     pub element: String,

@@ -77,7 +77,7 @@ pub enum IntegrationError {
     #[error("{0} is singular")]
     Singular(SingularSolve),
     /// The corrector's Newton iteration reached INTEGRATOR MAXIT without converging.
-    #[error("the corrector did not converge in {iterations} iterations at time {time}")]
+    #[error("the corrector did not converge in {iterations} iterations at time {}", linkage_adm::num::time_text(*.time))]
     CorrectorNotConverged { iterations: usize, time: f64 },
     /// A step failed at the smallest step size the settings allow: the run gives up.
     #[error("{cause} (step size {} at its minimum)", linkage_adm::num::sci(*.step, 4))]
@@ -132,7 +132,7 @@ pub enum IntegrationError {
         unit: &'static str,
     },
     /// Kinematic run: a constraint row's residual is not finite.
-    #[error("the constraint {equation} of {element} cannot be evaluated at time {time}")]
+    #[error("the constraint {equation} of {element} cannot be evaluated at time {}", linkage_adm::num::time_text(*.time))]
     PositionNotEvaluable {
         equation: &'static str,
         element: String,
@@ -140,16 +140,18 @@ pub enum IntegrationError {
     },
     /// Kinematic run: the square constraint Jacobian is singular.
     #[error(
-        "the constraint Jacobian is singular at time {time}: the mechanism is at a singular \
-         (locked or toggle) configuration, or the motions drive it beyond its reach"
+        "the constraint Jacobian is singular at time {}: the mechanism is at a singular \
+         (locked or toggle) configuration, or the motions drive it beyond its reach",
+        linkage_adm::num::time_text(*.time)
     )]
     PositionsSingular { time: f64 },
     /// Kinematic run: Newton on the positions did not converge; the largest residual (in the
     /// row's report unit) and its row.
     #[error(
-        "the positions could not be found from the constraints at time {time} in {iterations} \
+        "the positions could not be found from the constraints at time {} in {iterations} \
          iterations: largest residual {}{unit} in {equation} of {element} (the \
          motions may drive the mechanism beyond its reach)",
+        linkage_adm::num::time_text(*.time),
         linkage_adm::num::sci(*.residual, 7)
     )]
     PositionsNotFound {

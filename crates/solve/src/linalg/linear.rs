@@ -62,6 +62,38 @@ pub enum LinearError {
     Singular,
 }
 
+/// faer's failures in words (never its debug text, `Generic(OutOfMemory)`).
+fn faer_failure(e: faer::sparse::FaerError) -> LinearError {
+    match e {
+        faer::sparse::FaerError::OutOfMemory => LinearError::OutOfMemory,
+        faer::sparse::FaerError::IndexOverflow => LinearError::Factor(
+            "the matrix is too large for the sparse solver's indices".to_string(),
+        ),
+        #[allow(unreachable_patterns)]
+        _ => LinearError::Factor("the sparse solver failed".to_string()),
+    }
+}
+
+impl From<faer::sparse::linalg::LuError> for LinearError {
+    fn from(e: faer::sparse::linalg::LuError) -> Self {
+        match e {
+            faer::sparse::linalg::LuError::SymbolicSingular { index } => LinearError::Factor(
+                format!("the matrix is structurally singular (no pivot in column {index})"),
+            ),
+            faer::sparse::linalg::LuError::Generic(e) => faer_failure(e),
+        }
+    }
+}
+
+impl From<faer::sparse::CreationError> for LinearError {
+    fn from(e: faer::sparse::CreationError) -> Self {
+        match e {
+            faer::sparse::CreationError::Generic(e) => faer_failure(e),
+            faer::sparse::CreationError::OutOfBounds { .. } => LinearError::OutOfRange,
+        }
+    }
+}
+
 impl SparseLu {
     /// Factorises the `n × n` matrix with the given entries.
     pub fn factor(n: usize, entries: &[(usize, usize, f64)]) -> Result<SparseLu, LinearError> {
@@ -75,11 +107,8 @@ impl SparseLu {
             .iter()
             .map(|&(r, c, v)| Triplet::new(r, c, v))
             .collect();
-        let a = SparseColMat::<usize, f64>::try_new_from_triplets(n, n, &trip)
-            .map_err(|e| LinearError::Factor(format!("{e:?}")))?;
-        let lu = a
-            .sp_lu()
-            .map_err(|e| LinearError::Factor(format!("{e:?}")))?;
+        let a = SparseColMat::<usize, f64>::try_new_from_triplets(n, n, &trip)?;
+        let lu = a.sp_lu()?;
         Ok(SparseLu { lu, n })
     }
 
@@ -187,8 +216,8 @@ impl FixedPatternLu {
         let row_idx: Vec<usize> = coords.iter().map(|&(r, _)| r).collect();
         let nnz = row_idx.len();
         let pattern = SymbolicSparseColMat::new_checked(n, n, col_ptr, None, row_idx);
-        let symbolic = factorize_symbolic_lu(pattern.as_ref(), Default::default())
-            .map_err(|e| LinearError::Factor(format!("{e:?}")))?;
+        let symbolic =
+            factorize_symbolic_lu(pattern.as_ref(), Default::default()).map_err(faer_failure)?;
         let factor_scratch = MemBuffer::try_new(
             symbolic.factorize_numeric_lu_scratch::<f64>(Par::Seq, Default::default()),
         )
@@ -462,6 +491,24 @@ impl FixedPatternLu {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_sparse_solver_failures_are_words_not_debug_text() {
+        let oom: LinearError =
+            faer::sparse::linalg::LuError::Generic(faer::sparse::FaerError::OutOfMemory).into();
+        assert_eq!(
+            oom.to_string(),
+            "the matrix could not be factorised: out of memory"
+        );
+        let singular: LinearError =
+            faer::sparse::linalg::LuError::SymbolicSingular { index: 3 }.into();
+        assert!(singular
+            .to_string()
+            .contains("structurally singular (no pivot in column 3)"));
+        for e in [oom, singular] {
+            assert!(!format!("{e}").contains("Generic"), "{e}");
+        }
+    }
 
     #[test]
     fn solves_a_small_kkt_system() {

@@ -15,7 +15,7 @@ use crate::state::State;
 /// A force element that cannot be evaluated at a state: a domain error in its expression, an
 /// angle that is not defined, a law the element's settings do not allow.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
-#[error("{element}: {cause} (time {time})")]
+#[error("{element}: {cause} (time {})", linkage_adm::num::time_text(*.time))]
 pub struct ForceError {
     /// The element's name (`SFORCE_3` or its view name).
     pub element: String,

@@ -77,7 +77,7 @@ const FORCE: [&str; 6] = ["fx", "fy", "fz", "tx", "ty", "tz"];
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 pub enum RequestError {
     /// A standard request's quantity (displacement, velocity, acceleration, force).
-    #[error("{request} at time {time}: {cause}")]
+    #[error("{request} at time {}: {cause}", linkage_adm::num::time_text(*.time))]
     Quantity {
         /// The request's label (`REQUEST_9 (REQUEST/9, line 6)`).
         request: String,
@@ -85,7 +85,7 @@ pub enum RequestError {
         cause: EvalError,
     },
     /// A function request's expression `F{component} = {text}`.
-    #[error("{request} at time {time}: F{component} = {text}: {cause}")]
+    #[error("{request} at time {}: F{component} = {text}: {cause}", linkage_adm::num::time_text(*.time))]
     Function {
         request: String,
         time: f64,
@@ -299,20 +299,7 @@ fn force_markers(model: &Model, kind: &ForceKind) -> (usize, Option<usize>, Body
 
 /// The statement of an element force function (`SPDP` is SPRINGDAMPER, `BUSH` BUSHING).
 fn statement_of(kind: ElementForce) -> &'static str {
-    match kind {
-        ElementForce::Joint => "JOINT",
-        ElementForce::Jprim => "JPRIM",
-        ElementForce::Motion => "MOTION",
-        ElementForce::Sforce => "SFORCE",
-        ElementForce::Spdp => "SPRINGDAMPER",
-        ElementForce::Bush => "BUSHING",
-        ElementForce::Field => "FIELD",
-        ElementForce::Beam => "BEAM",
-        ElementForce::Vforce => "VFORCE",
-        ElementForce::Vtorque => "VTORQUE",
-        ElementForce::Gforce => "GFORCE",
-        ElementForce::Contact => "CONTACT",
-    }
+    kind.statement()
 }
 
 /// A force and a torque (ground axes).

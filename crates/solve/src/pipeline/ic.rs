@@ -343,7 +343,7 @@ pub fn velocity_ic(
                     motion_errors.push(format!(
                         "{}: the motion's velocity at time {}: {e}",
                         model.constraints[row.element].origin.label(),
-                        s.time
+                        linkage_adm::num::time_text(s.time)
                     ));
                     continue;
                 }
@@ -469,7 +469,7 @@ pub enum AccelerationError {
     #[error(transparent)]
     Force(#[from] ForceError),
     /// A motion's acceleration cannot be evaluated (`element` is its label with the line).
-    #[error("{element}: the motion's acceleration at time {time}: {cause}")]
+    #[error("{element}: the motion's acceleration at time {}: {cause}", linkage_adm::num::time_text(*.time))]
     MotionAcceleration {
         element: String,
         time: f64,

@@ -27,6 +27,7 @@ use crate::kernel::{
 };
 use crate::linalg::kkt::{jacobian_entries, CoordinateScale, Zeros};
 use crate::linalg::linear::SparseLu;
+use crate::stages::dynamics::AfterOutput;
 use crate::state::State;
 use crate::tolerances::KINEMATIC_POSITION;
 use glam::DVec3;
@@ -40,7 +41,12 @@ pub const POSITION_TOLERANCE: f64 = KINEMATIC_POSITION;
 pub const MAX_ITERATIONS: usize = 25;
 
 /// Runs the kinematic analysis at `times` from the assembled `start` with velocities `v0`
-/// (used only as the first velocity guess).
+/// (used only as the first velocity guess), handing each output to `on_output` as it is
+/// computed (nothing is kept: a run of a million outputs needs the memory of one). The
+/// returned simulation's `outputs` is empty and `output_count` counts the outputs handed
+/// over. `progress` sees the time after each output; [`AfterOutput::Stop`] from it ends the
+/// run there with [`IntegrationError::Stopped`] (Ctrl-C, a time limit), and from
+/// `on_output` ends it at that output (its sink failed).
 ///
 /// SENSORs are evaluated at every output, as a dynamic run evaluates them after every step
 /// (the watch and its event location are [`crate::stages::dynamics::SensorWatch`]'s): an
@@ -49,12 +55,13 @@ pub const MAX_ITERATIONS: usize = 25;
 /// PRINT writes an output there, DT sets the output interval from the event on (outputs at
 /// `t* + k·DT` up to the last requested time); RESTART, CODGEN and STEPSIZE have nothing to
 /// act on (there is no integrator) and are reported with the event.
-pub(crate) fn run(
+pub(crate) fn run_streamed(
     p: &Problem,
     start: &State,
     v0: &[(DVec3, DVec3)],
     times: &[f64],
-    mut progress: impl FnMut(f64),
+    mut progress: impl FnMut(f64) -> AfterOutput,
+    mut on_output: impl FnMut(Output) -> AfterOutput,
 ) -> Simulation {
     let mut sim = Simulation::empty(true);
     let mut solver = match OutputSolver::new(p, start, v0) {
@@ -63,6 +70,11 @@ pub(crate) fn run(
             sim.failure = Some(Failure::new(start.time, e));
             return sim;
         }
+    };
+    // Hands an output on; `false` when the run ends there.
+    let mut emit = |sim: &mut Simulation, o: Output| {
+        sim.output_count += 1;
+        on_output(o) == AfterOutput::Continue
     };
     let mut sensors = SensorWatch::new(p.model);
     let end = times.last().copied().unwrap_or(start.time);
@@ -82,8 +94,13 @@ pub(crate) fn run(
         sim.steps += 1;
         let Some(w) = sensors.as_mut() else {
             previous = Some(output.clone());
-            sim.outputs.push(output);
-            progress(t);
+            if !emit(&mut sim, output) {
+                return sim;
+            }
+            if progress(t) == AfterOutput::Stop {
+                sim.failure = Some(Failure::new(t, IntegrationError::Stopped));
+                return sim;
+            }
             k += 1;
             continue;
         };
@@ -103,27 +120,34 @@ pub(crate) fn run(
         };
         let Some(fired) = fired else {
             previous = Some(output.clone());
-            sim.outputs.push(output);
-            progress(t);
+            if !emit(&mut sim, output) {
+                return sim;
+            }
+            if progress(t) == AfterOutput::Stop {
+                sim.failure = Some(Failure::new(t, IntegrationError::Stopped));
+                return sim;
+            }
             k += 1;
             continue;
         };
         sim.sensor_events.extend(fired.events);
         if fired.stop.is_some() {
             sim.stopped_by_sensor = fired.stop;
-            sim.outputs.push(fired.output);
+            emit(&mut sim, fired.output);
             return sim;
         }
         let at = fired.output.time;
-        if fired.before_step_end && fired.print {
-            sim.outputs.push(fired.output.clone());
+        if fired.before_step_end && fired.print && !emit(&mut sim, fired.output.clone()) {
+            return sim;
         }
         match fired.dt {
             // From the event on, outputs every DT: the output at t (after the event) is
             // replaced by the new grid.
             Some(dt) => {
                 if !fired.before_step_end {
-                    sim.outputs.push(output);
+                    if !emit(&mut sim, output) {
+                        return sim;
+                    }
                     k += 1;
                 }
                 outputs_every(&mut schedule, k, at, dt, end);
@@ -131,7 +155,9 @@ pub(crate) fn run(
             }
             None => {
                 previous = Some(output.clone());
-                sim.outputs.push(output);
+                if !emit(&mut sim, output) {
+                    return sim;
+                }
                 k += 1;
             }
         }
@@ -139,7 +165,10 @@ pub(crate) fn run(
         if let Some(o) = previous.as_mut() {
             w.carry(&mut o.state);
         }
-        progress(at.max(t));
+        if progress(at.max(t)) == AfterOutput::Stop {
+            sim.failure = Some(Failure::new(at.max(t), IntegrationError::Stopped));
+            return sim;
+        }
     }
     sim
 }

@@ -131,18 +131,20 @@ pub fn simulate_stepwise(
     let m = p.rows.len();
     let mut sim = Simulation::empty(crate::pipeline::kinematic(m, n, p.controls()));
     if sim.kinematic {
-        let mut run = crate::stages::kinematics::run(p, start, v0, times, |time| {
-            let _ = progress(&StepTaken {
-                time,
-                ..StepTaken::default()
-            });
-        });
-        for o in std::mem::take(&mut run.outputs) {
-            if on_output(o) == AfterOutput::Stop {
-                break;
-            }
-        }
-        return run;
+        // Streamed: each output is handed on as it is computed.
+        return crate::stages::kinematics::run_streamed(
+            p,
+            start,
+            v0,
+            times,
+            |time| {
+                progress(&StepTaken {
+                    time,
+                    ..StepTaken::default()
+                })
+            },
+            on_output,
+        );
     }
     let length = p.model.characteristic_length;
     let t_end = times.last().copied().unwrap_or(start.time);
