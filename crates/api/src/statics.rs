@@ -5,12 +5,13 @@ use crate::error::Error;
 use crate::sink::{Feed, NoSink, OutputSink};
 use crate::source::Loaded;
 use crate::start::{assemble, input_model, Left, Start};
+use linkage_report::statics::SearchJson;
 use linkage_report::statics::StaticJson;
 use linkage_solve::coverage::Analysis;
 use linkage_solve::physics::applied::Regime;
 use linkage_solve::pipeline::Assembled;
 use linkage_solve::stages::dynamics::Output;
-use linkage_solve::stages::statics::Equilibrium;
+use linkage_solve::stages::statics::{Equilibrium, StaticRun as SolveRun};
 use linkage_solve::state::State;
 use std::time::Instant;
 
@@ -81,6 +82,36 @@ fn at_rest(a: &Assembled, time: f64, eq: &Equilibrium) -> Output {
         accelerations: a.rest(),
         reactions: eq.reactions.clone(),
     }
+}
+
+/// One equilibrium of `a` from `from` by the search for a stable one
+/// ([`linkage_solve::stages::stable_equilibrium::search`]; its settling bounded by the
+/// time limit or [`DEFAULT_SETTLE_TIME_LIMIT`]), as a run of one step, and the search's summary.
+fn one_equilibrium(
+    a: &Assembled,
+    from: &State,
+    args: &StaticArgs,
+) -> Result<(SolveRun, Option<SearchJson>), Error> {
+    let mut run = SolveRun {
+        steps: Vec::new(),
+        sensor_events: Vec::new(),
+        stopped_by_sensor: None,
+    };
+    if a.failure().is_some() {
+        return Ok((run, None));
+    }
+    let deadline = crate::budget::deadline(args.time_limit, DEFAULT_SETTLE_TIME_LIMIT)
+        .map_err(crate::error::ArgumentError::from)?;
+    let out_of_time = || Instant::now() >= deadline;
+    let found = linkage_solve::stages::stable_equilibrium::search(
+        a,
+        from,
+        args.allow_unstable,
+        &out_of_time,
+    );
+    let summary = linkage_report::statics::search_json(&found, found.found(args.allow_unstable));
+    run.steps.push((from.time, found.result));
+    Ok((run, Some(summary)))
 }
 
 /// The static equilibrium of `loaded` from its input (see [`StaticArgs`]);
@@ -174,9 +205,15 @@ pub fn run(
     }
     let from = begun.state().clone();
     let assembled = begun.assembled;
-    let times = args.series.clone().unwrap_or_else(|| vec![from.time]);
-    let result = linkage_solve::stages::statics::run_from(&assembled, &from, &times);
+    let (result, search) = match &args.series {
+        Some(times) => (
+            linkage_solve::stages::statics::run_from(&assembled, &from, times),
+            None,
+        ),
+        None => one_equilibrium(&assembled, &from, args)?,
+    };
     let mut report = linkage_report::statics::to_json(&assembled, &result, &loaded.warnings);
+    report.search = search;
     if let [(_, Ok(eq))] = result.steps.as_slice() {
         // The friction as the equilibrium had it (those inactive in statics off).
         let rest = assembled.rest();

@@ -133,7 +133,12 @@ fn equilibrium_dynamic_in_the_dataset_makes_the_start_settle() {
 
 #[test]
 fn a_start_that_does_not_settle_exits_1_naming_the_limits() {
-    let f = tied_pendulum("swinging", "EQUILIBRIUM/, DYNAMIC, SETTLING_TIME = 1");
+    // A dataset damping (GLOBAL_DAMPING 0 would have it chosen from the model, which settles)
+    // far too light for SETTLING_TIME 1.
+    let f = tied_pendulum(
+        "swinging",
+        "EQUILIBRIUM/, DYNAMIC, GLOBAL_DAMPING = 0.01, SETTLING_TIME = 1",
+    );
     let (code, text, err) = simulate_from_equilibrium(&f);
     assert_eq!(code, 1, "{text}");
     assert!(

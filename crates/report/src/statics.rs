@@ -10,6 +10,7 @@ use linkage_model::Model;
 use linkage_solve::constraints::system::System;
 use linkage_solve::pipeline::{Assembled, NotAssembled};
 use linkage_solve::stages::settle::{SettleOutcome, SettleStop};
+use linkage_solve::stages::stable_equilibrium::Search;
 use linkage_solve::stages::statics::{Equilibrium, StaticRun};
 use serde::Serialize;
 use std::fmt::Write;
@@ -82,6 +83,10 @@ pub struct StaticJson {
     /// When found by damped dynamics: what stopped the settling.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub settling: Option<SettlingJson>,
+    /// One equilibrium by the search for a stable one: which path found it and every path
+    /// tried (`linkage_solve::stages::stable_equilibrium`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub search: Option<SearchJson>,
     pub warnings: Vec<String>,
     pub errors: Vec<String>,
     /// The model's force scale ([`crate::reactions::weight_scale`]): what the text's reaction
@@ -103,8 +108,18 @@ pub struct SettlingJson {
     pub acceleration: Option<f64>,
     pub kinetic_energy_limit: f64,
     pub acceleration_limit: f64,
+    /// The settling time the integration was allowed (the dataset's SETTLING_TIME, or adapted
+    /// to the slowest mode when the damping was chosen from the model).
     pub settling_time_limit: f64,
+    /// The dataset's GLOBAL_DAMPING.
     pub global_damping: f64,
+    /// The damping `c` the settling used (per time unit).
+    pub damping: f64,
+    /// The damping and settling time were chosen from the model's lowest mode (GLOBAL_DAMPING
+    /// was 0).
+    pub damping_from_model: bool,
+    /// The lowest angular frequency they were chosen from (rad per time unit).
+    pub lowest_frequency: Option<f64>,
     /// Whether the Newton polish from the settled configuration converged (`null`: not run).
     pub polish_converged: Option<bool>,
     /// Every part where the damped integration stopped, before the polish.
@@ -149,20 +164,24 @@ pub fn settling_summary(model: &Model, outcome: Option<&SettleOutcome>) -> Settl
         acceleration: acc,
         kinetic_energy_limit: eq.kinetic_energy_error,
         acceleration_limit: eq.acceleration_error,
-        settling_time_limit: eq.settling_time,
+        settling_time_limit: outcome.map_or(eq.settling_time, |o| o.choice.settling_time),
         global_damping: eq.global_damping,
+        damping: outcome.map_or(eq.global_damping, |o| o.choice.damping),
+        damping_from_model: outcome.is_some_and(|o| o.choice.from_model),
+        lowest_frequency: outcome.and_then(|o| o.choice.lowest_frequency),
         polish_converged,
         settled_parts: outcome.map_or_else(Vec::new, |o| part_poses(model, &o.state)),
         message,
     }
 }
 
-/// The warning for settling without GLOBAL_DAMPING: with `−c m v` on every part a mode of
-/// natural frequency ω gets the damping ratio `c / 2ω`, so `c ≈ 2ω` of the lowest mode is
-/// critical damping.
-pub const NO_GLOBAL_DAMPING: &str = "GLOBAL_DAMPING is 0 (the default): only the model's own \
-    damping can bring it to rest; a GLOBAL_DAMPING of about twice the lowest natural frequency \
-    (in radians per time unit, from `linkage linear`) damps that mode critically";
+/// The note for settling without GLOBAL_DAMPING: with `−c m v` on every part a mode of
+/// natural frequency ω gets the damping ratio `c / 2ω`, so the settling chose `c = 2ω₁` of
+/// the lowest mode (critical damping, `linkage_solve::stages::settle::choose`).
+pub const NO_GLOBAL_DAMPING: &str = "GLOBAL_DAMPING is 0 (the default): the settling damped \
+    every part with twice the lowest natural frequency of the model (critical damping of its \
+    lowest mode) and adapted the settling time to that mode; a positive GLOBAL_DAMPING sets \
+    both from the dataset instead";
 
 /// One line saying how the settling ended, against its limits.
 pub fn settling_line(st: &SettlingJson) -> String {
@@ -184,7 +203,12 @@ pub fn settling_line(st: &SettlingJson) -> String {
             values(st.kinetic_energy, st.acceleration)
         ),
         "settling_time" => format!(
-            "did NOT settle: SETTLING_TIME {} ran out with {}",
+            "did NOT settle: {} {} ran out with {}",
+            if st.damping_from_model {
+                "the settling time"
+            } else {
+                "SETTLING_TIME"
+            },
             shown(st.settling_time_limit),
             values(st.kinetic_energy, st.acceleration)
         ),
@@ -194,10 +218,82 @@ pub fn settling_line(st: &SettlingJson) -> String {
             st.message.clone().unwrap_or_default()
         ),
     };
-    format!(
-        "Dynamic settling (GLOBAL_DAMPING {}, time frozen at the start) {body}",
-        shown(st.global_damping)
-    )
+    let damping = if st.damping_from_model {
+        let from = st.lowest_frequency.map_or_else(
+            || "the model (no mode with stiffness was found)".to_string(),
+            |w| format!("the lowest mode, ω₁ = {} rad per time unit", sci(w, 4)),
+        );
+        format!(
+            "damping {} chosen from {from}, as GLOBAL_DAMPING is 0; settling time {}",
+            sci(st.damping, 4),
+            sci(st.settling_time_limit, 4)
+        )
+    } else {
+        format!("GLOBAL_DAMPING {}", shown(st.global_damping))
+    };
+    format!("Dynamic settling ({damping}, time frozen at the start) {body}")
+}
+
+/// How the search for a stable equilibrium went.
+#[derive(Clone, Debug, Serialize, PartialEq)]
+pub struct SearchJson {
+    /// `newton`, `descent` or `settling`: the path whose equilibrium is reported (`newton`
+    /// also when none was found: its solve is the one reported).
+    pub path: &'static str,
+    /// Whether an equilibrium was accepted.
+    pub found: bool,
+    pub attempts: Vec<AttemptJson>,
+}
+
+/// One path the search tried.
+#[derive(Clone, Debug, Serialize, PartialEq)]
+pub struct AttemptJson {
+    pub path: &'static str,
+    /// Newton iterations, descent steps (one Newton step each), or the settling's polish
+    /// iterations.
+    pub iterations: usize,
+    pub converged: bool,
+    pub stable: Option<bool>,
+    pub outcome: String,
+}
+
+/// The search's summary.
+pub fn search_json(s: &Search, found: bool) -> SearchJson {
+    SearchJson {
+        path: s.path.name(),
+        found,
+        attempts: s
+            .attempts
+            .iter()
+            .map(|a| AttemptJson {
+                path: a.path.name(),
+                iterations: a.iterations,
+                converged: a.converged,
+                stable: a.stable,
+                outcome: a.outcome.clone(),
+            })
+            .collect(),
+    }
+}
+
+/// One line per path tried: `Found by descent after newton: did not converge in 25 …`.
+pub fn search_text(s: &SearchJson) -> String {
+    let mut out = String::new();
+    if s.found {
+        let _ = writeln!(out, "Found by {}.", s.path);
+    } else {
+        let _ = writeln!(out, "No equilibrium was accepted.");
+    }
+    if s.attempts.len() > 1 || !s.found {
+        for a in &s.attempts {
+            let _ = writeln!(
+                out,
+                "  {:<9} {:>5} iterations: {}",
+                a.path, a.iterations, a.outcome
+            );
+        }
+    }
+    out
 }
 
 /// One output time of a static run; a step whose equilibrium could not be computed carries the
@@ -320,6 +416,7 @@ pub fn to_json(a: &Assembled, run: &StaticRun, warnings: &[Diagnostic]) -> Stati
             ))
         }),
         settling: None,
+        search: None,
         warnings,
         errors,
         force_scale: crate::reactions::weight_scale(model),
@@ -408,6 +505,9 @@ pub fn to_text(j: &StaticJson) -> String {
     }
     if let Some(st) = &j.settling {
         let _ = writeln!(s, "{}", settling_line(st));
+    }
+    if let Some(search) = &j.search {
+        s.push_str(&search_text(search));
     }
     if series.is_empty() {
         // After settling, the Newton iteration is the polish: its own convergence is stated;
@@ -538,9 +638,18 @@ pub fn settling_json(
     if settling.criterion != "settled" {
         j.converged = false;
         j.errors.push(match settling.criterion {
+            "settling_time" if settling.damping_from_model => format!(
+                "the model did not settle within settling time {} with damping {} chosen from \
+                 its lowest mode: its motion does not die out under near-critical damping, so \
+                 it has no stable equilibrium it can come to rest in from here (a free motion \
+                 under a load nothing resists, or a force that keeps feeding energy)",
+                sci(settling.settling_time_limit, 4),
+                sci(settling.damping, 4)
+            ),
             "settling_time" => format!(
                 "the model did not settle within SETTLING_TIME = {} (GLOBAL_DAMPING {}): raise \
-                 GLOBAL_DAMPING or SETTLING_TIME on the EQUILIBRIUM statement",
+                 GLOBAL_DAMPING or SETTLING_TIME on the EQUILIBRIUM statement, or set \
+                 GLOBAL_DAMPING 0 to have the damping chosen from the model",
                 shown(settling.settling_time_limit),
                 shown(settling.global_damping)
             ),
@@ -549,9 +658,6 @@ pub fn settling_json(
                 settling.message.clone().unwrap_or_default()
             ),
         });
-    }
-    if model.equilibrium.global_damping == 0.0 {
-        j.warnings.push(NO_GLOBAL_DAMPING.to_string());
     }
     j.settling = Some(settling);
     j
@@ -579,6 +685,9 @@ pub fn unstable_verdict(j: &StaticJson) -> Option<String> {
     });
     let try_next = if j.settling.is_some() {
         "pass --allow-unstable to accept it"
+    } else if j.search.is_some() {
+        "neither the descent nor damped settling found a stable one; pass --allow-unstable to \
+         accept it"
     } else {
         "try --settle (damped dynamics finds a stable one), or pass --allow-unstable to accept it"
     };

@@ -377,3 +377,35 @@ pub const SMALLEST_PART_SIZE: f64 = 1e-3;
 /// Central-difference step of the plant matrices B, C, D: relative to the size of an input
 /// (at least 1), and per unit of an independent coordinate or its rate.
 pub const PLANT_STEP: f64 = 1e-6;
+
+/// A mode whose `|μ|` is below this fraction of the largest is taken at that floor in the
+/// descent's saddle-free Newton step (statics/descent.rs): a free motion without stiffness
+/// moves by TLIMIT/ALIMIT at most, not without bound.
+pub const DESCENT_SOFT_MODE: f64 = 1e-9;
+
+/// Steps between two Newton attempts of the descent where every free motion is stiff
+/// (statics/descent.rs).
+pub const DESCENT_NEWTON_EVERY: usize = 5;
+
+/// How far the descent is kicked off an unstable equilibrium along its negative-curvature
+/// mode: the largest part moves this many radians or characteristic lengths (statics/descent.rs).
+pub const DESCENT_KICK: f64 = 0.05;
+
+/// Most continuation steps of one descent (each one Newton step, at most TLIMIT/ALIMIT).
+pub const DESCENT_STEPS: usize = 400;
+
+/// Largest number of part coordinates (6n) for which the descent computes the dense modes it
+/// steers by at every step; larger models go from Newton straight to settling.
+pub const DESCENT_MAX_DIM: usize = 600;
+
+/// Damping ratio of the lowest mode when settling chooses its damping (stages/settle.rs):
+/// critical.
+pub const SETTLE_DAMPING_RATIO: f64 = 1.0;
+
+/// Settling time in units of the slowest mode's `1/ω₁` when settling chooses it
+/// (stages/settle.rs): a critically damped mode's energy falls by about `e^−2·SETTLE_DECAY`.
+pub const SETTLE_DECAY: f64 = 40.0;
+
+/// A free motion whose `|μ|` is below this fraction of the largest has no stiffness worth
+/// damping for (stages/settle.rs): a door on a vertical hinge.
+pub const SETTLE_NO_STIFFNESS: f64 = 1e-9;

@@ -206,21 +206,25 @@ fn settling_finds_the_newton_equilibrium_and_says_why_it_stopped() {
     let n_eq = newton.steps[0].1.as_ref().unwrap();
     assert!((eq.state.poses[0].p - n_eq.state.poses[0].p).length() < 1e-6);
     assert!((eq.state.poses[0].p - glam::DVec3::new(0.3, 0.7, 0.0)).length() < 1e-6);
-    // Without damping (and a short settling time) it does not settle, and says so.
+    // Without damping (GLOBAL_DAMPING 0, and a settling time far too short for a free swing)
+    // the damping is chosen from the pendulum's mode at the start (critical, c = 2ω₁ with
+    // ω₁² = m g d cos 30° / I_pivot = 2·9.80665·0.5·cos 30° / (2/3) for the 2 kg, 1 m rod
+    // 30° from hanging) and the settling time adapted: it settles in the same hanging pose.
     let text = mechanism_text("pendulum_offset.adm")
         .replace("END", "EQUILIBRIUM/, DYNAMIC, SETTLING_TIME = 2\nEND");
     let ds = linkage_adm::parse_dataset(Arc::from("nosettle.adm"), &text).unwrap();
     let m = linkage_model::build_model(&ds).unwrap().model;
     let a = Assembled::new(&m, &d, &NoForces, &Tolerances::default());
-    let s = linkage_solve::stages::settle::settle(&a, |_| {});
+    let s = linkage_solve::stages::settle::settle(&a, |_| {}).expect("assembled");
+    assert!(s.choice.from_model, "{:?}", s.choice);
+    let omega = (2.0 * 9.80665 * 0.5 * 30f64.to_radians().cos() / (2.0 / 3.0)).sqrt();
     assert!(
-        matches!(
-            s.as_ref().map(|o| &o.stop),
-            Ok(linkage_solve::stages::settle::SettleStop::SettlingTime { .. })
-        ),
-        "{:?}",
-        s
+        (s.choice.lowest_frequency.unwrap() - omega).abs() < 1e-6 * omega,
+        "{:?} vs {omega}",
+        s.choice
     );
+    let eq = s.settled_equilibrium().expect("settled");
+    assert!((eq.state.poses[0].p - glam::DVec3::new(0.3, 0.7, 0.0)).length() < 1e-6);
 }
 
 #[test]
@@ -592,9 +596,13 @@ fn a_run_started_at_the_settled_equilibrium_stays_there() {
 
 #[test]
 fn a_model_that_does_not_settle_is_not_run_and_says_why() {
-    // No damping and a short settling time: the tied rod is still swinging when time runs out.
+    // A light dataset damping and a short settling time: the tied rod is still swinging when
+    // time runs out (GLOBAL_DAMPING 0 would have the damping chosen from the model).
     let (_, r) = run_from(
-        &tied_pendulum(200.0, "EQUILIBRIUM/, DYNAMIC, SETTLING_TIME = 1"),
+        &tied_pendulum(
+            200.0,
+            "EQUILIBRIUM/, DYNAMIC, GLOBAL_DAMPING = 0.01, SETTLING_TIME = 1",
+        ),
         Start::Equilibrium,
         1.0,
     );

@@ -17,23 +17,29 @@
 //! After convergence, stability is judged from the smallest eigenvalue of the stiffness reduced
 //! to the free motions (`Nᵀ K_T N`, N a basis of the null space of J).
 
+mod descent;
 mod newton;
+mod stability;
+
+pub use descent::{Descent, Solver};
+
+use stability::reduced_stability;
+pub use stability::{modes, Modes, MAX_DENSE_DOF_COLUMNS};
 
 use crate::constraints::drivers::{Drivers, MotionError};
-use crate::constraints::hessian::HessianBlocks;
 use crate::constraints::rows::RowGradient;
 use crate::constraints::system::{RowUnit, System};
 use crate::kernel::{
     outputs_every, IntegrationError, Output, SensorEvent, SensorStop, SensorWatch,
 };
 use crate::linalg::linear::LinearError;
-use crate::physics::applied::{AppliedForces, ForceError, Regime};
+use crate::physics::applied::{AppliedForces, ForceError};
 use crate::physics::reactions::{element_reactions, Reaction};
 use crate::pipeline::Assembled;
 use crate::state::State;
 use crate::tolerances::{
-    STABILITY_EIGENVALUE, STABILITY_RANK, STATIC_CONSTRAINT_FLOOR, STATIC_CUT_PROJECTION,
-    STATIC_REPORTED_IMBALANCE, STATIC_ROUNDING_IMBALANCE,
+    STATIC_CONSTRAINT_FLOOR, STATIC_CUT_PROJECTION, STATIC_REPORTED_IMBALANCE,
+    STATIC_ROUNDING_IMBALANCE,
 };
 use glam::DVec3;
 use linkage_model::settings::refresh_at;
@@ -151,9 +157,6 @@ const UNBOUNDED_NOTE: &str = ": these loads act along free motions that nothing 
     TLIMIT/ALIMIT), so the model has no static equilibrium near this configuration; support or \
     drive that motion, or add a restoring force";
 
-/// Largest dense reduced problem for which stability is evaluated.
-const MAX_DENSE_DOF_COLUMNS: usize = 1800;
-
 /// Why a static equilibrium solve failed (as opposed to not converging, which is an
 /// [`Equilibrium`] with `converged == false`).
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
@@ -183,6 +186,9 @@ pub enum StaticsError {
     /// A sensor could not be evaluated, or its event not located, in a quasi-static series.
     #[error("sensor: {0}")]
     Sensor(String),
+    /// Damped settling found no equilibrium (the reason).
+    #[error("{0}")]
+    NotSettled(String),
 }
 
 /// The rows `rows` with their drive values at `t` (motions' displacements, 0 for the others).
@@ -506,90 +512,6 @@ fn largest_imbalances(p: &Problem, w: &Workspace) -> Vec<(Imbalance, f64)> {
     worst.retain(|w| w.1.abs() > STATIC_REPORTED_IMBALANCE * largest);
     worst.truncate(5);
     worst
-}
-
-/// Smallest eigenvalue of the stiffness reduced to the free motions, coordinates scaled so
-/// that translations are measured in characteristic lengths (entries in force × length).
-fn reduced_stability(
-    model: &Model,
-    sys: &System,
-    used: &[(usize, f64)],
-    lambda: &[f64],
-    forces: &dyn AppliedForces,
-    s: &State,
-) -> Option<(bool, f64)> {
-    let n = model.parts.len();
-    let dim = 6 * n;
-    if dim > MAX_DENSE_DOF_COLUMNS || dim == 0 {
-        return None;
-    }
-    let l = model.characteristic_length;
-    let scale = |c: usize| if c % 6 < 3 { l } else { 1.0 };
-    // J (scaled columns), dense.
-    let m = used.len();
-    let mut jt = faer::Mat::<f64>::zeros(dim, m.max(1));
-    let mut g = RowGradient::default();
-    for (k, (r, _)) in used.iter().enumerate() {
-        sys.gradient(*r, s, &mut g);
-        for (body, b) in &g.blocks {
-            for c in 0..6 {
-                jt[(6 * body + c, k)] = b[c] * scale(c);
-            }
-        }
-    }
-    // Null space of J: the trailing columns of Q in Jᵀ = Q R (full QR), rank by |R_ii|.
-    let qr = jt.qr();
-    let q = qr.compute_Q();
-    let r = qr.R();
-    let rmax = (0..r.nrows().min(r.ncols()))
-        .map(|i| r[(i, i)].abs())
-        .fold(0.0, f64::max);
-    let rank = (0..r.nrows().min(r.ncols()))
-        .filter(|&i| r[(i, i)].abs() > STABILITY_RANK * rmax.max(f64::MIN_POSITIVE))
-        .count();
-    let rank = if m == 0 { 0 } else { rank };
-    let free = dim - rank;
-    if free == 0 {
-        return None;
-    }
-    // K_T (scaled), dense.
-    let mut kt = faer::Mat::<f64>::zeros(dim, dim);
-    let mut dq = Vec::new();
-    let rest = vec![(DVec3::ZERO, DVec3::ZERO); n];
-    forces
-        .add_jacobians(Regime::Static, s, &rest, &mut dq, None)
-        .ok()?;
-    for (i, j, v) in dq {
-        kt[(i, j)] -= v * scale(i) * scale(j);
-    }
-    let mut hb = HessianBlocks::default();
-    let mut trip = Vec::new();
-    for (k, (r, _)) in used.iter().enumerate() {
-        hb.clear();
-        sys.hessian(*r, s, 1.0, &mut hb);
-        trip.clear();
-        hb.triplets(lambda[k], &mut trip);
-        for &(i, j, v) in &trip {
-            kt[(i, j)] += v * scale(i) * scale(j);
-        }
-    }
-    let nb = q.subcols(rank, free);
-    let red = nb.transpose() * &kt * nb;
-    let sym = faer::Mat::<f64>::from_fn(free, free, |i, j| 0.5 * (red[(i, j)] + red[(j, i)]));
-    let eig = sym.self_adjoint_eigenvalues(faer::Side::Lower).ok()?;
-    let min = eig.iter().copied().fold(f64::INFINITY, f64::min);
-    // Rounding is judged against the stiffness of the whole model, not only of the free
-    // motions: a model whose free motions carry no stiffness at all (a door on a vertical
-    // hinge) has reduced eigenvalues of rounding size only, of either sign.
-    let max = eig.iter().map(|x| x.abs()).fold(0.0, f64::max);
-    let k_max = (0..dim)
-        .flat_map(|i| (0..dim).map(move |j| (i, j)))
-        .map(|(i, j)| kt[(i, j)].abs())
-        .fold(0.0, f64::max);
-    Some((
-        min > -STABILITY_EIGENVALUE * max.max(k_max).max(f64::MIN_POSITIVE),
-        min,
-    ))
 }
 
 /// Distinguishes length rows for reporting.
