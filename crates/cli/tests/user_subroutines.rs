@@ -524,3 +524,81 @@ fn fortran_motsub_drive_matches_the_builtin_motion() {
         }
     }
 }
+
+/// The header of a simulate CSV written for `model` with `lib`.
+fn simulate_header(model: &Path, lib: &Path) -> Vec<String> {
+    let out = std::env::temp_dir().join(format!(
+        "linkage-usersub-header-{}-{}.csv",
+        model.file_stem().unwrap().to_string_lossy(),
+        std::process::id()
+    ));
+    let (code, stdout, err) = run(&[
+        "simulate",
+        model.to_str().unwrap(),
+        "--end",
+        "0.1",
+        "--steps",
+        "2",
+        "--out",
+        out.to_str().unwrap(),
+        "--user-lib",
+        lib.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "simulate {}: {stdout}\n{err}", model.display());
+    let text = std::fs::read_to_string(&out).unwrap();
+    text.lines()
+        .next()
+        .unwrap()
+        .split(',')
+        .map(str::to_string)
+        .collect()
+}
+
+/// The block with its spring and a REQUEST whose eight values are `request`.
+fn block_with_request(dir: &Path, name: &str, request: &str) -> PathBuf {
+    block(
+        dir,
+        name,
+        &format!(
+            "SFORCE/1, TRANSLATIONAL, I = 3, J = 1, FUNCTION = -100*(DM(3,1)-1.2) - 2*VR(3,1)\n\
+             REQUEST/1, {request}"
+        ),
+    )
+}
+
+#[test]
+fn reqsub_in_fortran_and_c_writes_the_eight_values_of_the_builtin_request() {
+    let dir = folder("reqsub");
+    let fortran = compile("gfortran", "spring.f90", &dir, "reqf");
+    let c = compile("gcc", "reqsub.c", &dir, "reqc");
+    let builtin = block_with_request(
+        &dir,
+        "builtin",
+        "F1 = TIME\\F2 = DZ(3,1)\\F3 = VZ(3,1,1)\\F4 = ACCZ(3,1,1)\\F5 = DM(3,1)\\\
+         F6 = VR(3,1)\\F7 = 2.5*DZ(3,1)\\F8 = SFORCE(1,0,4,0)",
+    );
+    let a = simulate(&builtin, None, "2");
+    for (tag, lib) in [("fortran", &fortran), ("c", &c)] {
+        let user = block_with_request(&dir, tag, "FUNCTION = USER(3, 1, 2.5, 1)");
+        let header = simulate_header(&user, lib);
+        let requests = header.iter().filter(|h| h.starts_with("REQUEST_1")).count();
+        assert_eq!(requests, 8, "{tag}: eight REQUEST columns in {header:?}");
+        let b = simulate(&user, Some(lib), "2");
+        assert_eq!(a.len(), b.len());
+        let scale = a.iter().flatten().fold(0f64, |m, x| m.max(x.abs()));
+        for (ra, rb) in a.iter().zip(&b) {
+            assert_eq!(ra.len(), rb.len(), "{tag}: columns");
+            for (x, y) in ra.iter().zip(rb) {
+                assert!(
+                    (x - y).abs() <= SAME * scale,
+                    "{tag} at t = {}: built-in {x} vs REQSUB {y}",
+                    ra[0]
+                );
+            }
+            // RESULT(1) is TIME, RESULT(7) is 2.5·RESULT(2): the columns are the subroutine's.
+            let n = rb.len();
+            assert!((rb[n - 8] - rb[0]).abs() <= 1e-12, "{tag}: F1 = TIME");
+            assert!((rb[n - 2] - 2.5 * rb[n - 7]).abs() <= 1e-9 * scale.max(1.0));
+        }
+    }
+}

@@ -51,8 +51,9 @@ pub struct RequestDef {
 pub struct Requests {
     pub defs: Vec<RequestDef>,
     /// A marker id (I, J, RM) that is not a marker of the model, an expression that does not
-    /// parse (located inside it), `FUNCTION = USER(…)` or any other `FUNCTION =` (a REQUEST's
-    /// FUNCTION names a user subroutine), a force component a rotational element does not have.
+    /// parse (located inside it), `FUNCTION = USER(…)` without a subroutine library (or a
+    /// subroutine that cannot be found) or any other `FUNCTION =` (a REQUEST's FUNCTION names
+    /// a user subroutine), a force component a rotational element does not have.
     pub issues: Vec<Diagnostic>,
 }
 
@@ -97,6 +98,31 @@ pub fn resolve_requests(
                 }
             }
         };
+        if let Some(f) = r.function.as_ref().filter(|f| f.value.user && user.given()) {
+            // REQSUB: its eight RESULT values are the request's F1 … F8.
+            let mut list = Vec::new();
+            for k in 0..8 {
+                match crate::functions::parse_component(file, f, &origin, "FUNCTION", user, k) {
+                    Ok(expr) => list.push(RequestFunction {
+                        component: k + 1,
+                        expr,
+                        text: f.value.expr.text.clone(),
+                    }),
+                    Err(d) => {
+                        errors.push(d);
+                        break;
+                    }
+                }
+            }
+            if list.len() == 8 {
+                defs.push(RequestDef {
+                    name: r.header.name.clone(),
+                    label,
+                    what: RequestWhat::Functions(list),
+                });
+            }
+            continue;
+        }
         if let Some(f) = &r.function {
             let what = if f.value.user {
                 "FUNCTION calls a USER subroutine, which linkage cannot run"

@@ -23,6 +23,9 @@ pub enum Kind {
     Vfosub,
     /// VTORQUE: `VTOSUB(…, RESULT)`, RESULT(3) = TX, TY, TZ.
     Vtosub,
+    /// REQUEST: `REQSUB(ID, TIME, PAR, NPAR, IFLAG, RESULT)`, RESULT(8) = the request's eight
+    /// values (written as its F1 … F8 columns).
+    Reqsub,
 }
 
 /// How the arguments after `NPAR` go: a flag (DFLAG or IORD) then IFLAG, or IFLAG alone.
@@ -44,6 +47,7 @@ impl Kind {
             "GFORCE" => Kind::Gfosub,
             "VFORCE" => Kind::Vfosub,
             "VTORQUE" => Kind::Vtosub,
+            "REQUEST" => Kind::Reqsub,
             _ => return None,
         })
     }
@@ -59,12 +63,13 @@ impl Kind {
             Kind::Gfosub => "GFOSUB",
             Kind::Vfosub => "VFOSUB",
             Kind::Vtosub => "VTOSUB",
+            Kind::Reqsub => "REQSUB",
         }
     }
 
     pub(crate) fn shape(self) -> Shape {
         match self {
-            Kind::Sensub => Shape::Plain,
+            Kind::Sensub | Kind::Reqsub => Shape::Plain,
             _ => Shape::Flagged,
         }
     }
@@ -72,6 +77,7 @@ impl Kind {
     /// How many values the subroutine writes.
     pub fn outputs(self) -> usize {
         match self {
+            Kind::Reqsub => 8,
             Kind::Gfosub => 6,
             Kind::Vfosub | Kind::Vtosub => 3,
             _ => 1,

@@ -86,3 +86,31 @@ subroutine motsub(id, time, par, npar, iord, iflag, value)
     value = -par(1)*par(2)**2*sin(par(2)*time)
   end select
 end subroutine motsub
+
+! REQSUB: eight outputs of the block (marker PAR(1) above PAR(2)): TIME, DZ, VZ, ACCZ, DM, VR,
+! PAR(3)*DZ and the SFORCE/PAR(4)'s z force on its I marker.
+subroutine reqsub(id, time, par, npar, iflag, result)
+  implicit none
+  integer, intent(in) :: id, npar
+  double precision, intent(in) :: time, par(*)
+  logical, intent(in) :: iflag
+  double precision, intent(out) :: result(8)
+  integer :: ipar(4)
+  logical :: errflg
+  ipar = 0
+  ipar(1) = nint(par(1))
+  ipar(2) = nint(par(2))
+  result(1) = time
+  call sysfnc('DZ', ipar, 2, result(2), errflg)
+  call sysfnc('VZ', ipar, 4, result(3), errflg)
+  call sysfnc('ACCZ', ipar, 4, result(4), errflg)
+  call sysfnc('DM', ipar, 2, result(5), errflg)
+  call sysfnc('VR', ipar, 2, result(6), errflg)
+  result(7) = par(3)*result(2)
+  ipar(1) = nint(par(4))
+  ipar(2) = 0
+  ipar(3) = 4
+  ipar(4) = 0
+  call sysfnc('SFORCE', ipar, 4, result(8), errflg)
+  call errmes(errflg, 'SFORCE cannot be read', id, 'STOP')
+end subroutine reqsub
