@@ -602,3 +602,114 @@ fn reqsub_in_fortran_and_c_writes_the_eight_values_of_the_builtin_request() {
         }
     }
 }
+
+/// The bushing's preloads, stiffnesses, dampings (FX, FY, FZ, TX, TY, TZ) and its free
+/// length along z.
+const BUSHING: [[f64; 6]; 3] = [
+    [4.0, -3.0, 0.0, 0.5, -0.7, 0.2],
+    [10.0, 20.0, 100.0, 5.0, 6.0, 7.0],
+    [1.0, 1.5, 2.0, 0.1, 0.2, 0.3],
+];
+
+#[test]
+fn fortran_gfosub_six_component_bushing_matches_the_builtin_gforce_in_every_analysis() {
+    let dir = folder("gfosub");
+    let lib = compile("gfortran", "spring.f90", &dir, "bush");
+    let [pre, stiff, damp] = BUSHING;
+    let measures = [
+        ("FX", "DX(3,1,1)", "VX(3,1,1,1)"),
+        ("FY", "DY(3,1,1)", "VY(3,1,1,1)"),
+        ("FZ", "(DZ(3,1,1)-1.2)", "VZ(3,1,1,1)"),
+        ("TX", "AX(3,1)", "WX(3,1,1)"),
+        ("TY", "AY(3,1)", "WY(3,1,1)"),
+        ("TZ", "AZ(3,1)", "WZ(3,1,1)"),
+    ];
+    let components: Vec<String> = measures
+        .iter()
+        .enumerate()
+        .map(|(k, (c, d, v))| format!("{c} = {} - {}*{d} - {}*{v}", pre[k], stiff[k], damp[k]))
+        .collect();
+    let gforce = |functions: &str| {
+        format!("MARKER/5, PART = 1, FLOATING\nGFORCE/1, I = 3, JFLOAT = 5, RM = 1, {functions}")
+    };
+    let builtin = block(&dir, "builtin", &gforce(&components.join("\\\n, ")));
+    let params: Vec<String> = [3.0, 1.0]
+        .iter()
+        .chain(pre.iter())
+        .chain(stiff.iter())
+        .chain(damp.iter())
+        .chain([1.2].iter())
+        .map(|p| p.to_string())
+        .collect();
+    let user = block(
+        &dir,
+        "user",
+        &gforce(&format!(
+            "FUNCTION = USER({})\n, ROUTINE = bush::",
+            params.join(", ")
+        )),
+    );
+    same_in_every_analysis(&builtin, &user, &lib);
+    // Statics: FZ carries the weight, DZ = 1.2 − m·g/k_z.
+    let s = analysis("static", &user, Some(&lib), &[]);
+    let z = s["parts"][0]["position"][2].as_f64().unwrap();
+    let expected = 1.2 - 2.0 * 9.80665 / stiff[2];
+    assert!(
+        (z - expected).abs() < 1e-9,
+        "static height {z} vs {expected}"
+    );
+    // The joint holds the bushing's preloads in x, y and every torque: its reaction is their
+    // opposite, component by component (RM is the ground's axes).
+    let r = &s["reactions"][0];
+    for k in 0..6 {
+        let (what, n) = if k < 3 {
+            ("force", k)
+        } else {
+            ("torque", k - 3)
+        };
+        let got = r[what][n].as_f64().unwrap();
+        let want = if k == 2 { 0.0 } else { -pre[k] };
+        assert!(
+            (got - want).abs() < 1e-9,
+            "reaction {what}[{n}] {got} vs {want}"
+        );
+    }
+}
+
+#[test]
+fn fortran_sensub_halts_where_the_builtin_sensor_does() {
+    let dir = folder("sensub");
+    let lib = compile("gfortran", "spring.f90", &dir, "sense");
+    // The block starts at 1 m, below its rest height 1.2 − m·g/k ≈ 1.0039 m, and rises through
+    // 1.003 m, where the sensor halts the run.
+    let with = |function: &str| {
+        format!(
+            "SFORCE/1, TRANSLATIONAL, I = 3, J = 1, FUNCTION = -100*(DM(3,1)-1.2) - 2*VR(3,1)\n\
+             SENSOR/1, VALUE = 0, GE, ERROR = 1E-9, HALT, FUNCTION = {function}"
+        )
+    };
+    let builtin = block(&dir, "builtin", &with("DZ(3,1) - 1.003"));
+    let user = block(
+        &dir,
+        "user",
+        &with("USER(3, 1, 1.003)\n, ROUTINE = sense::"),
+    );
+    let halt = |model: &Path, lib: Option<&Path>| {
+        let v = analysis("simulate", model, lib, &["--end", "2", "--steps", "50"]);
+        assert_eq!(v["ended_by_sensor"], "SENSOR_1 (HALT)", "{v}");
+        v["end_time"].as_f64().unwrap()
+    };
+    let a = halt(&builtin, None);
+    let b = halt(&user, Some(&lib));
+    assert!(
+        a > 0.0 && a < 2.0,
+        "the built-in sensor fires within the run: {a}"
+    );
+    assert!(
+        (a - b).abs() <= SAME * a,
+        "built-in halts at {a}, SENSUB at {b}"
+    );
+    let x = simulate(&builtin, None, "2");
+    let y = simulate(&user, Some(&lib), "2");
+    assert_eq!(x.len(), y.len(), "the same outputs up to the halt");
+}

@@ -114,3 +114,53 @@ subroutine reqsub(id, time, par, npar, iflag, result)
   call sysfnc('SFORCE', ipar, 4, result(8), errflg)
   call errmes(errflg, 'SFORCE cannot be read', id, 'STOP')
 end subroutine reqsub
+
+! GFOSUB: a six-component bushing of marker PAR(1) on PAR(2) (RM's axes = PAR(2)'s):
+! F_k = PAR(2+k) - PAR(8+k)*(D_k - L_k) - PAR(14+k)*V_k, k = 1…6, D = DX, DY, DZ, AX, AY, AZ,
+! V = VX, VY, VZ, WX, WY, WZ, L = 0, 0, PAR(21), 0, 0, 0.
+subroutine gfosub(id, time, par, npar, dflag, iflag, result)
+  implicit none
+  integer, intent(in) :: id, npar
+  double precision, intent(in) :: time, par(*)
+  logical, intent(in) :: dflag, iflag
+  double precision, intent(out) :: result(6)
+  character(len=2), parameter :: dname(6) = ['DX', 'DY', 'DZ', 'AX', 'AY', 'AZ']
+  character(len=2), parameter :: vname(6) = ['VX', 'VY', 'VZ', 'WX', 'WY', 'WZ']
+  integer :: ipar(4), k, nd, nv
+  double precision :: d, v, rest
+  logical :: errflg
+  ipar(1) = nint(par(1))
+  ipar(2) = nint(par(2))
+  ipar(3) = ipar(2)
+  ipar(4) = ipar(2)
+  do k = 1, 6
+    nd = 3
+    nv = 4
+    if (k > 3) then
+      nd = 2
+      nv = 3
+    end if
+    rest = 0d0
+    if (k == 3) rest = par(21)
+    call sysfnc(dname(k), ipar, nd, d, errflg)
+    call errmes(errflg, 'bushing deflection cannot be read', id, 'STOP')
+    call sysfnc(vname(k), ipar, nv, v, errflg)
+    call errmes(errflg, 'bushing velocity cannot be read', id, 'STOP')
+    result(k) = par(2 + k) - par(8 + k)*(d - rest) - par(14 + k)*v
+  end do
+end subroutine gfosub
+
+! SENSUB: the height of marker PAR(1) above PAR(2) less PAR(3).
+subroutine sensub(id, time, par, npar, iflag, value)
+  implicit none
+  integer, intent(in) :: id, npar
+  double precision, intent(in) :: time, par(*)
+  logical, intent(in) :: iflag
+  double precision, intent(out) :: value
+  integer :: ipar(2)
+  logical :: errflg
+  ipar(1) = nint(par(1))
+  ipar(2) = nint(par(2))
+  call sysfnc('DZ', ipar, 2, value, errflg)
+  value = value - par(3)
+end subroutine sensub
