@@ -136,14 +136,17 @@ fn analysis(command: &str, model: &Path, lib: Option<&Path>, extra: &[&str]) -> 
     serde_json::from_str(&out).unwrap_or_else(|e| panic!("JSON ({e}): {out}"))
 }
 
+/// A CSV path of its own for each simulation (tests run in parallel; a corpus model's folder
+/// is never written to).
+fn scratch_csv() -> PathBuf {
+    static NEXT: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
+    let n = NEXT.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+    std::env::temp_dir().join(format!("linkage-usersub-{}-{n}.csv", std::process::id()))
+}
+
 /// The CSV of a simulation: rows of numbers.
 fn simulate(model: &Path, lib: Option<&Path>, end: &str) -> Vec<Vec<f64>> {
-    let out = std::env::temp_dir().join(format!(
-        "linkage-usersub-{}-{}-{}.csv",
-        model.file_stem().unwrap().to_string_lossy(),
-        lib.map_or("builtin", |_| "user"),
-        std::process::id()
-    ));
+    let out = scratch_csv();
     let mut args = vec![
         "simulate",
         model.to_str().unwrap(),
@@ -527,11 +530,7 @@ fn fortran_motsub_drive_matches_the_builtin_motion() {
 
 /// The header of a simulate CSV written for `model` with `lib`.
 fn simulate_header(model: &Path, lib: &Path) -> Vec<String> {
-    let out = std::env::temp_dir().join(format!(
-        "linkage-usersub-header-{}-{}.csv",
-        model.file_stem().unwrap().to_string_lossy(),
-        std::process::id()
-    ));
+    let out = scratch_csv();
     let (code, stdout, err) = run(&[
         "simulate",
         model.to_str().unwrap(),
@@ -661,14 +660,14 @@ fn fortran_gfosub_six_component_bushing_matches_the_builtin_gforce_in_every_anal
     // The joint holds the bushing's preloads in x, y and every torque: its reaction is their
     // opposite, component by component (RM is the ground's axes).
     let r = &s["reactions"][0];
-    for k in 0..6 {
+    for (k, preload) in pre.iter().enumerate() {
         let (what, n) = if k < 3 {
             ("force", k)
         } else {
             ("torque", k - 3)
         };
         let got = r[what][n].as_f64().unwrap();
-        let want = if k == 2 { 0.0 } else { -pre[k] };
+        let want = if k == 2 { 0.0 } else { -preload };
         assert!(
             (got - want).abs() < 1e-9,
             "reaction {what}[{n}] {got} vs {want}"
@@ -712,4 +711,26 @@ fn fortran_sensub_halts_where_the_builtin_sensor_does() {
     let x = simulate(&builtin, None, "2");
     let y = simulate(&user, Some(&lib), "2");
     assert_eq!(x.len(), y.len(), "the same outputs up to the halt");
+}
+
+#[test]
+fn fortran_subroutine_calling_impact_step_poly_and_bistop_matches_the_builtin_functions() {
+    let dir = folder("utilities");
+    let lib = compile("gfortran", "spring.f90", &dir, "util");
+    // The contact of the C impact test, a force ramp in time, a polynomial in the height and
+    // a BISTOP whose gap the block stays inside.
+    let builtin = block(
+        &dir,
+        "builtin",
+        "SFORCE/1, TRANSLATIONAL, I = 3, J = 1, \
+         FUNCTION = IMPACT(DM(3,1), VR(3,1), 1.004, 1e5, 1.5, 50, 0.01) + STEP(TIME, 0, 0, 1, 2) \
+         + POLY(DM(3,1), 1, 0, 3, 5) + BISTOP(DM(3,1), VR(3,1), 0.5, 1.5, 1e4, 1.5, 10, 0.01)",
+    );
+    let user = block(
+        &dir,
+        "user",
+        "SFORCE/1, TRANSLATIONAL, I = 3, J = 1, \
+         FUNCTION = USER(1.004, 1e5, 1.5, 50, 0.01, 0, 3, 5, 3, 1)\n, ROUTINE = util::utilforce",
+    );
+    same_in_every_analysis(&builtin, &user, &lib);
 }

@@ -31,6 +31,8 @@ pub(crate) struct Table {
     timget: unsafe extern "C" fn(*mut f64),
     errmes: unsafe extern "C" fn(c_int, *const c_char, usize, c_int, *const c_char, usize),
     usrmes: unsafe extern "C" fn(c_int, *const c_char, usize, c_int, *const c_char, usize),
+    utility:
+        unsafe extern "C" fn(*const c_char, *const f64, c_int, c_int, c_int, *mut f64, *mut c_int),
 }
 
 impl Table {
@@ -41,6 +43,7 @@ impl Table {
             timget,
             errmes,
             usrmes,
+            utility: crate::utilities::utility,
         }
     }
 }
@@ -146,6 +149,13 @@ pub(crate) fn read(key: Key) -> Result<f64, ReadError> {
         }
         v
     }))
+}
+
+/// Runs `f` with the environment of the subroutine call in progress (`None` outside one).
+pub(crate) fn with_current_env<R>(f: impl FnOnce(Option<&dyn Env>) -> R) -> R {
+    let env = STACK.with(|s| s.borrow().last().map(|f| f.env));
+    // SAFETY: the frame is on the stack, so the environment is alive (see `with_frame`).
+    f(env.map(|e| unsafe { &*e }))
 }
 
 /// `NAME(ipar…)` as an expression of the language; the name must be a plain word (no

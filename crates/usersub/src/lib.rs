@@ -25,6 +25,7 @@ pub mod linker;
 pub mod routine;
 pub mod search;
 mod shim;
+mod utilities;
 
 pub use error::UserError;
 pub use kind::Kind;

@@ -164,3 +164,30 @@ subroutine sensub(id, time, par, npar, iflag, value)
   call sysfnc('DZ', ipar, 2, value, errflg)
   value = value - par(3)
 end subroutine sensub
+
+! An SFOSUB built from the function utility routines: IMPACT(DM, VR, PAR(1…5)) + STEP(TIME,
+! 0, 0, 1, 2) + POLY(DM, 1, PAR(6…8)) + BISTOP(DM, VR, 0.5, 1.5, 1e4, 1.5, 10, 0.01), the
+! block's markers PAR(9), PAR(10).
+subroutine utilforce(id, time, par, npar, dflag, iflag, result)
+  implicit none
+  integer, intent(in) :: id, npar
+  double precision, intent(in) :: time, par(*)
+  logical, intent(in) :: dflag, iflag
+  double precision, intent(out) :: result
+  integer :: ipar(2)
+  double precision :: dm, vr, contact(3), gap(3), ramp, poly3
+  logical :: errflg
+  ipar(1) = nint(par(9))
+  ipar(2) = nint(par(10))
+  call sysfnc('DM', ipar, 2, dm, errflg)
+  call sysfnc('VR', ipar, 2, vr, errflg)
+  call impact(dm, vr, par(1), par(2), par(3), par(4), par(5), 0, contact, errflg)
+  call errmes(errflg, 'IMPACT failed', id, 'STOP')
+  call step(time, 0d0, 0d0, 1d0, 2d0, 0, ramp, errflg)
+  call errmes(errflg, 'STEP failed', id, 'STOP')
+  call poly(dm, 1d0, par(6), 3, 0, poly3, errflg)
+  call errmes(errflg, 'POLY failed', id, 'STOP')
+  call bistop(dm, vr, 0.5d0, 1.5d0, 1d4, 1.5d0, 10d0, 0.01d0, 0, gap, errflg)
+  call errmes(errflg, 'BISTOP failed', id, 'STOP')
+  result = contact(1) + ramp + poly3 + gap(1)
+end subroutine utilforce
