@@ -734,3 +734,21 @@ fn fortran_subroutine_calling_impact_step_poly_and_bistop_matches_the_builtin_fu
     );
     same_in_every_analysis(&builtin, &user, &lib);
 }
+
+#[test]
+fn fortran_sfosub_reading_its_constants_with_gtaray_matches_the_builtin_spring() {
+    let dir = folder("gtaray");
+    let lib = compile("gfortran", "spring.f90", &dir, "arrays");
+    let builtin = block(
+        &dir,
+        "builtin",
+        "SFORCE/1, TRANSLATIONAL, I = 3, J = 1, FUNCTION = -100*(DM(3,1)-1.2) - 2*VR(3,1)",
+    );
+    let user = block(
+        &dir,
+        "user",
+        "ARRAY/7, IC, NUMBERS = 100, 2, 1.2, 3, 1\n\
+         SFORCE/1, TRANSLATIONAL, I = 3, J = 1, FUNCTION = USER(7)\n, ROUTINE = arrays::arrayspring",
+    );
+    same_in_every_analysis(&builtin, &user, &lib);
+}

@@ -23,6 +23,7 @@ struct linkage_callbacks {
                    size_t type_len);
     void (*utility)(const char *name, const double *args, int nargs, int nvars, int iord,
                     double *out, int *errflg);
+    void (*gtaray)(int id, double *array, int *number, int *istat);
 };
 
 static struct linkage_callbacks cb;
@@ -187,4 +188,16 @@ void c_akispl(double xval, double zval, int id, int iord, double *array, int *er
 void c_cubspl(double xval, double zval, int id, int iord, double *array, int *errflg)
 {
     cubspl_(&xval, &zval, &id, &iord, array, errflg);
+}
+
+/* GTARAY(ID, ARRAY, NUMBER, ISTAT): the values of ARRAY/ID. */
+void gtaray_(const int *id, double *array, int *number, int *istat)
+{
+    if (!cb.gtaray) { *number = 0; *istat = 1; return; }
+    cb.gtaray(*id, array, number, istat);
+}
+
+void c_gtaray(int id, double *array, int *number, int *istat)
+{
+    gtaray_(&id, array, number, istat);
 }

@@ -33,6 +33,7 @@ pub(crate) struct Table {
     usrmes: unsafe extern "C" fn(c_int, *const c_char, usize, c_int, *const c_char, usize),
     utility:
         unsafe extern "C" fn(*const c_char, *const f64, c_int, c_int, c_int, *mut f64, *mut c_int),
+    gtaray: unsafe extern "C" fn(c_int, *mut f64, *mut c_int, *mut c_int),
 }
 
 impl Table {
@@ -44,6 +45,7 @@ impl Table {
             errmes,
             usrmes,
             utility: crate::utilities::utility,
+            gtaray,
         }
     }
 }
@@ -296,6 +298,32 @@ unsafe extern "C" fn sysary(
             fail(format!("SYSARY {why}"));
         }
     }
+}
+
+/// The most values GTARAY returns (an ARRAY longer than this is an error).
+const GTARAY_MAX: i32 = 10_000;
+
+/// GTARAY(ID, ARRAY, NUMBER, ISTAT): the values of ARRAY/ID (ARYVAL(ID, 1), ARYVAL(ID, 2), …,
+/// each read like SYSFNC's, so a states array's values carry their dependencies) and how many;
+/// ISTAT 0, or 1 when the array has no value (no such array) or more than [`GTARAY_MAX`].
+/// ARRAY must have room for every value, as in Adams.
+unsafe extern "C" fn gtaray(id: c_int, array: *mut f64, number: *mut c_int, istat: *mut c_int) {
+    let r = std::panic::catch_unwind(|| {
+        let mut values = Vec::new();
+        for k in 1..=GTARAY_MAX {
+            match read(Key::Measure("ARYVAL".into(), vec![id, k])) {
+                Ok(v) => values.push(v),
+                Err(_) => break,
+            }
+        }
+        values
+    })
+    .unwrap_or_default();
+    for (k, v) in r.iter().enumerate() {
+        *array.add(k) = *v;
+    }
+    *number = r.len() as c_int;
+    *istat = c_int::from(r.is_empty() || r.len() as i32 == GTARAY_MAX);
 }
 
 /// TIMGET(TIME): the current simulation time.

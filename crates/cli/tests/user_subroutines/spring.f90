@@ -191,3 +191,22 @@ subroutine utilforce(id, time, par, npar, dflag, iflag, result)
   call errmes(errflg, 'BISTOP failed', id, 'STOP')
   result = contact(1) + ramp + poly3 + gap(1)
 end subroutine utilforce
+
+! An SFOSUB whose spring constants come from ARRAY/PAR(1) with GTARAY: k, c, L, I, J.
+subroutine arrayspring(id, time, par, npar, dflag, iflag, result)
+  implicit none
+  integer, intent(in) :: id, npar
+  double precision, intent(in) :: time, par(*)
+  logical, intent(in) :: dflag, iflag
+  double precision, intent(out) :: result
+  double precision :: values(16), dm, vr
+  integer :: number, istat, ipar(2)
+  logical :: errflg
+  call gtaray(nint(par(1)), values, number, istat)
+  call errmes(istat /= 0 .or. number /= 5, 'ARRAY of k, c, L, I, J expected', id, 'STOP')
+  ipar(1) = nint(values(4))
+  ipar(2) = nint(values(5))
+  call sysfnc('DM', ipar, 2, dm, errflg)
+  call sysfnc('VR', ipar, 2, vr, errflg)
+  result = -values(1)*(dm - values(3)) - values(2)*vr
+end subroutine arrayspring
