@@ -15,41 +15,6 @@ use std::cell::RefCell;
 use std::collections::HashMap;
 use std::ffi::{c_char, c_int};
 
-/// The callbacks handed to the shim (`struct linkage_callbacks` in `shim/utilities.c`).
-#[repr(C)]
-pub(crate) struct Table {
-    sysfnc: unsafe extern "C" fn(*const c_char, usize, *const c_int, c_int, *mut f64, *mut c_int),
-    sysary: unsafe extern "C" fn(
-        *const c_char,
-        usize,
-        *const c_int,
-        c_int,
-        *mut f64,
-        *mut c_int,
-        *mut c_int,
-    ),
-    timget: unsafe extern "C" fn(*mut f64),
-    errmes: unsafe extern "C" fn(c_int, *const c_char, usize, c_int, *const c_char, usize),
-    usrmes: unsafe extern "C" fn(c_int, *const c_char, usize, c_int, *const c_char, usize),
-    utility:
-        unsafe extern "C" fn(*const c_char, *const f64, c_int, c_int, c_int, *mut f64, *mut c_int),
-    gtaray: unsafe extern "C" fn(c_int, *mut f64, *mut c_int, *mut c_int),
-}
-
-impl Table {
-    pub(crate) fn new() -> Table {
-        Table {
-            sysfnc,
-            sysary,
-            timget,
-            errmes,
-            usrmes,
-            utility: crate::utilities::utility,
-            gtaray,
-        }
-    }
-}
-
 /// A quantity a subroutine reads: TIME (its argument and TIMGET), or `NAME(ipar…)`.
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub(crate) enum Key {
@@ -207,7 +172,7 @@ unsafe fn ints<'a>(ipar: *const c_int, n: c_int) -> &'a [c_int] {
 }
 
 /// SYSFNC(FNCNAM, IPAR, NSIZE, STATES, ERRFLG): one value of `FNCNAM(IPAR…)`.
-unsafe extern "C" fn sysfnc(
+pub(crate) unsafe extern "C" fn sysfnc(
     name: *const c_char,
     name_len: usize,
     ipar: *const c_int,
@@ -251,7 +216,7 @@ fn sysary_names(name: &str) -> Option<&'static [&'static str]> {
 /// SYSARY(FNCNAM, IPAR, NSIZE, STATES, NSTATES, ERRFLG): several values at once — TDISP,
 /// RDISP, DISP (marker ids i, j, k as DX…), TVEL, RVEL, VEL, TACC, RACC, ACC (i, j, k, l as
 /// VX…; the rotational ones take i, j, k).
-unsafe extern "C" fn sysary(
+pub(crate) unsafe extern "C" fn sysary(
     name: *const c_char,
     name_len: usize,
     ipar: *const c_int,
@@ -307,7 +272,12 @@ const GTARAY_MAX: i32 = 10_000;
 /// each read like SYSFNC's, so a states array's values carry their dependencies) and how many;
 /// ISTAT 0, or 1 when the array has no value (no such array) or more than [`GTARAY_MAX`].
 /// ARRAY must have room for every value, as in Adams.
-unsafe extern "C" fn gtaray(id: c_int, array: *mut f64, number: *mut c_int, istat: *mut c_int) {
+pub(crate) unsafe extern "C" fn gtaray(
+    id: c_int,
+    array: *mut f64,
+    number: *mut c_int,
+    istat: *mut c_int,
+) {
     let r = std::panic::catch_unwind(|| {
         let mut values = Vec::new();
         for k in 1..=GTARAY_MAX {
@@ -327,13 +297,13 @@ unsafe extern "C" fn gtaray(id: c_int, array: *mut f64, number: *mut c_int, ista
 }
 
 /// TIMGET(TIME): the current simulation time.
-unsafe extern "C" fn timget(time: *mut f64) {
+pub(crate) unsafe extern "C" fn timget(time: *mut f64) {
     *time = read(Key::Time).unwrap_or(0.0);
 }
 
 /// ERRMES(ERRFLG, MESAGE, ID, ENDFLG): when ERRFLG is true, reports MESAGE; ENDFLG = STOP
 /// ends the analysis (after the subroutine returns) with the message.
-unsafe extern "C" fn errmes(
+pub(crate) unsafe extern "C" fn errmes(
     errflg: c_int,
     msg: *const c_char,
     msg_len: usize,
@@ -359,7 +329,7 @@ unsafe extern "C" fn errmes(
 
 /// USRMES(MSGFLG, MESAGE, ID, MSGTYP): a message of type INFO, WARN, ERROR or FAULT, written
 /// to standard error when MSGFLG is true.
-unsafe extern "C" fn usrmes(
+pub(crate) unsafe extern "C" fn usrmes(
     msgflg: c_int,
     msg: *const c_char,
     msg_len: usize,

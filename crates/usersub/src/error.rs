@@ -75,4 +75,7 @@ pub enum ReadError {
     /// The routine panicked.
     #[error("{0} failed")]
     Panicked(String),
+    /// A function utility routine (STEP, IMPACT, …) called with arguments it cannot take.
+    #[error("{routine}: {why}")]
+    Arguments { routine: String, why: String },
 }

@@ -4,12 +4,48 @@
 //! file (`memfd_create`: nothing is written to disk), before any user library, so that a
 //! user library's references to the utility routines resolve to it.
 
-use crate::callbacks::Table;
+use crate::callbacks;
 use crate::error::UserError;
 use libloading::os::unix::{Library, RTLD_GLOBAL, RTLD_NOW};
+use std::ffi::{c_char, c_int};
 use std::io::Write;
 use std::os::fd::FromRawFd;
 use std::sync::OnceLock;
+
+/// The callbacks handed to the shim (`struct linkage_callbacks` in `shim/utilities.c`).
+#[repr(C)]
+pub(crate) struct Table {
+    sysfnc: unsafe extern "C" fn(*const c_char, usize, *const c_int, c_int, *mut f64, *mut c_int),
+    sysary: unsafe extern "C" fn(
+        *const c_char,
+        usize,
+        *const c_int,
+        c_int,
+        *mut f64,
+        *mut c_int,
+        *mut c_int,
+    ),
+    timget: unsafe extern "C" fn(*mut f64),
+    errmes: unsafe extern "C" fn(c_int, *const c_char, usize, c_int, *const c_char, usize),
+    usrmes: unsafe extern "C" fn(c_int, *const c_char, usize, c_int, *const c_char, usize),
+    utility:
+        unsafe extern "C" fn(*const c_char, *const f64, c_int, c_int, c_int, *mut f64, *mut c_int),
+    gtaray: unsafe extern "C" fn(c_int, *mut f64, *mut c_int, *mut c_int),
+}
+
+impl Table {
+    pub(crate) fn new() -> Table {
+        Table {
+            sysfnc: callbacks::sysfnc,
+            sysary: callbacks::sysary,
+            timget: callbacks::timget,
+            errmes: callbacks::errmes,
+            usrmes: callbacks::usrmes,
+            utility: crate::utilities::utility,
+            gtaray: callbacks::gtaray,
+        }
+    }
+}
 
 static SHIM: &[u8] = include_bytes!(concat!(env!("OUT_DIR"), "/liblinkage_utilities.so"));
 

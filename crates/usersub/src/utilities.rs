@@ -10,15 +10,21 @@
 //!   central differences of the exact first partials.
 
 use crate::callbacks::with_current_env;
+use crate::error::ReadError;
 use crate::routine::DIFFERENCE_STEP;
 use linkage_expr::{evaluate_with_gradient, parse, Env, SplineData};
 use std::ffi::{c_char, c_int, CStr};
 
 /// The value of `name(args…)` with argument `var` the variable (TIME of [`At`]), and its
 /// first derivative along it.
-fn along(name: &str, args: &[f64], var: usize, env: Option<&dyn Env>) -> Result<[f64; 2], String> {
+fn along(
+    name: &str,
+    args: &[f64],
+    var: usize,
+    env: Option<&dyn Env>,
+) -> Result<[f64; 2], ReadError> {
     if args.iter().any(|a| !a.is_finite()) {
-        return Err(format!("{name}: an argument is not a finite number"));
+        return Err(arguments(name, "an argument is not a finite number".into()));
     }
     let text: Vec<String> = args
         .iter()
@@ -31,14 +37,28 @@ fn along(name: &str, args: &[f64], var: usize, env: Option<&dyn Env>) -> Result<
             }
         })
         .collect();
-    let expr = parse(&format!("{name}({})", text.join(","))).map_err(|e| e.message)?;
+    let call = format!("{name}({})", text.join(","));
+    let expr = parse(&call).map_err(|e| ReadError::BadName {
+        name: name.to_string(),
+        why: Some(e.message),
+    })?;
     let at = At {
         env,
         time: args[var],
     };
-    let d = evaluate_with_gradient(&expr, &at).map_err(|e| e.message)?;
+    let d = evaluate_with_gradient(&expr, &at).map_err(|e| ReadError::Evaluate {
+        what: call,
+        why: e.message,
+    })?;
     let slope = d.gradient().iter().map(|&(_, g)| g).sum();
     Ok([d.value(), slope])
+}
+
+fn arguments(routine: &str, why: String) -> ReadError {
+    ReadError::Arguments {
+        routine: routine.to_string(),
+        why,
+    }
 }
 
 /// The environment of a utility call: TIME is the variable (index 0); splines are the model's.
@@ -67,10 +87,10 @@ pub(crate) fn partials(
     nvars: usize,
     iord: i32,
     env: Option<&dyn Env>,
-) -> Result<Vec<f64>, String> {
+) -> Result<Vec<f64>, ReadError> {
     let nvars = nvars.clamp(1, 2).min(args.len());
     if nvars == 0 {
-        return Err(format!("{name}: no arguments"));
+        return Err(arguments(name, "no arguments".into()));
     }
     let first = |args: &[f64], k: usize| along(name, args, k, env).map(|v| v[1]);
     match iord {
@@ -78,7 +98,7 @@ pub(crate) fn partials(
         1 => (0..nvars).map(|k| first(args, k)).collect(),
         2 => {
             // ∂/∂a_j of ∂f/∂a_k by central differences.
-            let second = |k: usize, j: usize| -> Result<f64, String> {
+            let second = |k: usize, j: usize| -> Result<f64, ReadError> {
                 let h = DIFFERENCE_STEP * args[j].abs().max(1.0);
                 let mut up = args.to_vec();
                 let mut down = args.to_vec();
@@ -92,7 +112,7 @@ pub(crate) fn partials(
                 Ok(vec![second(0, 0)?, second(0, 1)?, second(1, 1)?])
             }
         }
-        _ => Err(format!("{name}: IORD {iord} is not 0, 1 or 2")),
+        _ => Err(arguments(name, format!("IORD {iord} is not 0, 1 or 2"))),
     }
 }
 
@@ -117,7 +137,7 @@ pub(crate) unsafe extern "C" fn utility(
     let r = std::panic::catch_unwind(|| {
         with_current_env(|env| partials(&name, args, nvars.max(0) as usize, iord, env))
     })
-    .unwrap_or_else(|_| Err(format!("{name} panicked")));
+    .unwrap_or_else(|_| Err(ReadError::Panicked(name.clone())));
     match r {
         Ok(values) => {
             for (k, v) in values.iter().enumerate() {
