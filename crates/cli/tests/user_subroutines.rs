@@ -752,3 +752,58 @@ fn fortran_sfosub_reading_its_constants_with_gtaray_matches_the_builtin_spring()
     );
     same_in_every_analysis(&builtin, &user, &lib);
 }
+
+/// The numbers of the `.req` file a command file writes for `model` (run in its folder,
+/// output `{stem}_out`), with `lib` given or not.
+fn req_numbers(model: &Path, lib: Option<&Path>) -> Vec<f64> {
+    let dir = model.parent().unwrap();
+    let stem = model.file_stem().unwrap().to_string_lossy().into_owned();
+    let acf = dir.join(format!("{stem}.acf"));
+    std::fs::write(
+        &acf,
+        format!("{stem}\n{stem}_out\nSIMULATE/DYNAMIC, END = 1, STEPS = 20\nSTOP\n"),
+    )
+    .unwrap();
+    let mut args = vec![
+        "run",
+        acf.to_str().unwrap(),
+        "--out-dir",
+        dir.to_str().unwrap(),
+    ];
+    if let Some(l) = lib {
+        args.extend(["--user-lib", l.to_str().unwrap()]);
+    }
+    let (code, out, err) = run(&args);
+    assert_eq!(code, 0, "run {}: {out}\n{err}", acf.display());
+    let req = std::fs::read_to_string(dir.join(format!("{stem}_out.req")))
+        .unwrap_or_else(|e| panic!("{stem}_out.req: {e}\n{out}"));
+    req.split_whitespace()
+        .filter_map(|t| t.parse::<f64>().ok())
+        .collect()
+}
+
+#[test]
+fn reqsub_writes_the_req_file_of_the_builtin_request() {
+    let dir = folder("reqsub-req");
+    let lib = compile("gfortran", "spring.f90", &dir, "reqf");
+    let builtin = block_with_request(
+        &dir,
+        "builtin",
+        "F1 = TIME\\F2 = DZ(3,1)\\F3 = VZ(3,1,1)\\F4 = ACCZ(3,1,1)\\F5 = DM(3,1)\\\
+         F6 = VR(3,1)\\F7 = 2.5*DZ(3,1)\\F8 = SFORCE(1,0,4,0)",
+    );
+    let user = block_with_request(&dir, "user", "FUNCTION = USER(3, 1, 2.5, 1)");
+    let a = req_numbers(&builtin, None);
+    let b = req_numbers(&user, Some(&lib));
+    // 21 outputs of the six values the R3 format keeps (F2–F4, F6–F8; F1 and F5 are
+    // magnitudes in Adams' convention), with 6 significant digits.
+    assert!(a.len() >= 21 * 7, "{} numbers", a.len());
+    assert_eq!(a.len(), b.len(), "the same layout");
+    let scale = a.iter().fold(0f64, |m, x| m.max(x.abs()));
+    for (k, (x, y)) in a.iter().zip(&b).enumerate() {
+        assert!(
+            (x - y).abs() <= 1e-5 * x.abs().max(y.abs()) + SAME * scale,
+            ".req number {k}: built-in {x} vs REQSUB {y}"
+        );
+    }
+}
