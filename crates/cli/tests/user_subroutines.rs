@@ -807,3 +807,16 @@ fn reqsub_writes_the_req_file_of_the_builtin_request() {
         );
     }
 }
+
+#[test]
+fn a_reqsub_is_called_once_with_iflag_for_its_eight_values() {
+    let dir = folder("iflag");
+    let lib = compile("gcc", "reqsub.c", &dir, "reqc");
+    let user = block_with_request(&dir, "user", "FUNCTION = USER(0)\n, ROUTINE = reqc::Iflags");
+    let rows = simulate(&user, Some(&lib), "0.5");
+    assert!(rows.len() > 2);
+    for r in &rows {
+        let n = r.len();
+        assert_eq!(&r[n - 8..], &[1.0; 8], "one IFLAG call: {r:?}");
+    }
+}

@@ -8,6 +8,7 @@ use crate::search::Search;
 use libloading::os::unix::{Library, RTLD_LOCAL, RTLD_NOW};
 use linkage_expr::Routine;
 use linkage_model::functions::{UserLinker, UserRoutines, UserSite};
+use std::collections::HashMap;
 use std::error::Error;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::AtomicBool;
@@ -18,6 +19,9 @@ pub struct Linker {
     search: Search,
     /// Libraries loaded so far (canonical path → library), in load order.
     loaded: Mutex<Vec<(PathBuf, Arc<Library>)>>,
+    /// The IFLAG state of each statement's subroutine (`GFORCE/3 FUNCTION`), shared by the
+    /// values it returns.
+    initialised: Mutex<HashMap<String, Arc<AtomicBool>>>,
 }
 
 /// The linker for `--user-lib` entries `given` and the dataset (or command file) at
@@ -30,6 +34,7 @@ pub fn user_routines(given: &[PathBuf], dataset: Option<&Path>) -> Result<UserRo
     Ok(UserRoutines(Some(Arc::new(Linker {
         search: Search::new(given, dataset)?,
         loaded: Mutex::new(Vec::new()),
+        initialised: Mutex::new(HashMap::new()),
     }))))
 }
 
@@ -96,6 +101,13 @@ impl Linker {
         Ok(lib)
     }
 
+    /// The IFLAG state shared by every value of `site`'s statement and argument.
+    fn initialised(&self, site: &UserSite<'_>) -> Arc<AtomicBool> {
+        let key = format!("{} {}", site.origin.element(), site.what);
+        let mut map = self.initialised.lock().unwrap_or_else(|e| e.into_inner());
+        map.entry(key).or_default().clone()
+    }
+
     /// The entry point `symbol` of `lib` in the convention of `kind`.
     fn entry(lib: &Library, symbol: &str, c_style: bool, kind: Kind) -> Option<Entry> {
         let name = format!("{symbol}\0");
@@ -139,7 +151,7 @@ impl UserLinker for Linker {
                         library: path.clone(),
                         _keep: lib,
                         element: site.origin.element(),
-                        initialised: AtomicBool::new(false),
+                        initialised: self.initialised(site),
                     })));
                 }
             }

@@ -65,8 +65,9 @@ pub struct Linked {
     pub(crate) _keep: Arc<libloading::os::unix::Library>,
     /// The statement, for messages (`SFORCE/3`).
     pub(crate) element: String,
-    /// Set after the IFLAG call (the first one).
-    pub(crate) initialised: AtomicBool,
+    /// Set after the IFLAG call (the first one), shared by every value of the same statement's
+    /// subroutine (a GFOSUB's six, a REQSUB's eight): Adams calls it once per statement.
+    pub(crate) initialised: Arc<AtomicBool>,
 }
 
 impl Linked {

@@ -25,3 +25,14 @@ void Reqsub(const struct sAdamsRequest *req, double time, int iflag, double *res
     int force[4] = {(int)p[3], 0, 4, 0};
     c_sysfnc("SFORCE", force, 4, &result[7], &err);
 }
+
+/* A C-style REQSUB that counts the calls with IFLAG set: every value is that count. */
+static int iflag_calls = 0;
+
+void Iflags(const struct sAdamsRequest *req, double time, int iflag, double *result)
+{
+    (void)req;
+    (void)time;
+    if (iflag) iflag_calls++;
+    for (int k = 0; k < 8; k++) result[k] = (double)iflag_calls;
+}
