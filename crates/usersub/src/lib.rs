@@ -12,8 +12,9 @@
 //! * calls it with IFLAG set once (the initialisation pass) and then for values, DFLAG set on
 //!   the calls that difference its partials ([`routine`]);
 //! * answers the utility routines it calls back into — SYSFNC, SYSARY, TIMGET, ERRMES,
-//!   USRMES, in both conventions (`sysfnc_`, `c_sysfnc`) — through a small shim library
-//!   ([`callbacks`], `shim/utilities.c`).
+//!   USRMES, GTARAY ([`callbacks`]) and STEP, POLY, IMPACT, BISTOP, AKISPL, CUBSPL (by the
+//!   expression language's functions, `utilities`), in both conventions (`sysfnc_`,
+//!   `c_sysfnc`) — through a small shim library (`shim/utilities.c`).
 //!
 //! The model asks [`Linker`] for each USER call ([`linkage_model::functions::UserLinker`]);
 //! front ends make one with [`user_routines`] from `--user-lib PATH`.
