@@ -525,7 +525,7 @@ pub fn is_length(unit: RowUnit) -> bool {
 pub struct StaticRun {
     /// `(time, equilibrium)` at every output time; stops at the first failure; empty when the
     /// model could not be assembled.
-    pub steps: Vec<(f64, Result<Equilibrium, StaticsError>)>,
+    pub steps: Vec<(f64, StepResult)>,
     /// The SENSORs that fired during a quasi-static series, in time order.
     pub sensor_events: Vec<SensorEvent>,
     /// A sensor's HALT or RETURN ended the series (complete) at the last event.
@@ -568,6 +568,22 @@ pub fn run(a: &Assembled, times: &[f64]) -> StaticRun {
 /// [`run`] from the configuration `start` (a state the last analysis of a command file left on
 /// the same assembly) rather than the assembled one: the first equilibrium is sought from it.
 pub fn run_from(a: &Assembled, start: &State, times: &[f64]) -> StaticRun {
+    run_from_streamed(a, start, times, &mut |_, _| true)
+}
+
+/// One step of a quasi-static series as it is solved: its time and result.
+pub type StepResult = Result<Equilibrium, StaticsError>;
+
+/// [`run_from`], handing each step to `on_step` as soon as it is solved, in the order of
+/// [`StaticRun::steps`] (a CSV written row by row). When `on_step` returns `false` the
+/// series stops after that step (Ctrl-C, an output that cannot be written); the run then
+/// holds the steps up to it.
+pub fn run_from_streamed(
+    a: &Assembled,
+    start: &State,
+    times: &[f64],
+    on_step: &mut dyn FnMut(f64, &StepResult) -> bool,
+) -> StaticRun {
     let mut out = StaticRun {
         steps: Vec::new(),
         sensor_events: Vec::new(),
@@ -594,7 +610,22 @@ pub fn run_from(a: &Assembled, start: &State, times: &[f64]) -> StaticRun {
     };
     let mut history: Vec<State> = Vec::new();
     let mut k = 0;
+    // The steps handed to `on_step` so far.
+    let mut handed = 0;
+    let mut hand_on = |steps: &mut Vec<(f64, StepResult)>, handed: &mut usize| {
+        while let Some((t, r)) = steps.get(*handed) {
+            *handed += 1;
+            if !on_step(*t, r) {
+                steps.truncate(*handed);
+                return false;
+            }
+        }
+        true
+    };
     while k < schedule.len() {
+        if !hand_on(&mut out.steps, &mut handed) {
+            return out;
+        }
         let t = schedule[k];
         let mut start = match history.as_slice() {
             [] => start.clone(),
@@ -711,6 +742,7 @@ pub fn run_from(a: &Assembled, start: &State, times: &[f64]) -> StaticRun {
             w.carry(s);
         }
     }
+    hand_on(&mut out.steps, &mut handed);
     out
 }
 
