@@ -76,6 +76,36 @@ fn judge_stability(report: &mut StaticJson, allow: bool) {
     }
 }
 
+/// Each FRICTION at its static limit `|F| = μs·N` (within
+/// [`linkage_solve::tolerances::FRICTION_AT_STATIC_LIMIT`]) in a failed equilibrium, as the
+/// reason: the load along its joint is more than static friction holds.
+fn frictions_at_limit(
+    model: &linkage_model::Model,
+    values: &[linkage_solve::physics::forces::friction::FrictionValue],
+) -> Vec<String> {
+    let at_limit = 1.0 - linkage_solve::tolerances::FRICTION_AT_STATIC_LIMIT;
+    let num = |x: f64| linkage_adm::num::sci(x, 4);
+    values
+        .iter()
+        .filter_map(|v| {
+            let f = model.frictions.iter().find(|f| f.origin.name == v.name)?;
+            let limit = f.mu_static * v.normal;
+            (v.sticking && limit > 0.0 && v.force.length() >= at_limit * limit).then(|| {
+                format!(
+                    "{} is at its static limit μs·N = {} (μs = {}, N = {}): the load along {} \
+                     is more than static friction holds (as a block on a ramp steeper than \
+                     the friction angle), so there is no static equilibrium",
+                    v.name,
+                    num(limit),
+                    f.mu_static,
+                    num(v.normal),
+                    model.constraints[f.joint].origin.name
+                )
+            })
+        })
+        .collect()
+}
+
 /// The output of an equilibrium `eq` of `a` at time `time`: at rest, with its reactions.
 fn at_rest(a: &Assembled, time: f64, eq: &Equilibrium) -> Output {
     Output {
@@ -262,6 +292,11 @@ pub fn run(
             .forces
             .friction_values(Regime::Static, &eq.state, &rest);
         report.frictions = linkage_report::friction::frictions_json(&loaded.model, &values);
+        if !eq.converged {
+            report
+                .errors
+                .extend(frictions_at_limit(&loaded.model, &values));
+        }
         let contacts = linkage_solve::constraints::curve_contacts::curve_contacts(
             &loaded.model,
             &assembled.system,
