@@ -283,3 +283,62 @@ fn a_block_on_a_ramp_steeper_than_its_friction_angle_is_refused_with_the_reason(
     assert!(!out.contains("settling "), "{out}");
     let _ = std::fs::remove_file(&f);
 }
+
+#[test]
+fn an_unstable_quasi_static_series_suggests_only_what_works_on_a_series() {
+    // The series starts on Newton's inverted equilibrium and follows it: `--settle` takes no
+    // series, so the message does not send the user there.
+    let f = double_pendulum(10.0);
+    let (code, out, _) = run(&["static", f.to_str().unwrap(), "--end", "1", "--steps", "1"]);
+    assert_eq!(code, 1, "{out}");
+    assert!(out.contains("is UNSTABLE"), "{out}");
+    assert!(
+        out.contains("the series follows the equilibrium it started from"),
+        "{out}"
+    );
+    assert!(!out.contains("--settle"), "{out}");
+    let (code, _, err) = run(&[
+        "static",
+        f.to_str().unwrap(),
+        "--end",
+        "1",
+        "--steps",
+        "1",
+        "--allow-unstable",
+    ]);
+    assert_eq!(code, 0, "{err}");
+}
+
+#[test]
+fn a_singular_newton_matrix_with_stability_zero_suggests_a_positive_stability() {
+    // A free body under gravity with EQUILIBRIUM/STABILITY = 0: nothing (no stiffness, no
+    // inertia term) holds its six motions, so the Newton matrix is singular.
+    let text = "free body, stability 0\n\
+         UNITS/FORCE = NEWTON, MASS = KILOGRAM, LENGTH = METER, TIME = SECOND\n\
+         PART/1, GROUND\n\
+         MARKER/101, PART = 1\n\
+         PART/2, MASS = 1, CM = 201, IP = 1, 1, 1\n\
+         MARKER/201, PART = 2\n\
+         ACCGRAV/JGRAV = -9.80665\n\
+         EQUILIBRIUM/STABILITY = 0\n\
+         END\n";
+    let f = std::env::temp_dir().join(format!("linkage-stability0-{}.adm", std::process::id()));
+    std::fs::write(&f, text).unwrap();
+    let (code, out, _) = run(&["static", f.to_str().unwrap()]);
+    assert_eq!(code, 1, "{out}");
+    assert!(
+        out.contains("the static Newton matrix cannot be factorised"),
+        "{out}"
+    );
+    assert!(
+        out.contains("EQUILIBRIUM has STABILITY = 0: a positive STABILITY"),
+        "{out}"
+    );
+    // With Adams' default STABILITY the same body is refused for the motion nothing resists,
+    // with no STABILITY advice.
+    std::fs::write(&f, text.replace("EQUILIBRIUM/STABILITY = 0\n", "")).unwrap();
+    let (code, out, _) = run(&["static", f.to_str().unwrap()]);
+    assert_eq!(code, 1, "{out}");
+    assert!(!out.contains("STABILITY"), "{out}");
+    let _ = std::fs::remove_file(&f);
+}

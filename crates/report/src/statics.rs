@@ -629,7 +629,10 @@ pub fn unstable_verdict(j: &StaticJson) -> Option<String> {
         "neither the descent nor damped settling found a stable one; pass --allow-unstable to \
          accept it"
     } else {
-        "try --settle (damped dynamics finds a stable one), or pass --allow-unstable to accept it"
+        // A quasi-static series (`--settle` takes no series): each equilibrium continues
+        // from the last, with Newton alone.
+        "the series follows the equilibrium it started from (a static analysis without a \
+         series searches for a stable one); pass --allow-unstable to accept it"
     };
     Some(format!(
         "the equilibrium{at} is UNSTABLE (negative stiffness {} along a free motion): \

@@ -174,21 +174,40 @@ pub enum StaticsError {
     )]
     NotFinite { iteration: usize },
     /// The Newton matrix cannot be set up or factorised (an entry that is not finite, a
-    /// structurally singular matrix).
-    #[error("the static Newton matrix cannot be factorised: {0}")]
-    Factor(LinearError),
-    /// The Newton correction is not finite.
+    /// structurally singular matrix); `stability` is EQUILIBRIUM/STABILITY (see
+    /// [`StaticsError::Singular`]).
     #[error(
-        "the static Newton matrix is singular: the model has free motions with no stiffness \
-         (consider STABILITY, or check forces)"
+        "the static Newton matrix cannot be factorised: {cause}{}",
+        singular_hint(*stability)
     )]
-    Singular,
+    Factor { cause: LinearError, stability: f64 },
+    /// The Newton correction is not finite; `stability` is EQUILIBRIUM/STABILITY (suggested
+    /// only when it is 0: a positive one already regularises every massive part, so the
+    /// singular motion is a massless part's or a redundant constraint's).
+    #[error(
+        "the static Newton matrix is singular: the model has free motions with no \
+         stiffness{}",
+        singular_hint(*stability)
+    )]
+    Singular { stability: f64 },
     /// A sensor could not be evaluated, or its event not located, in a quasi-static series.
     #[error("sensor: {0}")]
     Sensor(String),
     /// Damped settling found no equilibrium (the reason).
     #[error("{0}")]
     NotSettled(String),
+}
+
+/// What to try on a singular static Newton matrix, given EQUILIBRIUM/STABILITY: a positive
+/// STABILITY when it is 0, else what a positive one cannot regularise.
+fn singular_hint(stability: f64) -> &'static str {
+    if stability == 0.0 {
+        "; EQUILIBRIUM has STABILITY = 0: a positive STABILITY lets the parts' inertia hold \
+         motions without stiffness, or support them"
+    } else {
+        "; a motion without stiffness and without mass (a massless part, or constraints that \
+         leave a motion free): give the part mass or support that motion"
+    }
 }
 
 /// The rows `rows` with their drive values at `t` (motions' displacements, 0 for the others).
@@ -358,7 +377,7 @@ fn equilibrium_once(
         if refresh {
             w.refresh_newton_matrix(&p, &s, &lambda)?;
         }
-        w.newton_correction()?;
+        w.newton_correction(settings.stability)?;
         // Step limits: the whole step is scaled so that no part moves by more than TLIMIT or
         // turns by more than ALIMIT, except parts whose correction runs away (beyond
         // `RUNAWAY_CORRECTION`: a free motion without stiffness, where the correction is a
