@@ -124,7 +124,7 @@ impl Job {
                     settle: *settle,
                     allow_unstable: *allow_unstable,
                     time_limit: *time_limit,
-                    csv: false,
+                    interrupt: None,
                 };
                 let run = crate::statics::statics(loaded, &args, &|_, _| {})?;
                 // The CLI's verdict: an equilibrium that was not found fails the run even

@@ -302,20 +302,8 @@ pub fn run(
     }
     (report.left_out, report.runs_without) = loaded.coverage(Analysis::Simulate);
     if let Some(c) = csv.sink.as_mut() {
-        report.errors.append(&mut c.errors);
-        if c.request_failures > 1 {
-            report.errors.push(format!(
-                "REQUEST columns are NaN at {} of {} outputs",
-                c.request_failures,
-                result.simulation.as_ref().map_or(0, |s| s.output_count)
-            ));
-        }
-        if c.written == 0 {
-            // No output at all: the header alone, so the file says which columns it lacks.
-            if let Err(e) = c.finish_empty(&loaded.model) {
-                report.errors.push(format!("cannot write {}: {e}", c.path));
-            }
-        }
+        let outputs = result.simulation.as_ref().map_or(0, |s| s.output_count);
+        report.errors.extend(c.close(&loaded.model, outputs));
     }
     if let Some(e) = &sink_error {
         report.errors.push(e.to_string());

@@ -179,6 +179,28 @@ impl<W: Write> CsvSink<W> {
         self.csv.finish_empty(model)
     }
 
+    /// Ends the file after an analysis of `outputs` outputs (the header alone when no row was
+    /// written) and returns what the report must say of it: the first request error, at how
+    /// many outputs the REQUEST columns are NaN, a write error.
+    pub fn close(&mut self, model: &Model, outputs: usize) -> Vec<String> {
+        let mut errors = std::mem::take(&mut self.errors);
+        if self.request_failures > 1 {
+            errors.push(format!(
+                "REQUEST columns are NaN at {} of {outputs} outputs",
+                self.request_failures
+            ));
+        }
+        let ended = if self.written == 0 {
+            self.finish_empty(model)
+        } else {
+            self.flush()
+        };
+        if let Err(e) = ended {
+            errors.push(format!("cannot write {}: {e}", self.path));
+        }
+        errors
+    }
+
     /// Flushes the file.
     pub fn flush(&mut self) -> std::io::Result<()> {
         self.csv.flush()

@@ -2,7 +2,7 @@
 //! its report.
 
 use crate::error::Error;
-use crate::sink::{Feed, NoSink, OutputSink};
+use crate::sink::{Feed, NoSink, OutputSink, SinkError};
 use crate::source::Loaded;
 use crate::start::{assemble, input_model, Left, Start};
 use linkage_report::statics::SearchJson;
@@ -13,6 +13,8 @@ use linkage_solve::pipeline::Assembled;
 use linkage_solve::stages::dynamics::Output;
 use linkage_solve::stages::statics::{Equilibrium, StaticRun as SolveRun};
 use linkage_solve::state::State;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Arc;
 use std::time::Instant;
 
 /// Wall-clock seconds after which damped settling stops when no time limit is given (the
@@ -31,8 +33,9 @@ pub struct StaticArgs {
     pub allow_unstable: bool,
     /// Wall-clock seconds after which damped settling stops (after the step it is in).
     pub time_limit: Option<f64>,
-    /// Also give the CSV of the series (one row per output time).
-    pub csv: bool,
+    /// Stops a quasi-static series after the equilibrium it is at when set (Ctrl-C); the
+    /// sink keeps the equilibria before it.
+    pub interrupt: Option<Arc<AtomicBool>>,
 }
 
 /// What a static analysis gave.
@@ -45,8 +48,8 @@ pub struct StaticRun {
     pub settled: bool,
     /// The (last) equilibrium configuration, when one was accepted.
     pub state: Option<State>,
-    /// `--format csv` (Newton statics with `StaticArgs::csv` only).
-    pub csv: Option<String>,
+    /// The series was stopped by [`StaticArgs::interrupt`].
+    pub interrupted: bool,
     /// Newton statics of one equilibrium: the largest force imbalance of each iteration.
     pub imbalance_history: Vec<f64>,
     /// Where the analysis leaves the model: the last equilibrium accepted, at rest.
@@ -71,6 +74,36 @@ fn judge_stability(report: &mut StaticJson, allow: bool) {
     if let Some(why) = linkage_report::statics::unstable_verdict(report) {
         report.errors.push(why);
     }
+}
+
+/// Each FRICTION at its static limit `|F| = μs·N` (within
+/// [`linkage_solve::tolerances::FRICTION_AT_STATIC_LIMIT`]) in a failed equilibrium, as the
+/// reason: the load along its joint is more than static friction holds.
+fn frictions_at_limit(
+    model: &linkage_model::Model,
+    values: &[linkage_solve::physics::forces::friction::FrictionValue],
+) -> Vec<String> {
+    let at_limit = 1.0 - linkage_solve::tolerances::FRICTION_AT_STATIC_LIMIT;
+    let num = |x: f64| linkage_adm::num::sci(x, 4);
+    values
+        .iter()
+        .filter_map(|v| {
+            let f = model.frictions.iter().find(|f| f.origin.name == v.name)?;
+            let limit = f.mu_static * v.normal;
+            (v.sticking && limit > 0.0 && v.force.length() >= at_limit * limit).then(|| {
+                format!(
+                    "{} is at its static limit μs·N = {} (μs = {}, N = {}): the load along {} \
+                     is more than static friction holds (as a block on a ramp steeper than \
+                     the friction angle), so there is no static equilibrium",
+                    v.name,
+                    num(limit),
+                    f.mu_static,
+                    num(v.normal),
+                    model.constraints[f.joint].origin.name
+                )
+            })
+        })
+        .collect()
 }
 
 /// The output of an equilibrium `eq` of `a` at time `time`: at rest, with its reactions.
@@ -198,20 +231,58 @@ pub fn run(
             ok,
             settled: true,
             state: found.map(|e| e.state),
-            csv: None,
+            interrupted: false,
             imbalance_history: Vec::new(),
             left,
         });
     }
     let from = begun.state().clone();
     let assembled = begun.assembled;
+    // Every equilibrium accepted goes to the sink as it is found, up to the first that
+    // failed, the first the sink refused or the interruption.
+    let mut last = None;
+    let mut sink_error = None;
+    let mut interrupted = false;
+    let mut hand_on = |t: f64, step: &linkage_solve::stages::statics::StepResult| {
+        let Some(eq) = step.as_ref().ok().filter(|eq| eq.converged) else {
+            return false;
+        };
+        if assembled.failure().is_some() {
+            return false;
+        }
+        let o = at_rest(&assembled, t, eq);
+        if let Err(e) = feed.output(&assembled, &o) {
+            sink_error = Some(e);
+            return false;
+        }
+        last = Some(o);
+        interrupted = args
+            .interrupt
+            .as_ref()
+            .is_some_and(|i| i.load(Ordering::Relaxed));
+        !interrupted
+    };
     let (result, search) = match &args.series {
         Some(times) => (
-            linkage_solve::stages::statics::run_from(&assembled, &from, times),
+            linkage_solve::stages::statics::run_from_streamed(
+                &assembled,
+                &from,
+                times,
+                &mut hand_on,
+            ),
             None,
         ),
-        None => one_equilibrium(&assembled, &from, args)?,
+        None => {
+            let (result, search) = one_equilibrium(&assembled, &from, args)?;
+            if let [(t, step)] = result.steps.as_slice() {
+                hand_on(*t, step);
+            }
+            (result, search)
+        }
     };
+    if let Some(e) = sink_error {
+        return Err(Error::from(e));
+    }
     let mut report = linkage_report::statics::to_json(&assembled, &result, &loaded.warnings);
     report.search = search;
     if let [(_, Ok(eq))] = result.steps.as_slice() {
@@ -221,6 +292,11 @@ pub fn run(
             .forces
             .friction_values(Regime::Static, &eq.state, &rest);
         report.frictions = linkage_report::friction::frictions_json(&loaded.model, &values);
+        if !eq.converged {
+            report
+                .errors
+                .extend(frictions_at_limit(&loaded.model, &values));
+        }
         let contacts = linkage_solve::constraints::curve_contacts::curve_contacts(
             &loaded.model,
             &assembled.system,
@@ -231,27 +307,19 @@ pub fn run(
     }
     (report.left_out, report.runs_without) = loaded.coverage(analysis);
     judge_stability(&mut report, args.allow_unstable);
-    let ok = result.converged() && report.errors.is_empty();
-    // Every equilibrium accepted goes to the sink, up to the first that failed.
-    let mut last = None;
-    if assembled.failure().is_none() {
-        for (t, step) in &result.steps {
-            let Ok(eq) = step else { break };
-            if !eq.converged {
-                break;
-            }
-            let o = at_rest(&assembled, *t, eq);
-            feed.output(&assembled, &o).map_err(Error::from)?;
-            last = Some(o);
+    if interrupted {
+        if let Some(o) = &last {
+            report.errors.push(
+                SinkError::Interrupted { time: o.time }.to_string()
+                    + "; the equilibria up to it are written",
+            );
         }
     }
+    let ok = result.converged() && report.errors.is_empty();
     let state = match result.steps.last() {
         Some((_, Ok(eq))) if ok => Some(eq.state.clone()),
         _ => None,
     };
-    let csv = args
-        .csv
-        .then(|| linkage_report::statics::to_csv(&loaded.model, &result));
     let imbalance_history = match result.steps.as_slice() {
         [(_, Ok(eq))] => eq.imbalance_history.clone(),
         _ => Vec::new(),
@@ -269,7 +337,7 @@ pub fn run(
         ok,
         settled: false,
         state,
-        csv,
+        interrupted,
         imbalance_history,
         left,
     })

@@ -3,9 +3,15 @@
 use crate::common::{input_error, load, output_times, print_json};
 use crate::ic_cmd::save_configuration;
 use clap::ValueEnum;
+use linkage_api::sink::RequestFailure;
+use linkage_api::{CsvSink, NoSink, OutputSink};
+use linkage_solve::physics::requests::RequestSet;
 use linkage_solve::state::State;
+use std::io::Write;
 use std::path::Path;
 use std::process::ExitCode;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Arc;
 
 #[derive(Clone, Copy, ValueEnum, PartialEq, Eq, Debug)]
 pub enum StaticFormat {
@@ -54,23 +60,60 @@ pub fn run_static(args: &StaticArgs) -> ExitCode {
         settle: args.settle,
         allow_unstable: args.allow_unstable,
         time_limit: args.time_limit,
-        csv: args.format == StaticFormat::Csv,
+        interrupt: None,
     };
     let analysis = linkage_api::statics::analysis(&api_args);
     let loaded = match load(args.model, args.deactivate, Some(analysis)) {
         Ok(l) => l,
         Err(d) => return input_error(&d, json_errors),
     };
+    // `--format csv`: one row per equilibrium as it is found, on standard output (the
+    // columns of `simulate --out`, the REQUESTs' among them).
+    let mut csv = None;
+    if args.format == StaticFormat::Csv {
+        let requests = match RequestSet::new(&loaded.model) {
+            Ok(r) => r,
+            Err(d) => return input_error(&d, json_errors),
+        };
+        let out: Box<dyn Write> = Box::new(std::io::BufWriter::new(std::io::stdout()));
+        csv = Some(CsvSink::new(
+            out,
+            "standard output".into(),
+            &loaded.model,
+            Some(&requests),
+            RequestFailure::Nan,
+        ));
+    }
+    // Ctrl-C stops a quasi-static series after the equilibrium it is at (the CSV keeps
+    // every row written).
+    let interrupt = Arc::new(AtomicBool::new(false));
+    let flag = Arc::clone(&interrupt);
+    let _ = ctrlc::set_handler(move || flag.store(true, Ordering::Relaxed));
+    let api_args = linkage_api::statics::StaticArgs {
+        interrupt: Some(interrupt),
+        ..api_args
+    };
     let bar = crate::common::Progress::on_terminal();
-    let run = linkage_api::statics::statics(&loaded, &api_args, &|elapsed, limit| {
-        bar.settling(elapsed, limit)
-    });
+    let sink: &mut dyn OutputSink = match csv.as_mut() {
+        Some(c) => c,
+        None => &mut NoSink,
+    };
+    let run = linkage_api::statics::run(
+        &loaded,
+        linkage_api::Start::Input,
+        &api_args,
+        &|elapsed, limit| bar.settling(elapsed, limit),
+        sink,
+    );
     bar.finish();
     let run = match run {
         Ok(r) => r,
         Err(e) => return crate::common::analysis_error(&e, json_errors),
     };
     let mut report = run.report;
+    if let Some(c) = csv.as_mut() {
+        report.errors.extend(c.close(&loaded.model, c.written));
+    }
     let ok = run.ok;
     if let (Some(out), true) = (args.save, ok) {
         if let Some(state) = &run.state {
@@ -127,12 +170,12 @@ pub fn run_static(args: &StaticArgs) -> ExitCode {
         StaticFormat::Json => {
             print_json(&report);
         }
-        StaticFormat::Csv if !run.settled => print!("{}", run.csv.unwrap_or_default()),
-        _ => print!("{}", linkage_report::statics::to_text(&report)),
+        // The rows are written.
+        StaticFormat::Csv => {}
+        StaticFormat::Text => print!("{}", linkage_report::statics::to_text(&report)),
     }
     // CSV rows carry no errors: they always go to standard error.
-    let shown =
-        (args.format != StaticFormat::Csv || run.settled) && crate::common::stdout_is_terminal();
+    let shown = args.format != StaticFormat::Csv && crate::common::stdout_is_terminal();
     crate::common::errors_to_stderr(&report.errors, shown);
     let passed = if run.settled {
         report.converged && report.errors.is_empty()

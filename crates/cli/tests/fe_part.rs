@@ -100,6 +100,12 @@ fn corpus_fe_part_nodes_have_csv_columns() {
 /// A six-node cantilever along x (steel, L = 1 m, 10 mm square), clamped at node 1, a tip
 /// load of fixed direction (PL²/EI ≈ 1.7) and a marker on node 4 given by points.
 fn bent_cantilever() -> String {
+    cantilever("-300", "")
+}
+
+/// The cantilever of [`bent_cantilever`] with the tip load `FY = fy` (newtons) and the
+/// statements `extra`.
+fn cantilever(fy: &str, extra: &str) -> String {
     let (a, i, j) = (1e-4, 1e-8 / 12.0, 0.1406e-8);
     let coords: Vec<String> = (0..6)
         .map(|k| format!("{}, {}, 0, 0, 0, 0, 0", k + 1, 0.2 * k as f64))
@@ -117,11 +123,84 @@ fn bent_cantilever() -> String {
          MARKER/11, FE_PART = 3, NODE_LABEL = 6, QP = 1, 0, 0\n\
          MARKER/13, FE_PART = 3, NODE_LABEL = 4, QP = 0.6, 0.01, 0, XP = 0.7, 0.01, 0, ZP = 0.6, 0.01, 1\n\
          JOINT/1, FIXED, I = 10, J = 1\n\
-         VFORCE/1, I = 11, JFLOAT = 12, RM = 1, FX = 0, FY = -300, FZ = 0\n\
-         EQUILIBRIUM/MAXIT = 100\nEND\n",
+         VFORCE/1, I = 11, JFLOAT = 12, RM = 1, FX = 0, FY = {fy}, FZ = 0\n\
+         {extra}EQUILIBRIUM/MAXIT = 100\nEND\n",
         coords.join("\n, "),
         sections.join("\n, "),
     )
+}
+
+/// The rows of `static … --format csv` of `adm` (written as `name` in a folder of its own)
+/// with `args`, and the index of the column whose header starts with `column`.
+fn static_csv(name: &str, adm: &str, args: &[&str], column: &str) -> (Vec<Vec<f64>>, usize) {
+    let dir = std::env::temp_dir().join(format!("linkage-fe-{name}-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let input = dir.join(format!("{name}.adm"));
+    std::fs::write(&input, adm).unwrap();
+    let input = input.to_string_lossy().into_owned();
+    let mut all = vec!["static", input.as_str(), "--format", "csv"];
+    all.extend_from_slice(args);
+    let (code, csv, err) = run(&all);
+    assert_eq!(code, 0, "{err}");
+    let mut lines = csv.lines();
+    let header: Vec<&str> = lines.next().unwrap_or_default().split(',').collect();
+    let k = header
+        .iter()
+        .position(|h| h.starts_with(column))
+        .unwrap_or_else(|| panic!("no column {column} in {header:?}"));
+    let rows = lines
+        .map(|l| l.split(',').map(|x| x.parse().unwrap()).collect())
+        .collect();
+    let _ = std::fs::remove_dir_all(&dir);
+    (rows, k)
+}
+
+/// A small tip load's deflection `P·L³/(3·E·I)` of the cantilever: P = 1 N gives 1.905 mm
+/// (δ/L ≈ 0.2 %: the large-deflection correction, ~(δ/L)², and the shear deflection
+/// P·L/(κ·G·A) ≈ 8e-5 of it stay well inside 1e-3).
+fn tip_deflection(p: f64) -> f64 {
+    let (e, i) = (2.1e11, 1e-8 / 12.0);
+    p / (3.0 * e * i)
+}
+
+/// A REQUEST on the tip node's marker against the ground origin (its y is the tip's
+/// deflection: the marker is at x = L, y = 0 unloaded).
+const TIP_REQUEST: &str = "REQUEST/1, DISPLACEMENT, I = 11, J = 1\n";
+
+#[test]
+fn static_csv_request_on_the_fe_tip_gives_pl3_over_3ei() {
+    let (rows, k) = static_csv(
+        "tip-request",
+        &cantilever("-1", TIP_REQUEST),
+        &[],
+        "REQUEST_1.y",
+    );
+    assert_eq!(rows.len(), 1);
+    let want = -tip_deflection(1.0);
+    let got = rows[0][k];
+    assert!((got / want - 1.0).abs() < 1e-3, "{got} vs PL³/3EI {want}");
+}
+
+#[test]
+fn quasi_static_csv_request_on_the_fe_tip_follows_a_growing_load() {
+    // FY = −2·TIME N: at t = 0, 0.5, 1 the tip deflects 0, δ(1 N), δ(2 N).
+    let (rows, k) = static_csv(
+        "tip-series",
+        &cantilever("-2*TIME", TIP_REQUEST),
+        &["--end", "1", "--steps", "2"],
+        "REQUEST_1.y",
+    );
+    assert_eq!(rows.len(), 3);
+    assert!(rows[0][k].abs() < 1e-9, "{:?}", rows[0]);
+    for row in &rows[1..] {
+        let want = -tip_deflection(2.0 * row[0]);
+        assert!(
+            (row[k] / want - 1.0).abs() < 1e-3,
+            "t = {}: {} vs {want}",
+            row[0],
+            row[k]
+        );
+    }
 }
 
 #[test]

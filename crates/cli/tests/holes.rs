@@ -418,12 +418,23 @@ fn a_kinematic_run_to_1e200_fails_with_a_short_time_and_writes_no_row_there() {
 }
 
 /// Starts `linkage args…` in `dir`, waits until `csv` has more than `rows` lines, sends
-/// SIGINT, and returns the exit code and the CSV.
-fn interrupted(dir: &Path, args: &[&str], csv: &str, rows: usize) -> (i32, String) {
+/// SIGINT, and returns the exit code and the CSV (the command's standard output, written to
+/// `csv`, when `on_stdout`).
+fn interrupted(
+    dir: &Path,
+    args: &[&str],
+    (csv, on_stdout): (&str, bool),
+    rows: usize,
+) -> (i32, String) {
+    let stdout = if on_stdout {
+        std::fs::File::create(dir.join(csv)).unwrap().into()
+    } else {
+        std::process::Stdio::null()
+    };
     let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_linkage"))
         .args(args)
         .current_dir(dir)
-        .stdout(std::process::Stdio::null())
+        .stdout(stdout)
         .stderr(std::process::Stdio::null())
         .spawn()
         .unwrap();
@@ -450,7 +461,7 @@ fn interrupted(dir: &Path, args: &[&str], csv: &str, rows: usize) -> (i32, Strin
 }
 
 #[test]
-fn a_zero_dof_run_streams_its_rows_and_stops_on_sigint_with_whole_rows() {
+fn a_zero_dof_run_and_quasi_static_series_stream_rows_and_stop_on_sigint_with_whole_rows() {
     let dir = std::env::temp_dir().join(format!("linkage-holes-stream-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).unwrap();
@@ -469,9 +480,16 @@ fn a_zero_dof_run_streams_its_rows_and_stops_on_sigint_with_whole_rows() {
             vec![
                 "simulate", "fm.adm", "--end", "1000", "--steps", "999999", "--out", "s.csv",
             ],
-            "s.csv",
+            ("s.csv", false),
         ),
-        (vec!["run", "k.acf"], "k.csv"),
+        (vec!["run", "k.acf"], ("k.csv", false)),
+        // The quasi-static series on standard output.
+        (
+            vec![
+                "static", "fm.adm", "--end", "1000", "--steps", "999999", "--format", "csv",
+            ],
+            ("q.csv", true),
+        ),
     ] {
         let (code, text) = interrupted(&dir, &args, csv, 200);
         // Interrupted: exit 1 for both commands, as a run that did not finish.

@@ -1,9 +1,9 @@
 //! The static-equilibrium report: text, JSON and CSV.
 
-use crate::num::{denoise, general, scale_of, sci, CSV_DIGITS, TIME_DIGITS};
+use crate::num::{general, sci, TIME_DIGITS};
 use crate::poses::{part_poses, pose_line, PartPoseJson};
 use crate::reactions::{reaction_table, reactions_json, ReactionJson};
-use crate::units::{text_line, units_json, Angle, CsvUnits, UnitsJson};
+use crate::units::{text_line, units_json, Angle, UnitsJson};
 use linkage_adm::Diagnostic;
 use linkage_model::settings::shown;
 use linkage_model::Model;
@@ -423,66 +423,6 @@ pub fn to_json(a: &Assembled, run: &StaticRun, warnings: &[Diagnostic]) -> Stati
     }
 }
 
-/// CSV: one row per output time: `time`, then `<part>.x .y .z .psi .theta .phi` (degrees) for
-/// every part and `<element>.fx .fy .fz .tx .ty .tz` for every reaction; each column header
-/// with its unit as a suffix, `PART_2.x [mm]` (see [`crate::units`]).
-pub fn to_csv(model: &Model, run: &StaticRun) -> String {
-    let units = CsvUnits::of(model);
-    let mut s = units.header("time");
-    for p in &model.parts {
-        for c in ["x", "y", "z", "psi", "theta", "phi"] {
-            let _ = write!(s, ",{}", units.header(&format!("{}.{c}", p.origin.name)));
-        }
-    }
-    let reaction_elements: Vec<usize> = run
-        .steps
-        .iter()
-        .find_map(|(_, e)| e.as_ref().ok())
-        .map(|e| e.reactions.iter().map(|r| r.element).collect())
-        .unwrap_or_default();
-    for &e in &reaction_elements {
-        for c in ["fx", "fy", "fz", "tx", "ty", "tz"] {
-            let name = format!("{}.{c}", model.constraints[e].origin.name);
-            let _ = write!(s, ",{}", units.header(&name));
-        }
-    }
-    s.push('\n');
-    for (t, e) in &run.steps {
-        let Ok(eq) = e else { continue };
-        let _ = write!(s, "{}", general(*t, CSV_DIGITS));
-        let poses = part_poses(model, &eq.state);
-        let position_scale = scale_of(poses.iter().flat_map(|p| p.position));
-        for p in &poses {
-            for &v in &p.position {
-                let _ = write!(s, ",{}", general(denoise(v, position_scale), CSV_DIGITS));
-            }
-            for &v in &p.reuler {
-                let _ = write!(s, ",{}", general(denoise(v, 360.0), CSV_DIGITS));
-            }
-        }
-        let force_scale = scale_of(eq.reactions.iter().flat_map(|r| r.force.to_array()));
-        let torque_scale = scale_of(eq.reactions.iter().flat_map(|r| r.torque.to_array()));
-        for &el in &reaction_elements {
-            let r = eq.reactions.iter().find(|r| r.element == el);
-            let vals = r.map_or([f64::NAN; 6], |r| {
-                [
-                    denoise(r.force.x, force_scale),
-                    denoise(r.force.y, force_scale),
-                    denoise(r.force.z, force_scale),
-                    denoise(r.torque.x, torque_scale),
-                    denoise(r.torque.y, torque_scale),
-                    denoise(r.torque.z, torque_scale),
-                ]
-            });
-            for v in vals {
-                let _ = write!(s, ",{}", general(v, CSV_DIGITS));
-            }
-        }
-        s.push('\n');
-    }
-    s
-}
-
 /// Human report.
 pub fn to_text(j: &StaticJson) -> String {
     let mut s = String::new();
@@ -689,7 +629,10 @@ pub fn unstable_verdict(j: &StaticJson) -> Option<String> {
         "neither the descent nor damped settling found a stable one; pass --allow-unstable to \
          accept it"
     } else {
-        "try --settle (damped dynamics finds a stable one), or pass --allow-unstable to accept it"
+        // A quasi-static series (`--settle` takes no series): each equilibrium continues
+        // from the last, with Newton alone.
+        "the series follows the equilibrium it started from (a static analysis without a \
+         series searches for a stable one); pass --allow-unstable to accept it"
     };
     Some(format!(
         "the equilibrium{at} is UNSTABLE (negative stiffness {} along a free motion): \

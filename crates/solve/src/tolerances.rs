@@ -70,6 +70,11 @@ pub const CORRECTOR_ERROR_FRACTION: f64 = 1e-3;
 /// hinges).
 pub const STATIC_ROUNDING_IMBALANCE: f64 = 1e-10;
 
+/// A FRICTION whose stiction force is within this fraction of `μs·N` is at its static limit:
+/// where static equilibrium fails, the load along its joint exceeds what static friction
+/// holds (a block on a ramp steeper than the friction angle). Relative rounding of the cap.
+pub const FRICTION_AT_STATIC_LIMIT: f64 = 1e-6;
+
 // ---- Statics internals (stages/statics.rs, stages/statics/) ----
 
 /// Floor of the constraint tolerance of static equilibrium: the rows are held to IC ERROR, but

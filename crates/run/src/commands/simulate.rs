@@ -65,7 +65,7 @@ pub fn statics(
         settle: false,
         allow_unstable,
         time_limit: None,
-        csv: false,
+        interrupt: None,
     };
     let start = progress.start();
     let run = linkage_api::statics::run(sinks.loaded, start, &args, &|_, _| {}, sinks);

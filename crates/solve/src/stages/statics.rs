@@ -174,21 +174,40 @@ pub enum StaticsError {
     )]
     NotFinite { iteration: usize },
     /// The Newton matrix cannot be set up or factorised (an entry that is not finite, a
-    /// structurally singular matrix).
-    #[error("the static Newton matrix cannot be factorised: {0}")]
-    Factor(LinearError),
-    /// The Newton correction is not finite.
+    /// structurally singular matrix); `stability` is EQUILIBRIUM/STABILITY (see
+    /// [`StaticsError::Singular`]).
     #[error(
-        "the static Newton matrix is singular: the model has free motions with no stiffness \
-         (consider STABILITY, or check forces)"
+        "the static Newton matrix cannot be factorised: {cause}{}",
+        singular_hint(*stability)
     )]
-    Singular,
+    Factor { cause: LinearError, stability: f64 },
+    /// The Newton correction is not finite; `stability` is EQUILIBRIUM/STABILITY (suggested
+    /// only when it is 0: a positive one already regularises every massive part, so the
+    /// singular motion is a massless part's or a redundant constraint's).
+    #[error(
+        "the static Newton matrix is singular: the model has free motions with no \
+         stiffness{}",
+        singular_hint(*stability)
+    )]
+    Singular { stability: f64 },
     /// A sensor could not be evaluated, or its event not located, in a quasi-static series.
     #[error("sensor: {0}")]
     Sensor(String),
     /// Damped settling found no equilibrium (the reason).
     #[error("{0}")]
     NotSettled(String),
+}
+
+/// What to try on a singular static Newton matrix, given EQUILIBRIUM/STABILITY: a positive
+/// STABILITY when it is 0, else what a positive one cannot regularise.
+fn singular_hint(stability: f64) -> &'static str {
+    if stability == 0.0 {
+        "; EQUILIBRIUM has STABILITY = 0: a positive STABILITY lets the parts' inertia hold \
+         motions without stiffness, or support them"
+    } else {
+        "; a motion without stiffness and without mass (a massless part, or constraints that \
+         leave a motion free): give the part mass or support that motion"
+    }
 }
 
 /// The rows `rows` with their drive values at `t` (motions' displacements, 0 for the others).
@@ -358,7 +377,7 @@ fn equilibrium_once(
         if refresh {
             w.refresh_newton_matrix(&p, &s, &lambda)?;
         }
-        w.newton_correction()?;
+        w.newton_correction(settings.stability)?;
         // Step limits: the whole step is scaled so that no part moves by more than TLIMIT or
         // turns by more than ALIMIT, except parts whose correction runs away (beyond
         // `RUNAWAY_CORRECTION`: a free motion without stiffness, where the correction is a
@@ -525,7 +544,7 @@ pub fn is_length(unit: RowUnit) -> bool {
 pub struct StaticRun {
     /// `(time, equilibrium)` at every output time; stops at the first failure; empty when the
     /// model could not be assembled.
-    pub steps: Vec<(f64, Result<Equilibrium, StaticsError>)>,
+    pub steps: Vec<(f64, StepResult)>,
     /// The SENSORs that fired during a quasi-static series, in time order.
     pub sensor_events: Vec<SensorEvent>,
     /// A sensor's HALT or RETURN ended the series (complete) at the last event.
@@ -568,6 +587,22 @@ pub fn run(a: &Assembled, times: &[f64]) -> StaticRun {
 /// [`run`] from the configuration `start` (a state the last analysis of a command file left on
 /// the same assembly) rather than the assembled one: the first equilibrium is sought from it.
 pub fn run_from(a: &Assembled, start: &State, times: &[f64]) -> StaticRun {
+    run_from_streamed(a, start, times, &mut |_, _| true)
+}
+
+/// One step of a quasi-static series as it is solved: its time and result.
+pub type StepResult = Result<Equilibrium, StaticsError>;
+
+/// [`run_from`], handing each step to `on_step` as soon as it is solved, in the order of
+/// [`StaticRun::steps`] (a CSV written row by row). When `on_step` returns `false` the
+/// series stops after that step (Ctrl-C, an output that cannot be written); the run then
+/// holds the steps up to it.
+pub fn run_from_streamed(
+    a: &Assembled,
+    start: &State,
+    times: &[f64],
+    on_step: &mut dyn FnMut(f64, &StepResult) -> bool,
+) -> StaticRun {
     let mut out = StaticRun {
         steps: Vec::new(),
         sensor_events: Vec::new(),
@@ -594,7 +629,22 @@ pub fn run_from(a: &Assembled, start: &State, times: &[f64]) -> StaticRun {
     };
     let mut history: Vec<State> = Vec::new();
     let mut k = 0;
+    // The steps handed to `on_step` so far.
+    let mut handed = 0;
+    let mut hand_on = |steps: &mut Vec<(f64, StepResult)>, handed: &mut usize| {
+        while let Some((t, r)) = steps.get(*handed) {
+            *handed += 1;
+            if !on_step(*t, r) {
+                steps.truncate(*handed);
+                return false;
+            }
+        }
+        true
+    };
     while k < schedule.len() {
+        if !hand_on(&mut out.steps, &mut handed) {
+            return out;
+        }
         let t = schedule[k];
         let mut start = match history.as_slice() {
             [] => start.clone(),
@@ -711,6 +761,7 @@ pub fn run_from(a: &Assembled, start: &State, times: &[f64]) -> StaticRun {
             w.carry(s);
         }
     }
+    hand_on(&mut out.steps, &mut handed);
     out
 }
 

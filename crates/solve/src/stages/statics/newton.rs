@@ -231,13 +231,17 @@ impl Workspace {
             f.fill(p, s, &self.rest, &mut self.newton.entries);
         }
         fill_control_blocks(p, &self.dr, &self.dqx, &mut self.newton.entries);
-        self.newton.factor().map_err(StaticsError::Factor)?;
+        let stability = p.settings.stability;
+        self.newton
+            .factor()
+            .map_err(|cause| StaticsError::Factor { cause, stability })?;
         self.newton_factored = true;
         Ok(())
     }
 
-    /// The Newton correction: `rhs = [F; −Φ; −r]` solved with the last Newton matrix.
-    pub fn newton_correction(&mut self) -> Result<(), StaticsError> {
+    /// The Newton correction: `rhs = [F; −Φ; −r]` solved with the last Newton matrix
+    /// (`stability`, EQUILIBRIUM/STABILITY, for the message of a singular one).
+    pub fn newton_correction(&mut self, stability: f64) -> Result<(), StaticsError> {
         let n6 = self.force.len();
         let m = self.phi.len();
         self.rhs[..n6].copy_from_slice(&self.force);
@@ -249,7 +253,7 @@ impl Workspace {
         }
         self.newton
             .solve_in_place(&mut self.rhs)
-            .map_err(|_| StaticsError::Singular)
+            .map_err(|_| StaticsError::Singular { stability })
     }
 
     /// A few minimum-change Gauss–Newton corrections of the positions onto `Φ = 0` (each row
