@@ -355,6 +355,7 @@ fn run_acf(
         user_libraries: user_lib.unwrap_or_default(),
         also_writes: Vec::new(),
         time_limit: None,
+        watch: Default::default(),
     };
     let result = py.allow_threads(|| linkage_run::run_command_file(&path, &options));
     let summary = |s: &linkage_run::RunSummary| -> PyResult<PyObject> {
