@@ -389,7 +389,7 @@ fn run_acf(
 /// with `fmi=2`): inputs the PINPUT VARIABLEs (or those of PINPUT `pinput`), outputs the
 /// POUTPUT ones, `parameters` (`"SPRINGDAMPER/1.K"`, …) settable before the initialisation,
 /// `initial_static` the start of the parameter of that name. The FMU's binary is `binary`,
-/// else $LINKAGE_FMU_BINARY, else liblinkage_fmu.so beside `linkage` on the PATH. Returns
+/// else $LINKAGE_FMU_BINARY, else liblinkage_fmu_binary.so beside `linkage` on the PATH. Returns
 /// {model_identifier, inputs, outputs, parameters, files, bytes}.
 #[pyfunction]
 #[pyo3(signature = (path, out, fmi=3, pinput=None, poutput=None, parameters=None, initial_static=false, binary=None))]

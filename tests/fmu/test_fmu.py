@@ -10,7 +10,7 @@ validates (fmpy.validation) and co-simulates.
 - a parameter, a saved and restored FMU state, and a failed step (an error status and the
   message in the log, no abort).
 
-The binary is $LINKAGE_BIN, else target/release/linkage, with liblinkage_fmu.so beside it
+The binary is $LINKAGE_BIN, else target/release/linkage, with liblinkage_fmu_binary.so beside it
 (both built by `cargo build --release`); without them these tests fail under CI and are
 skipped elsewhere, as are the corpus tests without ../shared/corpus.
 """
@@ -51,7 +51,7 @@ def step_response(force, t, k=K):
 @pytest.fixture(scope="module")
 def binary():
     path = Path(os.environ.get("LINKAGE_BIN", ROOT / "target" / "release" / "linkage"))
-    lib = path.parent / "liblinkage_fmu.so"
+    lib = path.parent / "liblinkage_fmu_binary.so"
     for p in (path, lib):
         if not p.is_file():
             if os.environ.get("CI"):
@@ -323,7 +323,7 @@ def test_python_export_equals_the_cli_export(export, binary, tmp_path):
         str(out),
         fmi=2,
         parameters=["SPRINGDAMPER/1.K"],
-        binary=str(binary.parent / "liblinkage_fmu.so"),
+        binary=str(binary.parent / "liblinkage_fmu_binary.so"),
     )
     assert done["model_identifier"] == "smd_plant"
     assert (done["inputs"], done["outputs"]) == (["force"], ["position"])

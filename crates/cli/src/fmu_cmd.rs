@@ -1,7 +1,7 @@
 //! `linkage fmu`: a dataset as a co-simulation FMU ([`linkage_fmu::export`]).
 //!
 //! The FMU's binary is the `linkage-fmu` crate built as a shared library, which
-//! `cargo build --release` puts beside the `linkage` executable (`liblinkage_fmu.so`):
+//! `cargo build --release` puts beside the `linkage` executable (`liblinkage_fmu_binary.so`):
 //! that is where it is looked for unless `--binary` or `$LINKAGE_FMU_BINARY` names another.
 
 use linkage_fmu::export::{export, locate_binary, ExportError, ExportOptions};
@@ -41,12 +41,12 @@ pub fn run(model: &Path, out: &Path, binary: Option<&Path>, options: &ExportOpti
             println!(
                 "  inputs ({}): {}",
                 list("PINPUT", done.ports.pinput),
-                names(&done.ports.inputs)
+                names(done.ports.inputs.as_slice())
             );
             println!(
                 "  outputs ({}): {}",
                 list("POUTPUT", done.ports.poutput),
-                names(&done.ports.outputs)
+                names(done.ports.outputs.as_slice())
             );
             let params: Vec<String> = done
                 .parameters

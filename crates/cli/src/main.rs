@@ -298,7 +298,7 @@ enum Command {
     },
     /// Export an Adams Controls plant (a dataset with PINPUT/POUTPUT) as a co-simulation FMU
     /// (FMI 3.0, or 2.0 with --fmi 2): inputs the PINPUT's VARIABLEs, outputs the POUTPUT's,
-    /// the dataset in resources/ and this platform's binary (liblinkage_fmu.so beside the
+    /// the dataset in resources/ and this platform's binary (liblinkage_fmu_binary.so beside the
     /// linkage executable, built by `cargo build --release`).
     Fmu {
         /// The dataset (.adm).
@@ -323,7 +323,7 @@ enum Command {
         /// dataset's EQUILIBRIUM says) before the first step.
         #[arg(long)]
         initial_static: bool,
-        /// The FMU binary to pack (default: liblinkage_fmu.so beside this executable).
+        /// The FMU binary to pack (default: liblinkage_fmu_binary.so beside this executable).
         #[arg(long, value_name = "LIB.so")]
         binary: Option<PathBuf>,
     },

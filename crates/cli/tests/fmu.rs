@@ -13,7 +13,7 @@ fn plant() -> String {
 
 /// A stand-in for the FMU binary (the packager only copies its bytes).
 fn fake_binary(dir: &std::path::Path) -> String {
-    let p = dir.join("liblinkage_fmu.so");
+    let p = dir.join("liblinkage_fmu_binary.so");
     std::fs::write(&p, b"\x7fELF stand-in").unwrap();
     p.display().to_string()
 }
@@ -91,7 +91,7 @@ fn a_missing_binary_says_how_to_build_it_and_writes_nothing() {
         "--out",
         &out.display().to_string(),
         "--binary",
-        "/nonexistent/liblinkage_fmu.so",
+        "/nonexistent/liblinkage_fmu_binary.so",
     ]);
     assert_eq!(code, 1);
     assert!(stderr.contains("cargo build --release"), "{stderr}");

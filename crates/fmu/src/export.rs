@@ -15,7 +15,7 @@ use std::path::{Component, Path, PathBuf};
 
 /// The FMU binary's file name: this crate built as a shared library (`cargo build --release`
 /// puts it beside the `linkage` executable).
-pub const BINARY_NAME: &str = "liblinkage_fmu.so";
+pub const BINARY_NAME: &str = "liblinkage_fmu_binary.so";
 
 /// The environment variable that may name the FMU binary (where it is not beside `linkage`).
 pub const BINARY_ENV: &str = "LINKAGE_FMU_BINARY";
@@ -70,7 +70,7 @@ pub enum ExportError {
     /// The platform binary is not where it is looked for.
     #[error(
         "the FMU binary {path} cannot be read ({cause}); it is built beside the linkage \
-         executable by `cargo build --release` (crate linkage-fmu), or named by --binary or \
+         executable by `cargo build --release` (crate linkage-fmu-binary), or named by --binary or \
          $LINKAGE_FMU_BINARY"
     )]
     Binary { path: String, cause: std::io::Error },

@@ -1,12 +1,12 @@
 //! # linkage-fmu — an Adams Controls plant as an FMI co-simulation FMU
 //!
-//! The same crate is built twice (`crate-type = ["cdylib", "rlib"]`):
+//! Two builds use this crate:
 //!
-//! - the **cdylib** (`liblinkage_fmu.so`) is the platform binary of every FMU: it exports the
+//! - the **cdylib** crate `linkage-fmu-binary` (`liblinkage_fmu_binary.so`) is the platform binary of every FMU: it exports the
 //!   FMI 3.0 ([`fmi3`]) and FMI 2.0 ([`fmi2`]) co-simulation functions, each a thin C boundary
 //!   (panics caught, errors as FMI status with the message to the importer's logger) over an
 //!   [`instance::Instance`], which steps a [`linkage_api::cosim::Plant`];
-//! - the **rlib** is the packager `linkage fmu` calls ([`export`]): the model description
+//! - this crate is also the packager `linkage fmu` calls ([`export`]): the model description
 //!   ([`description`]), the resources (the dataset, the files it names and
 //!   `linkage-fmu.json`, [`config`]) and the binary, zipped ([`zip`]).
 //!
