@@ -41,12 +41,12 @@ pub fn run(model: &Path, out: &Path, binary: Option<&Path>, options: &ExportOpti
             println!(
                 "  inputs ({}): {}",
                 list("PINPUT", done.ports.pinput),
-                names(done.ports.inputs.as_slice())
+                names(&done.ports.inputs)
             );
             println!(
                 "  outputs ({}): {}",
                 list("POUTPUT", done.ports.poutput),
-                names(done.ports.outputs.as_slice())
+                names(&done.ports.outputs)
             );
             let params: Vec<String> = done
                 .parameters

@@ -68,6 +68,8 @@ pub(crate) fn with_frame<R>(
         })
     });
     let r = call();
+    // Unreachable: the frame pushed above is popped only here, and every call `call` makes
+    // in between (nested subroutines included) pushes and pops its own frame in pairs.
     let frame = STACK.with(|s| s.borrow_mut().pop().expect("the frame pushed above"));
     (r, frame)
 }
@@ -103,9 +105,11 @@ pub(crate) fn read(key: Key) -> Result<f64, ReadError> {
             })?
         }
     };
-    Ok(STACK.with(|s| {
+    STACK.with(|s| {
         let mut s = s.borrow_mut();
-        let f = s.last_mut().expect("checked above");
+        // The frame found above is still there (nested calls push and pop in pairs); should it
+        // not be, the read is outside a call.
+        let f = s.last_mut().ok_or(ReadError::NoCall)?;
         let shift = match &f.perturb {
             Some((k, h)) if *k == key => *h,
             _ => 0.0,
@@ -114,8 +118,8 @@ pub(crate) fn read(key: Key) -> Result<f64, ReadError> {
         if !f.reads.iter().any(|(k, _)| *k == key) {
             f.reads.push((key, d));
         }
-        v
-    }))
+        Ok(v)
+    })
 }
 
 /// Runs `f` with the environment of the subroutine call in progress (`None` outside one).
